@@ -1,0 +1,2 @@
+//! The `hxai` command line.
+fn main() {}

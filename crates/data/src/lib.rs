@@ -1,0 +1,2 @@
+//! Reading and writing hxai data folders (manifest + CSV/Parquet records).
+#![deny(missing_docs)]

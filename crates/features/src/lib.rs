@@ -1,0 +1,2 @@
+//! The twelve acceleration-signal features of the hxai case study.
+#![deny(missing_docs)]

@@ -1,0 +1,2 @@
+//! The generic hybrid physics + symbolic-regression composer of hxai.
+#![deny(missing_docs)]

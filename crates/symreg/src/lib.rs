@@ -1,0 +1,2 @@
+//! Symbolic regression for hxai: QLattice-style path sampling and genetic search with Levenberg-Marquardt constants.
+#![deny(missing_docs)]
