@@ -1,2 +1,88 @@
-//! The `hxai` command line.
-fn main() {}
+//! The `hxai` command line: simulate recordings, compute the physics model and features,
+//! fit, apply and evaluate hybrid models, run symbolic regression and the Table 3 baselines
+//! on any table.
+//!
+//! Every subcommand lives in its own module with an `Args` struct (clap) and a
+//! `run(args, &Global) -> anyhow::Result<()>` function. Only this crate prints.
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+
+mod compare;
+mod displacement;
+mod evaluate;
+mod features;
+mod fit;
+mod predict;
+mod simulate;
+mod sr;
+
+/// Options shared by every subcommand.
+#[derive(Debug, Clone, clap::Args)]
+pub struct Global {
+    /// Worker threads for parallel work (default: all cores). Results never depend on it.
+    #[arg(long, global = true)]
+    pub threads: Option<usize>,
+}
+
+#[derive(Debug, Parser)]
+#[command(name = "hxai", version, about = "Hybrid physics + explainable AI modelling")]
+struct Cli {
+    #[command(flatten)]
+    global: Global,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Write a simulated data folder (manifest + records).
+    Simulate(simulate::Args),
+    /// Physics-model displacement of one record.
+    Displacement(displacement::Args),
+    /// The twelve features of one record.
+    Features(features::Args),
+    /// Fit a hybrid model on a data folder.
+    Fit(fit::Args),
+    /// Apply a fitted hybrid model to one record.
+    Predict(predict::Args),
+    /// Physics vs hybrid on the records of a data folder.
+    Evaluate(evaluate::Args),
+    /// Symbolic regression on any CSV table.
+    Sr(sr::Args),
+    /// Table 3 baselines and the symbolic model on a train/test table pair.
+    Compare(compare::Args),
+}
+
+fn main() {
+    let cli = Cli::parse();
+    if let Err(e) = run(cli) {
+        // One line on stderr: the reason, with its causes.
+        #[allow(clippy::print_stderr)]
+        {
+            eprintln!("error: {e:#}");
+        }
+        std::process::exit(1);
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    if let Some(n) = cli.global.threads {
+        anyhow::ensure!(n >= 1, "--threads must be at least 1");
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .map_err(|e| anyhow::anyhow!("cannot set up {n} threads: {e}"))?;
+    }
+    let g = &cli.global;
+    match cli.command {
+        Command::Simulate(a) => simulate::run(a, g),
+        Command::Displacement(a) => displacement::run(a, g),
+        Command::Features(a) => features::run(a, g),
+        Command::Fit(a) => fit::run(a, g),
+        Command::Predict(a) => predict::run(a, g),
+        Command::Evaluate(a) => evaluate::run(a, g),
+        Command::Sr(a) => sr::run(a, g),
+        Command::Compare(a) => compare::run(a, g),
+    }
+}
