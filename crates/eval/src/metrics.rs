@@ -1,0 +1,137 @@
+//! Regression metrics with scikit-learn's definitions.
+
+use crate::EvalError;
+use serde::{Deserialize, Serialize};
+
+/// Checks that `values` is non-empty and finite.
+pub(crate) fn check_finite(
+    what: &'static str,
+    values: &[f64],
+    need: usize,
+) -> Result<(), EvalError> {
+    if values.len() < need.max(1) {
+        return Err(EvalError::Empty {
+            what,
+            need: need.max(1),
+        });
+    }
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(EvalError::NonFinite {
+            what,
+            index,
+            value: values[index],
+        }),
+        None => Ok(()),
+    }
+}
+
+fn check_pair(y_true: &[f64], y_pred: &[f64]) -> Result<(), EvalError> {
+    if y_true.len() != y_pred.len() {
+        return Err(EvalError::LengthMismatch {
+            what: "y_true vs y_pred",
+            left: y_true.len(),
+            right: y_pred.len(),
+        });
+    }
+    check_finite("y_true", y_true, 1)?;
+    check_finite("y_pred", y_pred, 1)
+}
+
+/// Coefficient of determination `1 - SS_res / SS_tot`, like `sklearn.metrics.r2_score`.
+///
+/// When `y_true` is constant (`SS_tot = 0`) scikit-learn's `force_finite` rule applies:
+/// 1.0 for a perfect prediction, 0.0 otherwise.
+///
+/// # Errors
+/// Empty input, different lengths, or a non-finite value.
+pub fn r2(y_true: &[f64], y_pred: &[f64]) -> Result<f64, EvalError> {
+    check_pair(y_true, y_pred)?;
+    let n = y_true.len() as f64;
+    let mean = y_true.iter().sum::<f64>() / n;
+    let ss_res: f64 = y_true
+        .iter()
+        .zip(y_pred)
+        .map(|(t, p)| (t - p) * (t - p))
+        .sum();
+    let ss_tot: f64 = y_true.iter().map(|t| (t - mean) * (t - mean)).sum();
+    if ss_tot == 0.0 {
+        return Ok(if ss_res == 0.0 { 1.0 } else { 0.0 });
+    }
+    Ok(1.0 - ss_res / ss_tot)
+}
+
+/// Root mean squared error, like `sklearn.metrics.root_mean_squared_error`.
+///
+/// # Errors
+/// Empty input, different lengths, or a non-finite value.
+pub fn rmse(y_true: &[f64], y_pred: &[f64]) -> Result<f64, EvalError> {
+    check_pair(y_true, y_pred)?;
+    let sse: f64 = y_true
+        .iter()
+        .zip(y_pred)
+        .map(|(t, p)| (t - p) * (t - p))
+        .sum();
+    Ok((sse / y_true.len() as f64).sqrt())
+}
+
+/// Mean absolute error, like `sklearn.metrics.mean_absolute_error`.
+///
+/// # Errors
+/// Empty input, different lengths, or a non-finite value.
+pub fn mae(y_true: &[f64], y_pred: &[f64]) -> Result<f64, EvalError> {
+    check_pair(y_true, y_pred)?;
+    let sae: f64 = y_true.iter().zip(y_pred).map(|(t, p)| (t - p).abs()).sum();
+    Ok(sae / y_true.len() as f64)
+}
+
+/// Per-sample squared errors `(y_true[i] - y_pred[i])^2`, the input of the paper's t-test.
+///
+/// # Errors
+/// Empty input, different lengths, or a non-finite value.
+pub fn squared_errors(y_true: &[f64], y_pred: &[f64]) -> Result<Vec<f64>, EvalError> {
+    check_pair(y_true, y_pred)?;
+    Ok(y_true
+        .iter()
+        .zip(y_pred)
+        .map(|(t, p)| (t - p) * (t - p))
+        .collect())
+}
+
+/// Relative RMSE reduction in percent: `(rmse_phys - rmse_hybrid) / rmse_phys * 100`.
+///
+/// # Errors
+/// `rmse_phys` must be finite and positive, `rmse_hybrid` finite.
+pub fn improvement_pct(rmse_phys: f64, rmse_hybrid: f64) -> Result<f64, EvalError> {
+    check_finite("rmse_phys", &[rmse_phys], 1)?;
+    check_finite("rmse_hybrid", &[rmse_hybrid], 1)?;
+    if rmse_phys <= 0.0 {
+        return Err(EvalError::NonPositive {
+            what: "rmse_phys",
+            value: rmse_phys,
+        });
+    }
+    Ok((rmse_phys - rmse_hybrid) / rmse_phys * 100.0)
+}
+
+/// R^2, RMSE and MAE of one prediction.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Metrics {
+    /// Coefficient of determination ([`r2`]).
+    pub r2: f64,
+    /// Root mean squared error ([`rmse`]).
+    pub rmse: f64,
+    /// Mean absolute error ([`mae`]).
+    pub mae: f64,
+}
+
+/// All three metrics at once.
+///
+/// # Errors
+/// Empty input, different lengths, or a non-finite value.
+pub fn score(y_true: &[f64], y_pred: &[f64]) -> Result<Metrics, EvalError> {
+    Ok(Metrics {
+        r2: r2(y_true, y_pred)?,
+        rmse: rmse(y_true, y_pred)?,
+        mae: mae(y_true, y_pred)?,
+    })
+}

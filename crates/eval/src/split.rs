@@ -1,0 +1,209 @@
+//! Seeded train/test splits and k-fold cross-validation, plain and grouped.
+//!
+//! All index lists are sorted ascending. Randomness comes from a `ChaCha8Rng` seeded with
+//! the `seed` argument, so a split depends on `(n or groups, parameters, seed)` only.
+
+use crate::EvalError;
+use rand::SeedableRng;
+use rand::seq::SliceRandom;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::hash::Hash;
+
+/// Sample indices of a train side and a test side (disjoint, each sorted ascending).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Split {
+    /// Indices used for fitting.
+    pub train: Vec<usize>,
+    /// Indices held out for scoring.
+    pub test: Vec<usize>,
+}
+
+fn check_fraction(test_fraction: f64) -> Result<(), EvalError> {
+    if test_fraction.is_finite() && test_fraction > 0.0 && test_fraction < 1.0 {
+        Ok(())
+    } else {
+        Err(EvalError::FractionOutOfRange {
+            what: "test_fraction",
+            value: test_fraction,
+        })
+    }
+}
+
+/// Number of test items for `n` items, scikit-learn's rule `ceil(test_fraction * n)`.
+fn n_test(n: usize, test_fraction: f64, unit: &'static str) -> Result<usize, EvalError> {
+    let n_test = (test_fraction * n as f64).ceil() as usize;
+    if n_test == 0 || n_test >= n {
+        return Err(EvalError::EmptySide {
+            n,
+            unit,
+            test_fraction,
+        });
+    }
+    Ok(n_test)
+}
+
+fn sorted(mut v: Vec<usize>) -> Vec<usize> {
+    v.sort_unstable();
+    v
+}
+
+/// Random train/test split of `n` samples: `ceil(test_fraction * n)` go to the test side.
+///
+/// # Errors
+/// `test_fraction` outside (0, 1), or a side that would be empty (e.g. `n < 2`).
+pub fn train_test_split(n: usize, test_fraction: f64, seed: u64) -> Result<Split, EvalError> {
+    check_fraction(test_fraction)?;
+    let n_test = n_test(n, test_fraction, "samples")?;
+    let mut perm: Vec<usize> = (0..n).collect();
+    perm.shuffle(&mut ChaCha8Rng::seed_from_u64(seed));
+    let train = perm.split_off(n_test);
+    Ok(Split {
+        train: sorted(train),
+        test: sorted(perm),
+    })
+}
+
+/// Fold sizes of scikit-learn's `KFold`: the first `n % k` folds hold one extra sample.
+fn fold_sizes(n: usize, k: usize) -> impl Iterator<Item = usize> {
+    (0..k).map(move |i| n / k + usize::from(i < n % k))
+}
+
+fn check_k(n: usize, k: usize, unit: &'static str) -> Result<(), EvalError> {
+    if k < 2 {
+        return Err(EvalError::TooFewFolds { k });
+    }
+    if k > n {
+        return Err(EvalError::TooManyFolds { k, n, unit });
+    }
+    Ok(())
+}
+
+fn folds_from_order(order: &[usize], k: usize) -> Vec<Split> {
+    let n = order.len();
+    let mut start = 0;
+    fold_sizes(n, k)
+        .map(|size| {
+            let test = sorted(order[start..start + size].to_vec());
+            let train = sorted(
+                order[..start]
+                    .iter()
+                    .chain(&order[start + size..])
+                    .copied()
+                    .collect(),
+            );
+            start += size;
+            Split { train, test }
+        })
+        .collect()
+}
+
+/// Shuffled k-fold cross-validation of `n` samples (like `KFold(k, shuffle=True)`):
+/// the test sides partition `0..n`, fold sizes differ by at most one.
+///
+/// # Errors
+/// `k < 2` or `k > n`.
+pub fn kfold(n: usize, k: usize, seed: u64) -> Result<Vec<Split>, EvalError> {
+    check_k(n, k, "samples")?;
+    let mut perm: Vec<usize> = (0..n).collect();
+    perm.shuffle(&mut ChaCha8Rng::seed_from_u64(seed));
+    Ok(folds_from_order(&perm, k))
+}
+
+/// Unshuffled k-fold (scikit-learn's `KFold(k)` default, used by `LassoCV(cv=k)`):
+/// fold `i` tests a contiguous block of indices.
+///
+/// # Errors
+/// `k < 2` or `k > n`.
+pub fn kfold_contiguous(n: usize, k: usize) -> Result<Vec<Split>, EvalError> {
+    check_k(n, k, "samples")?;
+    let order: Vec<usize> = (0..n).collect();
+    Ok(folds_from_order(&order, k))
+}
+
+/// Distinct groups in order of first appearance, with the indices of their members.
+fn group_members<G: Eq + Hash>(groups: &[G]) -> Vec<Vec<usize>> {
+    let mut index: HashMap<&G, usize> = HashMap::new();
+    let mut members: Vec<Vec<usize>> = Vec::new();
+    for (i, g) in groups.iter().enumerate() {
+        let slot = *index.entry(g).or_insert_with(|| {
+            members.push(Vec::new());
+            members.len() - 1
+        });
+        members[slot].push(i);
+    }
+    members
+}
+
+/// Train/test split that never puts members of one group on both sides (like
+/// scikit-learn's `GroupShuffleSplit`): `ceil(test_fraction * n_groups)` whole groups go
+/// to the test side.
+///
+/// # Errors
+/// `test_fraction` outside (0, 1), or fewer than two distinct groups.
+pub fn grouped_train_test_split<G: Eq + Hash>(
+    groups: &[G],
+    test_fraction: f64,
+    seed: u64,
+) -> Result<Split, EvalError> {
+    check_fraction(test_fraction)?;
+    let members = group_members(groups);
+    let n_test = n_test(members.len(), test_fraction, "groups")?;
+    let mut order: Vec<usize> = (0..members.len()).collect();
+    order.shuffle(&mut ChaCha8Rng::seed_from_u64(seed));
+    let collect = |gs: &[usize]| {
+        sorted(
+            gs.iter()
+                .flat_map(|&g| members[g].iter().copied())
+                .collect(),
+        )
+    };
+    Ok(Split {
+        train: collect(&order[n_test..]),
+        test: collect(&order[..n_test]),
+    })
+}
+
+/// Grouped k-fold: each group lies in exactly one test fold. Groups are shuffled with the
+/// seed, then (like scikit-learn's `GroupKFold`) taken largest first and each given to the
+/// fold with the fewest samples so far, which balances fold sizes.
+///
+/// # Errors
+/// `k < 2` or fewer distinct groups than `k`.
+pub fn grouped_kfold<G: Eq + Hash>(
+    groups: &[G],
+    k: usize,
+    seed: u64,
+) -> Result<Vec<Split>, EvalError> {
+    let members = group_members(groups);
+    check_k(members.len(), k, "groups")?;
+    let mut order: Vec<usize> = (0..members.len()).collect();
+    order.shuffle(&mut ChaCha8Rng::seed_from_u64(seed));
+    // Stable sort: equal-sized groups keep their shuffled order.
+    order.sort_by_key(|&g| std::cmp::Reverse(members[g].len()));
+    let mut fold_of_group = vec![0usize; members.len()];
+    let mut load = vec![0usize; k];
+    for &g in &order {
+        let lightest = (0..k).min_by_key(|&f| (load[f], f)).unwrap_or(0);
+        fold_of_group[g] = lightest;
+        load[lightest] += members[g].len();
+    }
+    Ok((0..k)
+        .map(|f| {
+            let mut train = Vec::new();
+            let mut test = Vec::new();
+            for (g, m) in members.iter().enumerate() {
+                if fold_of_group[g] == f {
+                    test.extend(m)
+                } else {
+                    train.extend(m)
+                }
+            }
+            Split {
+                train: sorted(train),
+                test: sorted(test),
+            }
+        })
+        .collect())
+}
