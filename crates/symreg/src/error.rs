@@ -1,0 +1,91 @@
+//! The one error type of the crate.
+use thiserror::Error;
+
+/// Everything that can go wrong in symbolic regression. Every message says what is wrong
+/// and how to mend it.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SrError {
+    /// The data set has no columns.
+    #[error("the data set has no input columns: pass at least one feature column")]
+    NoColumns,
+    /// Names and columns differ in number.
+    #[error("{names} column names but {columns} columns: give one name per column")]
+    NamesColumnsMismatch {
+        /// Number of names.
+        names: usize,
+        /// Number of columns.
+        columns: usize,
+    },
+    /// Two columns have the same name.
+    #[error("column name `{0}` appears twice: column names must be unique")]
+    DuplicateName(String),
+    /// A column name is empty.
+    #[error("column {0} has an empty name: every column needs a name")]
+    EmptyName(usize),
+    /// Columns have different lengths.
+    #[error(
+        "column `{name}` has {got} rows but the first column has {expected}: all columns must have the same length"
+    )]
+    RaggedColumns {
+        /// Column name.
+        name: String,
+        /// Rows of the first column.
+        expected: usize,
+        /// Rows of this column.
+        got: usize,
+    },
+    /// A value is NaN or infinite.
+    #[error(
+        "column `{name}` row {row} is {value}: remove or impute non-finite values before symbolic regression"
+    )]
+    NonFinite {
+        /// Column name (or `target`).
+        name: String,
+        /// Row index (0-based).
+        row: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// Target and data have different numbers of rows.
+    #[error(
+        "the target has {target} rows but the data set has {data}: pass one target value per row"
+    )]
+    TargetLength {
+        /// Target rows.
+        target: usize,
+        /// Data rows.
+        data: usize,
+    },
+    /// The target does not vary.
+    #[error("the target is constant ({0}): symbolic regression needs a target that varies")]
+    ConstantTarget(f64),
+    /// Too few rows.
+    #[error(
+        "{rows} rows are too few: need at least {needed} rows (more than the parameters of the largest model)"
+    )]
+    TooFewRows {
+        /// Rows given.
+        rows: usize,
+        /// Rows needed.
+        needed: usize,
+    },
+    /// An operator name is not known.
+    #[error(
+        "unknown operator `{0}`: choose from add sub mul div exp log sqrt square inverse sin cos tanh abs gaussian gaussian2"
+    )]
+    UnknownOperator(String),
+    /// A column the model needs is missing from the data.
+    #[error("the model needs column `{0}` but the data set has no such column")]
+    UnknownColumn(String),
+    /// A configuration value is out of range.
+    #[error("invalid configuration: {0}")]
+    InvalidConfig(String),
+    /// The search found no model with finite loss.
+    #[error(
+        "no candidate model had a finite loss on the training data: check the data scale or allow more operators"
+    )]
+    NoModel,
+    /// A saved model is malformed.
+    #[error("malformed model: {0}")]
+    MalformedModel(String),
+}

@@ -1,0 +1,300 @@
+//! Batched evaluation of postfix programs, and the Jacobian for constant fitting.
+//!
+//! Rows are processed in batches of [`BATCH`]: every node owns one batch buffer, filled in
+//! postfix order by a tight loop per operator (Operon's design), so the per-node dispatch
+//! cost is paid once per batch, not once per row. The Jacobian with respect to every
+//! parameter comes from one reverse (adjoint) sweep over the same buffers: parameters sit
+//! only at the leaves and the output, so the adjoint of a leaf times its input value is the
+//! derivative with respect to its scale.
+use crate::ops::Op;
+use crate::program::{Node, Program};
+
+/// Rows per batch.
+pub const BATCH: usize = 128;
+
+/// Reusable evaluation state for one program.
+#[derive(Debug, Clone)]
+pub struct Evaluator {
+    offsets: Vec<usize>,
+    children: Vec<[usize; 2]>,
+    vals: Vec<f64>,
+    adj: Vec<f64>,
+    jac: Vec<f64>,
+    res: Vec<f64>,
+}
+
+#[inline]
+fn unary(dst: &mut [f64], a: &[f64], f: impl Fn(f64) -> f64) {
+    for (d, &x) in dst.iter_mut().zip(a) {
+        *d = f(x);
+    }
+}
+
+#[inline]
+fn binary(dst: &mut [f64], a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) {
+    for ((d, &x), &y) in dst.iter_mut().zip(a).zip(b) {
+        *d = f(x, y);
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    // Four accumulators: fixed association order, so results do not depend on anything
+    // but the inputs.
+    let mut s = [0.0f64; 4];
+    let chunks = a.len() / 4;
+    for i in 0..chunks {
+        for k in 0..4 {
+            s[k] += a[4 * i + k] * b[4 * i + k];
+        }
+    }
+    let mut t = (s[0] + s[1]) + (s[2] + s[3]);
+    for i in 4 * chunks..a.len() {
+        t += a[i] * b[i];
+    }
+    t
+}
+
+impl Evaluator {
+    /// Prepares evaluation of `prog`.
+    pub fn new(prog: &Program) -> Self {
+        let n = prog.nodes.len();
+        Self {
+            offsets: prog.param_offsets(),
+            children: prog.children(),
+            vals: vec![0.0; n * BATCH],
+            adj: Vec::new(),
+            jac: Vec::new(),
+            res: vec![0.0; BATCH],
+        }
+    }
+
+    fn forward(
+        &mut self,
+        prog: &Program,
+        params: &[f64],
+        cols: &[&[f64]],
+        start: usize,
+        len: usize,
+    ) {
+        let vals = &mut self.vals;
+        for (k, node) in prog.nodes.iter().enumerate() {
+            let (before, rest) = vals.split_at_mut(k * BATCH);
+            let dst = &mut rest[..len];
+            match *node {
+                Node::Var(j) => {
+                    let x = &cols[j as usize][start..start + len];
+                    if prog.affine {
+                        let w = params[self.offsets[k]];
+                        let b = params[self.offsets[k] + 1];
+                        unary(dst, x, |v| w * v + b);
+                    } else {
+                        dst.copy_from_slice(x);
+                    }
+                }
+                Node::Const => dst.fill(params[self.offsets[k]]),
+                Node::Op(op) => {
+                    let [c0, c1] = self.children[k];
+                    let a = &before[c0 * BATCH..c0 * BATCH + len];
+                    if op.arity() == 1 {
+                        match op {
+                            Op::Exp => unary(dst, a, f64::exp),
+                            Op::Log => unary(dst, a, |v| if v > 0.0 { v.ln() } else { f64::NAN }),
+                            Op::Sqrt => unary(dst, a, f64::sqrt),
+                            Op::Square => unary(dst, a, |v| v * v),
+                            Op::Inverse => unary(dst, a, |v| 1.0 / v),
+                            Op::Sin => unary(dst, a, f64::sin),
+                            Op::Cos => unary(dst, a, f64::cos),
+                            Op::Tanh => unary(dst, a, f64::tanh),
+                            Op::Abs => unary(dst, a, f64::abs),
+                            Op::Gaussian => unary(dst, a, |v| (-v * v).exp()),
+                            _ => dst.fill(f64::NAN),
+                        }
+                    } else {
+                        let b = &before[c1 * BATCH..c1 * BATCH + len];
+                        match op {
+                            Op::Add => binary(dst, a, b, |x, y| x + y),
+                            Op::Sub => binary(dst, a, b, |x, y| x - y),
+                            Op::Mul => binary(dst, a, b, |x, y| x * y),
+                            Op::Div => binary(dst, a, b, |x, y| x / y),
+                            Op::Gaussian2 => binary(dst, a, b, |x, y| (-(x * x + y * y)).exp()),
+                            _ => dst.fill(f64::NAN),
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Writes the program's output for all `n_rows` rows into `out`.
+    pub fn predict(
+        &mut self,
+        prog: &Program,
+        params: &[f64],
+        cols: &[&[f64]],
+        n_rows: usize,
+        out: &mut Vec<f64>,
+    ) {
+        out.clear();
+        out.reserve(n_rows);
+        let root = prog.nodes.len() - 1;
+        let (scale, offset) = (params[0], params[1]);
+        let mut start = 0;
+        while start < n_rows {
+            let len = BATCH.min(n_rows - start);
+            self.forward(prog, params, cols, start, len);
+            out.extend(
+                self.vals[root * BATCH..root * BATCH + len]
+                    .iter()
+                    .map(|&v| scale * v + offset),
+            );
+            start += len;
+        }
+    }
+
+    /// Writes the root value (before the output map) for all rows into `out`.
+    pub fn root_values(
+        &mut self,
+        prog: &Program,
+        params: &[f64],
+        cols: &[&[f64]],
+        n_rows: usize,
+        out: &mut Vec<f64>,
+    ) {
+        out.clear();
+        let root = prog.nodes.len() - 1;
+        let mut start = 0;
+        while start < n_rows {
+            let len = BATCH.min(n_rows - start);
+            self.forward(prog, params, cols, start, len);
+            out.extend_from_slice(&self.vals[root * BATCH..root * BATCH + len]);
+            start += len;
+        }
+    }
+
+    /// Mean squared error against `y`; `f64::INFINITY` if any prediction is not finite.
+    pub fn mse(&mut self, prog: &Program, params: &[f64], cols: &[&[f64]], y: &[f64]) -> f64 {
+        let n_rows = y.len();
+        let root = prog.nodes.len() - 1;
+        let (scale, offset) = (params[0], params[1]);
+        let mut sse = 0.0;
+        let mut start = 0;
+        while start < n_rows {
+            let len = BATCH.min(n_rows - start);
+            self.forward(prog, params, cols, start, len);
+            let v = &self.vals[root * BATCH..root * BATCH + len];
+            for i in 0..len {
+                self.res[i] = scale * v[i] + offset - y[start + i];
+            }
+            sse += dot(&self.res[..len], &self.res[..len]);
+            start += len;
+        }
+        let m = sse / n_rows as f64;
+        if m.is_finite() { m } else { f64::INFINITY }
+    }
+
+    /// Accumulates the Gauss-Newton normal equations `J^T J` (lower triangle, row-major,
+    /// `free.len()` squared) and `J^T r` for the parameters listed in `free`, with
+    /// residual `r = prediction - y`. Returns the mean squared error (`INFINITY` if not finite).
+    #[allow(clippy::too_many_arguments)]
+    pub fn normal_equations(
+        &mut self,
+        prog: &Program,
+        params: &[f64],
+        free: &[usize],
+        cols: &[&[f64]],
+        y: &[f64],
+        jtj: &mut [f64],
+        jtr: &mut [f64],
+    ) -> f64 {
+        let n = prog.nodes.len();
+        let m = free.len();
+        let n_params = params.len();
+        jtj.fill(0.0);
+        jtr.fill(0.0);
+        self.adj.resize(n * BATCH, 0.0);
+        self.jac.resize(n_params * BATCH, 0.0);
+        let root = n - 1;
+        let (scale, offset) = (params[0], params[1]);
+        let n_rows = y.len();
+        let mut sse = 0.0;
+        let mut start = 0;
+        while start < n_rows {
+            let len = BATCH.min(n_rows - start);
+            self.forward(prog, params, cols, start, len);
+            // residuals
+            {
+                let v = &self.vals[root * BATCH..root * BATCH + len];
+                for i in 0..len {
+                    self.res[i] = scale * v[i] + offset - y[start + i];
+                }
+                sse += dot(&self.res[..len], &self.res[..len]);
+            }
+            // adjoints
+            self.adj[root * BATCH..root * BATCH + len].fill(scale);
+            for k in (0..n).rev() {
+                let node = prog.nodes[k];
+                let (before, rest) = self.adj.split_at_mut(k * BATCH);
+                let ak = &rest[..len];
+                match node {
+                    Node::Op(op) => {
+                        let [c0, c1] = self.children[k];
+                        let out = &self.vals[k * BATCH..k * BATCH + len];
+                        let va = &self.vals[c0 * BATCH..c0 * BATCH + len];
+                        if op.arity() == 1 {
+                            let da = &mut before[c0 * BATCH..c0 * BATCH + len];
+                            for i in 0..len {
+                                da[i] = ak[i] * op.d1(va[i], out[i]);
+                            }
+                        } else {
+                            let vb = &self.vals[c1 * BATCH..c1 * BATCH + len];
+                            let (lo, hi) = before.split_at_mut(c1 * BATCH);
+                            let da = &mut lo[c0 * BATCH..c0 * BATCH + len];
+                            let db = &mut hi[..len];
+                            for i in 0..len {
+                                let (ga, gb) = op.d2(va[i], vb[i], out[i]);
+                                da[i] = ak[i] * ga;
+                                db[i] = ak[i] * gb;
+                            }
+                        }
+                    }
+                    Node::Var(j) => {
+                        if prog.affine {
+                            let p = self.offsets[k];
+                            let x = &cols[j as usize][start..start + len];
+                            let (jw, jb) = self.jac[p * BATCH..(p + 2) * BATCH].split_at_mut(BATCH);
+                            for i in 0..len {
+                                jw[i] = ak[i] * x[i];
+                                jb[i] = ak[i];
+                            }
+                        }
+                    }
+                    Node::Const => {
+                        let p = self.offsets[k];
+                        self.jac[p * BATCH..p * BATCH + len].copy_from_slice(ak);
+                    }
+                }
+            }
+            {
+                let (j01, _) = self.jac.split_at_mut(2 * BATCH);
+                let (js, jo) = j01.split_at_mut(BATCH);
+                js[..len].copy_from_slice(&self.vals[root * BATCH..root * BATCH + len]);
+                jo[..len].fill(1.0);
+            }
+            for (a, &p) in free.iter().enumerate() {
+                let jp = &self.jac[p * BATCH..p * BATCH + len];
+                jtr[a] += dot(jp, &self.res[..len]);
+                for (b, &q) in free[..=a].iter().enumerate() {
+                    jtj[a * m + b] += dot(jp, &self.jac[q * BATCH..q * BATCH + len]);
+                }
+            }
+            start += len;
+        }
+        let mse = sse / n_rows as f64;
+        if mse.is_finite() && jtj.iter().all(|v| v.is_finite()) && jtr.iter().all(|v| v.is_finite())
+        {
+            mse
+        } else {
+            f64::INFINITY
+        }
+    }
+}

@@ -1,0 +1,346 @@
+//! Expression trees for reporting: built from a program and its parameters, simplified, and
+//! printed as plain text, sympy-parseable text or LaTeX.
+use crate::ops::Op;
+use crate::program::{Node, Program};
+
+/// A reporting expression.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Expr {
+    /// A number.
+    Num(f64),
+    /// A named input.
+    Var(String),
+    /// Negation.
+    Neg(Box<Expr>),
+    /// A unary operator.
+    Un(Op, Box<Expr>),
+    /// A binary operator.
+    Bin(Op, Box<Expr>, Box<Expr>),
+}
+
+fn add_num(e: Expr, x: f64) -> Expr {
+    if x < 0.0 {
+        Expr::Bin(Op::Sub, Box::new(e), Box::new(Expr::Num(-x)))
+    } else {
+        Expr::Bin(Op::Add, Box::new(e), Box::new(Expr::Num(x)))
+    }
+}
+
+fn num(v: f64) -> Expr {
+    Expr::Num(v)
+}
+
+impl Expr {
+    /// Builds the full expression `scale * root + offset` of a program.
+    pub fn from_program(prog: &Program, params: &[f64], names: &[String]) -> Expr {
+        let offs = prog.param_offsets();
+        let mut stack: Vec<Expr> = Vec::new();
+        for (k, n) in prog.nodes.iter().enumerate() {
+            let e = match n {
+                Node::Var(j) => {
+                    let name = names
+                        .get(*j as usize)
+                        .cloned()
+                        .unwrap_or_else(|| format!("x{j}"));
+                    if prog.affine {
+                        let w = params[offs[k]];
+                        let b = params[offs[k] + 1];
+                        Expr::Bin(
+                            Op::Add,
+                            Box::new(Expr::Bin(
+                                Op::Mul,
+                                Box::new(num(w)),
+                                Box::new(Expr::Var(name)),
+                            )),
+                            Box::new(num(b)),
+                        )
+                    } else {
+                        Expr::Var(name)
+                    }
+                }
+                Node::Const => num(params[offs[k]]),
+                Node::Op(op) => {
+                    if op.arity() == 2 {
+                        let b = stack.pop().unwrap_or(num(f64::NAN));
+                        let a = stack.pop().unwrap_or(num(f64::NAN));
+                        Expr::Bin(*op, Box::new(a), Box::new(b))
+                    } else {
+                        let a = stack.pop().unwrap_or(num(f64::NAN));
+                        Expr::Un(*op, Box::new(a))
+                    }
+                }
+            };
+            stack.push(e);
+        }
+        let root = stack.pop().unwrap_or(num(f64::NAN));
+        Expr::Bin(
+            Op::Add,
+            Box::new(Expr::Bin(Op::Mul, Box::new(num(params[0])), Box::new(root))),
+            Box::new(num(params[1])),
+        )
+        .simplify()
+    }
+
+    /// Evaluates the expression with variables looked up by `lookup`.
+    pub fn eval(&self, lookup: &dyn Fn(&str) -> f64) -> f64 {
+        match self {
+            Expr::Num(v) => *v,
+            Expr::Var(n) => lookup(n),
+            Expr::Neg(a) => -a.eval(lookup),
+            Expr::Un(op, a) => op.apply1(a.eval(lookup)),
+            Expr::Bin(op, a, b) => op.apply2(a.eval(lookup), b.eval(lookup)),
+        }
+    }
+
+    /// Value-preserving simplification (for finite values): folds constants, drops `*1`,
+    /// `+0`, `0*x`, merges nested numeric factors and offsets, turns `x + (-c)` into `x - c`.
+    pub fn simplify(self) -> Expr {
+        use Expr::*;
+        match self {
+            Neg(a) => match a.simplify() {
+                Num(v) => Num(-v),
+                Neg(x) => *x,
+                x => Neg(Box::new(x)),
+            },
+            Un(op, a) => match a.simplify() {
+                Num(v) => Num(op.apply1(v)),
+                x => Un(op, Box::new(x)),
+            },
+            Bin(op, a, b) => {
+                let a = a.simplify();
+                let b = b.simplify();
+                match (op, a, b) {
+                    (_, Num(x), Num(y)) => Num(op.apply2(x, y)),
+                    (Op::Mul, Num(x), e) | (Op::Mul, e, Num(x)) => {
+                        if x == 1.0 {
+                            e
+                        } else if x == 0.0 {
+                            Num(0.0)
+                        } else if x == -1.0 {
+                            Neg(Box::new(e)).simplify()
+                        } else {
+                            match e {
+                                Bin(Op::Mul, inner_a, inner_b) => match *inner_a {
+                                    Num(y) => {
+                                        Bin(Op::Mul, Box::new(Num(x * y)), inner_b).simplify()
+                                    }
+                                    other => Bin(
+                                        Op::Mul,
+                                        Box::new(Num(x)),
+                                        Box::new(Bin(Op::Mul, Box::new(other), inner_b)),
+                                    ),
+                                },
+                                Neg(inner) => Bin(Op::Mul, Box::new(Num(-x)), inner),
+                                e => Bin(Op::Mul, Box::new(Num(x)), Box::new(e)),
+                            }
+                        }
+                    }
+                    (Op::Add, Num(x), e) | (Op::Add, e, Num(x)) => {
+                        if x == 0.0 {
+                            e
+                        } else {
+                            match e {
+                                Bin(Op::Add, ia, ib) => match *ib {
+                                    Num(y) => Bin(Op::Add, ia, Box::new(Num(x + y))).simplify(),
+                                    other => add_num(Bin(Op::Add, ia, Box::new(other)), x),
+                                },
+                                Bin(Op::Sub, ia, ib) => match *ib {
+                                    Num(y) => Bin(Op::Add, ia, Box::new(Num(x - y))).simplify(),
+                                    other => add_num(Bin(Op::Sub, ia, Box::new(other)), x),
+                                },
+                                e => add_num(e, x),
+                            }
+                        }
+                    }
+                    (Op::Sub, e, Num(x)) => Bin(Op::Add, Box::new(e), Box::new(Num(-x))).simplify(),
+                    (Op::Sub, Num(0.0), e) => Neg(Box::new(e)).simplify(),
+                    (Op::Div, e, Num(1.0)) => e,
+                    (Op::Add, a, Neg(b)) => Bin(Op::Sub, Box::new(a), b),
+                    (Op::Sub, a, Neg(b)) => Bin(Op::Add, Box::new(a), b),
+                    (op, a, b) => Bin(op, Box::new(a), Box::new(b)),
+                }
+            }
+            e => e,
+        }
+    }
+
+    fn prec(&self) -> u8 {
+        match self {
+            Expr::Num(v) if *v < 0.0 => 2,
+            Expr::Num(_) | Expr::Var(_) | Expr::Un(..) => 9,
+            Expr::Bin(Op::Gaussian2, ..) => 9,
+            Expr::Neg(_) => 3,
+            Expr::Bin(Op::Add | Op::Sub, ..) => 1,
+            Expr::Bin(..) => 2,
+        }
+    }
+
+    /// Plain-text form with `digits` significant digits (`None` for full precision).
+    pub fn to_text(&self, digits: Option<usize>, sympy: bool) -> String {
+        let fmt_num = |v: f64| fmt_number(v, digits);
+        let wrap = |e: &Expr, min: u8| {
+            let s = e.to_text(digits, sympy);
+            if e.prec() < min { format!("({s})") } else { s }
+        };
+        match self {
+            Expr::Num(v) => fmt_num(*v),
+            Expr::Var(n) => {
+                if sympy {
+                    sanitize(n)
+                } else {
+                    n.clone()
+                }
+            }
+            Expr::Neg(a) => format!("-{}", wrap(a, 3)),
+            Expr::Un(op, a) => {
+                let s = a.to_text(digits, sympy);
+                match op {
+                    Op::Square => format!("{}**2", wrap(a, 4)),
+                    Op::Inverse => format!("1/{}", wrap(a, 4)),
+                    Op::Abs => {
+                        if sympy {
+                            format!("Abs({s})")
+                        } else {
+                            format!("abs({s})")
+                        }
+                    }
+                    Op::Gaussian => format!("exp(-{}**2)", wrap(a, 4)),
+                    _ => format!("{}({s})", op.name()),
+                }
+            }
+            Expr::Bin(op, a, b) => match op {
+                Op::Add => format!("{} + {}", wrap(a, 1), wrap(b, 1)),
+                Op::Sub => format!("{} - {}", wrap(a, 1), wrap(b, 2)),
+                Op::Mul => format!("{}*{}", wrap(a, 2), wrap(b, 2)),
+                Op::Div => format!("{}/{}", wrap(a, 2), wrap(b, 3)),
+                Op::Gaussian2 => format!("exp(-({}**2 + {}**2))", wrap(a, 4), wrap(b, 4)),
+                _ => format!(
+                    "{}({}, {})",
+                    op.name(),
+                    a.to_text(digits, sympy),
+                    b.to_text(digits, sympy)
+                ),
+            },
+        }
+    }
+
+    /// LaTeX form with `digits` significant digits.
+    pub fn to_latex(&self, digits: usize) -> String {
+        let wrap = |e: &Expr, min: u8| {
+            let s = e.to_latex(digits);
+            if e.prec() < min {
+                format!("\\left({s}\\right)")
+            } else {
+                s
+            }
+        };
+        match self {
+            Expr::Num(v) => {
+                let s = fmt_number(*v, Some(digits));
+                match s.split_once('e') {
+                    Some((m, e)) => format!("{m} \\cdot 10^{{{}}}", e.trim_start_matches('+')),
+                    None => s,
+                }
+            }
+            Expr::Var(n) => latex_name(n),
+            Expr::Neg(a) => format!("-{}", wrap(a, 3)),
+            Expr::Un(op, a) => {
+                let s = a.to_latex(digits);
+                match op {
+                    Op::Square => format!("{}^{{2}}", wrap(a, 4)),
+                    Op::Inverse => format!("\\frac{{1}}{{{s}}}"),
+                    Op::Abs => format!("\\left|{s}\\right|"),
+                    Op::Sqrt => format!("\\sqrt{{{s}}}"),
+                    Op::Exp => format!("e^{{{s}}}"),
+                    Op::Gaussian => format!("e^{{-{}^{{2}}}}", wrap(a, 4)),
+                    Op::Log => format!("\\log\\left({s}\\right)"),
+                    Op::Sin => format!("\\sin\\left({s}\\right)"),
+                    Op::Cos => format!("\\cos\\left({s}\\right)"),
+                    Op::Tanh => format!("\\tanh\\left({s}\\right)"),
+                    _ => format!("\\operatorname{{{}}}\\left({s}\\right)", op.name()),
+                }
+            }
+            Expr::Bin(op, a, b) => match op {
+                Op::Add => format!("{} + {}", wrap(a, 1), wrap(b, 1)),
+                Op::Sub => format!("{} - {}", wrap(a, 1), wrap(b, 2)),
+                Op::Mul => format!("{} {}", wrap(a, 2), wrap(b, 2)),
+                Op::Div => format!("\\frac{{{}}}{{{}}}", a.to_latex(digits), b.to_latex(digits)),
+                Op::Gaussian2 => format!(
+                    "e^{{-\\left({}^{{2}} + {}^{{2}}\\right)}}",
+                    wrap(a, 4),
+                    wrap(b, 4)
+                ),
+                _ => format!(
+                    "\\operatorname{{{}}}\\left({}, {}\\right)",
+                    op.name(),
+                    a.to_latex(digits),
+                    b.to_latex(digits)
+                ),
+            },
+        }
+    }
+}
+
+/// Formats a number: integers without a decimal point, otherwise `digits` significant digits
+/// (shortest round-trip representation when `digits` is `None`).
+pub fn fmt_number(v: f64, digits: Option<usize>) -> String {
+    if v.is_finite() && v == v.round() && v.abs() < 1e15 {
+        return format!("{}", v as i64);
+    }
+    match digits {
+        None => format!("{v:?}"),
+        Some(d) => {
+            let a = v.abs();
+            if a != 0.0 && !(1e-4..1e6).contains(&a) {
+                format!("{:.*e}", d.saturating_sub(1), v)
+            } else {
+                let mag = if a == 0.0 {
+                    0
+                } else {
+                    a.log10().floor() as i32
+                };
+                let decimals = (d as i32 - 1 - mag).max(0) as usize;
+                let s = format!("{v:.decimals$}");
+                if s.contains('.') {
+                    s.trim_end_matches('0').trim_end_matches('.').to_string()
+                } else {
+                    s
+                }
+            }
+        }
+    }
+}
+
+/// Turns a column name into a Python identifier (non-alphanumerics become `_`, a leading
+/// digit gets a `_` prefix).
+pub fn sanitize(name: &str) -> String {
+    let mut s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.chars().next().is_none_or(|c| c.is_ascii_digit()) {
+        s.insert(0, '_');
+    }
+    s
+}
+
+fn latex_name(n: &str) -> String {
+    // f12 -> f_{12}; other names in \mathrm with escaped underscores.
+    let (head, tail): (String, String) = {
+        let i = n.find(|c: char| c.is_ascii_digit()).unwrap_or(n.len());
+        (n[..i].to_string(), n[i..].to_string())
+    };
+    if head.len() == 1 && !tail.is_empty() && tail.chars().all(|c| c.is_ascii_digit()) {
+        format!("{head}_{{{tail}}}")
+    } else if n.len() == 1 {
+        n.to_string()
+    } else {
+        format!("\\mathrm{{{}}}", n.replace('_', "\\_"))
+    }
+}

@@ -1,0 +1,243 @@
+//! Fitted models: evaluation on new data, export, and constant snapping.
+use crate::eval::Evaluator;
+use crate::expr::Expr;
+use crate::fit::levenberg_marquardt;
+use crate::program::{ComplexityMeasure, Node, Program};
+use crate::{Dataset, SrError};
+use serde::{Deserialize, Serialize};
+
+/// A fitted symbolic model: a postfix program over named features with its parameters.
+///
+/// Serialises to JSON (serde) with everything needed to predict; load it back with
+/// [`Model::from_json`] and evaluate it on new rows with [`Model::predict`].
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Model {
+    /// Names of the features the program refers to; `Var(i)` is `features[i]`.
+    pub feature_names: Vec<String>,
+    /// The program.
+    pub program: Program,
+    /// Parameters: output scale, output offset, then each node's own.
+    pub params: Vec<f64>,
+    /// Complexity under the search's measure.
+    pub complexity: usize,
+    /// Mean squared error on the training rows.
+    pub train_mse: f64,
+    /// Criterion value (lower is better) on the training rows.
+    pub score: f64,
+}
+
+impl Model {
+    /// Builds a model and checks that program, parameters and names agree.
+    ///
+    /// # Errors
+    /// [`SrError::MalformedModel`] if the program is not a single expression, refers to a
+    /// feature that is not named, or the parameter count is wrong.
+    pub fn new(
+        feature_names: Vec<String>,
+        program: Program,
+        params: Vec<f64>,
+    ) -> Result<Self, SrError> {
+        let m = Model {
+            complexity: program.complexity(ComplexityMeasure::FeaturesPlusOperators),
+            feature_names,
+            program,
+            params,
+            train_mse: f64::NAN,
+            score: f64::NAN,
+        };
+        m.check()?;
+        Ok(m)
+    }
+
+    fn check(&self) -> Result<(), SrError> {
+        if self.program.nodes.is_empty() || !self.program.is_valid() {
+            return Err(SrError::MalformedModel(
+                "the program is not a single well-formed expression".into(),
+            ));
+        }
+        if self.params.len() != self.program.n_params() {
+            return Err(SrError::MalformedModel(format!(
+                "the program needs {} parameters but {} are stored",
+                self.program.n_params(),
+                self.params.len()
+            )));
+        }
+        for n in &self.program.nodes {
+            if let Node::Var(j) = n
+                && *j as usize >= self.feature_names.len()
+            {
+                return Err(SrError::MalformedModel(format!(
+                    "input index {j} has no feature name"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Predictions for every row of `data`; inputs are looked up by name, extra columns are
+    /// ignored. Rows where the expression is undefined (e.g. `log` of a negative value)
+    /// give NaN.
+    ///
+    /// # Errors
+    /// [`SrError::UnknownColumn`] if a feature is missing; [`SrError::MalformedModel`] for a
+    /// corrupt (e.g. hand-edited) model.
+    pub fn predict(&self, data: &Dataset) -> Result<Vec<f64>, SrError> {
+        self.check()?;
+        let mut cols: Vec<&[f64]> = Vec::with_capacity(self.feature_names.len());
+        for name in &self.feature_names {
+            cols.push(
+                data.column(name)
+                    .ok_or_else(|| SrError::UnknownColumn(name.clone()))?,
+            );
+        }
+        let mut out = Vec::new();
+        Evaluator::new(&self.program).predict(
+            &self.program,
+            &self.params,
+            &cols,
+            data.n_rows(),
+            &mut out,
+        );
+        Ok(out)
+    }
+
+    /// The simplified reporting expression.
+    pub fn expr(&self) -> Expr {
+        Expr::from_program(&self.program, &self.params, &self.feature_names)
+    }
+
+    /// Plain-text equation with 4 significant digits, e.g. `29.4*exp(-(...)) - 9.71`.
+    pub fn equation(&self) -> String {
+        self.expr().to_text(Some(4), false)
+    }
+
+    /// Text that `sympy.sympify` parses, with full-precision constants (`**` powers, `Abs`,
+    /// feature names made into identifiers).
+    pub fn sympy(&self) -> String {
+        self.expr().to_text(None, true)
+    }
+
+    /// LaTeX with 4 significant digits.
+    pub fn latex(&self) -> String {
+        self.expr().to_latex(4)
+    }
+
+    /// Complexity (the paper's count by default: features + operators).
+    pub fn complexity(&self) -> usize {
+        self.complexity
+    }
+
+    /// Names of the features that appear in the equation, in first-use order.
+    pub fn features(&self) -> Vec<String> {
+        let mut out: Vec<String> = Vec::new();
+        for n in &self.program.nodes {
+            if let Node::Var(j) = n {
+                let name = &self.feature_names[*j as usize];
+                if !out.contains(name) {
+                    out.push(name.clone());
+                }
+            }
+        }
+        out
+    }
+
+    /// Serialises the model to JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// Loads a model saved with [`Model::to_json`].
+    ///
+    /// # Errors
+    /// [`SrError::MalformedModel`] when the text is not a valid model.
+    pub fn from_json(text: &str) -> Result<Self, SrError> {
+        let m: Model =
+            serde_json::from_str(text).map_err(|e| SrError::MalformedModel(e.to_string()))?;
+        m.check()?;
+        Ok(m)
+    }
+}
+
+/// Candidate simple values near `v`, simplest first.
+fn snap_candidates(v: f64) -> Vec<f64> {
+    let mut c = vec![0.0, v.round(), (v * 2.0).round() / 2.0];
+    let a = v.abs();
+    if a > 0.0 && a.is_finite() {
+        for digits in [1i32, 2, 3] {
+            let mag = a.log10().floor() as i32;
+            let f = 10f64.powi(digits - 1 - mag);
+            c.push((v * f).round() / f);
+        }
+    }
+    let mut out: Vec<f64> = Vec::new();
+    for x in c {
+        if x != v && x.is_finite() && !out.contains(&x) {
+            out.push(x);
+        }
+    }
+    out
+}
+
+/// Replaces parameters by simple nearby values (0, integers, halves, then 1-3 significant
+/// digits) one at a time, refitting the others, whenever the mean squared error stays within
+/// `rel_tol` of the original fit (plus `abs_tol`). Biases are tried first, then weights and
+/// constants, then the output map. Returns the final mean squared error.
+pub(crate) fn snap_params(
+    prog: &Program,
+    params: &mut Vec<f64>,
+    cols: &[&[f64]],
+    y: &[f64],
+    rel_tol: f64,
+    abs_tol: f64,
+) -> f64 {
+    let mut ev = Evaluator::new(prog);
+    let base = ev.mse(prog, params, cols, y);
+    if !base.is_finite() {
+        return base;
+    }
+    let limit = base * (1.0 + rel_tol) + abs_tol;
+    let offs = prog.param_offsets();
+    let mut order: Vec<usize> = Vec::new();
+    for (k, n) in prog.nodes.iter().enumerate() {
+        if matches!(n, Node::Var(_)) && prog.affine {
+            order.push(offs[k] + 1);
+        }
+    }
+    for (k, n) in prog.nodes.iter().enumerate() {
+        match n {
+            Node::Var(_) if prog.affine => order.push(offs[k]),
+            Node::Const => order.push(offs[k]),
+            _ => {}
+        }
+    }
+    order.push(1);
+    order.push(0);
+    let mut fixed = vec![false; params.len()];
+    let mut current = base;
+    for &i in &order {
+        for cand in snap_candidates(params[i]) {
+            let mut trial = params.clone();
+            trial[i] = cand;
+            let mut fx = fixed.clone();
+            fx[i] = true;
+            let free: Vec<usize> = (0..trial.len()).filter(|&p| !fx[p]).collect();
+            let mse = if free.is_empty() {
+                ev.mse(prog, &trial, cols, y)
+            } else {
+                let direct = ev.mse(prog, &trial, cols, y);
+                if direct <= limit {
+                    direct
+                } else {
+                    levenberg_marquardt(prog, &mut trial, &free, cols, y, 20, &mut ev)
+                }
+            };
+            if mse.is_finite() && mse <= limit {
+                *params = trial;
+                fixed = fx;
+                current = mse;
+                break;
+            }
+        }
+    }
+    current
+}

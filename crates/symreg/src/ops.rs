@@ -1,0 +1,221 @@
+//! Operators: names, arities, values and partial derivatives.
+use crate::SrError;
+use serde::{Deserialize, Serialize};
+
+/// One operator of an expression. Unary operators take one argument, binary two.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Op {
+    /// a + b
+    Add,
+    /// a - b
+    Sub,
+    /// a * b
+    Mul,
+    /// a / b
+    Div,
+    /// exp(a)
+    Exp,
+    /// ln(a), rejected for a <= 0
+    Log,
+    /// sqrt(a), rejected for a < 0
+    Sqrt,
+    /// a^2
+    Square,
+    /// 1 / a
+    Inverse,
+    /// sin(a)
+    Sin,
+    /// cos(a)
+    Cos,
+    /// tanh(a)
+    Tanh,
+    /// |a|
+    Abs,
+    /// exp(-a^2)
+    Gaussian,
+    /// exp(-(a^2 + b^2)), QLattice's two-input gaussian
+    Gaussian2,
+}
+
+impl Op {
+    /// Every operator, in a fixed order.
+    pub const ALL: [Op; 15] = [
+        Op::Add,
+        Op::Sub,
+        Op::Mul,
+        Op::Div,
+        Op::Exp,
+        Op::Log,
+        Op::Sqrt,
+        Op::Square,
+        Op::Inverse,
+        Op::Sin,
+        Op::Cos,
+        Op::Tanh,
+        Op::Abs,
+        Op::Gaussian,
+        Op::Gaussian2,
+    ];
+
+    /// The operator's name as used in configurations (`add`, `gaussian2`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            Op::Add => "add",
+            Op::Sub => "sub",
+            Op::Mul => "mul",
+            Op::Div => "div",
+            Op::Exp => "exp",
+            Op::Log => "log",
+            Op::Sqrt => "sqrt",
+            Op::Square => "square",
+            Op::Inverse => "inverse",
+            Op::Sin => "sin",
+            Op::Cos => "cos",
+            Op::Tanh => "tanh",
+            Op::Abs => "abs",
+            Op::Gaussian => "gaussian",
+            Op::Gaussian2 => "gaussian2",
+        }
+    }
+
+    /// Parses an operator name (case-insensitive; `+ - * /` and a few aliases accepted).
+    ///
+    /// # Errors
+    /// [`SrError::UnknownOperator`] for any other name.
+    pub fn parse(name: &str) -> Result<Op, SrError> {
+        let n = name.trim().to_ascii_lowercase();
+        let op = match n.as_str() {
+            "add" | "+" => Op::Add,
+            "sub" | "-" => Op::Sub,
+            "mul" | "multiply" | "*" => Op::Mul,
+            "div" | "divide" | "/" => Op::Div,
+            "exp" => Op::Exp,
+            "log" | "ln" => Op::Log,
+            "sqrt" => Op::Sqrt,
+            "square" | "squared" => Op::Square,
+            "inverse" | "inv" => Op::Inverse,
+            "sin" => Op::Sin,
+            "cos" => Op::Cos,
+            "tanh" => Op::Tanh,
+            "abs" => Op::Abs,
+            "gaussian" => Op::Gaussian,
+            "gaussian2" => Op::Gaussian2,
+            _ => return Err(SrError::UnknownOperator(name.to_string())),
+        };
+        Ok(op)
+    }
+
+    /// 1 or 2.
+    pub fn arity(self) -> usize {
+        match self {
+            Op::Add | Op::Sub | Op::Mul | Op::Div | Op::Gaussian2 => 2,
+            _ => 1,
+        }
+    }
+
+    /// Value of a unary operator.
+    #[inline]
+    pub fn apply1(self, a: f64) -> f64 {
+        match self {
+            Op::Exp => a.exp(),
+            Op::Log => {
+                if a > 0.0 {
+                    a.ln()
+                } else {
+                    f64::NAN
+                }
+            }
+            Op::Sqrt => a.sqrt(),
+            Op::Square => a * a,
+            Op::Inverse => 1.0 / a,
+            Op::Sin => a.sin(),
+            Op::Cos => a.cos(),
+            Op::Tanh => a.tanh(),
+            Op::Abs => a.abs(),
+            Op::Gaussian => (-a * a).exp(),
+            _ => f64::NAN,
+        }
+    }
+
+    /// Value of a binary operator.
+    #[inline]
+    pub fn apply2(self, a: f64, b: f64) -> f64 {
+        match self {
+            Op::Add => a + b,
+            Op::Sub => a - b,
+            Op::Mul => a * b,
+            Op::Div => a / b,
+            Op::Gaussian2 => (-(a * a + b * b)).exp(),
+            _ => f64::NAN,
+        }
+    }
+
+    /// d out / d a of a unary operator, given the argument `a` and the value `out`.
+    #[inline]
+    pub fn d1(self, a: f64, out: f64) -> f64 {
+        match self {
+            Op::Exp => out,
+            Op::Log => 1.0 / a,
+            Op::Sqrt => 0.5 / out,
+            Op::Square => 2.0 * a,
+            Op::Inverse => -out * out,
+            Op::Sin => a.cos(),
+            Op::Cos => -a.sin(),
+            Op::Tanh => 1.0 - out * out,
+            Op::Abs => {
+                if a > 0.0 {
+                    1.0
+                } else if a < 0.0 {
+                    -1.0
+                } else {
+                    0.0
+                }
+            }
+            Op::Gaussian => -2.0 * a * out,
+            _ => f64::NAN,
+        }
+    }
+
+    /// (d out / d a, d out / d b) of a binary operator.
+    #[inline]
+    pub fn d2(self, a: f64, b: f64, out: f64) -> (f64, f64) {
+        match self {
+            Op::Add => (1.0, 1.0),
+            Op::Sub => (1.0, -1.0),
+            Op::Mul => (b, a),
+            Op::Div => (1.0 / b, -out / b),
+            Op::Gaussian2 => (-2.0 * a * out, -2.0 * b * out),
+            _ => (f64::NAN, f64::NAN),
+        }
+    }
+
+    /// Whether evaluating the operator costs a transcendental function call.
+    pub fn is_transcendental(self) -> bool {
+        matches!(
+            self,
+            Op::Exp | Op::Log | Op::Sin | Op::Cos | Op::Tanh | Op::Gaussian | Op::Gaussian2
+        )
+    }
+}
+
+/// Parses a list of operator names.
+///
+/// # Errors
+/// [`SrError::UnknownOperator`] for the first unknown name, [`SrError::InvalidConfig`] if the
+/// list is empty.
+pub fn parse_operators(names: &[String]) -> Result<Vec<Op>, SrError> {
+    let mut ops = Vec::new();
+    for n in names {
+        let op = Op::parse(n)?;
+        if !ops.contains(&op) {
+            ops.push(op);
+        }
+    }
+    if ops.is_empty() {
+        return Err(SrError::InvalidConfig(
+            "the operator list is empty: allow at least one operator".into(),
+        ));
+    }
+    Ok(ops)
+}

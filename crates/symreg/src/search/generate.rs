@@ -1,0 +1,196 @@
+//! Random program generation and variation (mutation, crossover) on postfix code.
+use crate::ops::Op;
+use crate::program::{ComplexityMeasure, Node, Program};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+/// Weighted tables the generators draw from.
+#[derive(Debug, Clone)]
+pub struct Tables {
+    /// Allowed operators.
+    pub ops: Vec<Op>,
+    /// Weight of each operator.
+    pub op_w: Vec<f64>,
+    /// Weight of each input column.
+    pub in_w: Vec<f64>,
+    /// Whether inputs carry affine scalings.
+    pub affine: bool,
+    /// Complexity measure.
+    pub measure: ComplexityMeasure,
+    /// Largest complexity allowed.
+    pub max_complexity: usize,
+}
+
+fn pick(rng: &mut ChaCha8Rng, w: &[f64]) -> usize {
+    let total: f64 = w.iter().sum();
+    if total <= 0.0 || !total.is_finite() {
+        return rng.gen_range(0..w.len().max(1));
+    }
+    let mut u = rng.gen_range(0.0..total);
+    for (i, &x) in w.iter().enumerate() {
+        if u < x {
+            return i;
+        }
+        u -= x;
+    }
+    w.len() - 1
+}
+
+impl Tables {
+    fn leaf(&self, rng: &mut ChaCha8Rng) -> Node {
+        if !self.affine && rng.gen_bool(0.25) {
+            Node::Const
+        } else {
+            Node::Var(pick(rng, &self.in_w) as u16)
+        }
+    }
+
+    fn op_of_arity(&self, rng: &mut ChaCha8Rng, arity: Option<usize>) -> Option<Op> {
+        let w: Vec<f64> = self
+            .ops
+            .iter()
+            .zip(&self.op_w)
+            .map(|(o, &w)| {
+                if arity.is_none_or(|a| o.arity() == a) {
+                    w
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        if w.iter().sum::<f64>() <= 0.0 {
+            return None;
+        }
+        Some(self.ops[pick(rng, &w)])
+    }
+
+    /// A random expression of at most `budget` nodes, appended to `out`.
+    pub fn grow(&self, rng: &mut ChaCha8Rng, budget: usize, out: &mut Vec<Node>) {
+        if budget <= 1 || rng.gen_bool(0.25) {
+            out.push(self.leaf(rng));
+            return;
+        }
+        let arity = if budget >= 3 { None } else { Some(1) };
+        match self.op_of_arity(rng, arity) {
+            None => out.push(self.leaf(rng)),
+            Some(op) if op.arity() == 1 => {
+                self.grow(rng, budget - 1, out);
+                out.push(Node::Op(op));
+            }
+            Some(op) => {
+                let rest = budget - 1;
+                let left = rng.gen_range(1..rest);
+                let before = out.len();
+                self.grow(rng, left, out);
+                let used = out.len() - before;
+                self.grow(rng, rest - used, out);
+                out.push(Node::Op(op));
+            }
+        }
+    }
+
+    /// A random program within the complexity limit.
+    pub fn random_program(&self, rng: &mut ChaCha8Rng) -> Program {
+        let size = rng.gen_range(1..=self.max_complexity.max(1));
+        let mut nodes = Vec::new();
+        self.grow(rng, size, &mut nodes);
+        Program {
+            nodes,
+            affine: self.affine,
+        }
+    }
+
+    /// Whether `p` respects the limits.
+    pub fn fits(&self, p: &Program) -> bool {
+        p.is_valid() && p.complexity(self.measure) <= self.max_complexity && !p.nodes.is_empty()
+    }
+
+    /// One random mutation: change, insert or delete at one position, or replace a subtree.
+    /// Returns `None` when the result breaks the limits.
+    pub fn mutate(&self, rng: &mut ChaCha8Rng, p: &Program) -> Option<Program> {
+        let n = p.nodes.len();
+        let pos = rng.gen_range(0..n);
+        let node = p.nodes[pos];
+        let is_unary = matches!(node, Node::Op(op) if op.arity() == 1);
+        // weights: insert, change, delete, replace subtree
+        let w = if is_unary {
+            [1.0, 1.0, 1.5, 0.5]
+        } else {
+            [4.0, 3.0, 1.0, 1.0]
+        };
+        let mut nodes = p.nodes.clone();
+        match pick(rng, &w) {
+            0 => {
+                // insert an operator above the subtree rooted at pos
+                let op = self.op_of_arity(rng, None)?;
+                let mut ins = vec![];
+                if op.arity() == 2 {
+                    ins.push(self.leaf(rng));
+                }
+                ins.push(Node::Op(op));
+                let at = pos + 1;
+                if op.arity() == 2 && rng.gen_bool(0.5) {
+                    // new leaf on the left: put it before the subtree
+                    let start = p.subtree_start(pos);
+                    nodes.insert(start, ins[0]);
+                    nodes.insert(at + 1, Node::Op(op));
+                } else {
+                    for (i, x) in ins.into_iter().enumerate() {
+                        nodes.insert(at + i, x);
+                    }
+                }
+            }
+            1 => {
+                nodes[pos] = match node {
+                    Node::Var(_) | Node::Const => self.leaf(rng),
+                    Node::Op(op) => Node::Op(self.op_of_arity(rng, Some(op.arity()))?),
+                };
+            }
+            2 => {
+                // delete: replace the subtree at pos by one of its children (or a leaf)
+                match node {
+                    Node::Op(op) => {
+                        let ch = p.children();
+                        let c = ch[pos][if op.arity() == 2 && rng.gen_bool(0.5) {
+                            1
+                        } else {
+                            0
+                        }];
+                        let start = p.subtree_start(pos);
+                        let cs = p.subtree_start(c);
+                        let sub: Vec<Node> = p.nodes[cs..=c].to_vec();
+                        nodes.splice(start..=pos, sub);
+                    }
+                    _ => nodes[pos] = self.leaf(rng),
+                }
+            }
+            _ => {
+                let start = p.subtree_start(pos);
+                let mut sub = Vec::new();
+                let size = rng.gen_range(1..=4);
+                self.grow(rng, size, &mut sub);
+                nodes.splice(start..=pos, sub);
+            }
+        }
+        let q = Program {
+            nodes,
+            affine: p.affine,
+        };
+        if self.fits(&q) { Some(q) } else { None }
+    }
+
+    /// Subtree crossover: a random subtree of `a` replaced by a random subtree of `b`.
+    pub fn crossover(&self, rng: &mut ChaCha8Rng, a: &Program, b: &Program) -> Option<Program> {
+        let pa = rng.gen_range(0..a.nodes.len());
+        let pb = rng.gen_range(0..b.nodes.len());
+        let sa = a.subtree_start(pa);
+        let sb = b.subtree_start(pb);
+        let mut nodes = a.nodes.clone();
+        nodes.splice(sa..=pa, b.nodes[sb..=pb].iter().copied());
+        let q = Program {
+            nodes,
+            affine: a.affine,
+        };
+        if self.fits(&q) { Some(q) } else { None }
+    }
+}

@@ -1,0 +1,191 @@
+//! QLattice-style path sampling: cells of lineages, decaying distributions over operators
+//! and inputs, mutual-information priors, age-based retirement.
+use super::generate::Tables;
+use super::{Archive, Candidate, Fitted, SearchStrategy};
+use crate::program::{Node, Program};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+const N_CELLS: usize = 25;
+const KEEP: usize = 6;
+const DECAY: f64 = 0.7;
+
+#[derive(Debug, Clone)]
+struct Kept {
+    program: Program,
+    params: Vec<f64>,
+    score: f64,
+    age: usize,
+}
+
+/// The QLattice-like strategy.
+#[derive(Debug)]
+pub struct QLattice {
+    per_epoch: usize,
+    cells: Vec<Vec<Kept>>,
+    op_boost: Vec<f64>,
+    in_boost: Vec<f64>,
+    ops: Vec<crate::ops::Op>,
+}
+
+impl QLattice {
+    /// A sampler proposing about `per_epoch` candidates an epoch.
+    pub fn new(per_epoch: usize, tables: &Tables) -> Self {
+        Self {
+            per_epoch,
+            cells: vec![Vec::new(); N_CELLS],
+            op_boost: vec![1.0; tables.ops.len()],
+            in_boost: vec![1.0; tables.in_w.len()],
+            ops: tables.ops.clone(),
+        }
+    }
+
+    fn local_tables(&self, t: &Tables) -> Tables {
+        let mut l = t.clone();
+        for (w, b) in l.op_w.iter_mut().zip(&self.op_boost) {
+            *w *= 0.2 + b;
+        }
+        // inputs are 16x more likely than operators below the root in QLattice; our grower
+        // decides leaf-vs-operator by budget, so only relative input weights matter here.
+        for (w, b) in l.in_w.iter_mut().zip(&self.in_boost) {
+            *w *= 0.2 + b;
+        }
+        l
+    }
+}
+
+impl SearchStrategy for QLattice {
+    fn propose(
+        &mut self,
+        _epoch: usize,
+        rng: &mut ChaCha8Rng,
+        _archive: &Archive,
+        tables: &Tables,
+    ) -> Vec<Candidate> {
+        let t = self.local_tables(tables);
+        let per_cell = (self.per_epoch / N_CELLS).max(1);
+        let mut out = Vec::with_capacity(self.per_epoch);
+        for (c, kept) in self.cells.iter().enumerate() {
+            let each = per_cell / (kept.len() + 1);
+            let mut made = 0;
+            for k in kept {
+                for _ in 0..each {
+                    let mut p = t.mutate(rng, &k.program);
+                    if p.is_none() {
+                        p = t.mutate(rng, &k.program);
+                    }
+                    if let Some(program) = p {
+                        let params = same_layout(&k.program, &program).then(|| k.params.clone());
+                        out.push(Candidate {
+                            program,
+                            params,
+                            source: 0,
+                            tag: c as u32,
+                        });
+                        made += 1;
+                    }
+                }
+            }
+            while made < per_cell {
+                out.push(Candidate {
+                    program: t.random_program(rng),
+                    params: None,
+                    source: 0,
+                    tag: c as u32,
+                });
+                made += 1;
+            }
+        }
+        out
+    }
+
+    fn update(&mut self, fitted: &[Fitted], _archive: &Archive, rng: &mut ChaCha8Rng) {
+        for (c, kept) in self.cells.iter_mut().enumerate() {
+            let mut pool: Vec<Kept> = kept
+                .drain(..)
+                .map(|mut k| {
+                    k.age += 1;
+                    k
+                })
+                .collect();
+            for f in fitted
+                .iter()
+                .filter(|f| f.tag as usize == c && f.score.is_finite())
+            {
+                pool.push(Kept {
+                    program: f.program.clone(),
+                    params: f.params.clone(),
+                    score: f.score,
+                    age: 0,
+                });
+            }
+            pool.sort_by(|a, b| a.score.total_cmp(&b.score).then(a.program.cmp(&b.program)));
+            let mut next: Vec<Kept> = Vec::new();
+            for (rank, k) in pool.into_iter().enumerate() {
+                let max_age = 50.0 * (-(rank as f64) / 14.4).exp() + 1.0;
+                if (k.age as f64) > max_age || next.iter().any(|n| n.program == k.program) {
+                    continue;
+                }
+                // forgetting: weaker lineages are dropped at random
+                if !next.is_empty() && rng.gen_bool(0.1) {
+                    continue;
+                }
+                next.push(k);
+                if next.len() >= KEEP {
+                    break;
+                }
+            }
+            *kept = next;
+        }
+        // decaying distributions over operators and inputs, credited by the best tenth
+        let mut ranked: Vec<&Fitted> = fitted.iter().filter(|f| f.score.is_finite()).collect();
+        ranked.sort_by(|a, b| a.score.total_cmp(&b.score));
+        let top = &ranked[..(ranked.len() / 10).max(1).min(ranked.len())];
+        if top.is_empty() {
+            return;
+        }
+        let mut op_c = vec![0.0; self.op_boost.len()];
+        let mut in_c = vec![0.0; self.in_boost.len()];
+        for f in top {
+            for n in &f.program.nodes {
+                match n {
+                    Node::Var(j) => {
+                        if let Some(x) = in_c.get_mut(*j as usize) {
+                            *x += 1.0;
+                        }
+                    }
+                    Node::Op(op) => {
+                        if let Some(i) = self.ops.iter().position(|o| o == op) {
+                            op_c[i] += 1.0;
+                        }
+                    }
+                    Node::Const => {}
+                }
+            }
+        }
+        let tot_op: f64 = op_c.iter().sum();
+        if tot_op > 0.0 {
+            let k = op_c.len() as f64;
+            for (b, c) in self.op_boost.iter_mut().zip(&op_c) {
+                *b = DECAY * *b + (1.0 - DECAY) * k * c / tot_op;
+            }
+        }
+        let tot_in: f64 = in_c.iter().sum();
+        if tot_in > 0.0 {
+            let k = in_c.len() as f64;
+            for (b, c) in self.in_boost.iter_mut().zip(&in_c) {
+                *b = DECAY * *b + (1.0 - DECAY) * k * c / tot_in;
+            }
+        }
+    }
+}
+
+/// Whether two programs have the same parameter layout (leaf sequence).
+pub(crate) fn same_layout(a: &Program, b: &Program) -> bool {
+    let la = a.nodes.iter().filter(|n| !matches!(n, Node::Op(_)));
+    let lb = b.nodes.iter().filter(|n| !matches!(n, Node::Op(_)));
+    a.affine == b.affine
+        && la
+            .map(|n| a.node_params(n))
+            .eq(lb.map(|n| b.node_params(n)))
+}
