@@ -1,0 +1,128 @@
+//! The one error type of `hxai-signal`.
+
+use thiserror::Error;
+
+/// Everything that can go wrong in `hxai-signal`. Every message says what is wrong and how
+/// to mend it.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum SignalError {
+    /// The input signal holds no samples.
+    #[error("the input signal `{what}` is empty; pass at least one sample")]
+    Empty {
+        /// Which input was empty.
+        what: &'static str,
+    },
+    /// The input is too short for the operation (for example the padding of `filtfilt`).
+    #[error(
+        "the input has {len} samples but {operation} needs more than {needed}; use a longer record or a lower filter order"
+    )]
+    TooShort {
+        /// Number of samples given.
+        len: usize,
+        /// The input must be longer than this.
+        needed: usize,
+        /// What needed the samples.
+        operation: &'static str,
+    },
+    /// A sample is NaN or infinite.
+    #[error(
+        "the input `{what}` holds a non-finite value (NaN or infinity) at index {index}; clean or interpolate the record first"
+    )]
+    NonFinite {
+        /// Which input.
+        what: &'static str,
+        /// Index of the first bad sample.
+        index: usize,
+    },
+    /// The sampling rate is not a positive finite number.
+    #[error("the sampling rate must be a positive finite number of Hz, got {fs}")]
+    InvalidSampleRate {
+        /// The rate given.
+        fs: f64,
+    },
+    /// A cutoff frequency is not inside (0, fs/2).
+    #[error(
+        "the cutoff frequency {cutoff} Hz must lie strictly between 0 and the Nyquist frequency {nyquist} Hz; choose a cutoff inside that range or record at a higher rate"
+    )]
+    InvalidCutoff {
+        /// The cutoff given.
+        cutoff: f64,
+        /// Half the sampling rate.
+        nyquist: f64,
+    },
+    /// A band's lower edge is not below its upper edge.
+    #[error(
+        "the band's lower edge {low} Hz must be below its upper edge {high} Hz; swap or widen them"
+    )]
+    InvalidBand {
+        /// Lower edge given.
+        low: f64,
+        /// Upper edge given.
+        high: f64,
+    },
+    /// Filter order 0 was requested.
+    #[error("the filter order must be at least 1")]
+    ZeroOrder,
+    /// A filter section is unusable (a0 = 0 or non-finite coefficients).
+    #[error("filter section {index} is invalid: {reason}")]
+    InvalidSection {
+        /// Index of the section.
+        index: usize,
+        /// What is wrong with it.
+        reason: &'static str,
+    },
+    /// The frequency given to a sine fit lies outside (0, fs/2).
+    #[error(
+        "the sine frequency {freq} Hz must lie strictly between 0 and the Nyquist frequency {nyquist} Hz"
+    )]
+    InvalidFrequency {
+        /// The frequency given.
+        freq: f64,
+        /// Half the sampling rate.
+        nyquist: f64,
+    },
+    /// A least-squares system could not be solved (for example a constant or too-short signal).
+    #[error(
+        "the least-squares problem is singular: {0}; use a longer record spanning at least one period"
+    )]
+    Singular(&'static str),
+    /// An iteration did not converge.
+    #[error(
+        "{what} did not converge within {iterations} iterations; give a better starting frequency or a longer record"
+    )]
+    NoConvergence {
+        /// Which iteration.
+        what: &'static str,
+        /// Iterations spent.
+        iterations: usize,
+    },
+    /// A configuration value is invalid.
+    #[error("invalid configuration: {0}")]
+    InvalidConfig(String),
+}
+
+/// Returns the first non-finite sample as an error.
+pub(crate) fn check_finite(x: &[f64], what: &'static str) -> Result<(), SignalError> {
+    match x.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(SignalError::NonFinite { what, index }),
+        None => Ok(()),
+    }
+}
+
+/// Checks that `x` is non-empty and finite.
+pub(crate) fn check_signal(x: &[f64], what: &'static str) -> Result<(), SignalError> {
+    if x.is_empty() {
+        return Err(SignalError::Empty { what });
+    }
+    check_finite(x, what)
+}
+
+/// Checks a sampling rate.
+pub(crate) fn check_fs(fs: f64) -> Result<(), SignalError> {
+    if fs.is_finite() && fs > 0.0 {
+        Ok(())
+    } else {
+        Err(SignalError::InvalidSampleRate { fs })
+    }
+}
