@@ -1,0 +1,36 @@
+//! The one error type of `hxai-sim`.
+
+/// Everything that can go wrong when simulating: all of it is a bad [`crate::SimConfig`],
+/// found by [`crate::SimConfig::validate`] before any work starts.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimError {
+    /// A parameter is outside its valid range.
+    #[error("invalid simulator parameter `{name}` = {value}: {reason}")]
+    InvalidParameter {
+        /// The parameter's name as in `SimConfig` (dotted for nested groups).
+        name: &'static str,
+        /// The offending value, printed.
+        value: String,
+        /// What the valid range is and how to mend the value.
+        reason: String,
+    },
+    /// A list parameter (amplitudes or frequencies) is empty.
+    #[error("`{name}` is empty: give at least one value")]
+    EmptyList {
+        /// The parameter's name.
+        name: &'static str,
+    },
+    /// The requested data set would be too large to hold in memory.
+    #[error(
+        "{samples} samples per record is too many (limit {limit}): lower `duration_s` or `fs_hz`"
+    )]
+    TooLarge {
+        /// Samples one record would hold (warm-up included, at the internal rate).
+        samples: u64,
+        /// The limit.
+        limit: u64,
+    },
+    /// The colored-noise generator failed (an FFT error; should not happen for valid lengths).
+    #[error("noise generation failed: {0}")]
+    Noise(String),
+}
