@@ -65,6 +65,11 @@ pub enum FeatureError {
         "the acceleration record is constant (standard deviation 0); kurtosis, skewness and the spectral features are undefined for it"
     )]
     ConstantSignal,
+    /// Sums of powers of the samples overflow f64 (values around 1e77 or larger).
+    #[error(
+        "the acceleration values are too large: their fourth powers overflow; rescale the record"
+    )]
+    Overflow,
     /// [`Features::from_slice`] got the wrong number of values.
     #[error("expected 12 feature values (f1..f12), got {0}")]
     WrongLength(usize),
@@ -236,7 +241,7 @@ pub fn extract(accel: &[f64], fs: f64, command_hz: f64) -> Result<Features, Feat
 /// # Errors
 /// [`FeatureError::TooShort`] (fewer than 2 samples), [`FeatureError::NonFinite`],
 /// [`FeatureError::InvalidSampleRate`], [`FeatureError::InvalidCommandFrequency`],
-/// [`FeatureError::ConstantSignal`], [`FeatureError::Signal`] (an invalid Welch setting).
+/// [`FeatureError::ConstantSignal`], [`FeatureError::Overflow`], [`FeatureError::Signal`] (an invalid Welch setting).
 pub fn extract_with(
     accel: &[f64],
     fs: f64,
@@ -276,7 +281,10 @@ pub fn extract_with(
         m3 += d2 * d;
         m4 += d2 * d2;
     }
-    if m2 <= 0.0 || !m2.is_finite() {
+    if !(m4.is_finite() && sum_sq.is_finite() && sum_abs.is_finite()) {
+        return Err(FeatureError::Overflow);
+    }
+    if m2 <= 0.0 {
         return Err(FeatureError::ConstantSignal);
     }
     let var_b = m2 / nf;
