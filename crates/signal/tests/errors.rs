@@ -93,7 +93,7 @@ fn input_errors() {
 }
 
 /// A pure 20 Hz, 5 um motion: every variant of the chain recovers its amplitude. Tolerances:
-/// time domain 0.5 % (the 4th-order 5 Hz edge applied twice costs 0.02 % at 20 Hz; the linear
+/// time domain 0.5 % (the 4th-order 5 Hz edge applied twice costs under 1e-6 at 20 Hz; the linear
 /// drift removal of a whole number of periods costs nothing), frequency domain 1e-6 relative
 /// (the record holds whole periods, so the sine sits on one FFT bin).
 #[test]
