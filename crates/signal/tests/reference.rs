@@ -195,3 +195,23 @@ fn from_sections_normalises_and_rejects() {
     assert!(Sos::from_sections(vec![[1.0, 0.0, 0.0, 0.0, 0.0, 0.0]]).is_err());
     assert!(Sos::from_sections(vec![[f64::NAN, 0.0, 0.0, 1.0, 0.0, 0.0]]).is_err());
 }
+
+#[test]
+fn long_cascades_equal_their_halves() -> TestResult {
+    // More than 8 sections take the section-by-section path; it must equal filtering by the
+    // first and then the second half of the cascade (both on the fused kernel), to 1e-12.
+    let data = load("filter.json")?;
+    let x = vecf(&data["cases"][0]["x"]);
+    let sos = butter(10, Band::Bandpass(5.0, 200.0), 1000.0)?;
+    assert_eq!(sos.sections().len(), 10);
+    let (a, b) = sos.sections().split_at(5);
+    let first = Sos::from_sections(a.to_vec())?;
+    let second = Sos::from_sections(b.to_vec())?;
+    assert_vec_close(
+        &sos.filter(&x),
+        &second.filter(&first.filter(&x)),
+        1e-12,
+        "cascade",
+    );
+    Ok(())
+}
