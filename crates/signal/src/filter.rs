@@ -87,7 +87,7 @@ impl Sos {
 
     /// The core loop. For up to 8 sections it runs sample by sample through all sections with
     /// the state held in registers (a const-generic kernel): the sections' recurrences are
-    /// independent chains, so the CPU overlaps them, about 3x faster than section by section.
+    /// independent chains, so the CPU overlaps them instead of waiting on one at a time.
     /// Longer cascades run section by section. Both give scipy's `sosfilt` up to rounding.
     fn filter_in_place(&self, y: &mut [f64], state: &mut [[f64; 2]]) {
         match self.sections.len() {
