@@ -1,0 +1,104 @@
+//! The one error type of `hxai-hybrid`.
+
+/// Everything that can go wrong while building samples, fitting, predicting or evaluating.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum HybridError {
+    /// The physics model or the sine fit refused the signal.
+    #[error("signal processing failed: {0}")]
+    Signal(#[from] hxai_signal::SignalError),
+    /// Feature extraction refused a window.
+    #[error("feature extraction failed: {0}")]
+    Features(#[from] hxai_features::FeatureError),
+    /// An error while processing one record (and window), with that context.
+    #[error("record `{record}`{}: {source}", window.map(|w| format!(", window {w}")).unwrap_or_default())]
+    InRecord {
+        /// Record id.
+        record: String,
+        /// Window index (from 0), when the error is about one window.
+        window: Option<usize>,
+        /// The cause.
+        source: Box<HybridError>,
+    },
+    /// The symbolic-regression search or a symbolic model failed.
+    #[error("symbolic regression failed: {0}")]
+    Symreg(#[from] hxai_symreg::SrError),
+    /// A statistic could not be computed.
+    #[error("evaluation failed: {0}")]
+    Eval(#[from] hxai_eval::EvalError),
+    /// A record is too short for even one window.
+    #[error(
+        "record `{record}` lasts {seconds:.3} s but one window needs {needed_s:.3} s \
+         ({discard_s} s discarded at each end + a {window_s} s window); use a longer record or a shorter --window-s"
+    )]
+    RecordTooShort {
+        /// Record id.
+        record: String,
+        /// Its duration.
+        seconds: f64,
+        /// Duration needed.
+        needed_s: f64,
+        /// Window length.
+        window_s: f64,
+        /// Discarded at each end.
+        discard_s: f64,
+    },
+    /// Fitting or evaluating needs the ground truth, and the record has none.
+    #[error(
+        "record `{record}` has no ground-truth channel (`probe_um`); it is needed to fit and to evaluate"
+    )]
+    NoTruth {
+        /// Record id.
+        record: String,
+    },
+    /// Input channels of one record differ in length.
+    #[error("record `{record}`: the signal has {signal} samples but the ground truth has {truth}")]
+    LengthMismatch {
+        /// Record id.
+        record: String,
+        /// Signal length.
+        signal: usize,
+        /// Ground-truth length.
+        truth: usize,
+    },
+    /// A setting is out of range.
+    #[error("invalid setting: {0}")]
+    InvalidConfig(String),
+    /// There is nothing to fit or to evaluate.
+    #[error("{0}")]
+    NoData(String),
+    /// The model file was written by another schema version.
+    #[error(
+        "the model file has schema_version {found} but this hxai reads version {expected}; refit the model with this version"
+    )]
+    SchemaVersion {
+        /// Version in the file.
+        found: String,
+        /// Version this code reads.
+        expected: u32,
+    },
+    /// The model file is not valid JSON of the expected shape.
+    #[error("the model file is not a valid hxai hybrid model: {0}")]
+    ModelFormat(String),
+    /// The correction model asks for features the feature map does not produce.
+    #[error(
+        "the correction model uses feature `{name}`, which the feature map does not produce (it has: {available})"
+    )]
+    UnknownFeature {
+        /// The missing feature.
+        name: String,
+        /// The features available.
+        available: String,
+    },
+}
+
+impl HybridError {
+    /// Wraps the error with the record (and window) it happened in.
+    pub fn in_record(self, record: &str, window: Option<usize>) -> HybridError {
+        HybridError::InRecord {
+            record: record.to_owned(),
+            window,
+            source: Box::new(self),
+        }
+    }
+}

@@ -1,0 +1,564 @@
+//! The tool-position hybrid model: fitting it, its JSON file, and applying it.
+
+use crate::HybridError;
+use crate::composer::{Hybrid, RecordInput, RecordPrediction, WindowSample};
+use crate::evaluate::{EvalInput, Evaluation, Scores, evaluate};
+use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
+use crate::traits::{Correction, FeatureMap, FeatureTable, SymbolicCorrection, ZeroCorrection};
+use crate::window::WindowConfig;
+use hxai_signal::PhysicsConfig;
+use serde::{Deserialize, Serialize};
+use std::collections::{BTreeMap, BTreeSet};
+
+/// Version of the model file layout this code writes and reads.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// The composer of the tool-position case.
+pub type ToolHybrid = Hybrid<DoubleIntegration, SineDecomposition, AccelFeatures>;
+
+/// How samples are split into train and test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SplitKind {
+    /// Whole records go to one side (default): windows of one record are never on both
+    /// sides, so the test score measures generalisation to unseen recordings.
+    #[default]
+    Record,
+    /// Windows are split individually: neighbouring windows of one recording (strongly
+    /// alike) can sit on both sides, which flatters the test score. Offered because it is
+    /// how a per-sample 80/20 split behaves.
+    Window,
+}
+
+/// A window named by record id and index.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct WindowId {
+    /// Record id.
+    pub record: String,
+    /// Window index within the record.
+    pub window: usize,
+}
+
+/// The split stored in the model file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SplitInfo {
+    /// Record or window split.
+    pub kind: SplitKind,
+    /// Seed of the split.
+    pub seed: u64,
+    /// Fraction of groups (records or windows) held out.
+    pub test_fraction: f64,
+    /// Records with at least one training window (sorted).
+    pub train: Vec<String>,
+    /// Records with at least one test window (sorted).
+    pub test: Vec<String>,
+    /// With a window split, the test windows (empty for a record split).
+    #[serde(default)]
+    pub test_windows: Vec<WindowId>,
+}
+
+/// Kind of correction stored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CorrectionKind {
+    /// A symbolic model from `hxai-symreg`.
+    Symbolic,
+    /// `delta_hat = 0`.
+    Zero,
+}
+
+/// The correction as stored: the readable forms and the model itself.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CorrectionInfo {
+    /// Symbolic or zero.
+    pub kind: CorrectionKind,
+    /// Plain-text equation.
+    pub equation: String,
+    /// sympy-parseable equation.
+    pub sympy: String,
+    /// LaTeX equation.
+    pub latex: String,
+    /// Complexity (features + operators).
+    pub complexity: usize,
+    /// Features the equation uses.
+    pub features: Vec<String>,
+    /// The serialised symbolic model (absent for the zero correction).
+    pub model: Option<hxai_symreg::Model>,
+}
+
+impl CorrectionInfo {
+    /// Stores a symbolic model.
+    pub fn symbolic(model: hxai_symreg::Model) -> Self {
+        Self {
+            kind: CorrectionKind::Symbolic,
+            equation: model.equation(),
+            sympy: model.sympy(),
+            latex: model.latex(),
+            complexity: model.complexity(),
+            features: model.features(),
+            model: Some(model),
+        }
+    }
+
+    /// The zero correction.
+    pub fn zero() -> Self {
+        Self {
+            kind: CorrectionKind::Zero,
+            equation: "0".into(),
+            sympy: "0".into(),
+            latex: "0".into(),
+            complexity: 0,
+            features: Vec::new(),
+            model: None,
+        }
+    }
+}
+
+/// Feature settings stored with the model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FeatureInfo {
+    /// What computes them.
+    pub extractor: String,
+    /// Input of the feature map.
+    pub input: String,
+    /// Feature names, in order.
+    pub names: Vec<String>,
+    /// Sigma convention and PSD estimator.
+    pub config: hxai_features::FeatureConfig,
+}
+
+impl Default for FeatureInfo {
+    fn default() -> Self {
+        Self {
+            extractor: "hxai_features::extract (paper Table 2)".into(),
+            input: "raw acceleration window (m/s^2); f1 = commanded frequency from the manifest"
+                .into(),
+            names: AccelFeatures::default().names(),
+            config: hxai_features::FeatureConfig::default(),
+        }
+    }
+}
+
+/// How the model was trained.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrainingInfo {
+    /// Search strategy (`qlattice`, `genetic`, `combined`), or `none` for a zero correction.
+    pub engine: String,
+    /// Seed of the search.
+    pub seed: u64,
+    /// Epochs of the search.
+    pub epochs: usize,
+    /// Models fitted by the search.
+    pub evaluations: u64,
+    /// Wall time of the search, s.
+    pub seconds: f64,
+    /// Training windows.
+    pub n_train_windows: usize,
+    /// Test windows.
+    pub n_test_windows: usize,
+    /// `delta_hat` vs `delta` on the training windows.
+    pub delta_train: Option<Scores>,
+    /// `delta_hat` vs `delta` on the test windows.
+    pub delta_test: Option<Scores>,
+}
+
+/// A fitted tool-position hybrid model: everything needed to predict, and the record of
+/// how it was made. Serialises to the model file (`hxai fit --out MODEL.json`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HybridModel {
+    /// [`SCHEMA_VERSION`] of the writer.
+    pub schema_version: u32,
+    /// Physics settings.
+    pub physics: PhysicsConfig,
+    /// Feature settings.
+    pub features: FeatureInfo,
+    /// Window settings.
+    pub window: WindowConfig,
+    /// The correction.
+    pub correction: CorrectionInfo,
+    /// Train and test records.
+    pub split: SplitInfo,
+    /// Training details.
+    pub training: TrainingInfo,
+}
+
+/// Settings of [`fit`].
+#[derive(Debug, Clone)]
+pub struct FitConfig {
+    /// Physics settings.
+    pub physics: PhysicsConfig,
+    /// Feature settings.
+    pub features: hxai_features::FeatureConfig,
+    /// Window settings.
+    pub window: WindowConfig,
+    /// Record (default) or window split.
+    pub split: SplitKind,
+    /// Held-out fraction (default 0.2).
+    pub test_fraction: f64,
+    /// Seed of the split (the search has its own in `search.seed`).
+    pub seed: u64,
+    /// Symbolic-regression settings.
+    pub search: hxai_symreg::SearchConfig,
+}
+
+impl Default for FitConfig {
+    fn default() -> Self {
+        Self {
+            physics: PhysicsConfig::default(),
+            features: hxai_features::FeatureConfig::default(),
+            window: WindowConfig::default(),
+            split: SplitKind::Record,
+            test_fraction: 0.2,
+            seed: 42,
+            search: hxai_symreg::SearchConfig::default(),
+        }
+    }
+}
+
+/// What [`fit`] reports while it works.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FitProgress {
+    /// Samples built for `done` of `total` records.
+    Samples {
+        /// Records done.
+        done: usize,
+        /// Records in all.
+        total: usize,
+    },
+    /// A search epoch finished.
+    Search(hxai_symreg::Progress),
+}
+
+/// The result of [`fit`]: the model and the samples it was fitted on.
+#[derive(Debug, Clone)]
+pub struct FitOutput {
+    /// The model.
+    pub model: HybridModel,
+    /// Every sample, in record then window order.
+    pub samples: Vec<WindowSample>,
+    /// Whether each sample is on the test side.
+    pub is_test: Vec<bool>,
+    /// The full search result (Pareto front etc.).
+    pub search: hxai_symreg::SearchResult,
+}
+
+/// The tool-position composer for the given settings.
+pub fn tool_hybrid(physics: &PhysicsConfig, window: WindowConfig) -> ToolHybrid {
+    tool_hybrid_with(physics, &hxai_features::FeatureConfig::default(), window)
+}
+
+/// The tool-position composer with explicit feature settings.
+pub fn tool_hybrid_with(
+    physics: &PhysicsConfig,
+    features: &hxai_features::FeatureConfig,
+    window: WindowConfig,
+) -> ToolHybrid {
+    Hybrid {
+        physics: DoubleIntegration {
+            config: physics.clone(),
+        },
+        decomposition: SineDecomposition,
+        features: AccelFeatures {
+            config: features.clone(),
+        },
+        window,
+    }
+}
+
+fn delta_scores(delta: &[f64], hat: &[f64]) -> Option<Scores> {
+    Some(Scores {
+        rmse_um: hxai_eval::rmse(delta, hat).ok()?,
+        r2: hxai_eval::r2(delta, hat).ok()?,
+        mae_um: hxai_eval::mae(delta, hat).ok()?,
+    })
+}
+
+/// Splits samples into train and test (`true` = test).
+pub fn split_samples(
+    samples: &[WindowSample],
+    kind: SplitKind,
+    test_fraction: f64,
+    seed: u64,
+) -> Result<Vec<bool>, HybridError> {
+    let split = match kind {
+        SplitKind::Record => {
+            let groups: Vec<&str> = samples.iter().map(|s| s.record.as_str()).collect();
+            hxai_eval::grouped_train_test_split(&groups, test_fraction, seed)?
+        }
+        SplitKind::Window => hxai_eval::train_test_split(samples.len(), test_fraction, seed)?,
+    };
+    let mut is_test = vec![false; samples.len()];
+    for &i in &split.test {
+        is_test[i] = true;
+    }
+    Ok(is_test)
+}
+
+/// Fits the tool-position hybrid model: samples from every record (each must carry the
+/// truth), a seeded split, symbolic regression of `delta` on the training windows' features.
+///
+/// # Errors
+/// Those of the composer, the split ([`HybridError::Eval`]) and the search
+/// ([`HybridError::Symreg`]).
+pub fn fit(
+    records: &[RecordInput<'_>],
+    cfg: &FitConfig,
+    progress: &mut dyn FnMut(FitProgress),
+) -> Result<FitOutput, HybridError> {
+    if !(cfg.test_fraction > 0.0 && cfg.test_fraction < 1.0) {
+        return Err(HybridError::InvalidConfig(format!(
+            "test fraction must lie strictly between 0 and 1, got {}",
+            cfg.test_fraction
+        )));
+    }
+    let hybrid = tool_hybrid_with(&cfg.physics, &cfg.features, cfg.window);
+    let mut samples = Vec::new();
+    for (i, r) in records.iter().enumerate() {
+        if r.truth.is_none() {
+            return Err(HybridError::NoTruth {
+                record: r.id.to_owned(),
+            });
+        }
+        samples.extend(hybrid.samples(r)?.windows);
+        progress(FitProgress::Samples {
+            done: i + 1,
+            total: records.len(),
+        });
+    }
+    if samples.is_empty() {
+        return Err(HybridError::NoData("no records to fit on".into()));
+    }
+    let is_test = split_samples(&samples, cfg.split, cfg.test_fraction, cfg.seed)?;
+    let train: Vec<&WindowSample> = samples
+        .iter()
+        .zip(&is_test)
+        .filter(|(_, t)| !**t)
+        .map(|(s, _)| s)
+        .collect();
+    let test: Vec<&WindowSample> = samples
+        .iter()
+        .zip(&is_test)
+        .filter(|(_, t)| **t)
+        .map(|(s, _)| s)
+        .collect();
+    let delta_of = |v: &[&WindowSample]| -> Vec<f64> {
+        v.iter().map(|s| s.delta().unwrap_or(f64::NAN)).collect()
+    };
+    let train_table = hybrid.feature_table(train.iter().copied())?;
+    let test_table = hybrid.feature_table(test.iter().copied())?;
+    let (train_delta, test_delta) = (delta_of(&train), delta_of(&test));
+    let data = hxai_symreg::Dataset::new(train_table.names.clone(), train_table.columns.clone())?;
+    let result = hxai_symreg::search(&data, &train_delta, &cfg.search, &mut |p| {
+        progress(FitProgress::Search(p.clone()));
+    })?;
+    let correction = SymbolicCorrection {
+        model: result.best.clone(),
+    };
+    let hat_train = correction.predict(&train_table)?;
+    let hat_test = correction.predict(&test_table)?;
+
+    let side = |want: bool| -> Vec<String> {
+        let set: BTreeSet<&str> = samples
+            .iter()
+            .zip(&is_test)
+            .filter(|(_, t)| **t == want)
+            .map(|(s, _)| s.record.as_str())
+            .collect();
+        set.into_iter().map(str::to_owned).collect()
+    };
+    let test_windows = match cfg.split {
+        SplitKind::Record => Vec::new(),
+        SplitKind::Window => test
+            .iter()
+            .map(|s| WindowId {
+                record: s.record.clone(),
+                window: s.window,
+            })
+            .collect(),
+    };
+    let model = HybridModel {
+        schema_version: SCHEMA_VERSION,
+        physics: cfg.physics.clone(),
+        features: FeatureInfo {
+            config: cfg.features.clone(),
+            ..FeatureInfo::default()
+        },
+        window: cfg.window,
+        correction: CorrectionInfo::symbolic(result.best.clone()),
+        split: SplitInfo {
+            kind: cfg.split,
+            seed: cfg.seed,
+            test_fraction: cfg.test_fraction,
+            train: side(false),
+            test: side(true),
+            test_windows,
+        },
+        training: TrainingInfo {
+            engine: format!("{:?}", cfg.search.strategy).to_lowercase(),
+            seed: cfg.search.seed,
+            epochs: cfg.search.epochs,
+            evaluations: result.evaluations,
+            seconds: result.seconds,
+            n_train_windows: train.len(),
+            n_test_windows: test.len(),
+            delta_train: delta_scores(&train_delta, &hat_train),
+            delta_test: delta_scores(&test_delta, &hat_test),
+        },
+    };
+    Ok(FitOutput {
+        model,
+        samples,
+        is_test,
+        search: result,
+    })
+}
+
+/// A correction loaded from a model file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LoadedCorrection {
+    /// Symbolic model.
+    Symbolic(SymbolicCorrection),
+    /// Zero.
+    Zero(ZeroCorrection),
+}
+
+impl Correction for LoadedCorrection {
+    fn equation(&self) -> String {
+        match self {
+            LoadedCorrection::Symbolic(s) => s.equation(),
+            LoadedCorrection::Zero(z) => z.equation(),
+        }
+    }
+
+    fn predict(&self, features: &FeatureTable) -> Result<Vec<f64>, HybridError> {
+        match self {
+            LoadedCorrection::Symbolic(s) => s.predict(features),
+            LoadedCorrection::Zero(z) => z.predict(features),
+        }
+    }
+}
+
+impl HybridModel {
+    /// The model as pretty JSON.
+    pub fn to_json(&self) -> Result<String, HybridError> {
+        serde_json::to_string_pretty(self).map_err(|e| HybridError::ModelFormat(e.to_string()))
+    }
+
+    /// Reads a model from JSON; a file of another [`SCHEMA_VERSION`] is a
+    /// [`HybridError::SchemaVersion`] error, checked before anything else.
+    pub fn from_json(text: &str) -> Result<Self, HybridError> {
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        match value.get("schema_version") {
+            Some(v) if v.as_u64() == Some(u64::from(SCHEMA_VERSION)) => {}
+            Some(v) => {
+                return Err(HybridError::SchemaVersion {
+                    found: v.to_string(),
+                    expected: SCHEMA_VERSION,
+                });
+            }
+            None => {
+                return Err(HybridError::ModelFormat(
+                    "no `schema_version` field; is this a model written by `hxai fit`?".into(),
+                ));
+            }
+        }
+        let model: HybridModel =
+            serde_json::from_value(value).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        model.correction()?;
+        model.window.check()?;
+        Ok(model)
+    }
+
+    /// The composer with this model's physics and window settings.
+    pub fn hybrid(&self) -> ToolHybrid {
+        tool_hybrid_with(&self.physics, &self.features.config, self.window)
+    }
+
+    /// The correction as a [`Correction`].
+    pub fn correction(&self) -> Result<LoadedCorrection, HybridError> {
+        match (&self.correction.kind, &self.correction.model) {
+            (CorrectionKind::Zero, _) => Ok(LoadedCorrection::Zero(ZeroCorrection)),
+            (CorrectionKind::Symbolic, Some(m)) => {
+                let available = self.features.names.clone();
+                for f in m.features() {
+                    if !available.contains(&f) {
+                        return Err(HybridError::UnknownFeature {
+                            name: f,
+                            available: available.join(", "),
+                        });
+                    }
+                }
+                Ok(LoadedCorrection::Symbolic(SymbolicCorrection {
+                    model: m.clone(),
+                }))
+            }
+            (CorrectionKind::Symbolic, None) => Err(HybridError::ModelFormat(
+                "the correction is symbolic but `correction.model` is missing".into(),
+            )),
+        }
+    }
+
+    /// Physics and hybrid prediction of one record.
+    pub fn predict(&self, record: &RecordInput<'_>) -> Result<RecordPrediction, HybridError> {
+        self.hybrid().predict(record, &self.correction()?)
+    }
+
+    /// Evaluates the model on records. With `all` false, only this model's test data is
+    /// used: the test records (record split) or the test windows (window split) among
+    /// `records`; records not in the test set are skipped. With `all` true, every window
+    /// of every record.
+    ///
+    /// # Errors
+    /// [`HybridError::NoData`] when none of the records is a test record.
+    pub fn evaluate(
+        &self,
+        records: &[RecordInput<'_>],
+        all: bool,
+    ) -> Result<Evaluation, HybridError> {
+        let mut by_record: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
+        for w in &self.split.test_windows {
+            by_record
+                .entry(w.record.as_str())
+                .or_default()
+                .push(w.window);
+        }
+        let mut inputs = Vec::new();
+        for r in records {
+            if all {
+                inputs.push(EvalInput {
+                    record: *r,
+                    windows: None,
+                });
+                continue;
+            }
+            match self.split.kind {
+                SplitKind::Record => {
+                    if self.split.test.iter().any(|t| t == r.id) {
+                        inputs.push(EvalInput {
+                            record: *r,
+                            windows: None,
+                        });
+                    }
+                }
+                SplitKind::Window => {
+                    if let Some(ws) = by_record.get(r.id) {
+                        inputs.push(EvalInput {
+                            record: *r,
+                            windows: Some(ws.as_slice()),
+                        });
+                    }
+                }
+            }
+        }
+        if inputs.is_empty() {
+            return Err(HybridError::NoData(format!(
+                "none of the {} records given is a test record of this model (test records: {}); \
+                 evaluate on the data folder the model was fitted on, or evaluate every record",
+                records.len(),
+                self.split.test.join(", ")
+            )));
+        }
+        evaluate(&self.hybrid(), &self.correction()?, &inputs)
+    }
+}
