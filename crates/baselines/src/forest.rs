@@ -1,0 +1,123 @@
+//! Random forest of bootstrap regression trees (scikit-learn's `RandomForestRegressor`
+//! defaults: every feature considered at each split, no depth limit, leaves of 1 sample).
+
+use crate::matrix::{check_fit, check_predict};
+use crate::tree::{Limits, Tree, TreeData, argsort_columns, check_limits, grow};
+use crate::{BaselineError, Matrix, Regressor};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+
+/// Bagged regression trees, built in parallel with rayon.
+///
+/// Tree `t` draws its bootstrap sample from `ChaCha8Rng::seed_from_u64(seed)` on stream
+/// `t`, so every tree depends only on `(seed, t)` and the data: the forest is the same for
+/// any number of threads. Bootstrap duplicates become integer sample weights, as in
+/// scikit-learn. The random streams differ from numpy's, so individual trees differ from
+/// scikit-learn's; only the quality of the ensemble is comparable.
+#[derive(Debug, Clone)]
+pub struct RandomForest {
+    /// Number of trees (default 200, as in the paper).
+    pub n_trees: usize,
+    /// Seed of the bootstrap draws (default 42, as in the paper).
+    pub seed: u64,
+    /// Maximum depth (default `None`: unlimited).
+    pub max_depth: Option<usize>,
+    /// Minimum samples per leaf (default 1).
+    pub min_samples_leaf: usize,
+    trees: Vec<Tree>,
+    fitted: Option<usize>,
+}
+
+impl Default for RandomForest {
+    fn default() -> Self {
+        Self {
+            n_trees: 200,
+            seed: 42,
+            max_depth: None,
+            min_samples_leaf: 1,
+            trees: Vec::new(),
+            fitted: None,
+        }
+    }
+}
+
+impl RandomForest {
+    /// 200 trees, seed 42, no depth limit.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The paper's forest with another seed.
+    pub fn with_seed(seed: u64) -> Self {
+        Self {
+            seed,
+            ..Self::default()
+        }
+    }
+
+    /// Total leaves over all trees (a cheap fingerprint of the fitted forest).
+    pub fn n_leaves(&self) -> usize {
+        self.trees.iter().map(Tree::n_leaves).sum()
+    }
+}
+
+impl Regressor for RandomForest {
+    fn name(&self) -> &str {
+        "forest"
+    }
+
+    fn fit(&mut self, x: &Matrix, y: &[f64]) -> Result<(), BaselineError> {
+        check_fit(x, y)?;
+        check_limits(None, self.min_samples_leaf)?;
+        if self.n_trees == 0 {
+            return Err(BaselineError::InvalidParameter {
+                what: "n_trees",
+                detail: "must be at least 1".into(),
+            });
+        }
+        let n = x.nrows();
+        let cols = x.columns();
+        let sorted_all = argsort_columns(&cols);
+        let limits = Limits {
+            max_depth: self.max_depth,
+            min_samples_leaf: self.min_samples_leaf,
+            max_leaf_nodes: None,
+        };
+        let seed = self.seed;
+        self.trees = (0..self.n_trees)
+            .into_par_iter()
+            .map(|t| {
+                let mut rng = ChaCha8Rng::seed_from_u64(seed);
+                rng.set_stream(t as u64);
+                let mut w = vec![0.0; n];
+                for _ in 0..n {
+                    w[rng.gen_range(0..n)] += 1.0;
+                }
+                let sorted: Vec<Vec<usize>> = sorted_all
+                    .iter()
+                    .map(|l| l.iter().copied().filter(|&i| w[i] > 0.0).collect())
+                    .collect();
+                grow(
+                    TreeData {
+                        cols: &cols,
+                        y,
+                        w: &w,
+                    },
+                    sorted,
+                    limits,
+                )
+            })
+            .collect();
+        self.fitted = Some(x.ncols());
+        Ok(())
+    }
+
+    fn predict(&self, x: &Matrix) -> Result<Vec<f64>, BaselineError> {
+        check_predict(self.name(), self.fitted, x)?;
+        let k = self.trees.len() as f64;
+        Ok(x.rows()
+            .map(|r| self.trees.iter().map(|t| t.predict_row(r)).sum::<f64>() / k)
+            .collect())
+    }
+}

@@ -1,0 +1,91 @@
+//! The symbolic-regression model of `hxai-symreg` behind the [`Regressor`] trait.
+
+use crate::matrix::{check_fit, check_predict};
+use crate::{BaselineError, Matrix, Regressor};
+use hxai_symreg::{Dataset, Model, SearchConfig, SearchResult};
+
+/// Adapter over [`hxai_symreg::search`]: `fit` runs the search on the columns of `x`
+/// (named `x0`, `x1`, ... unless [`SymbolicRegressor::with_names`] says otherwise) and keeps
+/// the best model; `predict` evaluates its equation.
+#[derive(Debug, Clone)]
+pub struct SymbolicRegressor {
+    /// Search settings (default: the paper's, seed 42, 10 epochs).
+    pub config: SearchConfig,
+    names: Option<Vec<String>>,
+    result: Option<SearchResult>,
+    fitted: Option<usize>,
+}
+
+impl Default for SymbolicRegressor {
+    fn default() -> Self {
+        Self::new(SearchConfig::default())
+    }
+}
+
+impl SymbolicRegressor {
+    /// An unfitted model with the given search settings.
+    pub fn new(config: SearchConfig) -> Self {
+        Self {
+            config,
+            names: None,
+            result: None,
+            fitted: None,
+        }
+    }
+
+    /// Uses `names` for the feature columns (so equations read `f1`, `f6`, ...).
+    pub fn with_names(mut self, names: Vec<String>) -> Self {
+        self.names = Some(names);
+        self
+    }
+
+    /// The best model found (after `fit`).
+    pub fn model(&self) -> Option<&Model> {
+        self.result.as_ref().map(|r| &r.best)
+    }
+
+    /// The whole search result (best model, Pareto front, evaluations, seconds).
+    pub fn result(&self) -> Option<&SearchResult> {
+        self.result.as_ref()
+    }
+
+    fn dataset(&self, x: &Matrix) -> Result<Dataset, BaselineError> {
+        let names = match &self.names {
+            Some(n) if n.len() == x.ncols() => n.clone(),
+            Some(n) => {
+                return Err(BaselineError::FeatureCount {
+                    fitted: n.len(),
+                    got: x.ncols(),
+                });
+            }
+            None => (0..x.ncols()).map(|j| format!("x{j}")).collect(),
+        };
+        Dataset::new(names, x.columns()).map_err(|e| BaselineError::Symbolic(e.to_string()))
+    }
+}
+
+impl Regressor for SymbolicRegressor {
+    fn name(&self) -> &str {
+        "symbolic"
+    }
+
+    fn fit(&mut self, x: &Matrix, y: &[f64]) -> Result<(), BaselineError> {
+        check_fit(x, y)?;
+        let data = self.dataset(x)?;
+        let result = hxai_symreg::search(&data, y, &self.config, &mut |_| {})
+            .map_err(|e| BaselineError::Symbolic(e.to_string()))?;
+        self.result = Some(result);
+        self.fitted = Some(x.ncols());
+        Ok(())
+    }
+
+    fn predict(&self, x: &Matrix) -> Result<Vec<f64>, BaselineError> {
+        check_predict(self.name(), self.fitted, x)?;
+        let model = self.model().ok_or_else(|| BaselineError::NotFitted {
+            model: "symbolic".into(),
+        })?;
+        model
+            .predict(&self.dataset(x)?)
+            .map_err(|e| BaselineError::Symbolic(e.to_string()))
+    }
+}
