@@ -107,7 +107,26 @@ dump(SIG / "integrate.json", {
     "detrend_constant": lst(signal.detrend(y, type="constant")),
 })
 
-# 5. Features (paper Table 2) on a few unit-scale signals.
+# 5. Physics chain (hxai_signal::displacement), default config and the frequency integrator.
+pcases = []
+for n, fs in [(1500, 1000.0), (2001, 2000.0)]:
+    t = np.arange(n) / fs
+    w = 2 * np.pi * 20.0
+    a = -w * w * 5e-6 * np.sin(w * t + 0.3) + 0.02 * rng.standard_normal(n) + 0.01
+    sos = signal.butter(4, [5.0, 200.0], btype="bandpass", fs=fs, output="sos")
+    af = signal.sosfiltfilt(sos, a)
+    v = signal.detrend(integrate.cumulative_trapezoid(af, dx=1 / fs, initial=0), type="linear")
+    d = signal.detrend(integrate.cumulative_trapezoid(v, dx=1 / fs, initial=0), type="linear") * 1e6
+    spec = np.fft.rfft(a)
+    f = np.fft.rfftfreq(n, 1 / fs)
+    inband = (f >= 5.0) & (f <= 200.0)
+    spec2 = np.zeros_like(spec)
+    spec2[inband] = spec[inband] / -((2 * np.pi * f[inband]) ** 2)
+    dfreq = np.fft.irfft(spec2, n) * 1e6
+    pcases.append({"fs": fs, "accel": lst(a), "time": lst(d), "frequency": lst(dfreq)})
+dump(SIG / "physics.json", {"cases": pcases})
+
+# 6. Features (paper Table 2) on a few unit-scale signals.
 fcases = []
 for n, fs, cmd in [(500, 1000.0, 20.0), (333, 2000.0, 40.0), (1024, 5000.0, 10.0)]:
     a = test_signal(n, fs) * 1.7 - 0.1

@@ -215,3 +215,30 @@ fn long_cascades_equal_their_halves() -> TestResult {
     );
     Ok(())
 }
+
+#[test]
+fn physics_chain_matches_scipy_composition() -> TestResult {
+    // The default chain equals butter + sosfiltfilt + (cumulative_trapezoid, detrend linear)
+    // twice, and the frequency integrator equals rfft / -omega^2 in band / irfft (numpy), to
+    // 1e-9 relative (floor: 1e-9 times the largest |displacement|).
+    use hxai_signal::{Integrator, PhysicsConfig, displacement};
+    let data = load("physics.json")?;
+    for c in data["cases"].as_array().unwrap() {
+        let a = vecf(&c["accel"]);
+        let fs = c["fs"].as_f64().unwrap();
+        let d = displacement(&a, fs, &PhysicsConfig::default())?;
+        assert_vec_close(&d, &vecf(&c["time"]), 1e-9, "time-domain chain");
+        let cfg = PhysicsConfig {
+            integrator: Integrator::Frequency,
+            ..PhysicsConfig::default()
+        };
+        let d = displacement(&a, fs, &cfg)?;
+        assert_vec_close(
+            &d,
+            &vecf(&c["frequency"]),
+            1e-9,
+            "frequency-domain integrator",
+        );
+    }
+    Ok(())
+}
