@@ -1,12 +1,144 @@
-//! `hxai sr` (placeholder until its issue lands).
+//! `hxai sr`: symbolic regression of one column of a table on the others.
 use crate::Global;
-use anyhow::Result;
+use anyhow::{Context, Result};
+use hxai_symreg::{Dataset, Model, SearchConfig, search};
+use serde_json::{Value, json};
+use std::path::PathBuf;
 
 /// Arguments of `hxai sr`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Table to read (CSV or Parquet): every column numeric.
+    #[arg(long)]
+    pub csv: PathBuf,
+    /// Column to model; every other column is an input.
+    #[arg(long)]
+    pub target: String,
+    /// Seed of every random choice.
+    #[arg(long, default_value_t = 42)]
+    pub seed: u64,
+    /// Largest complexity (input leaves + operators).
+    #[arg(long, default_value_t = 10)]
+    pub max_complexity: usize,
+    /// Number of epochs.
+    #[arg(long, default_value_t = 10)]
+    pub epochs: usize,
+    /// Stop after this many seconds (results then depend on timing).
+    #[arg(long)]
+    pub time_limit_s: Option<f64>,
+    /// Comma-separated operators, from: add sub mul div exp log sqrt square inverse sin cos
+    /// tanh abs gaussian gaussian2 (default: the paper's set plus exp).
+    #[arg(long, value_delimiter = ',')]
+    pub operators: Option<Vec<String>>,
+    /// Print one JSON document on stdout instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn summary(m: &Model, data: &Dataset, y: &[f64]) -> Result<Value> {
+    let pred = m.predict(data)?;
+    let n = y.len() as f64;
+    let mean = y.iter().sum::<f64>() / n;
+    let sst: f64 = y.iter().map(|v| (v - mean).powi(2)).sum();
+    let sse: f64 = y.iter().zip(&pred).map(|(a, b)| (a - b).powi(2)).sum();
+    Ok(json!({
+        "equation": m.equation(),
+        "sympy": m.sympy(),
+        "latex": m.latex(),
+        "complexity": m.complexity(),
+        "features": m.features(),
+        "r2": 1.0 - sse / sst,
+        "rmse": (sse / n).sqrt(),
+    }))
+}
 
 /// Runs `hxai sr`.
-pub fn run(_args: Args, _g: &Global) -> Result<()> {
-    anyhow::bail!("`hxai sr` is not implemented yet")
+#[allow(clippy::print_stdout)]
+pub fn run(args: Args, _g: &Global) -> Result<()> {
+    let table = hxai_data::read_table(&args.csv)
+        .with_context(|| format!("cannot read the table {}", args.csv.display()))?;
+    let ti = table
+        .names
+        .iter()
+        .position(|n| *n == args.target)
+        .with_context(|| {
+            format!(
+                "no column `{}` in {}: the columns are {}",
+                args.target,
+                args.csv.display(),
+                table.names.join(", ")
+            )
+        })?;
+    let mut names = table.names.clone();
+    let mut columns = table.columns.clone();
+    let y = columns.remove(ti);
+    names.remove(ti);
+    let data = Dataset::new(names, columns)?;
+    let mut cfg = SearchConfig {
+        seed: args.seed,
+        max_complexity: args.max_complexity,
+        epochs: args.epochs,
+        time_limit_s: args.time_limit_s,
+        ..SearchConfig::default()
+    };
+    if let Some(ops) = args.operators {
+        cfg.operators = ops;
+    }
+    let bar = if args.json {
+        indicatif::ProgressBar::hidden()
+    } else {
+        let b = indicatif::ProgressBar::new(cfg.epochs as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{bar:30} epoch {pos}/{len} {msg} [{elapsed}]")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    };
+    let res = search(&data, &y, &cfg, &mut |p| {
+        bar.set_position(p.epoch as u64);
+        bar.set_message(format!(
+            "models {} best loss {:.4e}",
+            p.evaluations, p.best_loss
+        ));
+    })?;
+    bar.finish_and_clear();
+    let best = summary(&res.best, &data, &y)?;
+    let pareto = res
+        .pareto
+        .iter()
+        .map(|m| summary(m, &data, &y))
+        .collect::<Result<Vec<_>>>()?;
+    if args.json {
+        let doc = json!({
+            "best": best,
+            "pareto": pareto,
+            "evaluations": res.evaluations,
+            "seconds": res.seconds,
+        });
+        println!("{}", serde_json::to_string_pretty(&doc)?);
+    } else {
+        println!(
+            "best (complexity {}): {}",
+            res.best.complexity(),
+            res.best.equation()
+        );
+        let num = |v: &Value, k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+        println!(
+            "  R^2 {:.6}  RMSE {:.6e}  features {}",
+            num(&best, "r2"),
+            num(&best, "rmse"),
+            res.best.features().join(", ")
+        );
+        println!("Pareto front:");
+        for (m, s) in res.pareto.iter().zip(&pareto) {
+            println!(
+                "  {:>3}  R^2 {:.6}  {}",
+                m.complexity(),
+                num(s, "r2"),
+                m.equation()
+            );
+        }
+        println!("{} models in {:.2} s", res.evaluations, res.seconds);
+    }
+    Ok(())
 }

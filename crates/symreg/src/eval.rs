@@ -37,6 +37,13 @@ fn binary(dst: &mut [f64], a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) {
     }
 }
 
+#[inline]
+fn adjoint1(da: &mut [f64], ak: &[f64], va: &[f64], out: &[f64], d: impl Fn(f64, f64) -> f64) {
+    for (((g, &a), &v), &o) in da.iter_mut().zip(ak).zip(va).zip(out) {
+        *g = a * d(v, o);
+    }
+}
+
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     // Four accumulators: fixed association order, so results do not depend on anything
     // but the inputs.
@@ -242,8 +249,17 @@ impl Evaluator {
                         let va = &self.vals[c0 * BATCH..c0 * BATCH + len];
                         if op.arity() == 1 {
                             let da = &mut before[c0 * BATCH..c0 * BATCH + len];
-                            for i in 0..len {
-                                da[i] = ak[i] * op.d1(va[i], out[i]);
+                            match op {
+                                Op::Exp => adjoint1(da, ak, va, out, |_, o| o),
+                                Op::Square => adjoint1(da, ak, va, out, |a, _| 2.0 * a),
+                                Op::Gaussian => adjoint1(da, ak, va, out, |a, o| -2.0 * a * o),
+                                Op::Sin => adjoint1(da, ak, va, out, |a, _| a.cos()),
+                                Op::Cos => adjoint1(da, ak, va, out, |a, _| -a.sin()),
+                                Op::Tanh => adjoint1(da, ak, va, out, |_, o| 1.0 - o * o),
+                                Op::Inverse => adjoint1(da, ak, va, out, |_, o| -o * o),
+                                Op::Log => adjoint1(da, ak, va, out, |a, _| 1.0 / a),
+                                Op::Sqrt => adjoint1(da, ak, va, out, |_, o| 0.5 / o),
+                                _ => adjoint1(da, ak, va, out, |a, o| op.d1(a, o)),
                             }
                         } else {
                             let vb = &self.vals[c1 * BATCH..c1 * BATCH + len];

@@ -152,6 +152,38 @@ impl Expr {
                             }
                         }
                     }
+                    // pull numeric factors out of products and quotients
+                    (Op::Mul, Bin(Op::Mul, pa, x), y) if matches!(*pa, Num(_)) => Bin(
+                        Op::Mul,
+                        pa,
+                        Box::new(Bin(Op::Mul, x, Box::new(y)).simplify()),
+                    )
+                    .simplify(),
+                    (Op::Mul, x, Bin(Op::Mul, pb, y)) if matches!(*pb, Num(_)) => Bin(
+                        Op::Mul,
+                        pb,
+                        Box::new(Bin(Op::Mul, Box::new(x), y).simplify()),
+                    )
+                    .simplify(),
+                    (Op::Div, Bin(Op::Mul, pa, x), y) if matches!(*pa, Num(_)) => Bin(
+                        Op::Mul,
+                        pa,
+                        Box::new(Bin(Op::Div, x, Box::new(y)).simplify()),
+                    )
+                    .simplify(),
+                    (Op::Div, x, Bin(Op::Mul, pb, y)) if matches!(*pb, Num(_)) => match *pb {
+                        Num(q) => Bin(
+                            Op::Mul,
+                            Box::new(Num(1.0 / q)),
+                            Box::new(Bin(Op::Div, Box::new(x), y).simplify()),
+                        )
+                        .simplify(),
+                        other => Bin(
+                            Op::Div,
+                            Box::new(x),
+                            Box::new(Bin(Op::Mul, Box::new(other), y)),
+                        ),
+                    },
                     (Op::Sub, e, Num(x)) => Bin(Op::Add, Box::new(e), Box::new(Num(-x))).simplify(),
                     (Op::Sub, Num(0.0), e) => Neg(Box::new(e)).simplify(),
                     (Op::Div, e, Num(1.0)) => e,

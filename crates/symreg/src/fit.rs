@@ -49,7 +49,9 @@ pub fn cholesky_solve(a: &mut [f64], b: &mut [f64], m: usize) -> bool {
 
 /// Runs at most `max_iter` Levenberg-Marquardt iterations on the parameters whose index is
 /// in `free`, starting from `params` (which is updated in place). Returns the final mean
-/// squared error (`INFINITY` when the model is not finite on the data).
+/// squared error (`INFINITY` when the model is not finite on the data). Stops early when an
+/// accepted step lowers the error by less than the fraction `tol`.
+#[allow(clippy::too_many_arguments)]
 pub fn levenberg_marquardt(
     prog: &Program,
     params: &mut [f64],
@@ -57,6 +59,7 @@ pub fn levenberg_marquardt(
     cols: &[&[f64]],
     y: &[f64],
     max_iter: usize,
+    tol: f64,
     ev: &mut Evaluator,
 ) -> f64 {
     let m = free.len();
@@ -96,7 +99,7 @@ pub fn levenberg_marquardt(
                 accepted = true;
                 let improvement = (mse - new) / mse.max(1e-300);
                 mse = new;
-                if improvement < 1e-9 {
+                if improvement < tol {
                     return mse;
                 }
                 break;

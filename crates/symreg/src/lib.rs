@@ -36,6 +36,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod bench_programs;
 mod data;
 mod error;
 pub mod eval;
@@ -53,5 +54,5 @@ pub use ops::Op;
 pub use program::{ComplexityMeasure, Node, Program};
 pub use search::{
     Archive, Candidate, Criterion, Fitted, Progress, SearchConfig, SearchResult, SearchStrategy,
-    Strategy, search,
+    Strategy, fit_structure, search,
 };

@@ -20,10 +20,17 @@ pub struct Model {
     pub params: Vec<f64>,
     /// Complexity under the search's measure.
     pub complexity: usize,
-    /// Mean squared error on the training rows.
+    /// Mean squared error on the training rows (NaN when unknown; JSON `null`).
+    #[serde(deserialize_with = "null_as_nan")]
     pub train_mse: f64,
-    /// Criterion value (lower is better) on the training rows.
+    /// Criterion value (lower is better) on the training rows (NaN when unknown).
+    #[serde(deserialize_with = "null_as_nan")]
     pub score: f64,
+}
+
+/// JSON has no NaN: serde_json writes it as `null`; read `null` back as NaN.
+fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 impl Model {
@@ -159,8 +166,13 @@ impl Model {
 }
 
 /// Candidate simple values near `v`, simplest first.
-fn snap_candidates(v: f64) -> Vec<f64> {
-    let mut c = vec![0.0, v.round(), (v * 2.0).round() / 2.0];
+fn snap_candidates(v: f64, weight: bool) -> Vec<f64> {
+    let mut c = if weight {
+        vec![1.0, -1.0, 0.0]
+    } else {
+        vec![0.0]
+    };
+    c.extend([v.round(), (v * 2.0).round() / 2.0]);
     let a = v.abs();
     if a > 0.0 && a.is_finite() {
         for digits in [1i32, 2, 3] {
@@ -203,6 +215,8 @@ pub(crate) fn snap_params(
             order.push(offs[k] + 1);
         }
     }
+    order.push(1);
+    let n_bias = order.len();
     for (k, n) in prog.nodes.iter().enumerate() {
         match n {
             Node::Var(_) if prog.affine => order.push(offs[k]),
@@ -210,12 +224,11 @@ pub(crate) fn snap_params(
             _ => {}
         }
     }
-    order.push(1);
     order.push(0);
     let mut fixed = vec![false; params.len()];
     let mut current = base;
-    for &i in &order {
-        for cand in snap_candidates(params[i]) {
+    for (&i, weight) in order.iter().zip((0..).map(|k| k >= n_bias)) {
+        for cand in snap_candidates(params[i], weight) {
             let mut trial = params.clone();
             trial[i] = cand;
             let mut fx = fixed.clone();
@@ -228,7 +241,7 @@ pub(crate) fn snap_params(
                 if direct <= limit {
                     direct
                 } else {
-                    levenberg_marquardt(prog, &mut trial, &free, cols, y, 20, &mut ev)
+                    levenberg_marquardt(prog, &mut trial, &free, cols, y, 20, 1e-10, &mut ev)
                 }
             };
             if mse.is_finite() && mse <= limit {

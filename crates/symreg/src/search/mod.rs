@@ -347,6 +347,7 @@ impl Problem<'_> {
                 &cols,
                 y,
                 self.cfg.lm_iterations,
+                1e-6,
                 &mut ev,
             );
             if mse < best {
@@ -647,6 +648,72 @@ pub fn search(
     finish(&problem, data, &archive, evaluations, t0)
 }
 
+/// Fits the constants of one given structure (inputs by column index of `data`) to `target`
+/// with Levenberg-Marquardt on all rows, from the canonical start and one seeded random
+/// start, then snaps constants as [`search`] does. Useful to test whether a law is
+/// expressible, and to refit a known structure on new data.
+///
+/// # Errors
+/// As [`search`], plus [`SrError::MalformedModel`] for an invalid program.
+pub fn fit_structure(
+    data: &Dataset,
+    target: &[f64],
+    program: &Program,
+    cfg: &SearchConfig,
+) -> Result<Model, SrError> {
+    cfg.check()?;
+    if !program.is_valid() || program.vars().iter().any(|&j| j as usize >= data.n_cols()) {
+        return Err(SrError::MalformedModel(
+            "the program is not a valid expression over the data's columns".into(),
+        ));
+    }
+    if target.len() != data.n_rows() {
+        return Err(SrError::TargetLength {
+            target: target.len(),
+            data: data.n_rows(),
+        });
+    }
+    if let Some((row, &value)) = target.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(SrError::NonFinite {
+            name: "target".into(),
+            row,
+            value,
+        });
+    }
+    let n = target.len();
+    if n <= program.n_params() {
+        return Err(SrError::TooFewRows {
+            rows: n,
+            needed: program.n_params() + 1,
+        });
+    }
+    let mean = target.iter().sum::<f64>() / n as f64;
+    let y_var = target.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / n as f64;
+    if target.iter().all(|&v| v == target[0]) {
+        return Err(SrError::ConstantTarget(target[0]));
+    }
+    let cols: Vec<&[f64]> = data.columns().iter().map(|c| c.as_slice()).collect();
+    let problem = Problem {
+        scales: InputScales::new(&cols),
+        fit_cols: data.columns().to_vec(),
+        fit_y: target.to_vec(),
+        cols,
+        y: target.to_vec(),
+        y_var,
+        cfg,
+    };
+    let cand = Candidate {
+        program: program.clone(),
+        params: None,
+        source: 0,
+        tag: 0,
+    };
+    let f = problem.fit(&cand, cfg.seed);
+    let mut archive = Archive::default();
+    archive.offer(&f);
+    finish(&problem, data, &archive, 1, Instant::now()).map(|r| r.best)
+}
+
 fn finish(
     problem: &Problem,
     data: &Dataset,
@@ -674,7 +741,8 @@ fn finish(
             let mut ev = Evaluator::new(prog);
             let mut params = f.params.clone();
             let free: Vec<usize> = (0..params.len()).collect();
-            let mut mse = levenberg_marquardt(prog, &mut params, &free, full_cols, y, 50, &mut ev);
+            let mut mse =
+                levenberg_marquardt(prog, &mut params, &free, full_cols, y, 50, 1e-12, &mut ev);
             if !mse.is_finite() {
                 params = f.params.clone();
                 mse = ev.mse(prog, &params, full_cols, y);
