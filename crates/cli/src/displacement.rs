@@ -1,12 +1,130 @@
-//! `hxai displacement` (placeholder until its issue lands).
+//! `hxai displacement`: the physics-model displacement (band-pass, double integration with
+//! drift removal) of one record, written as a table `time_s,displacement_um`.
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use hxai_signal::{Drift, Integrator, PhysicsConfig};
+
 use crate::Global;
-use anyhow::Result;
+
+/// How the acceleration is integrated.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum IntegratorArg {
+    /// Butterworth band-pass (filtfilt), then cumulative trapezoid twice with drift removal.
+    Time,
+    /// Divide the spectrum by -omega^2 inside the band, zero outside.
+    Frequency,
+}
+
+/// How drift is removed after each time-domain integration.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum DriftArg {
+    /// Subtract the least-squares line.
+    Linear,
+    /// Second-order Butterworth high-pass at half the lower band edge (filtfilt).
+    Highpass,
+    /// Keep the drift.
+    None,
+}
 
 /// Arguments of `hxai displacement`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Record file (CSV or Parquet, by extension) with columns `time_s` and `accel_ms2`.
+    #[arg(long)]
+    pub record: PathBuf,
+    /// Commanded frequency in Hz; must lie inside the pass band. The command's amplitude and
+    /// phase in the physics displacement are reported (least-squares sine fit).
+    #[arg(long)]
+    pub frequency_hz: f64,
+    /// Output table (CSV or Parquet, by extension) with columns `time_s,displacement_um`.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Lower edge of the band-pass, Hz.
+    #[arg(long, default_value_t = PhysicsConfig::default().low_hz)]
+    pub low_hz: f64,
+    /// Upper edge of the band-pass, Hz.
+    #[arg(long, default_value_t = PhysicsConfig::default().high_hz)]
+    pub high_hz: f64,
+    /// Butterworth order of the band-pass.
+    #[arg(long, default_value_t = PhysicsConfig::default().order)]
+    pub order: usize,
+    /// Integrator.
+    #[arg(long, value_enum, default_value = "time")]
+    pub integrator: IntegratorArg,
+    /// Drift removal after each integration (time-domain integrator only).
+    #[arg(long, value_enum, default_value = "linear")]
+    pub drift: DriftArg,
+    /// Print one JSON document (summary) on stdout instead of a line of text.
+    #[arg(long)]
+    pub json: bool,
+}
 
 /// Runs `hxai displacement`.
-pub fn run(_args: Args, _g: &Global) -> Result<()> {
-    anyhow::bail!("`hxai displacement` is not implemented yet")
+pub fn run(args: Args, _g: &Global) -> Result<()> {
+    anyhow::ensure!(
+        args.frequency_hz.is_finite()
+            && args.frequency_hz >= args.low_hz
+            && args.frequency_hz <= args.high_hz,
+        "--frequency-hz {} lies outside the pass band {}..{} Hz; give the commanded frequency or widen the band with --low-hz/--high-hz",
+        args.frequency_hz,
+        args.low_hz,
+        args.high_hz
+    );
+    let rec = hxai_data::read_record(&args.record)
+        .with_context(|| format!("reading record {}", args.record.display()))?;
+    let fs = rec.fs();
+    let cfg = PhysicsConfig {
+        low_hz: args.low_hz,
+        high_hz: args.high_hz,
+        order: args.order,
+        integrator: match args.integrator {
+            IntegratorArg::Time => Integrator::Time,
+            IntegratorArg::Frequency => Integrator::Frequency,
+        },
+        drift: match args.drift {
+            DriftArg::Linear => Drift::Linear,
+            DriftArg::Highpass => Drift::Highpass {
+                order: 2,
+                cutoff_hz: args.low_hz / 2.0,
+            },
+            DriftArg::None => Drift::None,
+        },
+        ..PhysicsConfig::default()
+    };
+    let d_um = hxai_signal::displacement(&rec.accel_ms2, fs, &cfg)
+        .with_context(|| format!("physics model on {}", args.record.display()))?;
+    let fit = hxai_signal::fit_sine(&d_um, fs, args.frequency_hz)
+        .context("fitting the commanded sine to the displacement")?;
+    let table = hxai_data::Table {
+        names: vec!["time_s".into(), "displacement_um".into()],
+        columns: vec![rec.time_s.clone(), d_um],
+    };
+    hxai_data::write_table(&args.out, &table)
+        .with_context(|| format!("writing {}", args.out.display()))?;
+    let summary = serde_json::json!({
+        "record": args.record.display().to_string(),
+        "out": args.out.display().to_string(),
+        "samples": rec.len(),
+        "fs_hz": fs,
+        "frequency_hz": args.frequency_hz,
+        "amplitude_um": fit.amplitude,
+        "phase_rad": fit.phase,
+        "offset_um": fit.offset,
+        "config": cfg,
+    });
+    #[allow(clippy::print_stdout)]
+    if args.json {
+        println!("{summary}");
+    } else {
+        println!(
+            "wrote {} ({} samples at {:.1} Hz); physics amplitude at {} Hz: {:.4} um",
+            args.out.display(),
+            rec.len(),
+            fs,
+            args.frequency_hz,
+            fit.amplitude
+        );
+    }
+    Ok(())
 }

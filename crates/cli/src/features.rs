@@ -1,12 +1,76 @@
-//! `hxai features` (placeholder until its issue lands).
+//! `hxai features`: the twelve acceleration features (paper Table 2) of one record.
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use hxai_features::{FeatureConfig, Features, PsdEstimator, Sigma};
+
 use crate::Global;
-use anyhow::Result;
+
+/// Sigma of kurtosis and skewness.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum SigmaArg {
+    /// 1/N deviation (scipy.stats default).
+    Biased,
+    /// 1/(N-1) deviation.
+    Unbiased,
+}
+
+/// PSD estimator of the mean frequency and total power.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum PsdArg {
+    /// Welch, scipy.signal.welch defaults.
+    Welch,
+    /// One-segment periodogram, scipy.signal.periodogram defaults.
+    Periodogram,
+}
 
 /// Arguments of `hxai features`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Record file (CSV or Parquet, by extension) with columns `time_s` and `accel_ms2`.
+    #[arg(long)]
+    pub record: PathBuf,
+    /// Commanded frequency in Hz (feature f1).
+    #[arg(long)]
+    pub frequency_hz: f64,
+    /// Sigma of kurtosis (f6) and skewness (f7).
+    #[arg(long, value_enum, default_value = "biased")]
+    pub sigma: SigmaArg,
+    /// PSD estimator of f11 and f12.
+    #[arg(long, value_enum, default_value = "welch")]
+    pub psd: PsdArg,
+    /// Print one JSON document with keys `f1`..`f12` on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
 
 /// Runs `hxai features`.
-pub fn run(_args: Args, _g: &Global) -> Result<()> {
-    anyhow::bail!("`hxai features` is not implemented yet")
+pub fn run(args: Args, _g: &Global) -> Result<()> {
+    let rec = hxai_data::read_record(&args.record)
+        .with_context(|| format!("reading record {}", args.record.display()))?;
+    let cfg = FeatureConfig {
+        sigma: match args.sigma {
+            SigmaArg::Biased => Sigma::Biased,
+            SigmaArg::Unbiased => Sigma::Unbiased,
+        },
+        psd: match args.psd {
+            PsdArg::Welch => PsdEstimator::default(),
+            PsdArg::Periodogram => PsdEstimator::Periodogram,
+        },
+    };
+    let f = hxai_features::extract_with(&rec.accel_ms2, rec.fs(), args.frequency_hz, &cfg)
+        .with_context(|| format!("features of {}", args.record.display()))?;
+    #[allow(clippy::print_stdout)]
+    if args.json {
+        println!("{}", serde_json::to_string(&f)?);
+    } else {
+        for ((name, long), v) in Features::NAMES
+            .iter()
+            .zip(Features::LONG_NAMES)
+            .zip(f.to_vec())
+        {
+            println!("{name:>4}  {long:<20} {v:.10e}");
+        }
+    }
+    Ok(())
 }

@@ -6,9 +6,24 @@ use crate::error::check_signal;
 
 /// A digital filter as a cascade of second-order sections, each `[b0, b1, b2, a0, a1, a2]`
 /// (scipy's layout). Sections are stored normalised so that `a0 == 1`.
+/// Serialised as the list of sections; deserialising validates like [`Sos::from_sections`].
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "Vec<[f64; 6]>", into = "Vec<[f64; 6]>")]
 pub struct Sos {
     sections: Vec<[f64; 6]>,
+}
+
+impl TryFrom<Vec<[f64; 6]>> for Sos {
+    type Error = SignalError;
+    fn try_from(sections: Vec<[f64; 6]>) -> Result<Self, SignalError> {
+        Sos::from_sections(sections)
+    }
+}
+
+impl From<Sos> for Vec<[f64; 6]> {
+    fn from(s: Sos) -> Self {
+        s.sections
+    }
 }
 
 impl Sos {

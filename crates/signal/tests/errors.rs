@@ -148,3 +148,22 @@ fn physics_chain_recovers_known_motion() -> Result<(), E> {
     assert!((fit.amplitude / (amp_um * 1e-6) - 1.0).abs() < 5e-3);
     Ok(())
 }
+
+#[test]
+fn sos_serde_round_trip_and_validation() -> Result<(), Box<dyn std::error::Error>> {
+    let sos = butter(3, Band::Highpass(10.0), 1000.0)?;
+    let text = serde_json::to_string(&sos)?;
+    let back: hxai_signal::Sos = serde_json::from_str(&text)?;
+    // serde_json's default float parser may be 1 ulp off, so compare to 1e-15 relative.
+    for (a, b) in back
+        .sections()
+        .iter()
+        .flatten()
+        .zip(sos.sections().iter().flatten())
+    {
+        assert!((a - b).abs() <= 1e-15 * a.abs().max(b.abs()));
+    }
+    // a0 = 0 is refused on the way in.
+    assert!(serde_json::from_str::<hxai_signal::Sos>("[[1,0,0,0,0,0]]").is_err());
+    Ok(())
+}
