@@ -1,2 +1,50 @@
 //! `cargo xtask`: project automation.
-fn main() {}
+//!
+//! - `cargo xtask reproduce [--quick] [--check] [--out DIR]`: the paper's tables and figures
+//!   into `docs/results/` (or `DIR`); `--check` writes nothing and fails when the committed
+//!   files differ from what the code produces now.
+#![allow(clippy::print_stdout, clippy::print_stderr)]
+
+use anyhow::{Context, Result, bail};
+use std::path::{Path, PathBuf};
+
+mod reproduce;
+
+const USAGE: &str = "usage: cargo xtask <command>
+
+commands:
+  reproduce [--quick] [--check] [--out DIR]
+      simulate, fit and evaluate; write the paper's tables and figures to docs/results/
+      --quick   reduced data and epochs (CI smoke run), written to target/reproduce-quick/
+      --check   write nothing; fail if the committed docs/results/ differ from a fresh run
+      --out DIR write somewhere else";
+
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+/// The workspace root (the xtask crate's parent folder).
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+}
+
+fn run() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some((cmd, rest)) = args.split_first() else {
+        println!("{USAGE}");
+        return Ok(());
+    };
+    match cmd.as_str() {
+        "reproduce" => reproduce::run(rest).context("cargo xtask reproduce"),
+        "-h" | "--help" | "help" => {
+            println!("{USAGE}");
+            Ok(())
+        }
+        other => bail!("unknown command `{other}`\n\n{USAGE}"),
+    }
+}

@@ -31,15 +31,27 @@ pub struct Series {
 impl Series {
     /// A line series.
     pub fn line(name: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Self { name: name.into(), points, mark: Mark::Line }
+        Self {
+            name: name.into(),
+            points,
+            mark: Mark::Line,
+        }
     }
     /// A scatter series.
     pub fn points(name: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Self { name: name.into(), points, mark: Mark::Points }
+        Self {
+            name: name.into(),
+            points,
+            mark: Mark::Points,
+        }
     }
     /// A dashed line series.
     pub fn dashed(name: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Self { name: name.into(), points, mark: Mark::Dashed }
+        Self {
+            name: name.into(),
+            points,
+            mark: Mark::Dashed,
+        }
     }
 }
 
@@ -88,13 +100,20 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
         return (0.0, 1.0);
     }
     let span = hi - lo;
-    let pad = if span > 0.0 { 0.05 * span } else { lo.abs().max(1.0) * 0.05 };
+    let pad = if span > 0.0 {
+        0.05 * span
+    } else {
+        lo.abs().max(1.0) * 0.05
+    };
     (lo - pad, hi + pad)
 }
 
 /// Draws `panels` on a grid of `cols` columns and returns the SVG text.
 pub fn draw(name: &str, panels: &[Panel], cols: usize) -> Result<String, FigureError> {
-    let err = |e: &dyn std::fmt::Display| FigureError::Draw { name: name.to_string(), reason: e.to_string() };
+    let err = |e: &dyn std::fmt::Display| FigureError::Draw {
+        name: name.to_string(),
+        reason: e.to_string(),
+    };
     let cols = cols.clamp(1, panels.len().max(1));
     let rows = panels.len().div_ceil(cols).max(1);
     let (w, h) = (520 * cols as u32, 380 * rows as u32);
@@ -104,8 +123,18 @@ pub fn draw(name: &str, panels: &[Panel], cols: usize) -> Result<String, FigureE
         root.fill(&WHITE).map_err(|e| err(&e))?;
         let areas = root.split_evenly((rows, cols));
         for (panel, area) in panels.iter().zip(areas.iter()) {
-            let (x0, x1) = range(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.0)));
-            let (y0, y1) = range(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
+            let (x0, x1) = range(
+                panel
+                    .series
+                    .iter()
+                    .flat_map(|s| s.points.iter().map(|p| p.0)),
+            );
+            let (y0, y1) = range(
+                panel
+                    .series
+                    .iter()
+                    .flat_map(|s| s.points.iter().map(|p| p.1)),
+            );
             let mut chart = ChartBuilder::on(area)
                 .caption(&panel.title, ("sans-serif", 16))
                 .margin(10)
@@ -122,14 +151,19 @@ pub fn draw(name: &str, panels: &[Panel], cols: usize) -> Result<String, FigureE
                 .map_err(|e| err(&e))?;
             for (i, s) in panel.series.iter().enumerate() {
                 let color = PALETTE[i % PALETTE.len()];
-                let pts: Vec<(f64, f64)> =
-                    s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
+                let pts: Vec<(f64, f64)> = s
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|p| p.0.is_finite() && p.1.is_finite())
+                    .collect();
                 let anno = match s.mark {
                     Mark::Line => chart.draw_series(LineSeries::new(pts, color.stroke_width(1))),
-                    Mark::Dashed => chart.draw_series(DashedLineSeries::new(pts, 6, 4, color.stroke_width(1))),
-                    Mark::Points => {
-                        chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 2, color.filled())))
+                    Mark::Dashed => {
+                        chart.draw_series(DashedLineSeries::new(pts, 6, 4, color.stroke_width(1)))
                     }
+                    Mark::Points => chart
+                        .draw_series(pts.into_iter().map(|p| Circle::new(p, 2, color.filled()))),
                 }
                 .map_err(|e| err(&e))?;
                 anno.label(s.name.as_str()).legend(move |(x, y)| {

@@ -1,0 +1,244 @@
+//! The computation: simulate, build samples, fit, compare, cross-validate, evaluate.
+
+use crate::results::{
+    AmplitudeRow, CvRow, DataSummary, FeatureRange, ModelRow, Results, Settings, SymbolicSummary,
+};
+use crate::{Progress, ReproduceConfig, ReproduceError};
+use hxai_baselines::Matrix;
+use hxai_hybrid::{FitConfig, FitOutput, FitProgress, RecordInput, WindowSample};
+use hxai_sim::SimRecord;
+use hxai_symreg::{Dataset, SearchConfig};
+use std::time::Instant;
+
+/// Everything the report and the figures are made from.
+#[derive(Debug)]
+pub struct Computed {
+    /// The numbers.
+    pub results: Results,
+    /// The simulated records.
+    pub records: Vec<SimRecord>,
+    /// The fit: model, samples, split, search result.
+    pub fit: FitOutput,
+    /// `delta_hat` of every sample, in sample order.
+    pub delta_hat: Vec<f64>,
+    /// Wall time of each stage, for the terminal summary only (never written to the
+    /// committed results, which must not depend on timing).
+    pub timings: Vec<(&'static str, f64)>,
+}
+
+fn rows_of(samples: &[WindowSample], idx: &[usize]) -> Vec<Vec<f64>> {
+    idx.iter().map(|&i| samples[i].features.clone()).collect()
+}
+
+fn deltas_of(samples: &[WindowSample], idx: &[usize]) -> Result<Vec<f64>, ReproduceError> {
+    idx.iter()
+        .map(|&i| {
+            samples[i]
+                .delta()
+                .ok_or_else(|| ReproduceError::Pipeline(format!("sample {i} has no ground truth")))
+        })
+        .collect()
+}
+
+fn dataset(names: &[String], rows: &[Vec<f64>]) -> Result<Dataset, ReproduceError> {
+    let columns = (0..names.len())
+        .map(|c| rows.iter().map(|r| r[c]).collect())
+        .collect();
+    Ok(Dataset::new(names.to_vec(), columns)?)
+}
+
+/// The search settings of every symbolic fit in the run (main fit and CV folds).
+pub fn search_config(cfg: &ReproduceConfig) -> SearchConfig {
+    SearchConfig {
+        seed: cfg.seed,
+        epochs: cfg.epochs(),
+        ..SearchConfig::default()
+    }
+}
+
+/// Runs the whole computation.
+pub fn compute(
+    cfg: &ReproduceConfig,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Computed, ReproduceError> {
+    let mut timings = Vec::new();
+    let sim_cfg = cfg.sim_config();
+
+    // 1. Simulate.
+    let t = Instant::now();
+    progress(Progress::start("simulate", sim_cfg.n_records() as u64));
+    let records = hxai_sim::simulate(&sim_cfg)?;
+    progress(Progress::done("simulate", records.len() as u64));
+    timings.push(("simulate", t.elapsed().as_secs_f64()));
+
+    // 2-3. Physics model, delta, features, split, symbolic regression of delta.
+    let t = Instant::now();
+    let inputs: Vec<RecordInput<'_>> = records
+        .iter()
+        .map(|r| RecordInput {
+            id: &r.id,
+            fs: r.fs,
+            freq_hz: r.frequency_hz,
+            signal: &r.accel_ms2,
+            truth: Some(&r.probe_um),
+        })
+        .collect();
+    let fit_cfg = FitConfig {
+        seed: cfg.seed,
+        test_fraction: cfg.test_fraction,
+        search: search_config(cfg),
+        ..FitConfig::default()
+    };
+    let epochs = fit_cfg.search.epochs as u64;
+    progress(Progress::start("fit", epochs));
+    let fit = hxai_hybrid::fit(&inputs, &fit_cfg, &mut |p| {
+        if let FitProgress::Search(s) = p {
+            progress(Progress {
+                stage: "fit",
+                done: s.epoch as u64,
+                total: epochs,
+                message: format!("{} models, best loss {:.4}", s.evaluations, s.best_loss),
+            });
+        }
+    })?;
+    progress(Progress::done("fit", epochs));
+    timings.push((
+        "physics + features + symbolic fit",
+        t.elapsed().as_secs_f64(),
+    ));
+
+    let samples = &fit.samples;
+    let names = fit.model.features.names.clone();
+    let train: Vec<usize> = (0..samples.len()).filter(|&i| !fit.is_test[i]).collect();
+    let test: Vec<usize> = (0..samples.len()).filter(|&i| fit.is_test[i]).collect();
+    let all_rows = rows_of(samples, &(0..samples.len()).collect::<Vec<_>>());
+    let delta_hat = fit.search.best.predict(&dataset(&names, &all_rows)?)?;
+
+    // 4. Table 3: every baseline and the symbolic model on the same split.
+    let t = Instant::now();
+    let (x_train, y_train) = (rows_of(samples, &train), deltas_of(samples, &train)?);
+    let (x_test, y_test) = (rows_of(samples, &test), deltas_of(samples, &test)?);
+    let (m_train, m_test) = (Matrix::from_rows(&x_train)?, Matrix::from_rows(&x_test)?);
+    let models = hxai_baselines::table3_models(cfg.seed);
+    let n_models = models.len() as u64 + 1;
+    progress(Progress::start("baselines", n_models));
+    let mut table3 = Vec::new();
+    for (k, mut m) in models.into_iter().enumerate() {
+        m.fit(&m_train, &y_train)?;
+        let pred = m.predict(&m_test)?;
+        let s = hxai_eval::score(&y_test, &pred)?;
+        table3.push(ModelRow::new(m.name(), s, None));
+        progress(Progress::done_of("baselines", k as u64 + 1, n_models));
+    }
+    let sym_test: Vec<f64> = test.iter().map(|&i| delta_hat[i]).collect();
+    let sym_score = hxai_eval::score(&y_test, &sym_test)?;
+    let best = &fit.search.best;
+    table3.push(ModelRow::new(
+        "symbolic",
+        sym_score,
+        Some(best.complexity()),
+    ));
+    timings.push(("baselines", t.elapsed().as_secs_f64()));
+
+    // 5. Five-fold cross-validation of the symbolic model, grouped by record.
+    let t = Instant::now();
+    let groups: Vec<&str> = samples.iter().map(|s| s.record.as_str()).collect();
+    let folds = hxai_eval::grouped_kfold(&groups, cfg.folds, cfg.seed)?;
+    let (mut r2s, mut rmses, mut maes) = (Vec::new(), Vec::new(), Vec::new());
+    progress(Progress::start("cross-validation", folds.len() as u64));
+    for (k, fold) in folds.iter().enumerate() {
+        let data = dataset(&names, &rows_of(samples, &fold.train))?;
+        let y = deltas_of(samples, &fold.train)?;
+        let res = hxai_symreg::search(&data, &y, &search_config(cfg), &mut |_| {})?;
+        let pred = res
+            .best
+            .predict(&dataset(&names, &rows_of(samples, &fold.test))?)?;
+        let s = hxai_eval::score(&deltas_of(samples, &fold.test)?, &pred)?;
+        r2s.push(s.r2);
+        rmses.push(s.rmse);
+        maes.push(s.mae);
+        progress(Progress::done_of(
+            "cross-validation",
+            k as u64 + 1,
+            folds.len() as u64,
+        ));
+    }
+    let cv = vec![
+        CvRow::new("R2", &r2s, 0)?,
+        CvRow::new("RMSE", &rmses, 1)?,
+        CvRow::new("MAE", &maes, 2)?,
+    ];
+    timings.push(("cross-validation", t.elapsed().as_secs_f64()));
+
+    // 6. Hybrid vs physics on the test records.
+    let t = Instant::now();
+    progress(Progress::start("evaluate", 1));
+    let hybrid = fit.model.evaluate(&inputs, false)?;
+    progress(Progress::done("evaluate", 1));
+    timings.push(("hybrid evaluation", t.elapsed().as_secs_f64()));
+
+    // Descriptive tables.
+    let feature_ranges = names
+        .iter()
+        .enumerate()
+        .map(|(c, name)| FeatureRange::new(name, c, samples))
+        .collect();
+    let amplitudes = records
+        .iter()
+        .map(AmplitudeRow::of)
+        .collect::<Result<Vec<_>, _>>()?;
+    let data = DataSummary {
+        n_records: records.len(),
+        n_samples: samples.len(),
+        n_train: train.len(),
+        n_test: test.len(),
+        train_records: fit.model.split.train.clone(),
+        test_records: fit.model.split.test.clone(),
+        amplitudes_um: sim_cfg.amplitudes_um.clone(),
+        frequencies_hz: sim_cfg.frequencies_hz.clone(),
+        repeats: sim_cfg.repeats,
+        duration_s: sim_cfg.duration_s,
+        fs_hz: sim_cfg.fs_hz,
+        window_s: fit.model.window.length_s,
+        discard_s: fit.model.window.discard_s,
+    };
+    let symbolic = SymbolicSummary {
+        equation: best.equation(),
+        sympy: best.sympy(),
+        latex: best.latex(),
+        complexity: best.complexity(),
+        features: best.features(),
+        evaluations: fit.search.evaluations,
+        pareto: fit
+            .search
+            .pareto
+            .iter()
+            .map(|m| (m.complexity(), m.equation()))
+            .collect(),
+        test: sym_score.into(),
+    };
+    let results = Results {
+        settings: Settings {
+            quick: cfg.quick,
+            seed: cfg.seed,
+            epochs: cfg.epochs(),
+            test_fraction: cfg.test_fraction,
+            folds: cfg.folds,
+            split: "grouped by record".into(),
+        },
+        data,
+        feature_ranges,
+        amplitudes,
+        table3,
+        symbolic,
+        cv,
+        hybrid,
+    };
+    Ok(Computed {
+        results,
+        records,
+        fit,
+        delta_hat,
+        timings,
+    })
+}

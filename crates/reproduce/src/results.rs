@@ -1,0 +1,257 @@
+//! Every number of the tables, as one serialisable document (`docs/results/results.json`).
+//!
+//! Nothing here depends on timing, so the document is a pure function of the code, the
+//! settings and the seed, and `cargo xtask reproduce --check` can compare it exactly.
+
+use crate::{ReproduceError, paper};
+use hxai_hybrid::{Evaluation, WindowSample};
+use hxai_sim::SimRecord;
+use serde::Serialize;
+
+/// The whole document.
+#[derive(Debug, Clone, Serialize)]
+pub struct Results {
+    /// How the run was configured.
+    pub settings: Settings,
+    /// The data set (Table 1) and the split.
+    pub data: DataSummary,
+    /// Table 2: the features and their ranges on our samples.
+    pub feature_ranges: Vec<FeatureRange>,
+    /// Per-record amplitudes of command, encoder and probe (Figure 4).
+    pub amplitudes: Vec<AmplitudeRow>,
+    /// Table 3: every model on delta, 80/20 grouped split.
+    pub table3: Vec<ModelRow>,
+    /// The selected symbolic model.
+    pub symbolic: SymbolicSummary,
+    /// Five-fold cross-validation of the symbolic model.
+    pub cv: Vec<CvRow>,
+    /// Physics vs hybrid displacement on the test records.
+    pub hybrid: Evaluation,
+}
+
+/// Run settings.
+#[derive(Debug, Clone, Serialize)]
+pub struct Settings {
+    /// The reduced CI configuration.
+    pub quick: bool,
+    /// Seed of the simulation, split, search and forest.
+    pub seed: u64,
+    /// Search epochs.
+    pub epochs: usize,
+    /// Held-out fraction.
+    pub test_fraction: f64,
+    /// Cross-validation folds.
+    pub folds: usize,
+    /// How samples are split.
+    pub split: String,
+}
+
+/// The data set and the split.
+#[derive(Debug, Clone, Serialize)]
+pub struct DataSummary {
+    /// Records simulated.
+    pub n_records: usize,
+    /// Samples (windows).
+    pub n_samples: usize,
+    /// Training samples.
+    pub n_train: usize,
+    /// Test samples.
+    pub n_test: usize,
+    /// Training records.
+    pub train_records: Vec<String>,
+    /// Test records.
+    pub test_records: Vec<String>,
+    /// Commanded amplitudes (um).
+    pub amplitudes_um: Vec<f64>,
+    /// Commanded frequencies (Hz).
+    pub frequencies_hz: Vec<f64>,
+    /// Repeats per condition.
+    pub repeats: usize,
+    /// Record length (s).
+    pub duration_s: f64,
+    /// Sampling rate (Hz).
+    pub fs_hz: f64,
+    /// Window length (s).
+    pub window_s: f64,
+    /// Discarded at each record end (s).
+    pub discard_s: f64,
+}
+
+/// One feature's range over all samples.
+#[derive(Debug, Clone, Serialize)]
+pub struct FeatureRange {
+    /// `f1`..`f12`.
+    pub name: String,
+    /// Smallest value.
+    pub min: f64,
+    /// Largest value.
+    pub max: f64,
+    /// Mean value.
+    pub mean: f64,
+}
+
+impl FeatureRange {
+    /// Range of column `c` over `samples`.
+    pub fn new(name: &str, c: usize, samples: &[WindowSample]) -> Self {
+        let vals = samples.iter().filter_map(|s| s.features.get(c).copied());
+        let (mut min, mut max, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0);
+        for v in vals {
+            min = min.min(v);
+            max = max.max(v);
+            sum += v;
+            n += 1;
+        }
+        Self {
+            name: name.to_string(),
+            min,
+            max,
+            mean: sum / n.max(1) as f64,
+        }
+    }
+}
+
+/// Sine amplitudes of one record's channels over the whole record, and the encoder lag.
+#[derive(Debug, Clone, Serialize)]
+pub struct AmplitudeRow {
+    /// Record id.
+    pub record: String,
+    /// Commanded amplitude (um).
+    pub amplitude_um: f64,
+    /// Commanded frequency (Hz).
+    pub frequency_hz: f64,
+    /// Fitted amplitude of the command channel (um).
+    pub command_um: f64,
+    /// Fitted amplitude of the encoder (um).
+    pub encoder_um: f64,
+    /// Fitted amplitude of the probe, the true position (um).
+    pub probe_um: f64,
+    /// How far the encoder lags the probe (ms; positive = later).
+    pub encoder_lag_ms: f64,
+}
+
+impl AmplitudeRow {
+    /// Fits a sine at the commanded frequency to each channel.
+    pub fn of(r: &SimRecord) -> Result<Self, ReproduceError> {
+        let fit = |x: &[f64]| hxai_signal::fit_sine(x, r.fs, r.frequency_hz);
+        let (c, e, p) = (fit(&r.command_um)?, fit(&r.encoder_um)?, fit(&r.probe_um)?);
+        let mut dphi = p.phase - e.phase;
+        while dphi > std::f64::consts::PI {
+            dphi -= 2.0 * std::f64::consts::PI;
+        }
+        while dphi <= -std::f64::consts::PI {
+            dphi += 2.0 * std::f64::consts::PI;
+        }
+        Ok(Self {
+            record: r.id.clone(),
+            amplitude_um: r.amplitude_um,
+            frequency_hz: r.frequency_hz,
+            command_um: c.amplitude,
+            encoder_um: e.amplitude,
+            probe_um: p.amplitude,
+            encoder_lag_ms: dphi / (2.0 * std::f64::consts::PI * r.frequency_hz) * 1e3,
+        })
+    }
+}
+
+/// R^2, RMSE and MAE.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Score {
+    /// Coefficient of determination.
+    pub r2: f64,
+    /// Root mean squared error (um).
+    pub rmse: f64,
+    /// Mean absolute error (um).
+    pub mae: f64,
+}
+
+impl From<hxai_eval::Metrics> for Score {
+    fn from(m: hxai_eval::Metrics) -> Self {
+        Self {
+            r2: m.r2,
+            rmse: m.rmse,
+            mae: m.mae,
+        }
+    }
+}
+
+/// One row of Table 3.
+#[derive(Debug, Clone, Serialize)]
+pub struct ModelRow {
+    /// Model name (`linear`, `lasso_cv`, `tree_5`, `tree_6`, `tree_8`, `forest`, `symbolic`).
+    pub name: String,
+    /// Test scores on delta.
+    pub test: Score,
+    /// Complexity (symbolic model only).
+    pub complexity: Option<usize>,
+    /// The paper's R^2, where it gives one.
+    pub paper_r2: Option<f64>,
+}
+
+impl ModelRow {
+    /// A row with the paper's R^2 looked up by name.
+    pub fn new(name: &str, m: hxai_eval::Metrics, complexity: Option<usize>) -> Self {
+        Self {
+            name: name.to_string(),
+            test: m.into(),
+            complexity,
+            paper_r2: paper::table3_r2(name),
+        }
+    }
+}
+
+/// The selected symbolic model.
+#[derive(Debug, Clone, Serialize)]
+pub struct SymbolicSummary {
+    /// Plain text.
+    pub equation: String,
+    /// sympy-parseable text.
+    pub sympy: String,
+    /// LaTeX.
+    pub latex: String,
+    /// Features + operators.
+    pub complexity: usize,
+    /// Features the equation uses.
+    pub features: Vec<String>,
+    /// Models evaluated by the search.
+    pub evaluations: u64,
+    /// The Pareto front: (complexity, equation).
+    pub pareto: Vec<(usize, String)>,
+    /// Test scores on delta.
+    pub test: Score,
+}
+
+/// One metric of the cross-validation table.
+#[derive(Debug, Clone, Serialize)]
+pub struct CvRow {
+    /// `R2`, `RMSE` or `MAE`.
+    pub metric: String,
+    /// Per-fold values.
+    pub folds: Vec<f64>,
+    /// Mean over folds.
+    pub mean: f64,
+    /// Sample standard deviation over folds.
+    pub sd: f64,
+    /// 95 % Student-t interval (the correct one for five folds).
+    pub ci_t: [f64; 2],
+    /// 95 % normal-approximation interval, mean +- 1.96 sd / sqrt(k) (what the paper used).
+    pub ci_normal: [f64; 2],
+    /// The paper's mean, sd and normal interval.
+    pub paper: [f64; 4],
+}
+
+impl CvRow {
+    /// Summarises per-fold `values`; `paper_index` picks the paper's row.
+    pub fn new(metric: &str, values: &[f64], paper_index: usize) -> Result<Self, ReproduceError> {
+        let s = hxai_eval::summarize(values)?;
+        let p = paper::CV[paper_index];
+        Ok(Self {
+            metric: metric.to_string(),
+            folds: values.to_vec(),
+            mean: s.mean,
+            sd: s.std,
+            ci_t: [s.ci_t.lower, s.ci_t.upper],
+            ci_normal: [s.ci_normal.lower, s.ci_normal.upper],
+            paper: [p.1, p.2, p.3, p.4],
+        })
+    }
+}
