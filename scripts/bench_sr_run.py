@@ -114,7 +114,7 @@ def run_pyoperon(X, y, seed, names, symbols):
     from pyoperon.sklearn import SymbolicRegressor
     t = time.time()
     reg = SymbolicRegressor(random_state=seed, n_threads=2, allowed_symbols="add,sub,mul,div,exp,log,sin,cos,sqrt,square,constant,variable")
-    reg.fit(X, y)
+    reg.fit(X.astype(np.float32), y.astype(np.float32))  # pyoperon computes in float32
     sec = time.time() - t
     s = reg.get_model_string(reg.model_, precision=15, names=[f"v{i}" for i in range(len(names))])
     expr = sp.sympify(s.replace("^", "**"), locals={f"v{i}": symbols[n] for i, n in enumerate(names)})
