@@ -3,11 +3,13 @@
 //! - `cargo xtask reproduce [--quick] [--check] [--out DIR]`: the paper's tables and figures
 //!   into `docs/results/` (or `DIR`); `--check` writes nothing and fails when the committed
 //!   files differ from what the code produces now.
+//! - `cargo xtask bench-sr [...]`: symbolic regression side by side with peer engines.
 #![allow(clippy::print_stdout, clippy::print_stderr)]
 
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 
+mod bench_sr;
 mod reproduce;
 
 const USAGE: &str = "usage: cargo xtask <command>
@@ -17,7 +19,9 @@ commands:
       simulate, fit and evaluate; write the paper's tables and figures to docs/results/
       --quick   reduced data and epochs (CI smoke run), written to target/reproduce-quick/
       --check   write nothing; fail if the committed docs/results/ differ from a fresh run
-      --out DIR write somewhere else";
+      --out DIR write somewhere else
+  bench-sr [--help]
+      hxai vs feyn, pyoperon and gplearn on AI-Feynman problems (creates .venv-sr)";
 
 fn main() {
     if let Err(e) = run() {
@@ -41,6 +45,7 @@ fn run() -> Result<()> {
     };
     match cmd.as_str() {
         "reproduce" => reproduce::run(rest).context("cargo xtask reproduce"),
+        "bench-sr" => bench_sr::run(rest).context("cargo xtask bench-sr"),
         "-h" | "--help" | "help" => {
             println!("{USAGE}");
             Ok(())

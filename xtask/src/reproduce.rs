@@ -82,7 +82,7 @@ pub fn run(args: &[String]) -> Result<()> {
                         .lines()
                         .zip(content.lines())
                         .position(|(a, b)| a != b)
-                        .map_or_else(|| old.lines().count().min(content.lines().count()), |i| i);
+                        .unwrap_or_else(|| old.lines().count().min(content.lines().count()));
                     stale.push(format!(
                         "{} (first difference at line {})",
                         path.display(),

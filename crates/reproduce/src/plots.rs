@@ -43,7 +43,7 @@ const T_LABEL: &str = "time (ms)";
 const X_LABEL: &str = "position (µm)";
 
 /// The record at frequency `f` with the amplitude closest to 8 µm, preferring test records.
-fn pick<'a>(c: &'a Computed, f: f64) -> Option<&'a SimRecord> {
+fn pick(c: &Computed, f: f64) -> Option<&SimRecord> {
     let test = &c.fit.model.split.test;
     let score = |r: &SimRecord| {
         let not_test = u8::from(!test.contains(&r.id));
