@@ -1,12 +1,117 @@
-//! `hxai evaluate` (placeholder until its issue lands).
+//! `hxai evaluate`: physics vs hybrid on the records of a data folder.
 use crate::Global;
-use anyhow::Result;
+use anyhow::{Context, Result};
+use hxai_hybrid::RecordInput;
+use indicatif::ProgressBar;
+use std::path::PathBuf;
 
 /// Arguments of `hxai evaluate`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Model written by `hxai fit`.
+    #[arg(long)]
+    pub model: PathBuf,
+    /// Data folder (records need `probe_um`).
+    #[arg(long)]
+    pub data: PathBuf,
+    /// Evaluate every record of the folder, not only the model's test records.
+    #[arg(long)]
+    pub all: bool,
+    /// Print one JSON document on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
 
 /// Runs `hxai evaluate`.
-pub fn run(_args: Args, _g: &Global) -> Result<()> {
-    anyhow::bail!("`hxai evaluate` is not implemented yet")
+pub fn run(args: Args, _g: &Global) -> Result<()> {
+    let model = crate::predict::load_model(&args.model)?;
+    let folder = hxai_data::read_folder(&args.data)
+        .with_context(|| format!("cannot read the data folder {}", args.data.display()))?;
+    // Only the records that will be evaluated are read.
+    let wanted: Vec<&hxai_data::ManifestEntry> = folder
+        .entries
+        .iter()
+        .filter(|e| args.all || model.split.test.contains(&e.record))
+        .collect();
+    anyhow::ensure!(
+        !wanted.is_empty(),
+        "none of the {} records of {} is a test record of this model (test records: {}); \
+         use --all to evaluate every record",
+        folder.entries.len(),
+        args.data.display(),
+        model.split.test.join(", ")
+    );
+    let pb = ProgressBar::new(wanted.len() as u64);
+    let mut recs = Vec::with_capacity(wanted.len());
+    for e in &wanted {
+        let r = folder
+            .read_record(e)
+            .with_context(|| format!("cannot read record `{}`", e.record))?;
+        anyhow::ensure!(
+            r.probe_um.is_some(),
+            "record `{}` has no `probe_um` column; evaluating needs the ground truth",
+            e.record
+        );
+        recs.push(r);
+        pb.inc(1);
+    }
+    pb.finish_and_clear();
+    let inputs: Vec<RecordInput<'_>> = wanted
+        .iter()
+        .zip(&recs)
+        .map(|(e, r)| RecordInput {
+            id: &e.record,
+            fs: r.fs(),
+            freq_hz: e.frequency_hz,
+            signal: &r.accel_ms2,
+            truth: r.probe_um.as_deref(),
+        })
+        .collect();
+    let ev = model
+        .evaluate(&inputs, args.all)
+        .context("evaluation failed")?;
+    if args.json {
+        let text = serde_json::to_string_pretty(&ev).context("cannot format JSON")?;
+        #[allow(clippy::print_stdout)]
+        {
+            println!("{text}");
+        }
+        return Ok(());
+    }
+    #[allow(clippy::print_stdout)]
+    {
+        println!(
+            "{} records, {} windows, {} samples ({})",
+            ev.n_records,
+            ev.n_windows,
+            ev.n_samples,
+            if args.all { "all records" } else { "test set" }
+        );
+        println!(
+            "{:<16} {:>10} {:>8} {:>10}",
+            "model", "RMSE um", "R^2", "MAE um"
+        );
+        for (name, s) in [
+            ("physics", ev.physics),
+            ("physics sine", ev.physics_sine),
+            ("hybrid", ev.hybrid),
+        ] {
+            println!(
+                "{name:<16} {:>10.4} {:>8.4} {:>10.4}",
+                s.rmse_um, s.r2, s.mae_um
+            );
+        }
+        println!(
+            "improvement {:.2} % (vs physics sine {:.2} %)",
+            ev.improvement_pct, ev.improvement_vs_sine_pct
+        );
+        match ev.t_test {
+            Some(t) => println!(
+                "paired t-test on per-window MSE: t = {:.3}, df = {}, p = {:.3e}",
+                t.statistic, t.df, t.p_value
+            ),
+            None => println!("paired t-test: not enough windows"),
+        }
+    }
+    Ok(())
 }

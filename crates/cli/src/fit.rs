@@ -1,12 +1,253 @@
-//! `hxai fit` (placeholder until its issue lands).
+//! `hxai fit`: fit the tool-position hybrid model on a data folder.
 use crate::Global;
-use anyhow::Result;
+use anyhow::{Context, Result};
+use hxai_hybrid::{FitConfig, FitProgress, RecordInput, SplitKind, WindowConfig};
+use hxai_symreg::{SearchConfig, Strategy};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+
+/// Symbolic-regression engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Engine {
+    /// QLattice-style path sampling.
+    Qlattice,
+    /// Genetic programming.
+    Genetic,
+    /// Both, sharing one archive.
+    Combined,
+}
+
+/// How windows are split into train and test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SplitArg {
+    /// Whole records on one side (windows of a record never on both sides).
+    Record,
+    /// Windows split individually (neighbouring windows can land on both sides).
+    Window,
+}
 
 /// Arguments of `hxai fit`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Data folder (manifest.csv + one CSV/Parquet file per record, with `probe_um`).
+    #[arg(long)]
+    pub data: PathBuf,
+    /// Where to write the model (JSON).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Seed of the split and of the search.
+    #[arg(long, default_value_t = 42)]
+    pub seed: u64,
+    /// Fraction of records (or windows, with --split window) held out for testing.
+    #[arg(long, default_value_t = 0.2)]
+    pub test_fraction: f64,
+    /// Symbolic-regression engine.
+    #[arg(long, value_enum, default_value_t = Engine::Combined)]
+    pub engine: Engine,
+    /// Search epochs (default: the search's default, 10).
+    #[arg(long)]
+    pub epochs: Option<usize>,
+    /// Largest equation complexity (default: the search's default).
+    #[arg(long)]
+    pub max_complexity: Option<usize>,
+    /// Window length in seconds (each window is one sample).
+    #[arg(long, default_value_t = 0.5)]
+    pub window_s: f64,
+    /// Seconds discarded at each record end (filter edge transients).
+    #[arg(long, default_value_t = 0.25)]
+    pub discard_s: f64,
+    /// Train/test split by record (default) or by window.
+    #[arg(long, value_enum, default_value_t = SplitArg::Record)]
+    pub split: SplitArg,
+    /// Also write the samples (record, window, split, f1..f12, A_phys, A_true, delta) to
+    /// this CSV or Parquet file.
+    #[arg(long)]
+    pub samples: Option<PathBuf>,
+    /// Print a JSON summary on stdout instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn bar(len: u64, msg: &'static str) -> ProgressBar {
+    let pb = ProgressBar::new(len);
+    if let Ok(style) = ProgressStyle::with_template("{msg:>12} [{bar:30}] {pos}/{len} {elapsed}") {
+        pb.set_style(style.progress_chars("=> "));
+    }
+    pb.set_message(msg);
+    pb
+}
 
 /// Runs `hxai fit`.
-pub fn run(_args: Args, _g: &Global) -> Result<()> {
-    anyhow::bail!("`hxai fit` is not implemented yet")
+pub fn run(args: Args, _g: &Global) -> Result<()> {
+    let folder = hxai_data::read_folder(&args.data)
+        .with_context(|| format!("cannot read the data folder {}", args.data.display()))?;
+    anyhow::ensure!(
+        !folder.entries.is_empty(),
+        "the manifest of {} lists no records",
+        args.data.display()
+    );
+    let pb = bar(folder.entries.len() as u64, "reading");
+    let mut recs = Vec::with_capacity(folder.entries.len());
+    for e in &folder.entries {
+        let r = folder
+            .read_record(e)
+            .with_context(|| format!("cannot read record `{}`", e.record))?;
+        anyhow::ensure!(
+            r.probe_um.is_some(),
+            "record `{}` ({}) has no `probe_um` column; fitting needs the ground truth",
+            e.record,
+            folder.path_of(e).display()
+        );
+        recs.push(r);
+        pb.inc(1);
+    }
+    pb.finish_and_clear();
+    let inputs: Vec<RecordInput<'_>> = folder
+        .entries
+        .iter()
+        .zip(&recs)
+        .map(|(e, r)| RecordInput {
+            id: &e.record,
+            fs: r.fs(),
+            freq_hz: e.frequency_hz,
+            signal: &r.accel_ms2,
+            truth: r.probe_um.as_deref(),
+        })
+        .collect();
+
+    let mut search = SearchConfig {
+        seed: args.seed,
+        strategy: match args.engine {
+            Engine::Qlattice => Strategy::QLattice,
+            Engine::Genetic => Strategy::Genetic,
+            Engine::Combined => Strategy::Combined,
+        },
+        ..SearchConfig::default()
+    };
+    if let Some(e) = args.epochs {
+        search.epochs = e;
+    }
+    if let Some(c) = args.max_complexity {
+        search.max_complexity = c;
+    }
+    let cfg = FitConfig {
+        window: WindowConfig {
+            length_s: args.window_s,
+            discard_s: args.discard_s,
+        },
+        split: match args.split {
+            SplitArg::Record => SplitKind::Record,
+            SplitArg::Window => SplitKind::Window,
+        },
+        test_fraction: args.test_fraction,
+        seed: args.seed,
+        search,
+        ..FitConfig::default()
+    };
+    let samples_bar = bar(inputs.len() as u64, "samples");
+    let search_bar = bar(cfg.search.epochs as u64, "search");
+    search_bar.set_position(0);
+    let out = hxai_hybrid::fit(&inputs, &cfg, &mut |p| match p {
+        FitProgress::Samples { done, .. } => {
+            samples_bar.set_position(done as u64);
+            if done == inputs.len() {
+                samples_bar.finish_and_clear();
+            }
+        }
+        FitProgress::Search(p) => search_bar.set_position(p.epoch as u64),
+    })
+    .context("fitting the hybrid model failed")?;
+    search_bar.finish_and_clear();
+
+    let json = out.model.to_json().context("cannot serialise the model")?;
+    hxai_data::write_text(&args.out, &json)
+        .with_context(|| format!("cannot write the model to {}", args.out.display()))?;
+    if let Some(path) = &args.samples {
+        let table = samples_table(&out);
+        hxai_data::write_mixed_table(path, &table)
+            .with_context(|| format!("cannot write the samples to {}", path.display()))?;
+    }
+
+    let m = &out.model;
+    if args.json {
+        let doc = serde_json::json!({
+            "model": args.out,
+            "correction": {
+                "equation": m.correction.equation,
+                "sympy": m.correction.sympy,
+                "latex": m.correction.latex,
+                "complexity": m.correction.complexity,
+                "features": m.correction.features,
+            },
+            "split": { "kind": m.split.kind, "train": m.split.train, "test": m.split.test },
+            "training": m.training,
+        });
+        let text = serde_json::to_string_pretty(&doc).context("cannot format JSON")?;
+        #[allow(clippy::print_stdout)]
+        {
+            println!("{text}");
+        }
+    } else {
+        let t = &m.training;
+        let fmt = |s: &Option<hxai_hybrid::Scores>| {
+            s.map(|s| format!("R^2 {:.4}, RMSE {:.4} um", s.r2, s.rmse_um))
+                .unwrap_or_else(|| "n/a".into())
+        };
+        #[allow(clippy::print_stdout)]
+        {
+            println!("wrote {}", args.out.display());
+            println!("delta = {}", m.correction.equation);
+            println!(
+                "complexity {}, features {}",
+                m.correction.complexity,
+                m.correction.features.join(", ")
+            );
+            println!(
+                "windows: {} train ({} records), {} test ({} records); {} models in {:.1} s",
+                t.n_train_windows,
+                m.split.train.len(),
+                t.n_test_windows,
+                m.split.test.len(),
+                t.evaluations,
+                t.seconds
+            );
+            println!("delta on train: {}", fmt(&t.delta_train));
+            println!("delta on test:  {}", fmt(&t.delta_test));
+        }
+    }
+    Ok(())
+}
+
+/// The samples as a table: `record`, `window`, `split`, features, `A_phys`, `A_true`, `delta`.
+fn samples_table(out: &hxai_hybrid::FitOutput) -> hxai_data::MixedTable {
+    use hxai_data::Column;
+    let s = &out.samples;
+    let mut names = vec!["record".to_string(), "window".into(), "split".into()];
+    let mut columns = vec![
+        Column::Text(s.iter().map(|w| w.record.clone()).collect()),
+        Column::Number(s.iter().map(|w| w.window as f64).collect()),
+        Column::Text(
+            out.is_test
+                .iter()
+                .map(|&t| if t { "test" } else { "train" }.to_string())
+                .collect(),
+        ),
+    ];
+    for (j, name) in out.model.features.names.iter().enumerate() {
+        names.push(name.clone());
+        columns.push(Column::Number(
+            s.iter()
+                .map(|w| w.features.get(j).copied().unwrap_or(f64::NAN))
+                .collect(),
+        ));
+    }
+    names.extend(["A_phys".to_string(), "A_true".into(), "delta".into()]);
+    columns.push(Column::Number(s.iter().map(|w| w.a_phys()).collect()));
+    columns.push(Column::Number(
+        s.iter().map(|w| w.a_true().unwrap_or(f64::NAN)).collect(),
+    ));
+    columns.push(Column::Number(
+        s.iter().map(|w| w.delta().unwrap_or(f64::NAN)).collect(),
+    ));
+    hxai_data::MixedTable { names, columns }
 }

@@ -1,12 +1,95 @@
-//! `hxai predict` (placeholder until its issue lands).
+//! `hxai predict`: apply a fitted hybrid model to one record.
 use crate::Global;
-use anyhow::Result;
+use anyhow::{Context, Result};
+use hxai_hybrid::{HybridModel, RecordInput};
+use std::path::PathBuf;
 
 /// Arguments of `hxai predict`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Model written by `hxai fit`.
+    #[arg(long)]
+    pub model: PathBuf,
+    /// Record file (CSV or Parquet with `time_s`, `accel_ms2`; `probe_um` not needed).
+    #[arg(long)]
+    pub record: PathBuf,
+    /// Commanded frequency of the record, Hz.
+    #[arg(long)]
+    pub frequency_hz: f64,
+    /// Output table (CSV or Parquet): `time_s,physics_um,hybrid_um`.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Print the per-window corrections as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Reads a model file written by `hxai fit`.
+pub fn load_model(path: &std::path::Path) -> Result<HybridModel> {
+    let text = hxai_data::read_text(path)
+        .with_context(|| format!("cannot read the model {}", path.display()))?;
+    HybridModel::from_json(&text)
+        .with_context(|| format!("cannot load the model {}", path.display()))
+}
 
 /// Runs `hxai predict`.
-pub fn run(_args: Args, _g: &Global) -> Result<()> {
-    anyhow::bail!("`hxai predict` is not implemented yet")
+pub fn run(args: Args, _g: &Global) -> Result<()> {
+    anyhow::ensure!(
+        args.frequency_hz.is_finite() && args.frequency_hz > 0.0,
+        "--frequency-hz must be a positive number of Hz, got {}",
+        args.frequency_hz
+    );
+    let model = load_model(&args.model)?;
+    let rec = hxai_data::read_record(&args.record)
+        .with_context(|| format!("cannot read the record {}", args.record.display()))?;
+    let id = args
+        .record
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("record")
+        .to_owned();
+    let input = RecordInput {
+        id: &id,
+        fs: rec.fs(),
+        freq_hz: args.frequency_hz,
+        signal: &rec.accel_ms2,
+        truth: None,
+    };
+    let pred = model.predict(&input).context("prediction failed")?;
+    let table = hxai_data::Table {
+        names: vec!["time_s".into(), "physics_um".into(), "hybrid_um".into()],
+        columns: vec![rec.time_s.clone(), pred.physics, pred.hybrid],
+    };
+    hxai_data::write_table(&args.out, &table)
+        .with_context(|| format!("cannot write {}", args.out.display()))?;
+    if args.json {
+        let doc = serde_json::json!({
+            "out": args.out,
+            "equation": model.correction.equation,
+            "windows": pred.windows.iter().map(|w| serde_json::json!({
+                "window": w.window,
+                "start_s": rec.time_s.get(w.start).copied(),
+                "a_phys_um": w.physics.amplitude,
+                "delta_hat_um": w.delta_hat,
+                "a_corr_um": w.corrected.amplitude,
+                "phase_rad": w.physics.phase,
+            })).collect::<Vec<_>>(),
+        });
+        let text = serde_json::to_string_pretty(&doc).context("cannot format JSON")?;
+        #[allow(clippy::print_stdout)]
+        {
+            println!("{text}");
+        }
+    } else {
+        #[allow(clippy::print_stdout)]
+        {
+            println!(
+                "wrote {} ({} samples, {} windows corrected)",
+                args.out.display(),
+                rec.len(),
+                pred.windows.len()
+            );
+        }
+    }
+    Ok(())
 }

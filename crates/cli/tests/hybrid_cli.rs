@@ -1,0 +1,233 @@
+//! `hxai fit`, `hxai predict` and `hxai evaluate` end to end on a tiny data folder written
+//! by the test (analytic signals: the accelerometer sees the commanded amplitude, the probe
+//! an amplitude that grows with frequency, so there is a correction to learn).
+
+use hxai_data::{Format, ManifestEntry, Record, read_table, write_folder};
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+type TestResult = Result<(), Box<dyn std::error::Error>>;
+
+fn scratch(name: &str) -> Result<PathBuf, std::io::Error> {
+    let dir = std::env::temp_dir().join(format!("hxai-cli-hybrid-{}-{name}", std::process::id()));
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir)?;
+    }
+    std::fs::create_dir_all(&dir)?;
+    Ok(dir)
+}
+
+fn write_data(dir: &Path, format: Format) -> Result<(), Box<dyn std::error::Error>> {
+    let fs = 1000.0;
+    let n = 2000;
+    let mut items = Vec::new();
+    for a in [4.0, 7.0, 10.0] {
+        for f in [10.0, 20.0, 30.0, 40.0] {
+            let w = 2.0 * PI * f;
+            let a_true = a * (1.0 + 0.012 * f);
+            let t: Vec<f64> = (0..n).map(|i| i as f64 / fs).collect();
+            // Small deterministic disturbance so the data are not perfectly clean.
+            let wobble = |i: usize| 0.01 * ((i * 7919 % 1000) as f64 / 1000.0 - 0.5);
+            let rec = Record {
+                accel_ms2: t
+                    .iter()
+                    .enumerate()
+                    .map(|(i, t)| -a * 1e-6 * w * w * (w * t).sin() + 0.01 * wobble(i))
+                    .collect(),
+                probe_um: Some(
+                    t.iter()
+                        .enumerate()
+                        .map(|(i, t)| a_true * (w * t).sin() + wobble(i))
+                        .collect(),
+                ),
+                command_um: Some(t.iter().map(|t| a * (w * t).sin()).collect()),
+                encoder_um: None,
+                time_s: t,
+            };
+            items.push((
+                ManifestEntry {
+                    record: format!("a{a}_f{f}"),
+                    file: String::new(),
+                    amplitude_um: a,
+                    frequency_hz: f,
+                    repeat: Some(1),
+                    extra: BTreeMap::new(),
+                },
+                rec,
+            ));
+        }
+    }
+    write_folder(dir, &items, format)?;
+    Ok(())
+}
+
+fn hxai(args: &[&str]) -> Result<Output, std::io::Error> {
+    Command::new(env!("CARGO_BIN_EXE_hxai")).args(args).output()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap_or_default()
+}
+
+#[test]
+fn fit_evaluate_predict() -> TestResult {
+    let dir = scratch("ok")?;
+    let data = dir.join("data");
+    write_data(&data, Format::Parquet)?;
+    let model = dir.join("model.json");
+    let samples = dir.join("samples.csv");
+    let out = hxai(&[
+        "fit",
+        "--data",
+        s(&data),
+        "--out",
+        s(&model),
+        "--seed",
+        "3",
+        "--epochs",
+        "3",
+        "--samples",
+        s(&samples),
+        "--json",
+    ])?;
+    assert!(
+        out.status.success(),
+        "fit failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let fit_json: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+    assert!(fit_json["correction"]["equation"].is_string());
+
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model)?)?;
+    assert_eq!(m["schema_version"], 1);
+    for k in ["equation", "sympy", "latex", "complexity", "features"] {
+        assert!(m["correction"].get(k).is_some(), "correction.{k} missing");
+    }
+    // 12 records, ceil(0.2 * 12) = 3 held out.
+    assert_eq!(m["split"]["test"].as_array().map(Vec::len), Some(3));
+    assert_eq!(m["split"]["train"].as_array().map(Vec::len), Some(9));
+
+    // samples.csv: one row per window (12 records x 3 windows) with the promised columns.
+    let st = hxai_data::read_mixed_table(&samples)?;
+    for c in [
+        "record", "window", "split", "f1", "f12", "A_phys", "A_true", "delta",
+    ] {
+        assert!(
+            st.names.iter().any(|n| n == c),
+            "samples column {c} missing"
+        );
+    }
+    assert_eq!(st.columns[0].len(), 36);
+
+    let out = hxai(&[
+        "evaluate",
+        "--model",
+        s(&model),
+        "--data",
+        s(&data),
+        "--json",
+    ])?;
+    assert!(
+        out.status.success(),
+        "evaluate failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let ev: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+    for path in [
+        ["physics", "rmse_um"],
+        ["physics", "r2"],
+        ["hybrid", "rmse_um"],
+        ["hybrid", "r2"],
+        ["t_test", "p_value"],
+    ] {
+        assert!(
+            ev[path[0]][path[1]].is_number(),
+            "{}.{} missing in {ev}",
+            path[0],
+            path[1]
+        );
+    }
+    assert!(ev["improvement_pct"].is_number());
+    // 3 test records x 3 windows x 500 samples.
+    assert_eq!(ev["n_samples"], 4500);
+    // The correction must help on unseen records (the construction leaves a delta of up to
+    // 48 % of the amplitude for the physics model); threshold: hybrid RMSE below physics RMSE.
+    let (p, h) = (
+        ev["physics"]["rmse_um"].as_f64(),
+        ev["hybrid"]["rmse_um"].as_f64(),
+    );
+    assert!(h < p, "hybrid {h:?} vs physics {p:?}");
+
+    let out = hxai(&[
+        "evaluate",
+        "--model",
+        s(&model),
+        "--data",
+        s(&data),
+        "--all",
+        "--json",
+    ])?;
+    assert!(out.status.success());
+    let ev_all: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+    assert_eq!(ev_all["n_samples"], 18000);
+
+    let pred = dir.join("pred.csv");
+    let rec = data.join("a7_f20.parquet");
+    let out = hxai(&[
+        "predict",
+        "--model",
+        s(&model),
+        "--record",
+        s(&rec),
+        "--frequency-hz",
+        "20",
+        "--out",
+        s(&pred),
+    ])?;
+    assert!(
+        out.status.success(),
+        "predict failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let t = read_table(&pred)?;
+    assert_eq!(t.names, vec!["time_s", "physics_um", "hybrid_um"]);
+    assert_eq!(t.height(), 2000);
+    Ok(())
+}
+
+#[test]
+fn bad_inputs_fail_with_one_line() -> TestResult {
+    let dir = scratch("bad")?;
+    let out = hxai(&[
+        "fit",
+        "--data",
+        s(&dir.join("nope")),
+        "--out",
+        s(&dir.join("m.json")),
+    ])?;
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("nope"), "{err}");
+    assert!(out.stdout.is_empty());
+
+    let model = dir.join("m.json");
+    std::fs::write(&model, "{\"schema_version\": 99}")?;
+    let out = hxai(&[
+        "predict",
+        "--model",
+        s(&model),
+        "--record",
+        s(&dir.join("r.csv")),
+        "--frequency-hz",
+        "10",
+        "--out",
+        s(&dir.join("o.csv")),
+    ])?;
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("schema_version"), "{err}");
+    Ok(())
+}
