@@ -26,7 +26,11 @@ pub struct Global {
 }
 
 #[derive(Debug, Parser)]
-#[command(name = "hxai", version, about = "Hybrid physics + explainable AI modelling")]
+#[command(
+    name = "hxai",
+    version,
+    about = "Hybrid physics + explainable AI modelling"
+)]
 struct Cli {
     #[command(flatten)]
     global: Global,

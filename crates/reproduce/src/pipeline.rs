@@ -187,6 +187,9 @@ pub fn compute(
         .iter()
         .map(AmplitudeRow::of)
         .collect::<Result<Vec<_>, _>>()?;
+    let all_idx: Vec<usize> = (0..samples.len()).collect();
+    let deltas = deltas_of(samples, &all_idx)?;
+    let delta_summary = hxai_eval::summarize(&deltas)?;
     let data = DataSummary {
         n_records: records.len(),
         n_samples: samples.len(),
@@ -201,6 +204,12 @@ pub fn compute(
         fs_hz: sim_cfg.fs_hz,
         window_s: fit.model.window.length_s,
         discard_s: fit.model.window.discard_s,
+        delta_min_mean_max_sd: [
+            deltas.iter().copied().fold(f64::INFINITY, f64::min),
+            delta_summary.mean,
+            deltas.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            delta_summary.std,
+        ],
     };
     let symbolic = SymbolicSummary {
         equation: best.equation(),

@@ -75,6 +75,8 @@ pub struct DataSummary {
     pub window_s: f64,
     /// Discarded at each record end (s).
     pub discard_s: f64,
+    /// Smallest, mean and largest delta over all samples, and its sample standard deviation (um).
+    pub delta_min_mean_max_sd: [f64; 4],
 }
 
 /// One feature's range over all samples.
