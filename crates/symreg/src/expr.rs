@@ -207,12 +207,25 @@ impl Expr {
         }
     }
 
+    /// Whether the printed form starts with a minus sign, so it needs parentheses as the
+    /// right operand of a binary operator (`a*(-b)`, `a - (-3)`).
+    fn leads_with_minus(&self) -> bool {
+        matches!(self, Expr::Neg(_)) || matches!(self, Expr::Num(v) if *v < 0.0)
+    }
+
     /// Plain-text form with `digits` significant digits (`None` for full precision).
     pub fn to_text(&self, digits: Option<usize>, sympy: bool) -> String {
         let fmt_num = |v: f64| fmt_number(v, digits);
         let wrap = |e: &Expr, min: u8| {
             let s = e.to_text(digits, sympy);
             if e.prec() < min { format!("({s})") } else { s }
+        };
+        let wrap_right = |e: &Expr, min: u8| {
+            if e.leads_with_minus() {
+                format!("({})", e.to_text(digits, sympy))
+            } else {
+                wrap(e, min)
+            }
         };
         match self {
             Expr::Num(v) => fmt_num(*v),
@@ -241,10 +254,10 @@ impl Expr {
                 }
             }
             Expr::Bin(op, a, b) => match op {
-                Op::Add => format!("{} + {}", wrap(a, 1), wrap(b, 1)),
-                Op::Sub => format!("{} - {}", wrap(a, 1), wrap(b, 2)),
-                Op::Mul => format!("{}*{}", wrap(a, 2), wrap(b, 2)),
-                Op::Div => format!("{}/{}", wrap(a, 2), wrap(b, 3)),
+                Op::Add => format!("{} + {}", wrap(a, 1), wrap_right(b, 1)),
+                Op::Sub => format!("{} - {}", wrap(a, 1), wrap_right(b, 2)),
+                Op::Mul => format!("{}*{}", wrap(a, 2), wrap_right(b, 2)),
+                Op::Div => format!("{}/{}", wrap(a, 2), wrap_right(b, 3)),
                 Op::Gaussian2 => format!("exp(-({}**2 + {}**2))", wrap(a, 4), wrap(b, 4)),
                 _ => format!(
                     "{}({}, {})",
@@ -264,6 +277,13 @@ impl Expr {
                 format!("\\left({s}\\right)")
             } else {
                 s
+            }
+        };
+        let wrap_right = |e: &Expr, min: u8| {
+            if e.leads_with_minus() {
+                format!("\\left({}\\right)", e.to_latex(digits))
+            } else {
+                wrap(e, min)
             }
         };
         match self {
@@ -293,9 +313,17 @@ impl Expr {
                 }
             }
             Expr::Bin(op, a, b) => match op {
-                Op::Add => format!("{} + {}", wrap(a, 1), wrap(b, 1)),
-                Op::Sub => format!("{} - {}", wrap(a, 1), wrap(b, 2)),
-                Op::Mul => format!("{} {}", wrap(a, 2), wrap(b, 2)),
+                Op::Add => format!("{} + {}", wrap(a, 1), wrap_right(b, 1)),
+                Op::Sub => format!("{} - {}", wrap(a, 1), wrap_right(b, 2)),
+                Op::Mul => {
+                    let (l, r) = (wrap(a, 2), wrap_right(b, 2));
+                    // Juxtaposed digits would read as one number: "2 3" -> "2 \cdot 3".
+                    if r.starts_with(|c: char| c.is_ascii_digit()) {
+                        format!("{l} \\cdot {r}")
+                    } else {
+                        format!("{l} {r}")
+                    }
+                }
                 Op::Div => format!("\\frac{{{}}}{{{}}}", a.to_latex(digits), b.to_latex(digits)),
                 Op::Gaussian2 => format!(
                     "e^{{-\\left({}^{{2}} + {}^{{2}}\\right)}}",
@@ -374,5 +402,32 @@ fn latex_name(n: &str) -> String {
         n.to_string()
     } else {
         format!("\\mathrm{{{}}}", n.replace('_', "\\_"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn var(n: &str) -> Box<Expr> {
+        Box::new(Expr::Var(n.into()))
+    }
+
+    /// A negated right operand must keep its sign visibly attached: `x*(-y)` is a product,
+    /// while LaTeX's juxtaposition `x -y` would read as a difference.
+    #[test]
+    fn negated_right_operands_are_parenthesised() {
+        let e = Expr::Bin(Op::Mul, var("x"), Box::new(Expr::Neg(var("y"))));
+        assert_eq!(e.to_text(None, true), "x*(-y)");
+        assert_eq!(e.to_latex(3), "x \\left(-y\\right)");
+        let e = Expr::Bin(Op::Sub, var("x"), Box::new(Expr::Num(-3.0)));
+        assert_eq!(e.to_text(None, false), "x - (-3)");
+    }
+
+    /// Two juxtaposed numbers would read as one: the product of 2 and 3 prints with `\cdot`.
+    #[test]
+    fn latex_products_of_numbers_use_cdot() {
+        let e = Expr::Bin(Op::Mul, Box::new(Expr::Num(2.0)), Box::new(Expr::Num(3.0)));
+        assert_eq!(e.to_latex(3), "2 \\cdot 3");
     }
 }
