@@ -1,7 +1,6 @@
 //! `hxai evaluate`: physics vs hybrid on the records of a data folder.
 use crate::Global;
 use anyhow::{Context, Result};
-use hxai_hybrid::RecordInput;
 use indicatif::ProgressBar;
 use std::path::PathBuf;
 
@@ -42,31 +41,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         model.split.test.join(", ")
     );
     let pb = ProgressBar::new(wanted.len() as u64);
-    let mut recs = Vec::with_capacity(wanted.len());
-    for e in &wanted {
-        let r = folder
-            .read_record(e)
-            .with_context(|| format!("cannot read record `{}`", e.record))?;
-        anyhow::ensure!(
-            r.probe_um.is_some(),
-            "record `{}` has no `probe_um` column; evaluating needs the ground truth",
-            e.record
-        );
-        recs.push(r);
-        pb.inc(1);
-    }
-    pb.finish_and_clear();
-    let inputs: Vec<RecordInput<'_>> = wanted
-        .iter()
-        .zip(&recs)
-        .map(|(e, r)| RecordInput {
-            id: &e.record,
-            fs: r.fs(),
-            freq_hz: e.frequency_hz,
-            signal: &r.accel_ms2,
-            truth: r.probe_um.as_deref(),
-        })
-        .collect();
+    let recs = crate::records::read_with_truth(&folder, &wanted, "evaluating", &pb)?;
+    let inputs = crate::records::inputs(&wanted, &recs);
     let ev = model
         .evaluate(&inputs, args.all)
         .context("evaluation failed")?;

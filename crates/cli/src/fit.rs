@@ -1,7 +1,7 @@
 //! `hxai fit`: fit the tool-position hybrid model on a data folder.
 use crate::Global;
 use anyhow::{Context, Result};
-use hxai_hybrid::{FitConfig, FitProgress, RecordInput, SplitKind, WindowConfig};
+use hxai_hybrid::{FitConfig, FitProgress, SplitKind, WindowConfig};
 use hxai_symreg::{SearchConfig, Strategy};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -87,33 +87,9 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         args.data.display()
     );
     let pb = bar(folder.entries.len() as u64, "reading");
-    let mut recs = Vec::with_capacity(folder.entries.len());
-    for e in &folder.entries {
-        let r = folder
-            .read_record(e)
-            .with_context(|| format!("cannot read record `{}`", e.record))?;
-        anyhow::ensure!(
-            r.probe_um.is_some(),
-            "record `{}` ({}) has no `probe_um` column; fitting needs the ground truth",
-            e.record,
-            folder.path_of(e).display()
-        );
-        recs.push(r);
-        pb.inc(1);
-    }
-    pb.finish_and_clear();
-    let inputs: Vec<RecordInput<'_>> = folder
-        .entries
-        .iter()
-        .zip(&recs)
-        .map(|(e, r)| RecordInput {
-            id: &e.record,
-            fs: r.fs(),
-            freq_hz: e.frequency_hz,
-            signal: &r.accel_ms2,
-            truth: r.probe_um.as_deref(),
-        })
-        .collect();
+    let entries: Vec<&hxai_data::ManifestEntry> = folder.entries.iter().collect();
+    let recs = crate::records::read_with_truth(&folder, &entries, "fitting", &pb)?;
+    let inputs = crate::records::inputs(&entries, &recs);
 
     let mut search = SearchConfig {
         seed: args.seed,

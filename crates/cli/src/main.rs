@@ -14,6 +14,7 @@ mod evaluate;
 mod features;
 mod fit;
 mod predict;
+mod records;
 mod simulate;
 mod sr;
 
