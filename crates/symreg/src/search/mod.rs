@@ -462,6 +462,24 @@ impl SearchStrategy for Combined {
     }
 }
 
+/// The target must have one finite value per row of `data`.
+fn check_target(data: &Dataset, target: &[f64]) -> Result<(), SrError> {
+    if target.len() != data.n_rows() {
+        return Err(SrError::TargetLength {
+            target: target.len(),
+            data: data.n_rows(),
+        });
+    }
+    if let Some((row, &value)) = target.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(SrError::NonFinite {
+            name: "target".into(),
+            row,
+            value,
+        });
+    }
+    Ok(())
+}
+
 /// Runs symbolic regression of `target` on the columns of `data`.
 ///
 /// Candidates are fitted in parallel on the current rayon thread pool; every random choice
@@ -480,19 +498,7 @@ pub fn search(
 ) -> Result<SearchResult, SrError> {
     let t0 = Instant::now();
     let ops = cfg.check()?;
-    if target.len() != data.n_rows() {
-        return Err(SrError::TargetLength {
-            target: target.len(),
-            data: data.n_rows(),
-        });
-    }
-    if let Some((row, &value)) = target.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-        return Err(SrError::NonFinite {
-            name: "target".into(),
-            row,
-            value,
-        });
-    }
+    check_target(data, target)?;
     let n = target.len();
     let needed = 2 + if cfg.affine_inputs { 2 } else { 1 } + 2;
     if n < needed.max(8) {
@@ -667,19 +673,7 @@ pub fn fit_structure(
             "the program is not a valid expression over the data's columns".into(),
         ));
     }
-    if target.len() != data.n_rows() {
-        return Err(SrError::TargetLength {
-            target: target.len(),
-            data: data.n_rows(),
-        });
-    }
-    if let Some((row, &value)) = target.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-        return Err(SrError::NonFinite {
-            name: "target".into(),
-            row,
-            value,
-        });
-    }
+    check_target(data, target)?;
     let n = target.len();
     if n <= program.n_params() {
         return Err(SrError::TooFewRows {
