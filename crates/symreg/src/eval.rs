@@ -8,6 +8,7 @@
 //! derivative with respect to its scale.
 use crate::ops::Op;
 use crate::program::{Node, Program};
+use crate::vmath;
 
 /// Rows per batch.
 pub const BATCH: usize = 128;
@@ -21,26 +22,39 @@ pub struct Evaluator {
     adj: Vec<f64>,
     jac: Vec<f64>,
     res: Vec<f64>,
+    avx2: bool,
 }
 
-#[inline]
+#[inline(always)]
 fn unary(dst: &mut [f64], a: &[f64], f: impl Fn(f64) -> f64) {
     for (d, &x) in dst.iter_mut().zip(a) {
         *d = f(x);
     }
 }
 
-#[inline]
+#[inline(always)]
 fn binary(dst: &mut [f64], a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) {
     for ((d, &x), &y) in dst.iter_mut().zip(a).zip(b) {
         *d = f(x, y);
     }
 }
 
-#[inline]
+#[inline(always)]
 fn adjoint1(da: &mut [f64], ak: &[f64], va: &[f64], out: &[f64], d: impl Fn(f64, f64) -> f64) {
     for (((g, &a), &v), &o) in da.iter_mut().zip(ak).zip(va).zip(out) {
         *g = a * d(v, o);
+    }
+}
+
+/// Whether the running CPU has AVX2 (always false off x86-64).
+fn has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
     }
 }
 
@@ -61,6 +75,90 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     t
 }
 
+/// The forward sweep over one batch: `vals[k * BATCH..][..len]` receives node `k`'s values.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn forward_impl(
+    prog: &Program,
+    offsets: &[usize],
+    children: &[[usize; 2]],
+    vals: &mut [f64],
+    params: &[f64],
+    cols: &[&[f64]],
+    start: usize,
+    len: usize,
+) {
+    for (k, node) in prog.nodes.iter().enumerate() {
+        let (before, rest) = vals.split_at_mut(k * BATCH);
+        let dst = &mut rest[..len];
+        match *node {
+            Node::Var(j) => {
+                let x = &cols[j as usize][start..start + len];
+                if prog.affine {
+                    let w = params[offsets[k]];
+                    let b = params[offsets[k] + 1];
+                    unary(dst, x, |v| w * v + b);
+                } else {
+                    dst.copy_from_slice(x);
+                }
+            }
+            Node::Const => dst.fill(params[offsets[k]]),
+            Node::Op(op) => {
+                let [c0, c1] = children[k];
+                let a = &before[c0 * BATCH..c0 * BATCH + len];
+                if op.arity() == 1 {
+                    match op {
+                        Op::Exp => unary(dst, a, vmath::exp),
+                        Op::Log => unary(dst, a, |v| if v > 0.0 { vmath::ln(v) } else { f64::NAN }),
+                        Op::Sqrt => unary(dst, a, f64::sqrt),
+                        Op::Square => unary(dst, a, |v| v * v),
+                        Op::Inverse => unary(dst, a, |v| 1.0 / v),
+                        Op::Sin => {
+                            unary(dst, a, vmath::sin_kernel);
+                            vmath::trig_fixup(dst, a, vmath::sin);
+                        }
+                        Op::Cos => {
+                            unary(dst, a, vmath::cos_kernel);
+                            vmath::trig_fixup(dst, a, vmath::cos);
+                        }
+                        Op::Tanh => unary(dst, a, vmath::tanh),
+                        Op::Abs => unary(dst, a, f64::abs),
+                        Op::Gaussian => unary(dst, a, |v| vmath::exp(-v * v)),
+                        _ => dst.fill(f64::NAN),
+                    }
+                } else {
+                    let b = &before[c1 * BATCH..c1 * BATCH + len];
+                    match op {
+                        Op::Add => binary(dst, a, b, |x, y| x + y),
+                        Op::Sub => binary(dst, a, b, |x, y| x - y),
+                        Op::Mul => binary(dst, a, b, |x, y| x * y),
+                        Op::Div => binary(dst, a, b, |x, y| x / y),
+                        Op::Gaussian2 => binary(dst, a, b, |x, y| vmath::exp(-(x * x + y * y))),
+                        _ => dst.fill(f64::NAN),
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// [`forward_impl`] compiled for AVX2 (4 rows per instruction); chosen at run time.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+fn forward_avx2(
+    prog: &Program,
+    offsets: &[usize],
+    children: &[[usize; 2]],
+    vals: &mut [f64],
+    params: &[f64],
+    cols: &[&[f64]],
+    start: usize,
+    len: usize,
+) {
+    forward_impl(prog, offsets, children, vals, params, cols, start, len);
+}
+
 impl Evaluator {
     /// Prepares evaluation of `prog`.
     pub fn new(prog: &Program) -> Self {
@@ -72,7 +170,16 @@ impl Evaluator {
             adj: Vec::new(),
             jac: Vec::new(),
             res: vec![0.0; BATCH],
+            avx2: has_avx2(),
         }
+    }
+
+    /// The same evaluator restricted to the portable (SSE2) code path, for tests that
+    /// check that both code paths give the same bits.
+    #[doc(hidden)]
+    pub fn portable(mut self) -> Self {
+        self.avx2 = false;
+        self
     }
 
     fn forward(
@@ -83,53 +190,17 @@ impl Evaluator {
         start: usize,
         len: usize,
     ) {
-        let vals = &mut self.vals;
-        for (k, node) in prog.nodes.iter().enumerate() {
-            let (before, rest) = vals.split_at_mut(k * BATCH);
-            let dst = &mut rest[..len];
-            match *node {
-                Node::Var(j) => {
-                    let x = &cols[j as usize][start..start + len];
-                    if prog.affine {
-                        let w = params[self.offsets[k]];
-                        let b = params[self.offsets[k] + 1];
-                        unary(dst, x, |v| w * v + b);
-                    } else {
-                        dst.copy_from_slice(x);
-                    }
-                }
-                Node::Const => dst.fill(params[self.offsets[k]]),
-                Node::Op(op) => {
-                    let [c0, c1] = self.children[k];
-                    let a = &before[c0 * BATCH..c0 * BATCH + len];
-                    if op.arity() == 1 {
-                        match op {
-                            Op::Exp => unary(dst, a, f64::exp),
-                            Op::Log => unary(dst, a, |v| if v > 0.0 { v.ln() } else { f64::NAN }),
-                            Op::Sqrt => unary(dst, a, f64::sqrt),
-                            Op::Square => unary(dst, a, |v| v * v),
-                            Op::Inverse => unary(dst, a, |v| 1.0 / v),
-                            Op::Sin => unary(dst, a, f64::sin),
-                            Op::Cos => unary(dst, a, f64::cos),
-                            Op::Tanh => unary(dst, a, f64::tanh),
-                            Op::Abs => unary(dst, a, f64::abs),
-                            Op::Gaussian => unary(dst, a, |v| (-v * v).exp()),
-                            _ => dst.fill(f64::NAN),
-                        }
-                    } else {
-                        let b = &before[c1 * BATCH..c1 * BATCH + len];
-                        match op {
-                            Op::Add => binary(dst, a, b, |x, y| x + y),
-                            Op::Sub => binary(dst, a, b, |x, y| x - y),
-                            Op::Mul => binary(dst, a, b, |x, y| x * y),
-                            Op::Div => binary(dst, a, b, |x, y| x / y),
-                            Op::Gaussian2 => binary(dst, a, b, |x, y| (-(x * x + y * y)).exp()),
-                            _ => dst.fill(f64::NAN),
-                        }
-                    }
-                }
+        let (o, c, v) = (&self.offsets, &self.children, &mut self.vals);
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is set only when the running CPU reported AVX2 (see `new`).
+            #[allow(unsafe_code)]
+            unsafe {
+                forward_avx2(prog, o, c, v, params, cols, start, len);
             }
+            return;
         }
+        forward_impl(prog, o, c, v, params, cols, start, len);
     }
 
     /// Writes the program's output for all `n_rows` rows into `out`.
@@ -253,8 +324,8 @@ impl Evaluator {
                                 Op::Exp => adjoint1(da, ak, va, out, |_, o| o),
                                 Op::Square => adjoint1(da, ak, va, out, |a, _| 2.0 * a),
                                 Op::Gaussian => adjoint1(da, ak, va, out, |a, o| -2.0 * a * o),
-                                Op::Sin => adjoint1(da, ak, va, out, |a, _| a.cos()),
-                                Op::Cos => adjoint1(da, ak, va, out, |a, _| -a.sin()),
+                                Op::Sin => adjoint1(da, ak, va, out, |a, _| vmath::cos(a)),
+                                Op::Cos => adjoint1(da, ak, va, out, |a, _| -vmath::sin(a)),
                                 Op::Tanh => adjoint1(da, ak, va, out, |_, o| 1.0 - o * o),
                                 Op::Inverse => adjoint1(da, ak, va, out, |_, o| -o * o),
                                 Op::Log => adjoint1(da, ak, va, out, |a, _| 1.0 / a),

@@ -70,7 +70,9 @@ pub fn levenberg_marquardt(
     let mut trial = params.to_vec();
     let mut mse = ev.normal_equations(prog, params, free, cols, y, &mut jtj, &mut jtr);
     if !mse.is_finite() || m == 0 {
-        return mse;
+        // a non-finite Jacobian (sqrt or log at 0, say) ends the fit, but the start's own
+        // loss may still be finite
+        return ev.mse(prog, params, cols, y);
     }
     let mut lambda = 1e-3;
     for _ in 0..max_iter {
@@ -109,10 +111,12 @@ pub fn levenberg_marquardt(
         if !accepted {
             break;
         }
-        mse = ev.normal_equations(prog, params, free, cols, y, &mut jtj, &mut jtr);
-        if !mse.is_finite() {
+        let next = ev.normal_equations(prog, params, free, cols, y, &mut jtj, &mut jtr);
+        if !next.is_finite() {
+            // the accepted step's loss stands; only its Jacobian is unusable
             return mse;
         }
+        mse = next;
     }
     mse
 }

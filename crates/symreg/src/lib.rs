@@ -46,6 +46,7 @@ mod model;
 pub mod ops;
 pub mod program;
 pub mod search;
+pub mod vmath;
 
 pub use data::Dataset;
 pub use error::SrError;

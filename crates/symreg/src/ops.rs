@@ -1,5 +1,6 @@
 //! Operators: names, arities, values and partial derivatives.
 use crate::SrError;
+use crate::vmath;
 use serde::{Deserialize, Serialize};
 
 /// One operator of an expression. Unary operators take one argument, binary two.
@@ -118,10 +119,10 @@ impl Op {
     #[inline]
     pub fn apply1(self, a: f64) -> f64 {
         match self {
-            Op::Exp => a.exp(),
+            Op::Exp => vmath::exp(a),
             Op::Log => {
                 if a > 0.0 {
-                    a.ln()
+                    vmath::ln(a)
                 } else {
                     f64::NAN
                 }
@@ -129,11 +130,11 @@ impl Op {
             Op::Sqrt => a.sqrt(),
             Op::Square => a * a,
             Op::Inverse => 1.0 / a,
-            Op::Sin => a.sin(),
-            Op::Cos => a.cos(),
-            Op::Tanh => a.tanh(),
+            Op::Sin => vmath::sin(a),
+            Op::Cos => vmath::cos(a),
+            Op::Tanh => vmath::tanh(a),
             Op::Abs => a.abs(),
-            Op::Gaussian => (-a * a).exp(),
+            Op::Gaussian => vmath::exp(-a * a),
             _ => f64::NAN,
         }
     }
@@ -146,7 +147,7 @@ impl Op {
             Op::Sub => a - b,
             Op::Mul => a * b,
             Op::Div => a / b,
-            Op::Gaussian2 => (-(a * a + b * b)).exp(),
+            Op::Gaussian2 => vmath::exp(-(a * a + b * b)),
             _ => f64::NAN,
         }
     }
@@ -160,8 +161,8 @@ impl Op {
             Op::Sqrt => 0.5 / out,
             Op::Square => 2.0 * a,
             Op::Inverse => -out * out,
-            Op::Sin => a.cos(),
-            Op::Cos => -a.sin(),
+            Op::Sin => vmath::cos(a),
+            Op::Cos => -vmath::sin(a),
             Op::Tanh => 1.0 - out * out,
             Op::Abs => {
                 if a > 0.0 {

@@ -101,6 +101,21 @@ proptest! {
         }
     }
 
+    // Invariant: the AVX2 code path (when the CPU has it) and the portable one give the same
+    // bits: both use only IEEE add, sub, mul, div and sqrt, never fused multiply-add.
+    #[test]
+    fn simd_and_portable_paths_agree_bitwise(seed in any::<u64>(), affine in any::<bool>(), n in 1usize..300) {
+        let (prog, params) = random_case(seed, affine);
+        let cols = columns(n, seed ^ 5);
+        let refs: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        Evaluator::new(&prog).predict(&prog, &params, &refs, n, &mut a);
+        Evaluator::new(&prog).portable().predict(&prog, &params, &refs, n, &mut b);
+        for (x, y) in a.iter().zip(&b) {
+            prop_assert!(x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()), "{x} vs {y}");
+        }
+    }
+
     // Invariant: the simplified reporting expression has the same value as the program
     // wherever the program is finite (1e-9 relative: folding reassociates products).
     #[test]
