@@ -102,15 +102,23 @@ impl Expr {
                 Neg(x) => *x,
                 x => Neg(Box::new(x)),
             },
-            Un(op, a) => match a.simplify() {
-                Num(v) => Num(op.apply1(v)),
-                x => Un(op, Box::new(x)),
+            Un(op, a) => match (op, a.simplify()) {
+                (_, Num(v)) => Num(op.apply1(v)),
+                // log undoes exp wherever exp is finite (where it is not, neither is the model)
+                (Op::Log, Un(Op::Exp, x)) => *x,
+                (Op::Log, Un(Op::Gaussian, x)) => Neg(Box::new(Un(Op::Square, x))),
+                // even functions drop a sign
+                (Op::Square | Op::Abs | Op::Cos | Op::Gaussian, Neg(x)) => Un(op, x),
+                (_, x) => Un(op, Box::new(x)),
             },
             Bin(op, a, b) => {
                 let a = a.simplify();
                 let b = b.simplify();
                 match (op, a, b) {
                     (_, Num(x), Num(y)) => Num(op.apply2(x, y)),
+                    // gaussian2 squares both arguments: their signs do not matter
+                    (Op::Gaussian2, Neg(x), y) => Bin(op, x, Box::new(y)).simplify(),
+                    (Op::Gaussian2, x, Neg(y)) => Bin(op, Box::new(x), y),
                     (Op::Mul, Num(x), e) | (Op::Mul, e, Num(x)) => {
                         if x == 1.0 {
                             e
@@ -199,6 +207,9 @@ impl Expr {
     fn prec(&self) -> u8 {
         match self {
             Expr::Num(v) if *v < 0.0 => 2,
+            // a power binds less tightly than an atom: (x**2)**2, not x**2**2 (which Python
+            // reads as x**(2**2))
+            Expr::Un(Op::Square, _) => 8,
             Expr::Num(_) | Expr::Var(_) | Expr::Un(..) => 9,
             Expr::Bin(Op::Gaussian2, ..) => 9,
             Expr::Neg(_) => 3,
@@ -240,7 +251,7 @@ impl Expr {
             Expr::Un(op, a) => {
                 let s = a.to_text(digits, sympy);
                 match op {
-                    Op::Square => format!("{}**2", wrap(a, 4)),
+                    Op::Square => format!("{}**2", wrap(a, 9)),
                     Op::Inverse => format!("1/{}", wrap(a, 4)),
                     Op::Abs => {
                         if sympy {
@@ -249,7 +260,7 @@ impl Expr {
                             format!("abs({s})")
                         }
                     }
-                    Op::Gaussian => format!("exp(-{}**2)", wrap(a, 4)),
+                    Op::Gaussian => format!("exp(-{}**2)", wrap(a, 9)),
                     _ => format!("{}({s})", op.name()),
                 }
             }
@@ -258,7 +269,7 @@ impl Expr {
                 Op::Sub => format!("{} - {}", wrap(a, 1), wrap_right(b, 2)),
                 Op::Mul => format!("{}*{}", wrap(a, 2), wrap_right(b, 2)),
                 Op::Div => format!("{}/{}", wrap(a, 2), wrap_right(b, 3)),
-                Op::Gaussian2 => format!("exp(-({}**2 + {}**2))", wrap(a, 4), wrap(b, 4)),
+                Op::Gaussian2 => format!("exp(-({}**2 + {}**2))", wrap(a, 9), wrap(b, 9)),
                 _ => format!(
                     "{}({}, {})",
                     op.name(),
@@ -299,12 +310,12 @@ impl Expr {
             Expr::Un(op, a) => {
                 let s = a.to_latex(digits);
                 match op {
-                    Op::Square => format!("{}^{{2}}", wrap(a, 4)),
+                    Op::Square => format!("{}^{{2}}", wrap(a, 9)),
                     Op::Inverse => format!("\\frac{{1}}{{{s}}}"),
                     Op::Abs => format!("\\left|{s}\\right|"),
                     Op::Sqrt => format!("\\sqrt{{{s}}}"),
                     Op::Exp => format!("e^{{{s}}}"),
-                    Op::Gaussian => format!("e^{{-{}^{{2}}}}", wrap(a, 4)),
+                    Op::Gaussian => format!("e^{{-{}^{{2}}}}", wrap(a, 9)),
                     Op::Log => format!("\\log\\left({s}\\right)"),
                     Op::Sin => format!("\\sin\\left({s}\\right)"),
                     Op::Cos => format!("\\cos\\left({s}\\right)"),
@@ -429,5 +440,29 @@ mod tests {
     fn latex_products_of_numbers_use_cdot() {
         let e = Expr::Bin(Op::Mul, Box::new(Expr::Num(2.0)), Box::new(Expr::Num(3.0)));
         assert_eq!(e.to_latex(3), "2 \\cdot 3");
+    }
+
+    /// log(exp(u)) is u and log(gaussian(u)) is -u^2, so reported equations do not carry
+    /// the pair (it appeared in a selected delta model).
+    #[test]
+    fn log_of_exp_and_gaussian_simplify() {
+        let u = || Box::new(Expr::Bin(Op::Mul, Box::new(Expr::Num(2.0)), var("x")));
+        let e = Expr::Un(Op::Log, Box::new(Expr::Un(Op::Exp, u()))).simplify();
+        assert_eq!(e.to_text(None, false), "2*x");
+        let e = Expr::Un(Op::Log, Box::new(Expr::Un(Op::Gaussian, u()))).simplify();
+        let at = |e: &Expr, x: f64| e.eval(&|_: &str| x);
+        assert_eq!(at(&e, 0.7), -(1.4f64 * 1.4));
+        assert!(!e.to_text(None, false).contains("log"));
+        // and the square of that negation loses the sign
+        let sq = Expr::Un(Op::Square, Box::new(e)).simplify();
+        assert_eq!(sq.to_text(Some(3), true), "((2*x)**2)**2");
+        assert_eq!(sq.to_latex(3), "\\left(\\left(2 x\\right)^{2}\\right)^{2}");
+        assert_eq!(at(&sq, 0.7), (1.4f64 * 1.4) * (1.4 * 1.4));
+        let g = Expr::Bin(Op::Gaussian2, var("y"), Box::new(Expr::Neg(var("x")))).simplify();
+        assert!(
+            !g.to_text(None, false).contains("-x"),
+            "{}",
+            g.to_text(None, false)
+        );
     }
 }
