@@ -1,0 +1,142 @@
+//! `hxai sr` end to end: the JSON document of the interface contract on a table with a known
+//! law, and clear errors (non-zero exit, a message naming the problem) for bad input.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+type TestResult = Result<(), Box<dyn std::error::Error>>;
+
+fn table(name: &str, text: &str) -> Result<PathBuf, std::io::Error> {
+    let dir = std::env::temp_dir().join(format!("hxai-cli-sr-{}", std::process::id()));
+    std::fs::create_dir_all(&dir)?;
+    let path = dir.join(name);
+    std::fs::write(&path, text)?;
+    Ok(path)
+}
+
+fn hxai(args: &[&str]) -> Result<Output, std::io::Error> {
+    Command::new(env!("CARGO_BIN_EXE_hxai")).args(args).output()
+}
+
+/// y = 2.5 x1 x2 on a 12 x 12 grid, plus an unused column.
+fn law_csv() -> String {
+    let mut s = String::from("x1,x2,unused,y\n");
+    for i in 0..12 {
+        for j in 0..12 {
+            let (x1, x2) = (0.5 + 0.25 * i as f64, 1.0 + 0.2 * j as f64);
+            let unused = ((i * 7 + j * 3) % 11) as f64;
+            s.push_str(&format!("{x1},{x2},{unused},{}\n", 2.5 * x1 * x2));
+        }
+    }
+    s
+}
+
+#[test]
+fn json_document_follows_the_contract_and_finds_the_law() -> TestResult {
+    let csv = table("law.csv", &law_csv())?;
+    let out = hxai(&[
+        "sr",
+        "--csv",
+        csv.to_str().ok_or("path")?,
+        "--target",
+        "y",
+        "--json",
+        "--epochs",
+        "3",
+    ])?;
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+    let keys = [
+        "equation",
+        "sympy",
+        "latex",
+        "complexity",
+        "features",
+        "r2",
+        "rmse",
+    ];
+    let best = &doc["best"];
+    for k in keys {
+        assert!(!best[k].is_null(), "best.{k} missing in {best}");
+    }
+    assert!(doc["evaluations"].as_u64().ok_or("evaluations")? > 0);
+    assert!(doc["seconds"].as_f64().ok_or("seconds")? >= 0.0);
+    let front = doc["pareto"].as_array().ok_or("pareto")?;
+    assert!(!front.is_empty());
+    for m in front {
+        for k in keys {
+            assert!(!m[k].is_null(), "pareto entry lacks {k}: {m}");
+        }
+    }
+    // the law: a product of the two used inputs, exactly (noise-free data)
+    assert!(best["r2"].as_f64().ok_or("r2")? > 1.0 - 1e-9, "{best}");
+    let mut feats: Vec<&str> = best["features"]
+        .as_array()
+        .ok_or("features")?
+        .iter()
+        .filter_map(|v| v.as_str())
+        .collect();
+    feats.sort_unstable();
+    assert_eq!(feats, ["x1", "x2"]);
+    assert_eq!(best["complexity"].as_u64(), Some(3), "{best}");
+    Ok(())
+}
+
+#[test]
+fn bad_input_gives_a_clear_error() -> TestResult {
+    let good = table("good.csv", &law_csv())?;
+    let good = good.to_str().ok_or("path")?;
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (vec!["--target".into(), "nope".into()], "nope"),
+        (
+            vec![
+                "--target".into(),
+                "y".into(),
+                "--operators".into(),
+                "add,frobnicate".into(),
+            ],
+            "frobnicate",
+        ),
+    ];
+    for (extra, needle) in cases {
+        let mut args = vec!["sr".to_string(), "--csv".into(), good.into()];
+        args.extend(extra);
+        let refs: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+        let out = hxai(&refs)?;
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} should fail");
+        assert!(
+            err.contains(needle),
+            "{args:?}: stderr does not name '{needle}': {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    let constant: String = (0..12).map(|i| format!("{i},2\n")).collect();
+    let short: String = (0..5).map(|i| format!("{i},{}\n", 2 * i)).collect();
+    let files = [
+        (
+            table("constant.csv", &format!("x,y\n{constant}"))?,
+            "constant",
+        ),
+        (
+            table("nan.csv", "x,y\n1,2\n2,NaN\n3,4\n4,5\n5,6\n")?,
+            "not finite",
+        ),
+        (table("short.csv", &format!("x,y\n{short}"))?, "too few"),
+    ];
+    for (path, needle) in files {
+        let out = hxai(&["sr", "--csv", path.to_str().ok_or("path")?, "--target", "y"])?;
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{} should fail", path.display());
+        assert!(
+            err.contains(needle) && !err.contains("panicked"),
+            "{}: {err}",
+            path.display()
+        );
+    }
+    Ok(())
+}
