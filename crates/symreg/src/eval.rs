@@ -58,19 +58,21 @@ fn has_avx2() -> bool {
     }
 }
 
+#[inline(always)]
 fn dot(a: &[f64], b: &[f64]) -> f64 {
-    // Four accumulators: fixed association order, so results do not depend on anything
-    // but the inputs.
-    let mut s = [0.0f64; 4];
-    let chunks = a.len() / 4;
-    for i in 0..chunks {
-        for k in 0..4 {
-            s[k] += a[4 * i + k] * b[4 * i + k];
+    // Eight accumulators in a fixed association order: the compiler maps them to SIMD lanes
+    // without reordering anything, so the result depends on the inputs only.
+    let mut s = [0.0f64; 8];
+    let (ca, cb) = (a.chunks_exact(8), b.chunks_exact(8));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        for k in 0..8 {
+            s[k] += x[k] * y[k];
         }
     }
-    let mut t = (s[0] + s[1]) + (s[2] + s[3]);
-    for i in 4 * chunks..a.len() {
-        t += a[i] * b[i];
+    let mut t = ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
+    for (x, y) in ra.iter().zip(rb) {
+        t += x * y;
     }
     t
 }
@@ -284,6 +286,44 @@ impl Evaluator {
         jtj: &mut [f64],
         jtr: &mut [f64],
     ) -> f64 {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is set only when the running CPU reported AVX2 (see `new`).
+            #[allow(unsafe_code)]
+            return unsafe { self.normal_equations_avx2(prog, params, free, cols, y, jtj, jtr) };
+        }
+        self.normal_equations_impl(prog, params, free, cols, y, jtj, jtr)
+    }
+
+    /// [`Self::normal_equations_impl`] compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[allow(clippy::too_many_arguments)]
+    fn normal_equations_avx2(
+        &mut self,
+        prog: &Program,
+        params: &[f64],
+        free: &[usize],
+        cols: &[&[f64]],
+        y: &[f64],
+        jtj: &mut [f64],
+        jtr: &mut [f64],
+    ) -> f64 {
+        self.normal_equations_impl(prog, params, free, cols, y, jtj, jtr)
+    }
+
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn normal_equations_impl(
+        &mut self,
+        prog: &Program,
+        params: &[f64],
+        free: &[usize],
+        cols: &[&[f64]],
+        y: &[f64],
+        jtj: &mut [f64],
+        jtr: &mut [f64],
+    ) -> f64 {
         let n = prog.nodes.len();
         let m = free.len();
         let n_params = params.len();
@@ -337,10 +377,34 @@ impl Evaluator {
                             let (lo, hi) = before.split_at_mut(c1 * BATCH);
                             let da = &mut lo[c0 * BATCH..c0 * BATCH + len];
                             let db = &mut hi[..len];
-                            for i in 0..len {
-                                let (ga, gb) = op.d2(va[i], vb[i], out[i]);
-                                da[i] = ak[i] * ga;
-                                db[i] = ak[i] * gb;
+                            match op {
+                                Op::Add => {
+                                    da.copy_from_slice(ak);
+                                    db.copy_from_slice(ak);
+                                }
+                                Op::Sub => {
+                                    da.copy_from_slice(ak);
+                                    unary(db, ak, |g| -g);
+                                }
+                                Op::Mul => {
+                                    binary(da, ak, vb, |g, b| g * b);
+                                    binary(db, ak, va, |g, a| g * a);
+                                }
+                                Op::Div => {
+                                    binary(da, ak, vb, |g, b| g / b);
+                                    for (((d, &g), &b), &o) in
+                                        db.iter_mut().zip(ak).zip(vb).zip(out)
+                                    {
+                                        *d = -g * o / b;
+                                    }
+                                }
+                                _ => {
+                                    for i in 0..len {
+                                        let (ga, gb) = op.d2(va[i], vb[i], out[i]);
+                                        da[i] = ak[i] * ga;
+                                        db[i] = ak[i] * gb;
+                                    }
+                                }
                             }
                         }
                     }

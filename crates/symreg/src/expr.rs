@@ -2,6 +2,7 @@
 //! printed as plain text, sympy-parseable text or LaTeX.
 use crate::ops::Op;
 use crate::program::{Node, Program};
+use crate::vmath;
 
 /// A reporting expression.
 #[derive(Clone, Debug, PartialEq)]
@@ -116,6 +117,13 @@ impl Expr {
                 let b = b.simplify();
                 match (op, a, b) {
                     (_, Num(x), Num(y)) => Num(op.apply2(x, y)),
+                    // gaussian2 with a constant argument c is exp(-c^2) gaussian(other)
+                    (Op::Gaussian2, Num(c), y) | (Op::Gaussian2, y, Num(c)) => Bin(
+                        Op::Mul,
+                        Box::new(Num(vmath::exp(-c * c))),
+                        Box::new(Un(Op::Gaussian, Box::new(y))),
+                    )
+                    .simplify(),
                     // gaussian2 squares both arguments: their signs do not matter
                     (Op::Gaussian2, Neg(x), y) => Bin(op, x, Box::new(y)).simplify(),
                     (Op::Gaussian2, x, Neg(y)) => Bin(op, Box::new(x), y),
@@ -458,6 +466,10 @@ mod tests {
         assert_eq!(sq.to_text(Some(3), true), "((2*x)**2)**2");
         assert_eq!(sq.to_latex(3), "\\left(\\left(2 x\\right)^{2}\\right)^{2}");
         assert_eq!(at(&sq, 0.7), (1.4f64 * 1.4) * (1.4 * 1.4));
+        let g = Expr::Bin(Op::Gaussian2, Box::new(Expr::Num(1.0)), var("x")).simplify();
+        assert_eq!(g.to_text(Some(4), true), "0.3679*exp(-x**2)");
+        let g = Expr::Bin(Op::Gaussian2, Box::new(Expr::Num(0.0)), var("x")).simplify();
+        assert_eq!(g.to_text(Some(4), true), "exp(-x**2)");
         let g = Expr::Bin(Op::Gaussian2, var("y"), Box::new(Expr::Neg(var("x")))).simplify();
         assert!(
             !g.to_text(None, false).contains("-x"),
