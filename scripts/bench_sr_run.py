@@ -106,7 +106,11 @@ def run_feyn(df, seed, names, symbols):
     sec = time.time() - t
     best = models[0]
     expr = best.sympify(signif=15)
-    expr = expr.subs({sp.Symbol(n): symbols[n] for n in names})
+    # match feyn's symbols by name (they may carry other assumptions than ours)
+    expr = expr.subs({s: symbols[s.name] for s in expr.free_symbols if s.name in symbols})
+    stray = [s.name for s in expr.free_symbols if s not in symbols.values()]
+    if stray:
+        raise RuntimeError(f"feyn's equation has symbols that are not inputs: {stray}: {expr}")
     return expr, sec, {"complexity": len(best)}
 
 

@@ -109,7 +109,8 @@ proptest! {
     }
 
     // Invariant: the grouped (record) split never puts windows of one record on both sides,
-    // and every sample is on exactly one side.
+    // and every sample is on exactly one side; a split that would leave a side empty is a
+    // clear error, never an empty side (found by CI: 2 records at a test fraction of 0.54).
     #[test]
     fn record_split_keeps_records_whole(
         windows_per_record in prop::collection::vec(1usize..8, 2..30),
@@ -125,7 +126,15 @@ proptest! {
                 truth: None,
             })
         }).collect();
-        let is_test = split_samples(&samples, SplitKind::Record, frac, seed).unwrap();
+        // scikit-learn's rule: ceil(frac * groups) test groups; a side left empty is an error
+        let groups = windows_per_record.len();
+        let n_test = (frac * groups as f64).ceil() as usize;
+        let split = split_samples(&samples, SplitKind::Record, frac, seed);
+        if n_test >= groups {
+            prop_assert!(split.is_err(), "{groups} groups at {frac} must be refused");
+            return Ok(());
+        }
+        let is_test = split.unwrap();
         prop_assert_eq!(is_test.len(), samples.len());
         let mut side: BTreeMap<&str, bool> = BTreeMap::new();
         for (s, &t) in samples.iter().zip(&is_test) {
