@@ -106,8 +106,11 @@ def run_feyn(df, seed, names, symbols):
     sec = time.time() - t
     best = models[0]
     expr = best.sympify(signif=15)
-    # match feyn's symbols by name (they may carry other assumptions than ours)
-    expr = expr.subs({s: symbols[s.name] for s in expr.free_symbols if s.name in symbols})
+    # match feyn's symbols by name: they may carry other assumptions than ours, and feyn
+    # drops underscores from input names (m_0 -> m0)
+    plain = {n.replace("_", ""): n for n in names}
+    expr = expr.subs({s: symbols[plain.get(s.name, s.name)] for s in expr.free_symbols
+                      if plain.get(s.name, s.name) in symbols})
     stray = [s.name for s in expr.free_symbols if s not in symbols.values()]
     if stray:
         raise RuntimeError(f"feyn's equation has symbols that are not inputs: {stray}: {expr}")
@@ -144,6 +147,7 @@ def main():
     ap.add_argument("--hxai", required=True)
     ap.add_argument("--engines", default="hxai,feyn,pyoperon,gplearn")
     ap.add_argument("--problems", type=int, default=len(FEYNMAN))
+    ap.add_argument("--only", help="comma-separated problem names (after --problems)")
     ap.add_argument("--noise", default="0,0.01")
     ap.add_argument("--rows", type=int, default=1000)
     ap.add_argument("--seed", type=int, default=42)
@@ -166,6 +170,8 @@ def main():
     else:
         problems = []
         for k, (name, text, ranges) in enumerate(FEYNMAN[: a.problems]):
+            if a.only and name not in a.only.split(","):
+                continue
             names = list(ranges)
             symbols = {n: sp.Symbol(n, positive=True) for n in names}
             truth = sp.sympify(text, locals=symbols)

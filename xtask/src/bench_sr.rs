@@ -6,8 +6,9 @@
 //! seeded data, runs every engine, checks exact recovery with sympy, and prints the tables.
 //!
 //! Options (all forwarded to the script): `--engines hxai,feyn,pyoperon,gplearn`,
-//! `--problems N` (first N of 16 equations), `--noise 0,0.01`, `--rows 1000`, `--seed 42`,
-//! `--out target/bench-sr`, `--hxai-args "..."`, `--csv FILE --target COL`.
+//! `--problems N` (first N of 16 equations), `--only I.6.2,I.10.7`, `--noise 0,0.01`,
+//! `--rows 1000`, `--seed 42`, `--out target/bench-sr`, `--hxai-args "..."`,
+//! `--csv FILE --target COL`.
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 use std::process::Command;
