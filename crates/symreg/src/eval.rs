@@ -46,6 +46,19 @@ fn adjoint1(da: &mut [f64], ak: &[f64], va: &[f64], out: &[f64], d: impl Fn(f64,
     }
 }
 
+/// Redoes `da[i] = ak[i] * d(va[i])` with the scalar derivative `d` where the vectorised
+/// trigonometric kernel was out of range (see `vmath::trig_fixup`).
+#[inline(always)]
+fn trig_adjoint_fixup(da: &mut [f64], ak: &[f64], va: &[f64], d: impl Fn(f64) -> f64) {
+    if !va.iter().all(|&v| vmath::in_trig_range(v)) {
+        for ((g, &a), &v) in da.iter_mut().zip(ak).zip(va) {
+            if !vmath::in_trig_range(v) {
+                *g = a * d(v);
+            }
+        }
+    }
+}
+
 /// Whether the running CPU has AVX2 (always false off x86-64).
 fn has_avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -364,8 +377,14 @@ impl Evaluator {
                                 Op::Exp => adjoint1(da, ak, va, out, |_, o| o),
                                 Op::Square => adjoint1(da, ak, va, out, |a, _| 2.0 * a),
                                 Op::Gaussian => adjoint1(da, ak, va, out, |a, o| -2.0 * a * o),
-                                Op::Sin => adjoint1(da, ak, va, out, |a, _| vmath::cos(a)),
-                                Op::Cos => adjoint1(da, ak, va, out, |a, _| -vmath::sin(a)),
+                                Op::Sin => {
+                                    adjoint1(da, ak, va, out, |a, _| vmath::cos_kernel(a));
+                                    trig_adjoint_fixup(da, ak, va, vmath::cos);
+                                }
+                                Op::Cos => {
+                                    adjoint1(da, ak, va, out, |a, _| -vmath::sin_kernel(a));
+                                    trig_adjoint_fixup(da, ak, va, |a| -vmath::sin(a));
+                                }
                                 Op::Tanh => adjoint1(da, ak, va, out, |_, o| 1.0 - o * o),
                                 Op::Inverse => adjoint1(da, ak, va, out, |_, o| -o * o),
                                 Op::Log => adjoint1(da, ak, va, out, |a, _| 1.0 / a),

@@ -174,7 +174,7 @@ fn trig_kernel(x: f64, quadrant: u64) -> f64 {
 
 /// Whether the kernels are valid at `x` (false for NaN and infinities).
 #[inline(always)]
-fn in_trig_range(x: f64) -> bool {
+pub fn in_trig_range(x: f64) -> bool {
     x.abs() <= TRIG_LIMIT
 }
 
