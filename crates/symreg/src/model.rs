@@ -165,35 +165,47 @@ impl Model {
     }
 }
 
-/// Candidate simple values near `v`, simplest first.
-fn snap_candidates(v: f64, weight: bool) -> Vec<f64> {
-    let mut c = if weight {
-        vec![1.0, -1.0, 0.0]
+/// Candidate simple values near `v`, simplest first, each marked `true` when it is an exact
+/// value (0, +-1, an integer or a half) rather than `v` rounded to 1-3 significant digits.
+fn snap_candidates(v: f64, weight: bool) -> Vec<(f64, bool)> {
+    let mut c: Vec<(f64, bool)> = if weight {
+        vec![(1.0, true), (-1.0, true), (0.0, true)]
     } else {
-        vec![0.0]
+        vec![(0.0, true)]
     };
-    c.extend([v.round(), (v * 2.0).round() / 2.0]);
+    c.extend([(v.round(), true), ((v * 2.0).round() / 2.0, true)]);
     let a = v.abs();
     if a > 0.0 && a.is_finite() {
         for digits in [1i32, 2, 3] {
             let mag = a.log10().floor() as i32;
             let f = 10f64.powi(digits - 1 - mag);
-            c.push((v * f).round() / f);
+            c.push(((v * f).round() / f, false));
         }
     }
-    let mut out: Vec<f64> = Vec::new();
-    for x in c {
-        if x != v && x.is_finite() && !out.contains(&x) {
-            out.push(x);
+    let mut out: Vec<(f64, bool)> = Vec::new();
+    for (x, exact) in c {
+        if x != v && x.is_finite() && !out.iter().any(|o| o.0 == x) {
+            out.push((x, exact));
         }
     }
     out
 }
 
-/// Replaces parameters by simple nearby values (0, integers, halves, then 1-3 significant
-/// digits) one at a time, refitting the others, whenever the mean squared error stays within
-/// `rel_tol` of the original fit (plus `abs_tol`). Biases are tried first, then weights and
-/// constants, then the output map. Returns the final mean squared error.
+/// Replaces parameters by simple nearby values one at a time, refitting the others, and
+/// returns the final mean squared error and how many parameters were fixed at exact values.
+///
+/// Two kinds of snap, tried in that order for each parameter (biases first, then weights and
+/// constants, then the output map):
+/// - to an exact value (0, +-1, an integer, a half): the parameter is then no longer fitted,
+///   so the snap is accepted when the information criterion does not get worse, that is when
+///   `n ln(mse' / mse)` stays within `penalty` (what the criterion charges for one
+///   parameter: `ln n` for BIC, 2 for AIC);
+/// - to 1-3 significant digits: still a fitted value, accepted only when the mean squared
+///   error stays within `rel_tol` (plus `abs_tol`).
+///
+/// Either way the snapped model's criterion is never worse than the unsnapped model's, up
+/// to the `rel_tol` slack. On noisy data the first kind removes offsets and factors that
+/// only fit the noise (`(3.006 V - 0.02) (0.5 pr - 0.003) + 0.03` becomes `1.503 V pr`).
 pub(crate) fn snap_params(
     prog: &Program,
     params: &mut Vec<f64>,
@@ -201,13 +213,15 @@ pub(crate) fn snap_params(
     y: &[f64],
     rel_tol: f64,
     abs_tol: f64,
-) -> f64 {
+    penalty: f64,
+) -> (f64, usize) {
     let mut ev = Evaluator::new(prog);
     let base = ev.mse(prog, params, cols, y);
     if !base.is_finite() {
-        return base;
+        return (base, 0);
     }
-    let limit = base * (1.0 + rel_tol) + abs_tol;
+    let per_param = (penalty / y.len() as f64).exp();
+    let mut limit = base * (1.0 + rel_tol) + abs_tol;
     let offs = prog.param_offsets();
     let mut order: Vec<usize> = Vec::new();
     for (k, n) in prog.nodes.iter().enumerate() {
@@ -226,9 +240,11 @@ pub(crate) fn snap_params(
     }
     order.push(0);
     let mut fixed = vec![false; params.len()];
+    let mut n_exact = 0;
     let mut current = base;
     for (&i, weight) in order.iter().zip((0..).map(|k| k >= n_bias)) {
-        for cand in snap_candidates(params[i], weight) {
+        for (cand, exact) in snap_candidates(params[i], weight) {
+            let allowed = if exact { limit * per_param } else { limit };
             let mut trial = params.clone();
             trial[i] = cand;
             let mut fx = fixed.clone();
@@ -238,19 +254,23 @@ pub(crate) fn snap_params(
                 ev.mse(prog, &trial, cols, y)
             } else {
                 let direct = ev.mse(prog, &trial, cols, y);
-                if direct <= limit {
+                if direct <= allowed {
                     direct
                 } else {
                     levenberg_marquardt(prog, &mut trial, &free, cols, y, 20, 1e-10, &mut ev)
                 }
             };
-            if mse.is_finite() && mse <= limit {
+            if mse.is_finite() && mse <= allowed {
                 *params = trial;
                 fixed = fx;
                 current = mse;
+                if exact {
+                    limit = allowed;
+                    n_exact += 1;
+                }
                 break;
             }
         }
     }
-    current
+    (current, n_exact)
 }

@@ -268,3 +268,54 @@ fn snapped_constants_are_simple() {
     assert_eq!(m.equation(), "3*x*x + 2");
     assert!(!m.latex().is_empty());
 }
+
+/// `1.5 x0 x1` plus Gaussian noise of 1 % of the target's standard deviation, 1,000 rows.
+fn noisy_product() -> (Dataset, Vec<f64>) {
+    let x0 = uniform(1000, 1.0, 5.0, 21);
+    let x1 = uniform(1000, 1.0, 5.0, 22);
+    let clean: Vec<f64> = x0.iter().zip(&x1).map(|(a, b)| 1.5 * a * b).collect();
+    let mean = clean.iter().sum::<f64>() / 1000.0;
+    let sd = (clean.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 1000.0).sqrt();
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    let y: Vec<f64> = clean
+        .iter()
+        .map(|v| {
+            // Box-Muller
+            let (u1, u2): (f64, f64) = (rng.gen_range(1e-12..1.0), rng.gen_range(0.0..1.0));
+            v + 0.01 * sd * (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+        })
+        .collect();
+    let data = Dataset::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+    (data, y)
+}
+
+// On noisy data the fitted input offsets and the output offset only fit the noise: snapping
+// them to 0 costs less than BIC charges for a parameter, so they go.
+#[test]
+fn noise_only_offsets_are_snapped_away() {
+    let (data, y) = noisy_product();
+    let prog = Program {
+        nodes: vec![Node::Var(0), Node::Var(1), Node::Op(Op::Mul)],
+        affine: true,
+    };
+    let m = fit_structure(&data, &y, &prog, &SearchConfig::default()).unwrap();
+    // params: scale, offset, (w0, b0), (w1, b1)
+    assert_eq!(m.params[1], 0.0, "{}", m.equation());
+    assert_eq!(m.params[3], 0.0, "{}", m.equation());
+    assert_eq!(m.params[5], 0.0, "{}", m.equation());
+    assert!(!m.sympy().contains(['+', '-']), "{}", m.sympy());
+}
+
+// The search on the same data picks the product law itself, not a more complex model that
+// fits the noise a little better.
+#[test]
+fn search_on_noisy_data_picks_the_law() {
+    let (data, y) = noisy_product();
+    let res = search(&data, &y, &quick(), &mut |_| {}).unwrap();
+    assert_eq!(res.best.complexity, 3, "{}", res.best.equation());
+    assert!(
+        !res.best.sympy().contains(['+', '-']),
+        "{}",
+        res.best.sympy()
+    );
+}

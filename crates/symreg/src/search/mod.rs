@@ -32,6 +32,11 @@ pub enum Strategy {
 }
 
 /// How the selected model is chosen.
+///
+/// With `Bic` and `Aic`, `k` counts fitted parameters: constants snapped to exact values
+/// (0, +-1, integers, halves) are not counted, and the selected model is the simplest one
+/// whose criterion is within one parameter's charge (`lambda ln n`, or `2 lambda`) of the
+/// lowest.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Criterion {
@@ -82,7 +87,8 @@ pub struct SearchConfig {
     pub lm_iterations: usize,
     /// Snap constants to simple values in reported models when the loss barely changes.
     pub snap_constants: bool,
-    /// Relative loss increase allowed per snap.
+    /// Relative loss increase allowed when a constant is rounded to 1-3 significant digits
+    /// (snaps to exact values such as 0, 1 or 1/2 are judged by the criterion instead).
     pub snap_tolerance: f64,
 }
 
@@ -287,6 +293,14 @@ pub(crate) struct Problem<'a> {
 impl Problem<'_> {
     fn fit_cols(&self) -> Vec<&[f64]> {
         self.fit_cols.iter().map(|c| c.as_slice()).collect()
+    }
+
+    /// What the criterion charges for one fitted parameter, in units of `n ln(mse)`.
+    pub(crate) fn param_penalty(&self, n: usize) -> f64 {
+        match self.cfg.criterion {
+            Criterion::Aic => 2.0 * self.cfg.complexity_penalty,
+            _ => self.cfg.complexity_penalty * (n as f64).ln(),
+        }
     }
 
     pub(crate) fn score(&self, mse: f64, n_params: usize, n: usize) -> f64 {
@@ -741,21 +755,25 @@ fn finish(
                 params = f.params.clone();
                 mse = ev.mse(prog, &params, full_cols, y);
             }
+            let mut n_exact = 0;
             if cfg.snap_constants && mse.is_finite() {
-                mse = snap_params(
+                (mse, n_exact) = snap_params(
                     prog,
                     &mut params,
                     full_cols,
                     y,
                     cfg.snap_tolerance,
                     1e-14 * problem.y_var,
+                    problem.param_penalty(n),
                 );
             }
+            // parameters fixed at exact values are no longer fitted: the criterion does not
+            // charge for them
             to_model(
                 prog,
                 params,
                 mse,
-                problem.score(mse, prog.n_params(), n),
+                problem.score(mse, prog.n_params() - n_exact, n),
                 f.complexity,
                 data,
             )
@@ -784,10 +802,27 @@ fn finish(
     }
     let best = match cfg.criterion {
         Criterion::ParetoScore => pareto_score_pick(&pareto),
-        _ => models
-            .iter()
-            .min_by(|a, b| a.score.total_cmp(&b.score))
-            .cloned(),
+        _ => {
+            // The simplest model whose criterion is within one parameter's charge of the
+            // best: a structure picked out of thousands must earn at least that much to
+            // justify extra operators (otherwise a near-dead term that happens to fit the
+            // noise, its constants snapped, would win).
+            let best_score = models
+                .iter()
+                .map(|m| m.score)
+                .min_by(|a, b| a.total_cmp(b))
+                .unwrap_or(f64::INFINITY);
+            let margin = problem.param_penalty(n);
+            models
+                .iter()
+                .filter(|m| m.score <= best_score + margin)
+                .min_by(|a, b| {
+                    a.complexity
+                        .cmp(&b.complexity)
+                        .then(a.score.total_cmp(&b.score))
+                })
+                .cloned()
+        }
     }
     .ok_or(SrError::NoModel)?;
     Ok(SearchResult {
