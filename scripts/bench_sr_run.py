@@ -153,6 +153,8 @@ def main():
     ap.add_argument("--seed", type=int, default=42)
     ap.add_argument("--out", default="target/bench-sr")
     ap.add_argument("--hxai-args", default="")
+    ap.add_argument("--hxai-label", default="hxai",
+                    help="engine name for hxai in the results (e.g. 'hxai <commit>')")
     ap.add_argument("--csv")
     ap.add_argument("--target")
     a = ap.parse_args()
@@ -195,7 +197,8 @@ def main():
         X, y = dtr[names].to_numpy(), dtr["y"].to_numpy()
         Xt, yt = dte[names].to_numpy(), dte["y"].to_numpy()
         for eng in engines:
-            row = {"problem": name, "noise": noise, "engine": eng}
+            row = {"problem": name, "noise": noise,
+                   "engine": a.hxai_label if eng == "hxai" else eng}
             try:
                 if eng == "hxai":
                     expr, sec, info = run_hxai(a.hxai, train_csv, a.seed, names, symbols, a.hxai_args.split())
@@ -221,7 +224,7 @@ def main():
     print()
     print("| engine | noise | problems | exact | median test R^2 | median size | total s | median s |")
     print("|---|---|---|---|---|---|---|---|")
-    for eng in engines:
+    for eng in [a.hxai_label if e == "hxai" else e for e in engines]:
         for noise in sorted({r["noise"] for r in rows}, key=lambda v: -1 if v is None else v):
             rs = [r for r in rows if r["engine"] == eng and r["noise"] == noise]
             if not rs:

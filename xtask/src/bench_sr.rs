@@ -7,7 +7,7 @@
 //!
 //! Options (all forwarded to the script): `--engines hxai,feyn,pyoperon,gplearn`,
 //! `--problems N` (first N of 16 equations), `--only I.6.2,I.10.7`, `--noise 0,0.01`,
-//! `--rows 1000`, `--seed 42`, `--out target/bench-sr`, `--hxai-args "..."`,
+//! `--rows 1000`, `--seed 42`, `--out target/bench-sr`, `--hxai-args "..."`, `--hxai-label NAME`,
 //! `--csv FILE --target COL`.
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
