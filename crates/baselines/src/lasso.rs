@@ -308,7 +308,7 @@ fn check_solver(tol: f64, max_iter: usize) -> Result<(), BaselineError> {
 }
 
 /// Lasso with a fixed `alpha` (scikit-learn's `Lasso(alpha)`), fitted from zero
-/// coefficients by [`cd_plain`].
+/// coefficients by plain coordinate descent (scikit-learn's `enet_coordinate_descent`).
 #[derive(Debug, Clone)]
 pub struct Lasso {
     /// L1 penalty of `1/(2n) ||y - Xw||^2 + alpha ||w||_1`.

@@ -4,7 +4,7 @@ use crate::matrix::{check_fit, check_predict};
 use crate::{BaselineError, Matrix, Regressor};
 use hxai_symreg::{Dataset, Model, SearchConfig, SearchResult};
 
-/// Adapter over [`hxai_symreg::search`]: `fit` runs the search on the columns of `x`
+/// Adapter over [`hxai_symreg::search()`]: `fit` runs the search on the columns of `x`
 /// (named `x0`, `x1`, ... unless [`SymbolicRegressor::with_names`] says otherwise) and keeps
 /// the best model; `predict` evaluates its equation.
 #[derive(Debug, Clone)]

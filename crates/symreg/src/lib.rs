@@ -8,7 +8,7 @@
 //! LaTeX, serialise to JSON, and predict on new rows by column name.
 //!
 //! Main types: [`Dataset`], [`SearchConfig`] (with [`Strategy`] and [`Criterion`]),
-//! [`search`], [`SearchResult`], [`Model`], [`Progress`], and the [`SearchStrategy`] trait
+//! [`search()`], [`SearchResult`], [`Model`], [`Progress`], and the [`SearchStrategy`] trait
 //! behind the two strategies ([`search::qlattice`], [`search::genetic`]).
 //!
 //! Design decision: parameters live at the leaves and at the output only. Every input enters
