@@ -1,7 +1,7 @@
 //! `hxai sr`: symbolic regression of one column of a table on the others.
 use crate::Global;
 use anyhow::{Context, Result};
-use hxai_symreg::{Dataset, Model, SearchConfig, search};
+use hxai_symreg::{Criterion, Dataset, Model, SearchConfig, Strategy, search};
 use serde_json::{Value, json};
 use std::path::PathBuf;
 
@@ -30,9 +30,44 @@ pub struct Args {
     /// tanh abs gaussian gaussian2 (default: the paper's set plus exp).
     #[arg(long, value_delimiter = ',')]
     pub operators: Option<Vec<String>>,
+    /// Stop after this many fitted models.
+    #[arg(long)]
+    pub max_evaluations: Option<u64>,
+    /// Search strategy.
+    #[arg(long, value_enum, default_value_t = StrategyArg::Combined)]
+    pub strategy: StrategyArg,
+    /// How the reported model is chosen: BIC or AIC (the simplest model within one
+    /// parameter's charge of the lowest), or PySR's score along the Pareto front.
+    #[arg(long, value_enum, default_value_t = CriterionArg::Bic)]
+    pub criterion: CriterionArg,
+    /// Multiplier lambda of the criterion's charge per fitted parameter.
+    #[arg(long, default_value_t = 1.0)]
+    pub complexity_penalty: f64,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     pub json: bool,
+}
+
+/// `--strategy` values.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum StrategyArg {
+    /// QLattice-style path sampling over lineages.
+    Qlattice,
+    /// Island genetic programming.
+    Genetic,
+    /// Both, sharing one Pareto archive.
+    Combined,
+}
+
+/// `--criterion` values.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum CriterionArg {
+    /// Bayesian information criterion.
+    Bic,
+    /// Akaike information criterion.
+    Aic,
+    /// PySR's score along the Pareto front.
+    Pareto,
 }
 
 fn summary(m: &Model, data: &Dataset, y: &[f64]) -> Result<Value> {
@@ -79,6 +114,18 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         max_complexity: args.max_complexity,
         epochs: args.epochs,
         time_limit_s: args.time_limit_s,
+        max_evaluations: args.max_evaluations,
+        strategy: match args.strategy {
+            StrategyArg::Qlattice => Strategy::QLattice,
+            StrategyArg::Genetic => Strategy::Genetic,
+            StrategyArg::Combined => Strategy::Combined,
+        },
+        criterion: match args.criterion {
+            CriterionArg::Bic => Criterion::Bic,
+            CriterionArg::Aic => Criterion::Aic,
+            CriterionArg::Pareto => Criterion::ParetoScore,
+        },
+        complexity_penalty: args.complexity_penalty,
         ..SearchConfig::default()
     };
     if let Some(ops) = args.operators {

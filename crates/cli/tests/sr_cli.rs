@@ -101,6 +101,32 @@ fn bad_input_gives_a_clear_error() -> TestResult {
             ],
             "frobnicate",
         ),
+        (
+            vec![
+                "--target".into(),
+                "y".into(),
+                "--criterion".into(),
+                "mdl".into(),
+            ],
+            "mdl",
+        ),
+        (
+            vec![
+                "--target".into(),
+                "y".into(),
+                "--complexity-penalty=-1".into(),
+            ],
+            "complexity_penalty",
+        ),
+        (
+            vec![
+                "--target".into(),
+                "y".into(),
+                "--max-evaluations".into(),
+                "0".into(),
+            ],
+            "max_evaluations",
+        ),
     ];
     for (extra, needle) in cases {
         let mut args = vec!["sr".to_string(), "--csv".into(), good.into()];
@@ -136,6 +162,49 @@ fn bad_input_gives_a_clear_error() -> TestResult {
             err.contains(needle) && !err.contains("panicked"),
             "{}: {err}",
             path.display()
+        );
+    }
+    Ok(())
+}
+
+// The search settings of the library are reachable from the command line: each strategy and
+// criterion runs, and the evaluation budget is respected.
+#[test]
+fn strategy_criterion_and_budget_options() -> TestResult {
+    let csv = table("law2.csv", &law_csv())?;
+    for (strategy, criterion) in [
+        ("qlattice", "aic"),
+        ("genetic", "pareto"),
+        ("combined", "bic"),
+    ] {
+        let out = hxai(&[
+            "sr",
+            "--csv",
+            csv.to_str().ok_or("path")?,
+            "--target",
+            "y",
+            "--json",
+            "--strategy",
+            strategy,
+            "--criterion",
+            criterion,
+            "--max-evaluations",
+            "500",
+        ])?;
+        assert!(
+            out.status.success(),
+            "{strategy}/{criterion}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let doc: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+        let evals = doc["evaluations"].as_u64().ok_or("evaluations")?;
+        assert!(
+            evals > 0 && evals <= 500,
+            "{strategy}/{criterion}: {evals} evaluations"
+        );
+        assert!(
+            doc["best"]["r2"].as_f64().ok_or("r2")? > 0.9,
+            "{strategy}/{criterion}: {doc}"
         );
     }
     Ok(())

@@ -237,6 +237,14 @@ fn bad_input_gives_typed_errors() {
         search(&data, &y, &zero, &mut |_| {}),
         Err(SrError::InvalidConfig(_))
     ));
+    let no_budget = SearchConfig {
+        max_evaluations: Some(0),
+        ..SearchConfig::default()
+    };
+    assert!(matches!(
+        search(&data, &y, &no_budget, &mut |_| {}),
+        Err(SrError::InvalidConfig(m)) if m.contains("max_evaluations")
+    ));
     // unknown column when predicting
     let small = SearchConfig {
         epochs: 1,

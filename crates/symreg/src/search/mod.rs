@@ -160,6 +160,11 @@ impl SearchConfig {
                 "time_limit_s must be a positive number of seconds".into(),
             ));
         }
+        if self.max_evaluations == Some(0) {
+            return Err(SrError::InvalidConfig(
+                "max_evaluations is 0: allow at least one model to be fitted".into(),
+            ));
+        }
         if self.candidates_per_epoch == 0 || self.max_fit_rows < 8 {
             return Err(SrError::InvalidConfig(
                 "candidates_per_epoch must be > 0 and max_fit_rows >= 8".into(),
