@@ -36,7 +36,8 @@ pub enum Strategy {
 /// With `Bic` and `Aic`, `k` counts fitted parameters: constants snapped to exact values
 /// (0, +-1, integers, halves) are not counted, and the selected model is the simplest one
 /// whose criterion is within one parameter's charge (`lambda ln n`, or `2 lambda`) of the
-/// lowest.
+/// lowest. Snapping constants to exact values is judged by the same charge (BIC's under
+/// `ParetoScore`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Criterion {
