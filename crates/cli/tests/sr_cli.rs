@@ -1,7 +1,7 @@
 //! `hxai sr` end to end: the JSON document of the interface contract on a table with a known
 //! law, and clear errors (non-zero exit, a message naming the problem) for bad input.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
@@ -16,6 +16,26 @@ fn table(name: &str, text: &str) -> Result<PathBuf, std::io::Error> {
 
 fn hxai(args: &[&str]) -> Result<Output, std::io::Error> {
     Command::new(env!("CARGO_BIN_EXE_hxai")).args(args).output()
+}
+
+/// Runs `hxai sr --csv CSV --target y --json EXTRA...`, requires success, parses stdout.
+fn sr_json(csv: &Path, extra: &[&str]) -> Result<serde_json::Value, Box<dyn std::error::Error>> {
+    let mut args = vec![
+        "sr",
+        "--csv",
+        csv.to_str().ok_or("path")?,
+        "--target",
+        "y",
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    let out = hxai(&args)?;
+    assert!(
+        out.status.success(),
+        "{extra:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Ok(serde_json::from_slice(&out.stdout)?)
 }
 
 /// y = 2.5 x1 x2 on a 12 x 12 grid, plus an unused column.
@@ -34,22 +54,7 @@ fn law_csv() -> String {
 #[test]
 fn json_document_follows_the_contract_and_finds_the_law() -> TestResult {
     let csv = table("law.csv", &law_csv())?;
-    let out = hxai(&[
-        "sr",
-        "--csv",
-        csv.to_str().ok_or("path")?,
-        "--target",
-        "y",
-        "--json",
-        "--epochs",
-        "3",
-    ])?;
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+    let doc = sr_json(&csv, &["--epochs", "3"])?;
     let keys = [
         "equation",
         "sympy",
@@ -177,26 +182,17 @@ fn strategy_criterion_and_budget_options() -> TestResult {
         ("genetic", "pareto"),
         ("combined", "bic"),
     ] {
-        let out = hxai(&[
-            "sr",
-            "--csv",
-            csv.to_str().ok_or("path")?,
-            "--target",
-            "y",
-            "--json",
-            "--strategy",
-            strategy,
-            "--criterion",
-            criterion,
-            "--max-evaluations",
-            "500",
-        ])?;
-        assert!(
-            out.status.success(),
-            "{strategy}/{criterion}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let doc: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+        let doc = sr_json(
+            &csv,
+            &[
+                "--strategy",
+                strategy,
+                "--criterion",
+                criterion,
+                "--max-evaluations",
+                "500",
+            ],
+        )?;
         let evals = doc["evaluations"].as_u64().ok_or("evaluations")?;
         assert!(
             evals > 0 && evals <= 500,

@@ -46,19 +46,6 @@ fn adjoint1(da: &mut [f64], ak: &[f64], va: &[f64], out: &[f64], d: impl Fn(f64,
     }
 }
 
-/// Redoes `da[i] = ak[i] * d(va[i])` with the scalar derivative `d` where the vectorised
-/// trigonometric kernel was out of range (see `vmath::trig_fixup`).
-#[inline(always)]
-fn trig_adjoint_fixup(da: &mut [f64], ak: &[f64], va: &[f64], d: impl Fn(f64) -> f64) {
-    if !va.iter().all(|&v| vmath::in_trig_range(v)) {
-        for ((g, &a), &v) in da.iter_mut().zip(ak).zip(va) {
-            if !vmath::in_trig_range(v) {
-                *g = a * d(v);
-            }
-        }
-    }
-}
-
 /// Whether the running CPU has AVX2 (always false off x86-64).
 fn has_avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -130,11 +117,11 @@ fn forward_impl(
                         Op::Inverse => unary(dst, a, |v| 1.0 / v),
                         Op::Sin => {
                             unary(dst, a, vmath::sin_kernel);
-                            vmath::trig_fixup(dst, a, vmath::sin);
+                            vmath::trig_fixup(dst, a, |_, x| vmath::sin(x));
                         }
                         Op::Cos => {
                             unary(dst, a, vmath::cos_kernel);
-                            vmath::trig_fixup(dst, a, vmath::cos);
+                            vmath::trig_fixup(dst, a, |_, x| vmath::cos(x));
                         }
                         Op::Tanh => unary(dst, a, vmath::tanh),
                         Op::Abs => unary(dst, a, f64::abs),
@@ -379,11 +366,11 @@ impl Evaluator {
                                 Op::Gaussian => adjoint1(da, ak, va, out, |a, o| -2.0 * a * o),
                                 Op::Sin => {
                                     adjoint1(da, ak, va, out, |a, _| vmath::cos_kernel(a));
-                                    trig_adjoint_fixup(da, ak, va, vmath::cos);
+                                    vmath::trig_fixup(da, va, |i, v| ak[i] * vmath::cos(v));
                                 }
                                 Op::Cos => {
                                     adjoint1(da, ak, va, out, |a, _| -vmath::sin_kernel(a));
-                                    trig_adjoint_fixup(da, ak, va, |a| -vmath::sin(a));
+                                    vmath::trig_fixup(da, va, |i, v| ak[i] * -vmath::sin(v));
                                 }
                                 Op::Tanh => adjoint1(da, ak, va, out, |_, o| 1.0 - o * o),
                                 Op::Inverse => adjoint1(da, ak, va, out, |_, o| -o * o),

@@ -174,7 +174,7 @@ fn trig_kernel(x: f64, quadrant: u64) -> f64 {
 
 /// Whether the kernels are valid at `x` (false for NaN and infinities).
 #[inline(always)]
-pub fn in_trig_range(x: f64) -> bool {
+fn in_trig_range(x: f64) -> bool {
     x.abs() <= TRIG_LIMIT
 }
 
@@ -210,14 +210,15 @@ pub fn cos(x: f64) -> f64 {
     }
 }
 
-/// Replaces `dst[i]` by `f(a[i])` (the scalar [`sin`] or [`cos`]) where the kernel was out
-/// of range; a cheap compare pass when no row is.
+/// Replaces `dst[i]` by `f(i, a[i])` where `a[i]` is outside the kernels' range: the
+/// scalar [`sin`]/[`cos`] after a kernel sweep (`|_, x| sin(x)`), or a derivative built
+/// from them. A cheap compare pass when no row is out of range.
 #[inline(always)]
-pub fn trig_fixup(dst: &mut [f64], a: &[f64], f: fn(f64) -> f64) {
+pub fn trig_fixup(dst: &mut [f64], a: &[f64], f: impl Fn(usize, f64) -> f64) {
     if !a.iter().all(|&v| in_trig_range(v)) {
-        for (d, &x) in dst.iter_mut().zip(a) {
+        for (i, (d, &x)) in dst.iter_mut().zip(a).enumerate() {
             if !in_trig_range(x) {
-                *d = f(x);
+                *d = f(i, x);
             }
         }
     }
