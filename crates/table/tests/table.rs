@@ -1,5 +1,6 @@
 //! The table's invariants (one length, unique non-empty names, finite values) hold after
 //! every constructor and method, and every bad input is a typed error, never a panic.
+#![allow(clippy::unwrap_used)]
 use hxai_table::{Table, TableError};
 use proptest::prelude::*;
 
