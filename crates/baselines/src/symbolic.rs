@@ -2,7 +2,7 @@
 
 use crate::matrix::{check_fit, check_predict};
 use crate::{BaselineError, Matrix, Regressor};
-use hxai_symreg::{Dataset, Model, SearchConfig, SearchResult};
+use hxai_symreg::{Model, SearchConfig, SearchResult, Table};
 
 /// Adapter over [`hxai_symreg::search()`]: `fit` runs the search on the columns of `x`
 /// (named `x0`, `x1`, ... unless [`SymbolicRegressor::with_names`] says otherwise) and keeps
@@ -49,7 +49,7 @@ impl SymbolicRegressor {
         self.result.as_ref()
     }
 
-    fn dataset(&self, x: &Matrix) -> Result<Dataset, BaselineError> {
+    fn dataset(&self, x: &Matrix) -> Result<Table, BaselineError> {
         let names = match &self.names {
             Some(n) if n.len() == x.ncols() => n.clone(),
             Some(n) => {
@@ -60,7 +60,7 @@ impl SymbolicRegressor {
             }
             None => (0..x.ncols()).map(|j| format!("x{j}")).collect(),
         };
-        Dataset::new(names, x.columns()).map_err(|e| BaselineError::Symbolic(e.to_string()))
+        Table::new(names, x.columns()).map_err(|e| BaselineError::Symbolic(e.to_string()))
     }
 }
 

@@ -1,7 +1,7 @@
 //! `hxai sr`: symbolic regression of one column of a table on the others.
 use crate::Global;
 use anyhow::{Context, Result};
-use hxai_symreg::{Criterion, Dataset, Model, SearchConfig, Strategy, search};
+use hxai_symreg::{Criterion, Model, SearchConfig, Strategy, Table, search};
 use serde_json::{Value, json};
 use std::path::PathBuf;
 
@@ -70,7 +70,7 @@ pub enum CriterionArg {
     Pareto,
 }
 
-fn summary(m: &Model, data: &Dataset, y: &[f64]) -> Result<Value> {
+fn summary(m: &Model, data: &Table, y: &[f64]) -> Result<Value> {
     let pred = m.predict(data)?;
     let n = y.len() as f64;
     let mean = y.iter().sum::<f64>() / n;
@@ -108,7 +108,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let mut columns = table.columns.clone();
     let y = columns.remove(ti);
     names.remove(ti);
-    let data = Dataset::new(names, columns)?;
+    let data = Table::new(names, columns)?;
     let mut cfg = SearchConfig {
         seed: args.seed,
         max_complexity: args.max_complexity,

@@ -347,7 +347,8 @@ pub fn fit(
     let train_table = hybrid.feature_table(train.iter().copied())?;
     let test_table = hybrid.feature_table(test.iter().copied())?;
     let (train_delta, test_delta) = (delta_of(&train), delta_of(&test));
-    let data = hxai_symreg::Dataset::new(train_table.names.clone(), train_table.columns.clone())?;
+    let data = hxai_symreg::Table::new(train_table.names.clone(), train_table.columns.clone())
+        .map_err(hxai_symreg::SrError::from)?;
     let result = hxai_symreg::search(&data, &train_delta, &cfg.search, &mut |p| {
         progress(FitProgress::Search(p.clone()));
     })?;

@@ -149,7 +149,8 @@ impl Correction for SymbolicCorrection {
         if features.n_rows() == 0 {
             return Ok(Vec::new());
         }
-        let data = hxai_symreg::Dataset::new(features.names.clone(), features.columns.clone())?;
+        let data = hxai_symreg::Table::new(features.names.clone(), features.columns.clone())
+            .map_err(hxai_symreg::SrError::from)?;
         Ok(self.model.predict(&data)?)
     }
 }

@@ -153,7 +153,7 @@ fn symbolic_model() -> &'static hxai_symreg::Model {
     MODEL.get_or_init(|| {
         let x: Vec<f64> = (0..60).map(|i| 1.0 + i as f64 / 10.0).collect();
         let y: Vec<f64> = x.iter().map(|v| 2.0 * v + 1.0).collect();
-        let data = hxai_symreg::Dataset::new(vec!["f2".into()], vec![x]).unwrap();
+        let data = hxai_symreg::Table::new(vec!["f2".into()], vec![x]).unwrap();
         let cfg = hxai_symreg::SearchConfig {
             epochs: 1,
             candidates_per_epoch: 50,

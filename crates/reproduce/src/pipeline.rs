@@ -7,7 +7,7 @@ use crate::{Progress, ReproduceConfig, ReproduceError};
 use hxai_baselines::Matrix;
 use hxai_hybrid::{FitConfig, FitOutput, FitProgress, RecordInput, WindowSample};
 use hxai_sim::SimRecord;
-use hxai_symreg::{Dataset, SearchConfig};
+use hxai_symreg::{SearchConfig, SrError, Table};
 use std::time::Instant;
 
 /// Everything the report and the figures are made from.
@@ -40,11 +40,11 @@ fn deltas_of(samples: &[WindowSample], idx: &[usize]) -> Result<Vec<f64>, Reprod
         .collect()
 }
 
-fn dataset(names: &[String], rows: &[Vec<f64>]) -> Result<Dataset, ReproduceError> {
+fn dataset(names: &[String], rows: &[Vec<f64>]) -> Result<Table, ReproduceError> {
     let columns = (0..names.len())
         .map(|c| rows.iter().map(|r| r[c]).collect())
         .collect();
-    Ok(Dataset::new(names.to_vec(), columns)?)
+    Ok(Table::new(names.to_vec(), columns).map_err(SrError::from)?)
 }
 
 /// The search settings of every symbolic fit in the run (main fit and CV folds).

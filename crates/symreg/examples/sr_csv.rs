@@ -2,10 +2,10 @@
 //! [--max-complexity N] --json` (same JSON shape), used by the benchmark when the full CLI is
 //! not built. Reads a plain numeric CSV with a header.
 #![allow(clippy::print_stdout, missing_docs)]
-use hxai_symreg::{Dataset, Model, SearchConfig, search};
+use hxai_symreg::{Model, SearchConfig, Table, search};
 use std::error::Error;
 
-fn summary(m: &Model, data: &Dataset, y: &[f64]) -> Result<serde_json::Value, Box<dyn Error>> {
+fn summary(m: &Model, data: &Table, y: &[f64]) -> Result<serde_json::Value, Box<dyn Error>> {
     let pred = m.predict(data)?;
     let n = y.len() as f64;
     let mean = y.iter().sum::<f64>() / n;
@@ -48,7 +48,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let y = cols.remove(ti);
     let mut names = header;
     names.remove(ti);
-    let data = Dataset::new(names, cols)?;
+    let data = Table::new(names, cols)?;
     let mut cfg = SearchConfig::default();
     if let Some(s) = get("--seed") {
         cfg.seed = s.parse()?;

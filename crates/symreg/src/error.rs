@@ -5,35 +5,10 @@ use thiserror::Error;
 /// and how to mend it.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum SrError {
-    /// The data set has no columns.
-    #[error("the data set has no input columns: pass at least one feature column")]
-    NoColumns,
-    /// Names and columns differ in number.
-    #[error("{names} column names but {columns} columns: give one name per column")]
-    NamesColumnsMismatch {
-        /// Number of names.
-        names: usize,
-        /// Number of columns.
-        columns: usize,
-    },
-    /// Two columns have the same name.
-    #[error("column name `{0}` appears twice: column names must be unique")]
-    DuplicateName(String),
-    /// A column name is empty.
-    #[error("column {0} has an empty name: every column needs a name")]
-    EmptyName(usize),
-    /// Columns have different lengths.
-    #[error(
-        "column `{name}` has {got} rows but the first column has {expected}: all columns must have the same length"
-    )]
-    RaggedColumns {
-        /// Column name.
-        name: String,
-        /// Rows of the first column.
-        expected: usize,
-        /// Rows of this column.
-        got: usize,
-    },
+    /// The input table is malformed (no columns, duplicate or empty names, ragged or
+    /// non-finite columns, an unknown column).
+    #[error(transparent)]
+    Table(#[from] hxai_table::TableError),
     /// A value is NaN or infinite.
     #[error(
         "column `{name}` row {row} is {value}: remove or impute non-finite values before symbolic regression"

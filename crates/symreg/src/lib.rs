@@ -2,12 +2,12 @@
 //! compact postfix programs, with constants fitted by Levenberg-Marquardt.
 //!
 //! The paper models the correction factor of a physics model with Abzu's QLattice. This crate
-//! is our own engine for the same job, usable on any table: give it a [`Dataset`] of named
+//! is our own engine for the same job, usable on any table: give it a [`Table`] of named
 //! columns and a target, get back a [`SearchResult`] with the selected [`Model`] and the Pareto
 //! front of complexity against loss. Models print as plain text, sympy-parseable text and
 //! LaTeX, serialise to JSON, and predict on new rows by column name.
 //!
-//! Main types: [`Dataset`], [`SearchConfig`] (with [`Strategy`] and [`Criterion`]),
+//! Main types: [`Table`] (from `hxai-table`), [`SearchConfig`] (with [`Strategy`] and [`Criterion`]),
 //! [`search()`], [`SearchResult`], [`Model`], [`Progress`], and the [`SearchStrategy`] trait
 //! behind the two strategies ([`search::qlattice`], [`search::genetic`]).
 //!
@@ -24,10 +24,10 @@
 //! outcome is bit-identical for any thread count.
 //!
 //! ```
-//! use hxai_symreg::{Dataset, SearchConfig, search};
+//! use hxai_symreg::{SearchConfig, Table, search};
 //! let x: Vec<f64> = (0..200).map(|i| 0.5 + i as f64 / 100.0).collect();
 //! let y: Vec<f64> = x.iter().map(|v| 3.0 * v * v + 1.0).collect();
-//! let data = Dataset::new(vec!["x".into()], vec![x])?;
+//! let data = Table::new(vec!["x".into()], vec![x])?;
 //! let cfg = SearchConfig { epochs: 2, candidates_per_epoch: 200, ..SearchConfig::default() };
 //! let res = search(&data, &y, &cfg, &mut |_| {})?;
 //! let pred = res.best.predict(&data)?;
@@ -37,7 +37,6 @@
 #![deny(missing_docs)]
 
 pub mod bench_programs;
-mod data;
 mod error;
 pub mod eval;
 pub mod expr;
@@ -48,8 +47,8 @@ pub mod program;
 pub mod search;
 pub mod vmath;
 
-pub use data::Dataset;
 pub use error::SrError;
+pub use hxai_table::{Table, TableError, TableView};
 pub use model::Model;
 pub use ops::Op;
 pub use program::{ComplexityMeasure, Node, Program};

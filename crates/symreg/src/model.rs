@@ -3,7 +3,7 @@ use crate::eval::Evaluator;
 use crate::expr::Expr;
 use crate::fit::levenberg_marquardt;
 use crate::program::{ComplexityMeasure, Node, Program};
-use crate::{Dataset, SrError};
+use crate::{SrError, Table};
 use serde::{Deserialize, Serialize};
 
 /// A fitted symbolic model: a postfix program over named features with its parameters.
@@ -88,7 +88,7 @@ impl Model {
     /// # Errors
     /// [`SrError::UnknownColumn`] if a feature is missing; [`SrError::MalformedModel`] for a
     /// corrupt (e.g. hand-edited) model.
-    pub fn predict(&self, data: &Dataset) -> Result<Vec<f64>, SrError> {
+    pub fn predict(&self, data: &Table) -> Result<Vec<f64>, SrError> {
         self.check()?;
         let mut cols: Vec<&[f64]> = Vec::with_capacity(self.feature_names.len());
         for name in &self.feature_names {

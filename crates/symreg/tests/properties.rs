@@ -4,7 +4,7 @@ use hxai_symreg::eval::Evaluator;
 use hxai_symreg::fit::{InputScales, initial_params, levenberg_marquardt};
 use hxai_symreg::search::generate::Tables;
 use hxai_symreg::{
-    ComplexityMeasure, Dataset, Model, Node, Op, Program, SearchConfig, fit_structure,
+    ComplexityMeasure, Model, Node, Op, Program, SearchConfig, Table, fit_structure,
 };
 use proptest::prelude::*;
 use rand::SeedableRng;
@@ -145,7 +145,7 @@ proptest! {
         // NaN fields compare unequal, so compare the JSON text and the predictions
         prop_assert_eq!(back.to_json(), m.to_json());
         let cols = columns(50, seed ^ 3);
-        let data = Dataset::new(vec!["a".into(), "b".into(), "c".into()], cols).unwrap();
+        let data = Table::new(vec!["a".into(), "b".into(), "c".into()], cols).unwrap();
         let p1 = m.predict(&data).unwrap();
         let p2 = back.predict(&data).unwrap();
         for (x, y) in p1.iter().zip(&p2) {
@@ -239,7 +239,7 @@ proptest! {
             .iter()
             .map(|v| v + 0.01 * var.sqrt() * rng.gen_range(-1.7..1.7))
             .collect();
-        let data = Dataset::new(vec!["a".into(), "b".into(), "c".into()], cols).unwrap();
+        let data = Table::new(vec!["a".into(), "b".into(), "c".into()], cols).unwrap();
         let plain = SearchConfig { snap_constants: false, ..SearchConfig::default() };
         let (Ok(a), Ok(b)) = (
             fit_structure(&data, &y, &prog, &plain),

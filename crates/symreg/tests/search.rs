@@ -1,7 +1,8 @@
 //! Recovery, determinism, the paper's eq. 12-13, and bad input.
 #![allow(clippy::unwrap_used)]
 use hxai_symreg::{
-    Dataset, Node, Op, Program, SearchConfig, SearchResult, SrError, fit_structure, search,
+    Node, Op, Program, SearchConfig, SearchResult, SrError, Table, TableError, fit_structure,
+    search,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -34,7 +35,7 @@ fn run_law(f: impl Fn(&[f64]) -> f64, n_in: usize, cfg: &SearchConfig) -> (Searc
     let y: Vec<f64> = (0..300)
         .map(|r| f(&cols.iter().map(|c| c[r]).collect::<Vec<_>>()))
         .collect();
-    let data = Dataset::new(names.clone(), cols).unwrap();
+    let data = Table::new(names.clone(), cols).unwrap();
     let res = search(&data, &y, cfg, &mut |_| {}).unwrap();
     // held-out rows from the same law
     let test_cols: Vec<Vec<f64>> = (0..n_in)
@@ -43,7 +44,7 @@ fn run_law(f: impl Fn(&[f64]) -> f64, n_in: usize, cfg: &SearchConfig) -> (Searc
     let ty: Vec<f64> = (0..200)
         .map(|r| f(&test_cols.iter().map(|c| c[r]).collect::<Vec<_>>()))
         .collect();
-    let test = Dataset::new(names, test_cols).unwrap();
+    let test = Table::new(names, test_cols).unwrap();
     let score = r2(&res.best.predict(&test).unwrap(), &ty);
     (res, score)
 }
@@ -98,7 +99,7 @@ fn identical_for_1_2_4_threads() {
     assert_eq!(outs[0], outs[2]);
 }
 
-fn eq12_data(n: usize, seed: u64) -> (Dataset, Vec<f64>) {
+fn eq12_data(n: usize, seed: u64) -> (Table, Vec<f64>) {
     // The paper's eq. 12-13 with f1 (frequency), f2 and f6 in plausible ranges and three
     // unrelated distractor features.
     let f1 = uniform(n, 10.0, 40.0, seed);
@@ -117,7 +118,7 @@ fn eq12_data(n: usize, seed: u64) -> (Dataset, Vec<f64>) {
         .iter()
         .map(|s| s.to_string())
         .collect();
-    (Dataset::new(names, vec![f1, f2, f6, d1, d2]).unwrap(), y)
+    (Table::new(names, vec![f1, f2, f6, d1, d2]).unwrap(), y)
 }
 
 // The structure of eq. 12-13, gaussian2(mul(f1, f6), f2), has complexity 5 and, fitted to data
@@ -163,7 +164,7 @@ fn search_fits_paper_eq12_data() {
 fn progress_is_reported_every_epoch() {
     let x = uniform(50, 1.0, 2.0, 3);
     let y: Vec<f64> = x.iter().map(|v| v * 2.0).collect();
-    let data = Dataset::new(vec!["x".into()], vec![x]).unwrap();
+    let data = Table::new(vec!["x".into()], vec![x]).unwrap();
     let cfg = SearchConfig {
         epochs: 3,
         candidates_per_epoch: 50,
@@ -183,25 +184,25 @@ fn progress_is_reported_every_epoch() {
 fn bad_input_gives_typed_errors() {
     let x = vec![1.0, 2.0, 3.0];
     assert!(matches!(
-        Dataset::new(vec!["x".into()], vec![vec![1.0, f64::NAN]]),
-        Err(SrError::NonFinite { row: 1, .. })
+        Table::new(vec!["x".into()], vec![vec![1.0, f64::NAN]]),
+        Err(TableError::NonFinite { row: 1, .. })
     ));
     assert!(matches!(
-        Dataset::new(
+        Table::new(
             vec!["a".into(), "b".into()],
             vec![vec![1.0], vec![1.0, 2.0]]
         ),
-        Err(SrError::RaggedColumns { .. })
+        Err(TableError::RaggedColumns { .. })
     ));
     assert!(matches!(
-        Dataset::new(vec!["a".into()], vec![]),
-        Err(SrError::NoColumns)
+        Table::new(vec!["a".into()], vec![]),
+        Err(TableError::NoColumns)
     ));
     assert!(matches!(
-        Dataset::new(vec!["a".into(), "a".into()], vec![vec![1.0], vec![2.0]]),
-        Err(SrError::DuplicateName(_))
+        Table::new(vec!["a".into(), "a".into()], vec![vec![1.0], vec![2.0]]),
+        Err(TableError::DuplicateName(_))
     ));
-    let data = Dataset::new(vec!["x".into()], vec![x.clone()]).unwrap();
+    let data = Table::new(vec!["x".into()], vec![x.clone()]).unwrap();
     let cfg = SearchConfig::default();
     assert!(matches!(
         search(&data, &[1.0, 2.0], &cfg, &mut |_| {}),
@@ -216,7 +217,7 @@ fn bad_input_gives_typed_errors() {
         Err(SrError::TooFewRows { .. })
     ));
     let xs: Vec<f64> = (0..20).map(|i| i as f64).collect();
-    let data = Dataset::new(vec!["x".into()], vec![xs]).unwrap();
+    let data = Table::new(vec!["x".into()], vec![xs]).unwrap();
     assert!(matches!(
         search(&data, &[4.0; 20], &cfg, &mut |_| {}),
         Err(SrError::ConstantTarget(_))
@@ -252,7 +253,7 @@ fn bad_input_gives_typed_errors() {
         ..SearchConfig::default()
     };
     let res = search(&data, &y, &small, &mut |_| {}).unwrap();
-    let other = Dataset::new(vec!["z".into()], vec![vec![1.0]]).unwrap();
+    let other = Table::new(vec!["z".into()], vec![vec![1.0]]).unwrap();
     assert!(matches!(res.best.predict(&other), Err(SrError::UnknownColumn(c)) if c == "x"));
     assert!(matches!(
         hxai_symreg::Model::from_json("{\"nope\": 1}"),
@@ -266,7 +267,7 @@ fn bad_input_gives_typed_errors() {
 fn snapped_constants_are_simple() {
     let x = uniform(200, 1.0, 3.0, 8);
     let y: Vec<f64> = x.iter().map(|v| 3.0 * v * v + 2.0).collect();
-    let data = Dataset::new(vec!["x".into()], vec![x]).unwrap();
+    let data = Table::new(vec!["x".into()], vec![x]).unwrap();
     let prog = Program {
         nodes: vec![Node::Var(0), Node::Var(0), Node::Op(Op::Mul)],
         affine: true,
@@ -278,7 +279,7 @@ fn snapped_constants_are_simple() {
 }
 
 /// `1.5 x0 x1` plus Gaussian noise of 1 % of the target's standard deviation, 1,000 rows.
-fn noisy_product() -> (Dataset, Vec<f64>) {
+fn noisy_product() -> (Table, Vec<f64>) {
     let x0 = uniform(1000, 1.0, 5.0, 21);
     let x1 = uniform(1000, 1.0, 5.0, 22);
     let clean: Vec<f64> = x0.iter().zip(&x1).map(|(a, b)| 1.5 * a * b).collect();
@@ -293,7 +294,7 @@ fn noisy_product() -> (Dataset, Vec<f64>) {
             v + 0.01 * sd * (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
         })
         .collect();
-    let data = Dataset::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+    let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
     (data, y)
 }
 

@@ -8,7 +8,7 @@ use crate::fit::{InputScales, initial_params, levenberg_marquardt};
 use crate::model::{Model, snap_params};
 use crate::ops::{Op, parse_operators};
 use crate::program::{ComplexityMeasure, Program};
-use crate::{Dataset, SrError};
+use crate::{SrError, Table};
 use generate::Tables;
 use rand::SeedableRng;
 use rand::seq::index::sample;
@@ -483,7 +483,7 @@ impl SearchStrategy for Combined {
 }
 
 /// The target must have one finite value per row of `data`.
-fn check_target(data: &Dataset, target: &[f64]) -> Result<(), SrError> {
+fn check_target(data: &Table, target: &[f64]) -> Result<(), SrError> {
     if target.len() != data.n_rows() {
         return Err(SrError::TargetLength {
             target: target.len(),
@@ -511,7 +511,7 @@ fn check_target(data: &Dataset, target: &[f64]) -> Result<(), SrError> {
 /// Mismatched lengths, non-finite or constant target, too few rows, bad configuration, or
 /// no finite model at all.
 pub fn search(
-    data: &Dataset,
+    data: &Table,
     target: &[f64],
     cfg: &SearchConfig,
     progress: &mut dyn FnMut(&Progress),
@@ -682,7 +682,7 @@ pub fn search(
 /// # Errors
 /// As [`search`], plus [`SrError::MalformedModel`] for an invalid program.
 pub fn fit_structure(
-    data: &Dataset,
+    data: &Table,
     target: &[f64],
     program: &Program,
     cfg: &SearchConfig,
@@ -730,7 +730,7 @@ pub fn fit_structure(
 
 fn finish(
     problem: &Problem,
-    data: &Dataset,
+    data: &Table,
     archive: &Archive,
     evaluations: u64,
     t0: Instant,
@@ -868,7 +868,7 @@ fn to_model(
     mse: f64,
     score: f64,
     complexity: usize,
-    data: &Dataset,
+    data: &Table,
 ) -> Model {
     // Renumber the inputs so the model names only the features it uses.
     let used = prog.vars();
