@@ -1,8 +1,9 @@
+#!/usr/bin/env python3
 """Times scikit-learn's Table 3 baselines on the table of crates/baselines/benches/baselines.rs.
 
 Run: RAYON_NUM_THREADS=2 is irrelevant here; the forest uses n_jobs=2 (2 cores), all other
 models scikit-learn's single-threaded defaults. Usage:
-    /work/main/.venv/bin/python scripts/bench_baselines.py
+    python3 scripts/bench_baselines.py   (scikit-learn as pinned in scripts/requirements.txt)
 Prints median seconds of fit+predict and of a 5-fold CV per model.
 """
 import math

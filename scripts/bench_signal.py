@@ -2,7 +2,9 @@
 """Times in scipy/numpy the computations of the criterion benches of hxai-signal and
 hxai-features (crates/signal/benches/physics.rs, crates/features/benches/features.rs).
 
-Run:  /work/main/.venv/bin/python scripts/bench_signal.py [--repeat 7] [--number 20]
+Run:  python3 scripts/bench_signal.py [--repeat 7] [--number 20]
+with numpy and scipy as pinned in scripts/requirements.txt (`cargo xtask refs` leaves such an
+environment in target/refs-venv).
 Prints one line per case: name, samples, best seconds per call, samples per second.
 Best of `repeat` timeit runs of `number` calls each (the minimum is the least noisy estimate
 on a shared machine).

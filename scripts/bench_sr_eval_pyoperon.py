@@ -9,7 +9,8 @@ Default: the programs of testdata/symreg/eval_programs.json (the same 100 random
 applications of each operator on 10,000 rows (unary: op(op(...op(X1))); binary:
 ((X1 op X2) op X2) ...), best of 7 rounds of 200 evaluations.
 
-Run: /work/main/.venv-sr/bin/python scripts/bench_sr_eval_pyoperon.py [--per-op]
+Run: .venv-sr/bin/python scripts/bench_sr_eval_pyoperon.py [--per-op]
+(.venv-sr is the environment `cargo xtask bench-sr` makes).
 """
 import json, os, sys, time
 import numpy as np

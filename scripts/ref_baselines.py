@@ -1,11 +1,15 @@
+#!/usr/bin/env python3
 """Reference results of scikit-learn's Table 3 baselines for hxai-baselines.
 
-Run with /work/main/.venv/bin/python scripts/ref_baselines.py ;
-writes testdata/baselines/reference.json. Not run by CI.
+Run: `cargo xtask refs` (all ref scripts, pinned versions from scripts/requirements.txt), or
+`python3 scripts/ref_baselines.py` in an environment with those versions.
+Writes testdata/baselines/reference.json. Not run by CI.
 All features are continuous random draws, so no two values tie (tree splits are unique).
 """
 import json
+import os
 import pathlib
+import tempfile
 
 import numpy as np
 import sklearn
@@ -16,6 +20,16 @@ from sklearn.tree import DecisionTreeRegressor
 
 rng = np.random.default_rng(7)
 out = {"versions": {"numpy": np.__version__, "sklearn": sklearn.__version__}}
+
+
+def write_atomic(path, text):
+    """Writes `text` to `path` through a temporary file in the same folder, then a rename,
+    so an interrupted run never leaves a half-written reference file."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
 
 
 def rows(a):
@@ -58,7 +72,6 @@ out["forest"] = {"x_train": rows(xtr), "y_train": ytr.tolist(), "x_test": rows(x
                  "test_r2": float(r2_score(yte, f.predict(xte)))}
 
 path = pathlib.Path(__file__).resolve().parent.parent / "testdata" / "baselines" / "reference.json"
-path.parent.mkdir(parents=True, exist_ok=True)
-path.write_text(json.dumps(out))
+write_atomic(path, json.dumps(out))
 print(f"wrote {path}")
 print("lasso alpha", m.alpha_ if False else out["lasso"]["alpha"], "forest r2", out["forest"]["test_r2"])

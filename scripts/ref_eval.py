@@ -1,10 +1,14 @@
+#!/usr/bin/env python3
 """Reference vectors for hxai-eval (metrics, t-test, confidence intervals).
 
-Run with /work/main/.venv/bin/python scripts/ref_eval.py ; writes testdata/eval/reference.json.
-Not run by CI. Values come from scikit-learn and scipy.
+Run: `cargo xtask refs` (all ref scripts, pinned versions from scripts/requirements.txt), or
+`python3 scripts/ref_eval.py` in an environment with those versions.
+Writes testdata/eval/reference.json. Not run by CI. Values come from scikit-learn and scipy.
 """
 import json
+import os
 import pathlib
+import tempfile
 
 import numpy as np
 import scipy
@@ -14,6 +18,16 @@ from sklearn.metrics import mean_absolute_error, mean_squared_error, r2_score
 
 rng = np.random.default_rng(20261121)
 out = {"versions": {"numpy": np.__version__, "scipy": scipy.__version__, "sklearn": sklearn.__version__}}
+
+
+def write_atomic(path, text):
+    """Writes `text` to `path` through a temporary file in the same folder, then a rename,
+    so an interrupted run never leaves a half-written reference file."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
 
 metrics = []
 for n in [2, 5, 17, 100, 333]:
@@ -59,6 +73,5 @@ for n in [2, 3, 5, 10, 30]:
 out["intervals"] = intervals
 
 path = pathlib.Path(__file__).resolve().parent.parent / "testdata" / "eval" / "reference.json"
-path.parent.mkdir(parents=True, exist_ok=True)
-path.write_text(json.dumps(out, indent=1))
+write_atomic(path, json.dumps(out, indent=1))
 print(f"wrote {path}")

@@ -1,12 +1,15 @@
 #!/usr/bin/env python3
 """Reference vectors for hxai-signal and hxai-features, computed with numpy/scipy.
 
-Run:  /work/main/.venv/bin/python scripts/ref_signal.py
+Run: `cargo xtask refs` (all ref scripts, pinned versions from scripts/requirements.txt), or
+`python3 scripts/ref_signal.py` in an environment with those versions.
 Writes testdata/signal/*.json and testdata/features/*.json (small; committed; not run by CI).
 Signals are drawn from a seeded numpy generator and stored, so Rust never has to regenerate them.
 """
 import json
+import os
 import pathlib
+import tempfile
 
 import numpy as np
 import scipy
@@ -20,7 +23,17 @@ rng = np.random.default_rng(20260521)
 
 def dump(path, obj):
     obj = {"generator": f"scripts/ref_signal.py (scipy {scipy.__version__}, numpy {np.__version__})", **obj}
-    path.write_text(json.dumps(obj, separators=(",", ":")) + "\n")
+    write_atomic(path, json.dumps(obj, separators=(",", ":")) + "\n")
+
+
+def write_atomic(path, text):
+    """Writes `text` to `path` through a temporary file in the same folder, then a rename,
+    so an interrupted run never leaves a half-written reference file."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
 
 
 def lst(a):
