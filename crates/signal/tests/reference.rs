@@ -1,4 +1,9 @@
 //! Agreement with stored scipy output (testdata/signal, written by scripts/ref_signal.py).
+//!
+//! Tolerances: Butterworth SOS coefficients 1e-12 relative; `sosfilt`, `sosfilt_zi`,
+//! `sosfiltfilt`, Welch and periodogram densities, `cumulative_trapezoid`, `detrend` and the
+//! whole physics chain (both integrators) 1e-9 relative, with a floor of 1e-9 times the
+//! largest reference value of the vector (each assertion says so again).
 #![allow(clippy::unwrap_used)]
 
 use hxai_signal::{
