@@ -1,6 +1,7 @@
 //! The fixed set of random programs and data used to measure evaluation throughput, shared
 //! by the criterion bench and the pyoperon comparison script (via
-//! `testdata/symreg/eval_programs.json`).
+//! `testdata/symreg/eval_programs.json`). Internal: public (and hidden from the docs) only
+//! for the benches, the example and the tests.
 use crate::Op;
 use crate::program::{ComplexityMeasure, Program};
 use crate::search::generate::Tables;

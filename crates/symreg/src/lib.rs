@@ -8,8 +8,10 @@
 //! LaTeX, serialise to JSON, and predict on new rows by column name.
 //!
 //! Main types: [`Table`] (from `hxai-table`), [`SearchConfig`] (with [`Strategy`] and [`Criterion`]),
-//! [`search()`], [`SearchResult`], [`Model`], [`Progress`], and the [`SearchStrategy`] trait
-//! behind the two strategies ([`search::qlattice`], [`search::genetic`]).
+//! [`search()`], [`SearchResult`], [`Model`], [`Progress`], [`fit_structure`]. The two
+//! strategies (QLattice-style path sampling and island genetic programming) sit behind an
+//! internal trait: [`Strategy`] chooses between them, and the [`search` module](mod@search)
+//! maps the engine file by file.
 //!
 //! Design decision: parameters live at the leaves and at the output only. Every input enters
 //! as `w * x + b` and every model as `scale * root + offset` (QLattice's parameterisation), so
@@ -36,6 +38,7 @@
 //! ```
 #![deny(missing_docs)]
 
+#[doc(hidden)]
 pub mod bench_programs;
 mod error;
 pub mod eval;
@@ -53,6 +56,5 @@ pub use model::Model;
 pub use ops::Op;
 pub use program::{ComplexityMeasure, Node, Program};
 pub use search::{
-    Archive, Candidate, Criterion, Fitted, Progress, SearchConfig, SearchResult, SearchStrategy,
-    Strategy, fit_structure, search,
+    Criterion, Progress, SearchConfig, SearchResult, Strategy, fit_structure, search,
 };

@@ -1,8 +1,44 @@
 //! Random program generation and variation (mutation, crossover) on postfix code.
+//!
+//! Internal to the search; public (and hidden from the docs) only so that the property tests
+//! and [`crate::bench_programs`] can draw programs the way the search does.
+use super::config::SearchConfig;
 use crate::ops::Op;
 use crate::program::{ComplexityMeasure, Node, Program};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
+
+/// Prior weight of a binary operator against a unary one (weight 1). QLattice's tables weigh
+/// `add`, `multiply` and two-input `gaussian` 5.3 against 1 for unary functions: a binary
+/// node joins two inputs, and most laws are products, sums and ratios of their inputs.
+pub(crate) const BINARY_OP_WEIGHT: f64 = 5.3;
+
+/// Prior weight of a unary operator.
+pub(crate) const UNARY_OP_WEIGHT: f64 = 1.0;
+
+/// Chance that a leaf is a free constant when inputs are affine (`w x + b`). Constants are
+/// free under the paper's complexity, and with affine inputs they are rarely needed (only for
+/// shifts inside the tree, as in `1 - v^2/c^2`), so they are drawn rarely.
+const CONST_LEAF_P_AFFINE: f64 = 0.08;
+
+/// Chance that a leaf is a free constant when inputs are plain: constants then carry every
+/// scale and offset, so they are drawn about three times as often.
+const CONST_LEAF_P_PLAIN: f64 = 0.25;
+
+/// Chance that [`Tables::grow`] stops at a leaf although its budget allows an operator, so
+/// random programs span every size up to the budget instead of filling it.
+const EARLY_LEAF_P: f64 = 0.25;
+
+/// Mutation kinds (insert, change, delete, replace a subtree) at a leaf or a binary node:
+/// QLattice's 4 : 3 : 1 for insert, change, delete, plus an occasional subtree replacement.
+const MUTATION_W_LEAF_OR_BINARY: [f64; 4] = [4.0, 3.0, 1.0, 1.0];
+
+/// Mutation kinds at a unary node: QLattice's 1 : 1 : 1.5, deleting more often so chains
+/// of unary functions do not pile up, plus a rarer subtree replacement.
+const MUTATION_W_UNARY: [f64; 4] = [1.0, 1.0, 1.5, 0.5];
+
+/// Largest subtree (in nodes) grown by the replace-a-subtree mutation: a local move.
+const REPLACEMENT_SUBTREE_MAX: usize = 4;
 
 /// Weighted tables the generators draw from.
 #[derive(Debug, Clone)]
@@ -37,10 +73,34 @@ fn pick(rng: &mut ChaCha8Rng, w: &[f64]) -> usize {
 }
 
 impl Tables {
+    /// The tables of a search: the allowed operators weighted by arity
+    /// ([`BINARY_OP_WEIGHT`], [`UNARY_OP_WEIGHT`]) and the inputs by their prior `in_w`.
+    pub(crate) fn for_search(ops: Vec<Op>, in_w: Vec<f64>, cfg: &SearchConfig) -> Self {
+        Tables {
+            op_w: ops
+                .iter()
+                .map(|o| {
+                    if o.arity() == 2 {
+                        BINARY_OP_WEIGHT
+                    } else {
+                        UNARY_OP_WEIGHT
+                    }
+                })
+                .collect(),
+            ops,
+            in_w,
+            affine: cfg.affine_inputs,
+            measure: cfg.complexity_measure,
+            max_complexity: cfg.max_complexity,
+        }
+    }
+
     fn leaf(&self, rng: &mut ChaCha8Rng) -> Node {
-        // Constants are free under the paper's complexity; with affine inputs they are
-        // rarely needed (only for shifts inside the tree, as in 1 - v^2/c^2).
-        let p_const = if self.affine { 0.08 } else { 0.25 };
+        let p_const = if self.affine {
+            CONST_LEAF_P_AFFINE
+        } else {
+            CONST_LEAF_P_PLAIN
+        };
         if rng.gen_bool(p_const) {
             Node::Const
         } else {
@@ -69,7 +129,7 @@ impl Tables {
 
     /// A random expression of at most `budget` nodes, appended to `out`.
     pub fn grow(&self, rng: &mut ChaCha8Rng, budget: usize, out: &mut Vec<Node>) {
-        if budget <= 1 || rng.gen_bool(0.25) {
+        if budget <= 1 || rng.gen_bool(EARLY_LEAF_P) {
             out.push(self.leaf(rng));
             return;
         }
@@ -115,11 +175,10 @@ impl Tables {
         let pos = rng.gen_range(0..n);
         let node = p.nodes[pos];
         let is_unary = matches!(node, Node::Op(op) if op.arity() == 1);
-        // weights: insert, change, delete, replace subtree
         let w = if is_unary {
-            [1.0, 1.0, 1.5, 0.5]
+            MUTATION_W_UNARY
         } else {
-            [4.0, 3.0, 1.0, 1.0]
+            MUTATION_W_LEAF_OR_BINARY
         };
         let mut nodes = p.nodes.clone();
         match pick(rng, &w) {
@@ -170,7 +229,7 @@ impl Tables {
             _ => {
                 let start = p.subtree_start(pos);
                 let mut sub = Vec::new();
-                let size = rng.gen_range(1..=4);
+                let size = rng.gen_range(1..=REPLACEMENT_SUBTREE_MAX);
                 self.grow(rng, size, &mut sub);
                 nodes.splice(start..=pos, sub);
             }

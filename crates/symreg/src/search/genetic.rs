@@ -1,16 +1,24 @@
 //! Island genetic programming: tournament selection, subtree crossover and mutation,
 //! age-regularised replacement, migration from the shared archive.
+use super::archive::{Archive, Candidate, Fitted};
 use super::generate::Tables;
 use super::qlattice::same_layout;
-use super::{Archive, Candidate, Fitted, SearchStrategy};
+use super::strategy::SearchStrategy;
 use crate::program::Program;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
+/// Islands (sub-populations that evolve apart and meet through migration), one per
+/// candidate index modulo 4.
 const ISLANDS: usize = 4;
+/// Tournament size: moderate selection pressure (the best of 5 random members).
 const TOURNAMENT: usize = 5;
+/// Share of children made by crossover; the rest are mutants.
 const CROSSOVER: f64 = 0.3;
+/// Share of fresh random programs, to keep the islands diverse.
 const FRESH: f64 = 0.05;
+/// Smallest island capacity, whatever `candidates_per_epoch`, so tournaments have a pool.
+const MIN_ISLAND: usize = 20;
 /// Parsimony pressure: criterion units added per unit of complexity in tournaments.
 const PARSIMONY: f64 = 2.0;
 
@@ -41,7 +49,7 @@ impl Genetic {
     }
 
     fn capacity(&self) -> usize {
-        (self.per_epoch / ISLANDS).max(20)
+        (self.per_epoch / ISLANDS).max(MIN_ISLAND)
     }
 }
 

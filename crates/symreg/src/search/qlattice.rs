@@ -1,14 +1,35 @@
 //! QLattice-style path sampling: cells of lineages, decaying distributions over operators
 //! and inputs, mutual-information priors, age-based retirement.
+use super::archive::{Archive, Candidate, Fitted};
 use super::generate::Tables;
-use super::{Archive, Candidate, Fitted, SearchStrategy};
+use super::strategy::SearchStrategy;
 use crate::program::{Node, Program};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
+/// Cells (independent lineage pools), as in QLattice.
 const N_CELLS: usize = 25;
+/// Models a cell keeps between epochs, as in QLattice.
 const KEEP: usize = 6;
+/// Weight of the old operator and input boosts when the epoch's credit is mixed in: the
+/// distributions follow what wins with a memory of about three epochs (`0.7^3 = 0.34`).
 const DECAY: f64 = 0.7;
+/// Added to every boost before it multiplies a prior weight, so an operator or input the
+/// best models stopped using keeps a fifth of its chance and can come back.
+const BOOST_FLOOR: f64 = 0.2;
+/// QLattice's retirement age `MAX_AGE_TOP * exp(-rank / MAX_AGE_RANK_SCALE) + MAX_AGE_MIN`
+/// (rank within its cell): a cell's best lineage may survive about 50 epochs, the sixth
+/// (rank 5) about 36, so older lineages must keep winning to stay.
+const MAX_AGE_TOP: f64 = 50.0;
+/// See [`MAX_AGE_TOP`].
+const MAX_AGE_RANK_SCALE: f64 = 14.4;
+/// See [`MAX_AGE_TOP`]: every lineage lives at least one more epoch.
+const MAX_AGE_MIN: f64 = 1.0;
+/// Chance that a cell forgets a lineage other than its best at each update, so cells do not
+/// settle on one family and keep room for fresh programs.
+const FORGET_P: f64 = 0.1;
+/// The best `1 / CREDIT_SHARE` of an epoch's fits credit their operators and inputs.
+const CREDIT_SHARE: usize = 10;
 
 #[derive(Debug, Clone)]
 struct Kept {
@@ -43,12 +64,12 @@ impl QLattice {
     fn local_tables(&self, t: &Tables) -> Tables {
         let mut l = t.clone();
         for (w, b) in l.op_w.iter_mut().zip(&self.op_boost) {
-            *w *= 0.2 + b;
+            *w *= BOOST_FLOOR + b;
         }
         // inputs are 16x more likely than operators below the root in QLattice; our grower
         // decides leaf-vs-operator by budget, so only relative input weights matter here.
         for (w, b) in l.in_w.iter_mut().zip(&self.in_boost) {
-            *w *= 0.2 + b;
+            *w *= BOOST_FLOOR + b;
         }
         l
     }
@@ -122,12 +143,13 @@ impl SearchStrategy for QLattice {
             pool.sort_by(|a, b| a.score.total_cmp(&b.score).then(a.program.cmp(&b.program)));
             let mut next: Vec<Kept> = Vec::new();
             for (rank, k) in pool.into_iter().enumerate() {
-                let max_age = 50.0 * (-(rank as f64) / 14.4).exp() + 1.0;
+                let max_age =
+                    MAX_AGE_TOP * (-(rank as f64) / MAX_AGE_RANK_SCALE).exp() + MAX_AGE_MIN;
                 if (k.age as f64) > max_age || next.iter().any(|n| n.program == k.program) {
                     continue;
                 }
                 // forgetting: weaker lineages are dropped at random
-                if !next.is_empty() && rng.gen_bool(0.1) {
+                if !next.is_empty() && rng.gen_bool(FORGET_P) {
                     continue;
                 }
                 next.push(k);
@@ -140,7 +162,7 @@ impl SearchStrategy for QLattice {
         // decaying distributions over operators and inputs, credited by the best tenth
         let mut ranked: Vec<&Fitted> = fitted.iter().filter(|f| f.score.is_finite()).collect();
         ranked.sort_by(|a, b| a.score.total_cmp(&b.score));
-        let top = &ranked[..(ranked.len() / 10).max(1).min(ranked.len())];
+        let top = &ranked[..(ranked.len() / CREDIT_SHARE).max(1).min(ranked.len())];
         if top.is_empty() {
             return;
         }

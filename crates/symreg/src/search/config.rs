@@ -1,0 +1,173 @@
+//! Search settings: which strategy, which selection criterion, and every knob with its
+//! default and its check.
+use crate::SrError;
+use crate::ops::{Op, parse_operators};
+use crate::program::ComplexityMeasure;
+use serde::{Deserialize, Serialize};
+
+/// Largest `max_complexity` accepted. The paper searches up to 10; 60 leaves room for
+/// larger laws while keeping every candidate's Levenberg-Marquardt system (about two
+/// parameters per leaf) small enough for the dense Cholesky solve of [`crate::fit`].
+pub(crate) const MAX_COMPLEXITY_LIMIT: usize = 60;
+
+/// Fewest rows a search runs on, and the smallest `max_fit_rows`. The simplest model has
+/// four parameters (output scale and offset, one input's weight and bias); twice that many
+/// rows leaves the fit residual degrees of freedom, so a criterion can tell models apart.
+pub(crate) const MIN_ROWS: usize = 8;
+
+/// Which search strategy runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Strategy {
+    /// QLattice-style path sampling over lineages (cells).
+    QLattice,
+    /// Island genetic programming.
+    Genetic,
+    /// Both, sharing a Pareto archive (default).
+    #[default]
+    Combined,
+}
+
+/// How the selected model is chosen.
+///
+/// With `Bic` and `Aic`, `k` counts fitted parameters: constants snapped to exact values
+/// (0, +-1, integers, halves) are not counted, and the selected model is the simplest one
+/// whose criterion is within one parameter's charge (`lambda ln n`, or `2 lambda`) of the
+/// lowest. Snapping constants to exact values is judged by the same charge (BIC's under
+/// `ParetoScore`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Criterion {
+    /// Bayesian information criterion `n ln(MSE/var + 1e-12) + lambda k ln n` (default).
+    #[default]
+    Bic,
+    /// Akaike information criterion `n ln(MSE/var + 1e-12) + 2 lambda k`.
+    Aic,
+    /// PySR's rule: on the Pareto front, among models with loss within 1.5x of the best,
+    /// the largest drop of log-loss per unit of complexity.
+    ParetoScore,
+}
+
+/// Search settings. `Default` gives the paper's set-up: seed 42, 10 epochs, complexity
+/// at most 10, BIC with lambda 1, the paper's operators plus `exp`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(default)]
+pub struct SearchConfig {
+    /// Seed of every random choice.
+    pub seed: u64,
+    /// Number of epochs (each proposes `candidates_per_epoch` models).
+    pub epochs: usize,
+    /// Largest complexity.
+    pub max_complexity: usize,
+    /// Allowed operator names (see [`Op::parse`]).
+    pub operators: Vec<String>,
+    /// Search strategy.
+    pub strategy: Strategy,
+    /// Model selection criterion.
+    pub criterion: Criterion,
+    /// Weight lambda of the parameter penalty in BIC/AIC.
+    pub complexity_penalty: f64,
+    /// Stop after this many seconds (checked between batches of candidates; a run that hits
+    /// it depends on timing).
+    pub time_limit_s: Option<f64>,
+    /// Stop after this many fitted models.
+    pub max_evaluations: Option<u64>,
+    /// Inputs enter as `w x + b` (QLattice) when true.
+    pub affine_inputs: bool,
+    /// How complexity is counted.
+    pub complexity_measure: ComplexityMeasure,
+    /// Candidates proposed per epoch.
+    pub candidates_per_epoch: usize,
+    /// Rows used to fit candidates during the search (a seeded subsample when the data has
+    /// more); the reported models are refitted on all rows.
+    pub max_fit_rows: usize,
+    /// Levenberg-Marquardt iterations per candidate.
+    pub lm_iterations: usize,
+    /// Snap constants to simple values in reported models when the loss barely changes.
+    pub snap_constants: bool,
+    /// Relative loss increase allowed when a constant is rounded to 1-3 significant digits
+    /// (snaps to exact values such as 0, 1 or 1/2 are judged by the criterion instead).
+    pub snap_tolerance: f64,
+}
+
+impl Default for SearchConfig {
+    fn default() -> Self {
+        Self {
+            seed: 42,
+            epochs: 10,
+            max_complexity: 10,
+            operators: [
+                "add",
+                "sub",
+                "mul",
+                "div",
+                "sin",
+                "cos",
+                "gaussian",
+                "gaussian2",
+                "log",
+                "abs",
+                "exp",
+            ]
+            .iter()
+            .map(|s| s.to_string())
+            .collect(),
+            strategy: Strategy::Combined,
+            criterion: Criterion::Bic,
+            complexity_penalty: 1.0,
+            time_limit_s: None,
+            max_evaluations: None,
+            affine_inputs: true,
+            complexity_measure: ComplexityMeasure::FeaturesPlusOperators,
+            candidates_per_epoch: 1000,
+            max_fit_rows: 2000,
+            lm_iterations: 25,
+            snap_constants: true,
+            snap_tolerance: 1e-3,
+        }
+    }
+}
+
+impl SearchConfig {
+    /// Checks the settings and parses the operators.
+    ///
+    /// # Errors
+    /// [`SrError::UnknownOperator`] or [`SrError::InvalidConfig`].
+    pub fn check(&self) -> Result<Vec<Op>, SrError> {
+        let ops = parse_operators(&self.operators)?;
+        if self.max_complexity == 0 || self.max_complexity > MAX_COMPLEXITY_LIMIT {
+            return Err(SrError::InvalidConfig(format!(
+                "max_complexity is {}: choose 1 to {MAX_COMPLEXITY_LIMIT}",
+                self.max_complexity
+            )));
+        }
+        if self.epochs == 0 {
+            return Err(SrError::InvalidConfig(
+                "epochs is 0: run at least one epoch".into(),
+            ));
+        }
+        if !(self.complexity_penalty.is_finite() && self.complexity_penalty >= 0.0) {
+            return Err(SrError::InvalidConfig(
+                "complexity_penalty must be finite and >= 0".into(),
+            ));
+        }
+        if let Some(t) = self.time_limit_s
+            && !(t.is_finite() && t > 0.0)
+        {
+            return Err(SrError::InvalidConfig(
+                "time_limit_s must be a positive number of seconds".into(),
+            ));
+        }
+        if self.max_evaluations == Some(0) {
+            return Err(SrError::InvalidConfig(
+                "max_evaluations is 0: allow at least one model to be fitted".into(),
+            ));
+        }
+        if self.candidates_per_epoch == 0 || self.max_fit_rows < MIN_ROWS {
+            return Err(SrError::InvalidConfig(
+                "candidates_per_epoch must be > 0 and max_fit_rows >= 8".into(),
+            ));
+        }
+        Ok(ops)
+    }
+}

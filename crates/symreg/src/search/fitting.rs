@@ -1,0 +1,260 @@
+//! Fitting one candidate: the data a search fits on ([`Problem`]), the criterion that scores
+//! a fit, the seeds of the random starts, and the checks on the target.
+use super::archive::{Candidate, Fitted};
+use super::config::{Criterion, MIN_ROWS, SearchConfig};
+use crate::eval::Evaluator;
+use crate::fit::{InputScales, initial_params, levenberg_marquardt};
+use crate::{SrError, Table};
+use rand::SeedableRng;
+use rand::seq::index::sample;
+use rand_chacha::ChaCha8Rng;
+
+/// Added to the normalised loss `MSE / var` inside the criterion's logarithm. It keeps the
+/// logarithm finite for an exact fit and makes every fit better than a relative RMSE of
+/// `1e-6` count alike, so among exact fits the parameter charge alone decides (rounding
+/// noise must not buy extra operators).
+const LOSS_FLOOR: f64 = 1e-12;
+
+/// Levenberg-Marquardt stops when one step improves the loss by less than this relative
+/// amount. During the search a fit only has to rank its structure, so it stops early; the
+/// reported models are refitted to [`super::selection`]'s tighter tolerance.
+const SEARCH_LM_TOLERANCE: f64 = 1e-6;
+
+/// A target whose variance is below this times `max(|mean|, 1)` is treated as constant:
+/// that is rounding noise around one value, with nothing to regress.
+const CONSTANT_TARGET_VARIANCE: f64 = 1e-300;
+
+/// Mixing constants of [`derive_seed`]: odd 64-bit numbers with well-spread bits (the first
+/// is SplitMix64's golden-ratio increment), so that neighbouring epochs and indices give
+/// unrelated seeds after the SplitMix64 finaliser.
+const EPOCH_MIX: u64 = 0x9E37_79B9_7F4A_7C15;
+const INDEX_MIX: u64 = 0xD1B5_4A32_D192_ED03;
+
+/// Everything fixed during a search.
+pub(crate) struct Problem<'a> {
+    /// All rows, by column (the reported models are refitted on these).
+    pub cols: Vec<&'a [f64]>,
+    /// The target on all rows.
+    pub y: Vec<f64>,
+    /// The rows candidates are fitted on (a seeded subsample of at most `max_fit_rows`).
+    pub fit_cols: Vec<Vec<f64>>,
+    /// The target on the fitting rows.
+    pub fit_y: Vec<f64>,
+    /// Variance the criterion normalises the loss by (of the fitting rows when non-zero).
+    pub y_var: f64,
+    /// Input scales for the canonical starting point.
+    pub scales: InputScales,
+    /// The settings.
+    pub cfg: &'a SearchConfig,
+}
+
+impl<'a> Problem<'a> {
+    /// The problem of a search: candidates are fitted on at most `cfg.max_fit_rows` rows,
+    /// drawn from `rng` (in increasing row order) when the data has more.
+    pub(crate) fn sampled(
+        data: &'a Table,
+        target: &[f64],
+        y_var: f64,
+        cfg: &'a SearchConfig,
+        rng: &mut ChaCha8Rng,
+    ) -> Self {
+        let n = target.len();
+        let cols: Vec<&[f64]> = data.columns().iter().map(|c| c.as_slice()).collect();
+        let (fit_cols, fit_y): (Vec<Vec<f64>>, Vec<f64>) = if n > cfg.max_fit_rows {
+            let mut idx = sample(rng, n, cfg.max_fit_rows).into_vec();
+            idx.sort_unstable();
+            (
+                cols.iter()
+                    .map(|c| idx.iter().map(|&i| c[i]).collect())
+                    .collect(),
+                idx.iter().map(|&i| target[i]).collect(),
+            )
+        } else {
+            (cols.iter().map(|c| c.to_vec()).collect(), target.to_vec())
+        };
+        let fit_var = variance(&fit_y);
+        let fit_refs: Vec<&[f64]> = fit_cols.iter().map(|c| c.as_slice()).collect();
+        Problem {
+            scales: InputScales::new(&fit_refs),
+            cols,
+            y: target.to_vec(),
+            fit_cols,
+            fit_y,
+            y_var: if fit_var > 0.0 { fit_var } else { y_var },
+            cfg,
+        }
+    }
+
+    /// The problem of [`super::fit_structure`]: every row is a fitting row.
+    pub(crate) fn all_rows(
+        data: &'a Table,
+        target: &[f64],
+        y_var: f64,
+        cfg: &'a SearchConfig,
+    ) -> Self {
+        let cols: Vec<&[f64]> = data.columns().iter().map(|c| c.as_slice()).collect();
+        Problem {
+            scales: InputScales::new(&cols),
+            fit_cols: data.columns().to_vec(),
+            fit_y: target.to_vec(),
+            cols,
+            y: target.to_vec(),
+            y_var,
+            cfg,
+        }
+    }
+
+    /// The fitting rows, by column.
+    pub(crate) fn fit_cols(&self) -> Vec<&[f64]> {
+        self.fit_cols.iter().map(|c| c.as_slice()).collect()
+    }
+
+    /// What the criterion charges for one fitted parameter, in units of `n ln(mse)`.
+    pub(crate) fn param_penalty(&self, n: usize) -> f64 {
+        match self.cfg.criterion {
+            Criterion::Aic => 2.0 * self.cfg.complexity_penalty,
+            _ => self.cfg.complexity_penalty * (n as f64).ln(),
+        }
+    }
+
+    /// The criterion (lower is better) of a fit with loss `mse` and `n_params` fitted
+    /// parameters on `n` rows: `n ln(mse/var + LOSS_FLOOR)` plus the parameter charge.
+    pub(crate) fn score(&self, mse: f64, n_params: usize, n: usize) -> f64 {
+        if !mse.is_finite() {
+            return f64::INFINITY;
+        }
+        let n = n as f64;
+        let base = n * (mse / self.y_var + LOSS_FLOOR).ln();
+        let k = n_params as f64;
+        match self.cfg.criterion {
+            Criterion::Aic => base + 2.0 * self.cfg.complexity_penalty * k,
+            _ => base + self.cfg.complexity_penalty * k * n.ln(),
+        }
+    }
+
+    /// Fits one candidate on the fitting rows: from its warm start if it has one, else from
+    /// the canonical start and one random start drawn from `seed`; keeps the better.
+    /// Non-finite fits, and structures with at least as many parameters as rows, are
+    /// rejected (infinite loss and score).
+    pub(crate) fn fit(&self, c: &Candidate, seed: u64) -> Fitted {
+        let cols = self.fit_cols();
+        let y = &self.fit_y;
+        let prog = &c.program;
+        let n_params = prog.n_params();
+        let complexity = prog.complexity(self.cfg.complexity_measure);
+        let reject = |params: Vec<f64>| Fitted {
+            program: prog.clone(),
+            params,
+            mse: f64::INFINITY,
+            score: f64::INFINITY,
+            complexity,
+            source: c.source,
+            tag: c.tag,
+        };
+        if n_params >= y.len() {
+            return reject(vec![0.0; n_params]);
+        }
+        let mut ev = Evaluator::new(prog);
+        let free: Vec<usize> = (0..n_params).collect();
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut best_params = Vec::new();
+        let mut best = f64::INFINITY;
+        let mut starts: Vec<Vec<f64>> = Vec::new();
+        if let Some(p) = c.params.as_ref().filter(|p| p.len() == n_params) {
+            starts.push(p.clone());
+        } else {
+            starts.push(initial_params(prog, &self.scales, None, &cols, y, &mut ev));
+            starts.push(initial_params(
+                prog,
+                &self.scales,
+                Some(&mut rng),
+                &cols,
+                y,
+                &mut ev,
+            ));
+        }
+        for mut p in starts {
+            let mse = levenberg_marquardt(
+                prog,
+                &mut p,
+                &free,
+                &cols,
+                y,
+                self.cfg.lm_iterations,
+                SEARCH_LM_TOLERANCE,
+                &mut ev,
+            );
+            if mse < best {
+                best = mse;
+                best_params = p;
+            }
+        }
+        if !best.is_finite() {
+            return reject(vec![0.0; n_params]);
+        }
+        Fitted {
+            program: prog.clone(),
+            params: best_params,
+            mse: best,
+            score: self.score(best, n_params, y.len()),
+            complexity,
+            source: c.source,
+            tag: c.tag,
+        }
+    }
+}
+
+/// Seed of candidate `index` in `epoch`: a SplitMix64 hash, so it depends on nothing else
+/// (not on the thread that fits it, nor on the candidates before it).
+pub(crate) fn derive_seed(seed: u64, epoch: u64, index: u64) -> u64 {
+    let mut z = seed ^ epoch.wrapping_mul(EPOCH_MIX) ^ index.wrapping_mul(INDEX_MIX);
+    // SplitMix64's finaliser (Steele, Lea and Flood 2014), with its published constants.
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Population variance (mean of squared deviations from the mean).
+pub(crate) fn variance(v: &[f64]) -> f64 {
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    v.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n
+}
+
+/// The target must have one finite value per row of `data`.
+pub(crate) fn check_target(data: &Table, target: &[f64]) -> Result<(), SrError> {
+    if target.len() != data.n_rows() {
+        return Err(SrError::TargetLength {
+            target: target.len(),
+            data: data.n_rows(),
+        });
+    }
+    if let Some((row, &value)) = target.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(SrError::NonFinite {
+            name: "target".into(),
+            row,
+            value,
+        });
+    }
+    Ok(())
+}
+
+/// A search needs at least [`MIN_ROWS`] rows and a target that varies; returns its
+/// variance.
+pub(crate) fn search_target_variance(target: &[f64]) -> Result<f64, SrError> {
+    let n = target.len();
+    if n < MIN_ROWS {
+        return Err(SrError::TooFewRows {
+            rows: n,
+            needed: MIN_ROWS,
+        });
+    }
+    let mean = target.iter().sum::<f64>() / n as f64;
+    let y_var = variance(target);
+    if y_var <= CONSTANT_TARGET_VARIANCE * mean.abs().max(1.0)
+        || target.iter().all(|&v| v == target[0])
+    {
+        return Err(SrError::ConstantTarget(target[0]));
+    }
+    Ok(y_var)
+}

@@ -1,0 +1,164 @@
+//! The main loop: each epoch the strategy proposes, new structures are fitted in parallel,
+//! the archive keeps the best per complexity, the strategy learns, progress is reported.
+use super::archive::{Archive, Candidate, Fitted};
+use super::config::SearchConfig;
+use super::fitting::{Problem, check_target, derive_seed, search_target_variance};
+use super::generate::Tables;
+use super::mutual_information::input_priors;
+use super::selection::{SearchResult, finish};
+use super::strategy;
+use crate::program::Program;
+use crate::{SrError, Table};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use std::collections::HashMap;
+use std::time::Instant;
+
+/// Candidates fitted between two looks at the clock: large enough to keep every thread
+/// busy (a few hundred fits of about a millisecond each), small enough that a time limit
+/// overshoots by a fraction of a second at most.
+const FIT_CHUNK: usize = 256;
+
+/// Reported after every epoch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Progress {
+    /// Epochs done (1-based).
+    pub epoch: usize,
+    /// Epochs planned.
+    pub epochs: usize,
+    /// Models fitted so far.
+    pub evaluations: u64,
+    /// Lowest training mean squared error so far.
+    pub best_loss: f64,
+}
+
+/// Runs symbolic regression of `target` on the columns of `data`.
+///
+/// Candidates are fitted in parallel on the current rayon thread pool; every random choice
+/// comes from generators seeded by `(cfg.seed, epoch, candidate index)` and results are
+/// collected in proposal order, so the result is bit-identical for any number of threads
+/// (unless `time_limit_s` stops the run).
+///
+/// # Errors
+/// Mismatched lengths, non-finite or constant target, too few rows, bad configuration, or
+/// no finite model at all.
+pub fn search(
+    data: &Table,
+    target: &[f64],
+    cfg: &SearchConfig,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<SearchResult, SrError> {
+    let t0 = Instant::now();
+    let ops = cfg.check()?;
+    check_target(data, target)?;
+    let y_var = search_target_variance(target)?;
+    // One generator draws the fitting rows, then every proposal and update, in that order.
+    let mut master = ChaCha8Rng::seed_from_u64(cfg.seed);
+    let problem = Problem::sampled(data, target, y_var, cfg, &mut master);
+    let in_w = input_priors(&problem.fit_cols(), &problem.fit_y);
+    let tables = Tables::for_search(ops, in_w, cfg);
+    let mut strategy = strategy::build(cfg.strategy, cfg.candidates_per_epoch, &tables);
+    let mut state = LoopState::default();
+    for epoch in 0..cfg.epochs {
+        let mut cands = strategy.propose(epoch, &mut master, &state.archive, &tables);
+        let budget_spent = state.cut_to_budget(&mut cands, cfg.max_evaluations);
+        let (fitted, timed_out) = state.fit_epoch(&problem, &cands, epoch, t0);
+        for f in &fitted {
+            state.archive.offer(f);
+        }
+        strategy.update(&fitted, &state.archive, &mut master);
+        progress(&Progress {
+            epoch: epoch + 1,
+            epochs: cfg.epochs,
+            evaluations: state.evaluations,
+            best_loss: state.archive.best_loss(),
+        });
+        if budget_spent || timed_out || time_is_up(cfg, t0) {
+            break;
+        }
+    }
+    finish(&problem, data, &state.archive, state.evaluations, t0)
+}
+
+/// Whether the run has used up its `time_limit_s`.
+fn time_is_up(cfg: &SearchConfig, t0: Instant) -> bool {
+    cfg.time_limit_s
+        .is_some_and(|t| t0.elapsed().as_secs_f64() > t)
+}
+
+/// What the loop carries from epoch to epoch.
+#[derive(Default)]
+struct LoopState {
+    /// Best fit per complexity.
+    archive: Archive,
+    /// Every structure fitted so far: a structure is fitted once per search.
+    cache: HashMap<Program, Fitted>,
+    /// Models fitted so far (cache hits not counted).
+    evaluations: u64,
+}
+
+impl LoopState {
+    /// Drops the candidates beyond `max_evaluations`; true when the budget is now spent.
+    fn cut_to_budget(&self, cands: &mut Vec<Candidate>, max_evaluations: Option<u64>) -> bool {
+        if let Some(maxe) = max_evaluations {
+            let left = maxe.saturating_sub(self.evaluations) as usize;
+            if cands.len() > left {
+                cands.truncate(left);
+                return true;
+            }
+        }
+        false
+    }
+
+    /// The fits of this epoch's candidates, in proposal order: cached structures reused,
+    /// the first occurrence of each new structure fitted (in parallel, seeded by its
+    /// index), later duplicates given that fit. Also returns whether the time limit cut the
+    /// epoch short (the unfitted candidates are then left out).
+    fn fit_epoch(
+        &mut self,
+        problem: &Problem,
+        cands: &[Candidate],
+        epoch: usize,
+        t0: Instant,
+    ) -> (Vec<Fitted>, bool) {
+        let cfg = problem.cfg;
+        let mut fitted: Vec<Option<Fitted>> = vec![None; cands.len()];
+        let mut todo: Vec<usize> = Vec::new();
+        {
+            let mut seen: HashMap<&Program, usize> = HashMap::new();
+            for (i, c) in cands.iter().enumerate() {
+                if let Some(f) = self.cache.get(&c.program) {
+                    fitted[i] = Some(f.relabelled(c));
+                } else if seen.insert(&c.program, i).is_none() {
+                    todo.push(i);
+                }
+            }
+        }
+        let mut timed_out = false;
+        for chunk in todo.chunks(FIT_CHUNK) {
+            if time_is_up(cfg, t0) {
+                timed_out = true;
+                break;
+            }
+            let res: Vec<Fitted> = chunk
+                .par_iter()
+                .map(|&i| problem.fit(&cands[i], derive_seed(cfg.seed, epoch as u64, i as u64)))
+                .collect();
+            for (&i, f) in chunk.iter().zip(res) {
+                self.evaluations += 1;
+                self.cache.insert(f.program.clone(), f.clone());
+                fitted[i] = Some(f);
+            }
+        }
+        // duplicates within the epoch take the fit of their first occurrence
+        for (i, c) in cands.iter().enumerate() {
+            if fitted[i].is_none()
+                && let Some(f) = self.cache.get(&c.program)
+            {
+                fitted[i] = Some(f.relabelled(c));
+            }
+        }
+        (fitted.into_iter().flatten().collect(), timed_out)
+    }
+}

@@ -1,0 +1,214 @@
+//! Selection: the archive's front (and its best-scoring model) refitted on all rows, their
+//! constants snapped, the Pareto front of the refitted models, and the one model the
+//! criterion picks.
+use super::archive::{Archive, Fitted};
+use super::config::Criterion;
+use super::export::to_model;
+use super::fitting::Problem;
+use crate::eval::Evaluator;
+use crate::fit::levenberg_marquardt;
+use crate::model::{Model, snap_params};
+use crate::{SrError, Table};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Levenberg-Marquardt iterations of the final refit on all rows: twice the search's
+/// default, since only a dozen or so models are refitted and their constants are reported.
+const REFIT_LM_ITERATIONS: usize = 50;
+
+/// Relative improvement per step below which the final refit stops: close to the limit of
+/// `f64`, so reported constants are converged and snapping starts from the true optimum.
+const REFIT_LM_TOLERANCE: f64 = 1e-12;
+
+/// Absolute slack of the snapping rule, in units of the target's variance: an exact fit has
+/// a loss of rounding size, where a purely relative tolerance would refuse every snap
+/// (even to the true constant); `1e-14 var` is a relative RMSE of `1e-7`, far below any
+/// noise a model could be fitting.
+const SNAP_LOSS_SLACK: f64 = 1e-14;
+
+/// Under [`Criterion::ParetoScore`], candidates are the front's models with a loss within
+/// this factor of the lowest (PySR's rule).
+const PARETO_SCORE_LOSS_WINDOW: f64 = 1.5;
+
+/// Floor on the loss inside the log-loss slope of [`Criterion::ParetoScore`], so an exact
+/// fit (loss 0) gives a large finite slope instead of infinity.
+const LOG_LOSS_FLOOR: f64 = 1e-300;
+
+/// What a search returns.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SearchResult {
+    /// The model chosen by the criterion.
+    pub best: Model,
+    /// Best model at each complexity that lowers the loss, by increasing complexity.
+    pub pareto: Vec<Model>,
+    /// Models fitted.
+    pub evaluations: u64,
+    /// Wall time in seconds.
+    pub seconds: f64,
+}
+
+/// Refits the archive's front and best model on all rows, snaps their constants, and picks
+/// the reported models.
+pub(crate) fn finish(
+    problem: &Problem,
+    data: &Table,
+    archive: &Archive,
+    evaluations: u64,
+    t0: Instant,
+) -> Result<SearchResult, SrError> {
+    let reported = reported_fits(archive);
+    if reported.is_empty() {
+        return Err(SrError::NoModel);
+    }
+    let refined: Vec<Model> = reported
+        .par_iter()
+        .map(|f| refine(problem, f, data))
+        .collect();
+    let mut models: Vec<Model> = refined
+        .into_iter()
+        .filter(|m| m.train_mse.is_finite())
+        .collect();
+    if models.is_empty() {
+        return Err(SrError::NoModel);
+    }
+    models.sort_by(|a, b| {
+        a.complexity
+            .cmp(&b.complexity)
+            .then(a.train_mse.total_cmp(&b.train_mse))
+    });
+    let pareto = pareto_front(&models);
+    let best = match problem.cfg.criterion {
+        Criterion::ParetoScore => pareto_score_pick(&pareto),
+        _ => simplest_within_one_charge(problem, &models),
+    }
+    .ok_or(SrError::NoModel)?;
+    Ok(SearchResult {
+        best,
+        pareto,
+        evaluations,
+        seconds: t0.elapsed().as_secs_f64(),
+    })
+}
+
+/// The archive's front plus its best-scoring model when that is not on the front.
+fn reported_fits(archive: &Archive) -> Vec<Fitted> {
+    let mut reported: Vec<Fitted> = archive.front();
+    if let Some(b) = &archive.best
+        && !reported.iter().any(|f| f.program == b.program)
+    {
+        reported.push(b.clone());
+    }
+    reported
+}
+
+/// One reported fit refitted on all rows (keeping the search's constants if the refit
+/// fails), its constants snapped, scored and exported.
+fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
+    let cfg = problem.cfg;
+    let full_cols = &problem.cols;
+    let y = &problem.y;
+    let n = y.len();
+    let prog = &f.program;
+    let mut ev = Evaluator::new(prog);
+    let mut params = f.params.clone();
+    let free: Vec<usize> = (0..params.len()).collect();
+    let mut mse = levenberg_marquardt(
+        prog,
+        &mut params,
+        &free,
+        full_cols,
+        y,
+        REFIT_LM_ITERATIONS,
+        REFIT_LM_TOLERANCE,
+        &mut ev,
+    );
+    if !mse.is_finite() {
+        params = f.params.clone();
+        mse = ev.mse(prog, &params, full_cols, y);
+    }
+    let mut n_exact = 0;
+    if cfg.snap_constants && mse.is_finite() {
+        (mse, n_exact) = snap_params(
+            prog,
+            &mut params,
+            full_cols,
+            y,
+            cfg.snap_tolerance,
+            SNAP_LOSS_SLACK * problem.y_var,
+            problem.param_penalty(n),
+        );
+    }
+    // parameters fixed at exact values are no longer fitted: the criterion does not charge
+    // for them
+    to_model(
+        prog,
+        params,
+        mse,
+        problem.score(mse, prog.n_params() - n_exact, n),
+        f.complexity,
+        data,
+    )
+}
+
+/// Each model strictly more complex and strictly better than the previous one, from
+/// `models` sorted by complexity then loss.
+fn pareto_front(models: &[Model]) -> Vec<Model> {
+    let mut pareto: Vec<Model> = Vec::new();
+    for m in models {
+        if pareto
+            .last()
+            .is_none_or(|l: &Model| m.train_mse < l.train_mse && m.complexity > l.complexity)
+        {
+            pareto.push(m.clone());
+        }
+    }
+    pareto
+}
+
+/// BIC and AIC: the simplest model whose criterion is within one parameter's charge of the
+/// best. A structure picked out of thousands must earn at least that much to justify extra
+/// operators (otherwise a near-dead term that happens to fit the noise, its constants
+/// snapped, would win).
+fn simplest_within_one_charge(problem: &Problem, models: &[Model]) -> Option<Model> {
+    let best_score = models
+        .iter()
+        .map(|m| m.score)
+        .min_by(|a, b| a.total_cmp(b))
+        .unwrap_or(f64::INFINITY);
+    let margin = problem.param_penalty(problem.y.len());
+    models
+        .iter()
+        .filter(|m| m.score <= best_score + margin)
+        .min_by(|a, b| {
+            a.complexity
+                .cmp(&b.complexity)
+                .then(a.score.total_cmp(&b.score))
+        })
+        .cloned()
+}
+
+/// PySR's rule: among front models with a loss within [`PARETO_SCORE_LOSS_WINDOW`] of the
+/// lowest, the largest drop of log-loss per unit of complexity from the previous one.
+fn pareto_score_pick(pareto: &[Model]) -> Option<Model> {
+    let min_loss = pareto
+        .iter()
+        .map(|m| m.train_mse)
+        .fold(f64::INFINITY, f64::min);
+    let mut best: Option<(f64, &Model)> = None;
+    let mut prev: Option<&Model> = None;
+    for m in pareto {
+        let s = match prev {
+            None => 0.0,
+            Some(p) => {
+                -((m.train_mse.max(LOG_LOSS_FLOOR)).ln() - (p.train_mse.max(LOG_LOSS_FLOOR)).ln())
+                    / (m.complexity as f64 - p.complexity as f64).max(1.0)
+            }
+        };
+        if m.train_mse <= PARETO_SCORE_LOSS_WINDOW * min_loss && best.is_none_or(|(b, _)| s > b) {
+            best = Some((s, m));
+        }
+        prev = Some(m);
+    }
+    best.map(|(_, m)| m.clone())
+}

@@ -1,0 +1,53 @@
+//! [`fit_structure`]: fit the constants of one given structure, without a search.
+use super::archive::{Archive, Candidate};
+use super::config::SearchConfig;
+use super::fitting::{Problem, check_target, variance};
+use super::selection::finish;
+use crate::model::Model;
+use crate::program::Program;
+use crate::{SrError, Table};
+use std::time::Instant;
+
+/// Fits the constants of one given structure (inputs by column index of `data`) to `target`
+/// with Levenberg-Marquardt on all rows, from the canonical start and one seeded random
+/// start, then snaps constants as [`search`](super::search) does. Useful to test whether a
+/// law is expressible, and to refit a known structure on new data.
+///
+/// # Errors
+/// As [`search`](super::search), plus [`SrError::MalformedModel`] for an invalid program.
+pub fn fit_structure(
+    data: &Table,
+    target: &[f64],
+    program: &Program,
+    cfg: &SearchConfig,
+) -> Result<Model, SrError> {
+    cfg.check()?;
+    if !program.is_valid() || program.vars().iter().any(|&j| j as usize >= data.n_cols()) {
+        return Err(SrError::MalformedModel(
+            "the program is not a valid expression over the data's columns".into(),
+        ));
+    }
+    check_target(data, target)?;
+    let n = target.len();
+    if n <= program.n_params() {
+        return Err(SrError::TooFewRows {
+            rows: n,
+            needed: program.n_params() + 1,
+        });
+    }
+    let y_var = variance(target);
+    if target.iter().all(|&v| v == target[0]) {
+        return Err(SrError::ConstantTarget(target[0]));
+    }
+    let problem = Problem::all_rows(data, target, y_var, cfg);
+    let cand = Candidate {
+        program: program.clone(),
+        params: None,
+        source: 0,
+        tag: 0,
+    };
+    let f = problem.fit(&cand, cfg.seed);
+    let mut archive = Archive::default();
+    archive.offer(&f);
+    finish(&problem, data, &archive, 1, Instant::now()).map(|r| r.best)
+}
