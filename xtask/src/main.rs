@@ -4,12 +4,18 @@
 //!   into `docs/results/` (or `DIR`); `--check` writes nothing and fails when the committed
 //!   files differ from what the code produces now.
 //! - `cargo xtask bench-sr [...]`: symbolic regression side by side with peer engines.
+//! - `cargo xtask check-docs`: fails when `README.md` or `docs/` name a path that does not
+//!   exist (CI runs it).
+//! - `cargo xtask refs`: regenerates the reference vectors under `testdata/` with the pinned
+//!   Python tools of `scripts/requirements.txt` (in a venv under `target/`; not run by CI).
 #![allow(clippy::print_stdout, clippy::print_stderr)]
 
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 
 mod bench_sr;
+mod check_docs;
+mod refs;
 mod reproduce;
 
 const USAGE: &str = "usage: cargo xtask <command>
@@ -21,7 +27,12 @@ commands:
       --check   write nothing; fail if the committed docs/results/ differ from a fresh run
       --out DIR write somewhere else
   bench-sr [--help]
-      hxai vs feyn, pyoperon and gplearn on AI-Feynman problems (creates .venv-sr)";
+      hxai vs feyn, pyoperon and gplearn on AI-Feynman problems (creates .venv-sr)
+  check-docs
+      fail when README.md or docs/ name a repository path that does not exist
+  refs [--python PY]
+      regenerate testdata/ reference vectors with the versions pinned in
+      scripts/requirements.txt (venv in target/refs-venv; needs network for pip)";
 
 fn main() {
     if let Err(e) = run() {
@@ -46,6 +57,8 @@ fn run() -> Result<()> {
     match cmd.as_str() {
         "reproduce" => reproduce::run(rest).context("cargo xtask reproduce"),
         "bench-sr" => bench_sr::run(rest).context("cargo xtask bench-sr"),
+        "check-docs" => check_docs::run(rest).context("cargo xtask check-docs"),
+        "refs" => refs::run(rest).context("cargo xtask refs"),
         "-h" | "--help" | "help" => {
             println!("{USAGE}");
             Ok(())

@@ -4,7 +4,7 @@
 use anyhow::{Context, Result, bail};
 use hxai_reproduce::{Progress, ReproduceConfig};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 struct Options {
@@ -108,15 +108,25 @@ pub fn run(args: &[String]) -> Result<()> {
         std::fs::create_dir_all(&dir)
             .with_context(|| format!("cannot create {}", dir.display()))?;
         for (name, content) in &out.files {
-            let path = dir.join(name);
-            std::fs::write(&path, content)
-                .with_context(|| format!("cannot write {}", path.display()))?;
+            write_atomic(&dir.join(name), content)?;
         }
         println!("wrote {} files to {}", out.files.len(), dir.display());
     }
 
     summary(&out, started.elapsed().as_secs_f64());
     Ok(())
+}
+
+/// Writes `content` to a temporary file next to `path`, then renames it over `path`, so an
+/// interrupted run never leaves a half-written result file.
+fn write_atomic(path: &Path, content: &str) -> Result<()> {
+    let name = path
+        .file_name()
+        .with_context(|| format!("{} has no file name", path.display()))?;
+    let tmp = path.with_file_name(format!(".{}.tmp", name.to_string_lossy()));
+    std::fs::write(&tmp, content).with_context(|| format!("cannot write {}", tmp.display()))?;
+    std::fs::rename(&tmp, path)
+        .with_context(|| format!("cannot rename {} to {}", tmp.display(), path.display()))
 }
 
 fn summary(out: &hxai_reproduce::Reproduction, total_s: f64) {
