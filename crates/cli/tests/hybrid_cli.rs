@@ -192,8 +192,8 @@ fn fit_evaluate_predict() -> TestResult {
         String::from_utf8_lossy(&out.stderr)
     );
     let t = read_table(&pred)?;
-    assert_eq!(t.names, vec!["time_s", "physics_um", "hybrid_um"]);
-    assert_eq!(t.height(), 2000);
+    assert_eq!(t.names(), ["time_s", "physics_um", "hybrid_um"]);
+    assert_eq!(t.n_rows(), 2000);
     Ok(())
 }
 

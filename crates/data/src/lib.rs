@@ -11,7 +11,8 @@
 //! - [`DataFolder`] and [`ManifestEntry`]: a folder with `manifest.csv` (columns `record`,
 //!   `file`, `amplitude_um`, `frequency_hz`, optional `repeat`, extra columns kept as text)
 //!   and one file per record; [`read_folder`] / [`write_folder`].
-//! - [`Table`] (numbers only) and [`MixedTable`] (numbers and text): generic tables for
+//! - [`Table`] (numbers only; `hxai-table`'s, re-exported) and [`MixedTable`] (numbers and
+//!   text, whose numeric part is a [`Table`]): generic tables for
 //!   `hxai sr`, `hxai compare` and outputs; [`read_table`], [`write_table`],
 //!   [`read_mixed_table`], [`write_mixed_table`].
 //! - [`read_text`] / [`write_text`]: whole text files such as model JSON, so that file
@@ -75,10 +76,9 @@ pub use folder::{
     DataFolder, MANIFEST_COLUMNS, MANIFEST_FILE, ManifestEntry, read_folder, write_folder,
     write_manifest,
 };
+pub use hxai_table::{Table, TableError};
 pub use record::{RECORD_COLUMNS, Record, UNIFORM_TIME_TOLERANCE, read_record, write_record};
-pub use table::{
-    Column, MixedTable, Table, read_mixed_table, read_table, write_mixed_table, write_table,
-};
+pub use table::{Column, MixedTable, read_mixed_table, read_table, write_mixed_table, write_table};
 pub use text::{read_text, write_text};
 
 use std::path::Path;

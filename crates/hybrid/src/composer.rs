@@ -2,8 +2,9 @@
 //! records cut into windows.
 
 use crate::HybridError;
-use crate::traits::{Correction, Decomposition, FeatureMap, FeatureTable, Latent, PhysicsModel};
+use crate::traits::{Correction, Decomposition, FeatureMap, Latent, PhysicsModel};
 use crate::window::WindowConfig;
+use hxai_table::Table;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 
@@ -176,9 +177,22 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
     pub fn feature_table<'s>(
         &self,
         samples: impl IntoIterator<Item = &'s WindowSample>,
-    ) -> Result<FeatureTable, HybridError> {
-        let rows: Vec<Vec<f64>> = samples.into_iter().map(|s| s.features.clone()).collect();
-        FeatureTable::from_rows(self.features.names(), &rows)
+    ) -> Result<Table, HybridError> {
+        let names = self.features.names();
+        let mut columns = vec![Vec::new(); names.len()];
+        for (r, s) in samples.into_iter().enumerate() {
+            if s.features.len() != names.len() {
+                return Err(HybridError::InvalidConfig(format!(
+                    "feature row {r} has {} values but there are {} feature names",
+                    s.features.len(),
+                    names.len()
+                )));
+            }
+            for (column, v) in columns.iter_mut().zip(&s.features) {
+                column.push(*v);
+            }
+        }
+        Ok(Table::new(names, columns)?)
     }
 
     /// Steps 3-4 on one record: correct each window's amplitude by `correction` and

@@ -74,15 +74,14 @@ pub use composer::{
     corrected_latent,
 };
 pub use error::HybridError;
-pub use evaluate::{EvalInput, Evaluation, Scores, TTestReport, evaluate};
+pub use evaluate::{EvalInput, Evaluation, TTestReport, evaluate};
 pub use model::{
     CorrectionInfo, CorrectionKind, FeatureInfo, FitConfig, FitOutput, FitProgress, HybridModel,
-    LoadedCorrection, SCHEMA_VERSION, SplitInfo, SplitKind, ToolHybrid, TrainingInfo, WindowId,
-    fit, split_samples, tool_hybrid, tool_hybrid_with,
+    LoadedCorrection, SCHEMA_VERSION, SamplesTable, SplitInfo, SplitKind, ToolHybrid, TrainingInfo,
+    WindowId, fit, samples_table, split_samples, tool_hybrid, tool_hybrid_with,
 };
 pub use tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
 pub use traits::{
-    Correction, Decomposition, FeatureMap, FeatureTable, Latent, PhysicsModel, SymbolicCorrection,
-    ZeroCorrection,
+    Correction, Decomposition, FeatureMap, Latent, PhysicsModel, SymbolicCorrection, ZeroCorrection,
 };
 pub use window::WindowConfig;

@@ -2,12 +2,13 @@
 #![allow(clippy::unwrap_used)]
 
 use hxai_hybrid::{
-    Correction, CorrectionInfo, Decomposition, FeatureInfo, FeatureTable, HybridError, HybridModel,
-    Latent, RecordInput, SCHEMA_VERSION, SineDecomposition, SplitInfo, SplitKind, TrainingInfo,
+    Correction, CorrectionInfo, Decomposition, FeatureInfo, HybridError, HybridModel, Latent,
+    RecordInput, SCHEMA_VERSION, SineDecomposition, SplitInfo, SplitKind, TrainingInfo,
     WindowConfig, WindowId, WindowSample, ZeroCorrection, corrected_latent, split_samples,
     tool_hybrid,
 };
 use hxai_signal::PhysicsConfig;
+use hxai_symreg::{Strategy as SearchStrategy, Table};
 use proptest::prelude::*;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -20,7 +21,7 @@ impl Correction for Constant {
     fn equation(&self) -> String {
         self.0.to_string()
     }
-    fn predict(&self, f: &FeatureTable) -> Result<Vec<f64>, HybridError> {
+    fn predict(&self, f: &Table) -> Result<Vec<f64>, HybridError> {
         Ok(vec![self.0; f.n_rows()])
     }
 }
@@ -213,7 +214,7 @@ fn model_strategy() -> impl Strategy<Value = HybridModel> {
                     }],
                 },
                 training: TrainingInfo {
-                    engine: "combined".into(),
+                    strategy: Some(SearchStrategy::Combined),
                     seed,
                     epochs: 10,
                     evaluations: 1234,
@@ -221,10 +222,10 @@ fn model_strategy() -> impl Strategy<Value = HybridModel> {
                     n_train_windows: 40,
                     n_test_windows: 10,
                     delta_train: None,
-                    delta_test: Some(hxai_hybrid::Scores {
-                        rmse_um: 0.5,
+                    delta_test: Some(hxai_eval::Metrics {
+                        rmse: 0.5,
                         r2: 0.9,
-                        mae_um: 0.4,
+                        mae: 0.4,
                     }),
                 },
             }
@@ -267,6 +268,41 @@ fn other_schema_version_is_a_clear_error() -> Result<(), Box<dyn std::error::Err
     Ok(())
 }
 
+// A model file written before the strategy had serde names (`"engine": "qlattice"` or
+// `"none"`) still loads, and the delta scores keep their `_um` keys both ways.
+#[test]
+fn model_files_with_the_old_engine_key_still_load() -> Result<(), Box<dyn std::error::Error>> {
+    let mut v: serde_json::Value = serde_json::from_str(&model_zero().to_json()?)?;
+    assert!(v["training"].get("strategy").is_some(), "{v}");
+    let training = v["training"]
+        .as_object_mut()
+        .ok_or("training is an object")?;
+    training.remove("strategy");
+    training.insert("engine".into(), serde_json::json!("none"));
+    assert_eq!(
+        HybridModel::from_json(&v.to_string())?.training.strategy,
+        None
+    );
+    v["training"]["engine"] = serde_json::json!("qlattice");
+    v["training"]["delta_test"] = serde_json::json!({"rmse_um": 0.5, "r2": 0.9, "mae_um": 0.4});
+    let back = HybridModel::from_json(&v.to_string())?;
+    assert_eq!(back.training.strategy, Some(SearchStrategy::QLattice));
+    assert_eq!(
+        back.training.delta_test,
+        Some(hxai_eval::Metrics {
+            r2: 0.9,
+            rmse: 0.5,
+            mae: 0.4
+        })
+    );
+    let again: serde_json::Value = serde_json::from_str(&back.to_json()?)?;
+    assert_eq!(
+        again["training"]["delta_test"]["rmse_um"].as_f64(),
+        Some(0.5)
+    );
+    Ok(())
+}
+
 fn model_zero() -> HybridModel {
     HybridModel {
         schema_version: SCHEMA_VERSION,
@@ -283,7 +319,7 @@ fn model_zero() -> HybridModel {
             test_windows: vec![],
         },
         training: TrainingInfo {
-            engine: "none".into(),
+            strategy: None,
             seed: 1,
             epochs: 0,
             evaluations: 0,

@@ -4,6 +4,7 @@
 //! settings and the seed, and `cargo xtask reproduce --check` can compare it exactly.
 
 use crate::{ReproduceError, paper};
+use hxai_eval::Metrics;
 use hxai_hybrid::{Evaluation, WindowSample};
 use hxai_sim::SimRecord;
 use serde::Serialize;
@@ -155,34 +156,13 @@ impl AmplitudeRow {
     }
 }
 
-/// R^2, RMSE and MAE.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct Score {
-    /// Coefficient of determination.
-    pub r2: f64,
-    /// Root mean squared error (um).
-    pub rmse: f64,
-    /// Mean absolute error (um).
-    pub mae: f64,
-}
-
-impl From<hxai_eval::Metrics> for Score {
-    fn from(m: hxai_eval::Metrics) -> Self {
-        Self {
-            r2: m.r2,
-            rmse: m.rmse,
-            mae: m.mae,
-        }
-    }
-}
-
 /// One row of Table 3.
 #[derive(Debug, Clone, Serialize)]
 pub struct ModelRow {
     /// Model name (`linear`, `lasso_cv`, `tree_5`, `tree_6`, `tree_8`, `forest`, `symbolic`).
     pub name: String,
-    /// Test scores on delta.
-    pub test: Score,
+    /// Test scores on delta (RMSE and MAE in um).
+    pub test: Metrics,
     /// Complexity (symbolic model only).
     pub complexity: Option<usize>,
     /// The paper's R^2, where it gives one.
@@ -191,10 +171,10 @@ pub struct ModelRow {
 
 impl ModelRow {
     /// A row with the paper's R^2 looked up by name.
-    pub fn new(name: &str, m: hxai_eval::Metrics, complexity: Option<usize>) -> Self {
+    pub fn new(name: &str, m: Metrics, complexity: Option<usize>) -> Self {
         Self {
             name: name.to_string(),
-            test: m.into(),
+            test: m,
             complexity,
             paper_r2: paper::table3_r2(name),
         }
@@ -218,8 +198,8 @@ pub struct SymbolicSummary {
     pub evaluations: u64,
     /// The Pareto front: (complexity, equation).
     pub pareto: Vec<(usize, String)>,
-    /// Test scores on delta.
-    pub test: Score,
+    /// Test scores on delta (RMSE and MAE in um).
+    pub test: Metrics,
 }
 
 /// One metric of the cross-validation table.
