@@ -73,7 +73,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     );
     let rec = hxai_data::read_record(&args.record)
         .with_context(|| format!("reading record {}", args.record.display()))?;
-    let fs = rec.fs();
+    let fs = rec.fs_hz();
     let cfg = PhysicsConfig {
         low_hz: args.low_hz,
         high_hz: args.high_hz,

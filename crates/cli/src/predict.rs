@@ -50,8 +50,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         .to_owned();
     let input = RecordInput {
         id: &id,
-        fs: rec.fs(),
-        freq_hz: args.frequency_hz,
+        fs_hz: rec.fs_hz(),
+        frequency_hz: args.frequency_hz,
         signal: &rec.accel_ms2,
         truth: None,
     };

@@ -231,3 +231,29 @@ fn bad_inputs_fail_with_one_line() -> TestResult {
     assert!(err.contains("schema_version"), "{err}");
     Ok(())
 }
+
+// `fit` takes the search strategy as `--strategy`, like `sr`, and still accepts the
+// `--engine` of the interface contract: both parse, and the run fails only on the missing
+// data folder.
+#[test]
+fn fit_takes_strategy_and_the_engine_alias() -> TestResult {
+    let dir = scratch("strategy")?;
+    for flag in ["--strategy", "--engine"] {
+        let out = hxai(&[
+            "fit",
+            "--data",
+            s(&dir.join("nope")),
+            "--out",
+            s(&dir.join("m.json")),
+            flag,
+            "genetic",
+        ])?;
+        assert!(!out.status.success());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("nope") && !err.contains("unexpected"),
+            "{flag}: {err}"
+        );
+    }
+    Ok(())
+}

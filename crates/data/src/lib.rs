@@ -39,7 +39,7 @@
 //! Required columns present; no empty, non-numeric, NaN or infinite cell; at least two
 //! samples; `time_s` strictly increasing and uniform: every step within
 //! [`UNIFORM_TIME_TOLERANCE`] (1 %) of the median step. The sampling rate is
-//! `(n - 1) / (t_last - t_first)` ([`Record::fs`]).
+//! `(n - 1) / (t_last - t_first)` ([`Record::fs_hz`]).
 //!
 //! # Example
 //!
@@ -56,7 +56,7 @@
 //! write_record(&path, &rec)?;
 //! let back = read_record(&path)?;
 //! assert_eq!(back, rec);
-//! assert!((back.fs() - fs).abs() < 1e-6 * fs);
+//! assert!((back.fs_hz() - fs).abs() < 1e-6 * fs);
 //! std::fs::remove_dir_all(&dir)?;
 //! # Ok(())
 //! # }

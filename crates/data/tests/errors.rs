@@ -134,7 +134,7 @@ fn uniform_within_tolerance_is_accepted() -> TestResult {
     let rec = read_record(&p)?;
     // fs from the end points: 299 / 0.099667 s = 2999.99 Hz; tolerance 0.03 Hz (1e-5 relative),
     // three times the rounding effect of 3.3e-6.
-    assert!((rec.fs() - 3000.0).abs() < 0.03, "{}", rec.fs());
+    assert!((rec.fs_hz() - 3000.0).abs() < 0.03, "{}", rec.fs_hz());
     Ok(())
 }
 

@@ -196,3 +196,27 @@ pub fn paired_t_test(a: &[f64], b: &[f64]) -> Result<TTest, EvalError> {
         p_value: t_two_tailed_p(statistic, df),
     })
 }
+
+/// Smallest, largest and mean value of a sample (the descriptive columns of a results table).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Extent {
+    /// Smallest value.
+    pub min: f64,
+    /// Largest value.
+    pub max: f64,
+    /// Arithmetic mean, the values summed in order.
+    pub mean: f64,
+}
+
+/// Smallest, largest and mean value of `values`.
+///
+/// # Errors
+/// No value, or a non-finite value.
+pub fn extent(values: &[f64]) -> Result<Extent, EvalError> {
+    check_finite("values", values, 1)?;
+    Ok(Extent {
+        min: values.iter().copied().fold(f64::INFINITY, f64::min),
+        max: values.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        mean: values.iter().sum::<f64>() / values.len() as f64,
+    })
+}

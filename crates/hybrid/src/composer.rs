@@ -14,9 +14,9 @@ pub struct RecordInput<'a> {
     /// Record id.
     pub id: &'a str,
     /// Sampling rate, Hz.
-    pub fs: f64,
+    pub fs_hz: f64,
     /// Known frequency of the periodic response (the commanded frequency), Hz.
-    pub freq_hz: f64,
+    pub frequency_hz: f64,
     /// Measured signal the physics model and the features use (acceleration).
     pub signal: &'a [f64],
     /// Ground truth in the physics model's output unit (probe position), if recorded.
@@ -132,21 +132,21 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
         }
         let ranges = self
             .window
-            .windows(input.signal.len(), input.fs, input.id)?;
+            .windows(input.signal.len(), input.fs_hz, input.id)?;
         let physics = self
             .physics
-            .predict(input.signal, input.fs)
+            .predict(input.signal, input.fs_hz)
             .map_err(|e| e.in_record(input.id, None))?;
         let mut windows = Vec::with_capacity(ranges.len());
         for (k, r) in ranges.into_iter().enumerate() {
             let ctx = |e: HybridError| e.in_record(input.id, Some(k));
             let phys = self
                 .decomposition
-                .decompose(&physics[r.clone()], input.fs, input.freq_hz)
+                .decompose(&physics[r.clone()], input.fs_hz, input.frequency_hz)
                 .map_err(ctx)?;
             let feats = self
                 .features
-                .features(&input.signal[r.clone()], input.fs, input.freq_hz)
+                .features(&input.signal[r.clone()], input.fs_hz, input.frequency_hz)
                 .map_err(ctx)?;
             let truth = match input.truth {
                 None => None,
@@ -156,7 +156,7 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
                     let centred: Vec<f64> = w.iter().map(|v| v - m).collect();
                     Some(
                         self.decomposition
-                            .decompose(&centred, input.fs, input.freq_hz)
+                            .decompose(&centred, input.fs_hz, input.frequency_hz)
                             .map_err(ctx)?,
                     )
                 }
@@ -178,21 +178,7 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
         &self,
         samples: impl IntoIterator<Item = &'s WindowSample>,
     ) -> Result<Table, HybridError> {
-        let names = self.features.names();
-        let mut columns = vec![Vec::new(); names.len()];
-        for (r, s) in samples.into_iter().enumerate() {
-            if s.features.len() != names.len() {
-                return Err(HybridError::InvalidConfig(format!(
-                    "feature row {r} has {} values but there are {} feature names",
-                    s.features.len(),
-                    names.len()
-                )));
-            }
-            for (column, v) in columns.iter_mut().zip(&s.features) {
-                column.push(*v);
-            }
-        }
-        Ok(Table::new(names, columns)?)
+        feature_table(self.features.names(), samples)
     }
 
     /// Steps 3-4 on one record: correct each window's amplitude by `correction` and
@@ -220,7 +206,12 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
                 corrected: corrected_latent(&s.physics, d),
             })
             .collect();
-        let hybrid = self.reconstruct_record(&windows, input.signal.len(), input.fs, input.freq_hz);
+        let hybrid = self.reconstruct_record(
+            &windows,
+            input.signal.len(),
+            input.fs_hz,
+            input.frequency_hz,
+        );
         Ok(RecordPrediction {
             physics: rs.physics,
             hybrid,
@@ -261,6 +252,31 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
         }
         out
     }
+}
+
+/// The features of `samples` as a table, one column per name of `names`.
+///
+/// # Errors
+/// [`HybridError::InvalidConfig`] for a sample with another number of features,
+/// [`HybridError::Table`] for a non-finite feature.
+pub(crate) fn feature_table<'s>(
+    names: Vec<String>,
+    samples: impl IntoIterator<Item = &'s WindowSample>,
+) -> Result<Table, HybridError> {
+    let mut columns = vec![Vec::new(); names.len()];
+    for (r, s) in samples.into_iter().enumerate() {
+        if s.features.len() != names.len() {
+            return Err(HybridError::InvalidConfig(format!(
+                "feature row {r} has {} values but there are {} feature names",
+                s.features.len(),
+                names.len()
+            )));
+        }
+        for (column, v) in columns.iter_mut().zip(&s.features) {
+            column.push(*v);
+        }
+    }
+    Ok(Table::new(names, columns)?)
 }
 
 /// Eq. 10-11: `A_corr = A_phys + delta_hat`, phase from the physics signal, offset zero.

@@ -186,8 +186,8 @@ where
             let hw = &pred.hybrid[r.clone()];
             let sw = hybrid.decomposition.reconstruct(
                 &crate::composer::corrected_latent(&s.physics, 0.0),
-                rec.fs,
-                rec.freq_hz,
+                rec.fs_hz,
+                rec.frequency_hz,
                 0,
                 r.len(),
             );

@@ -320,31 +320,26 @@ pub fn samples_table(
             samples.len()
         )));
     }
-    let mut names = feature_names.to_vec();
-    names.extend(["A_phys".to_string(), "A_true".into(), "delta".into()]);
-    let mut columns = vec![Vec::with_capacity(samples.len()); names.len()];
-    for (r, w) in samples.iter().enumerate() {
-        if w.features.len() != feature_names.len() {
-            return Err(HybridError::InvalidConfig(format!(
-                "sample {r} has {} features but there are {} feature names",
-                w.features.len(),
-                feature_names.len()
-            )));
-        }
-        let (Some(a_true), Some(delta)) = (w.a_true(), w.delta()) else {
-            return Err(HybridError::NoTruth {
+    let mut values = crate::composer::feature_table(feature_names.to_vec(), samples)?;
+    let truth = |w: &WindowSample| {
+        w.a_true()
+            .zip(w.delta())
+            .ok_or_else(|| HybridError::NoTruth {
                 record: w.record.clone(),
-            });
-        };
-        let row = w
-            .features
-            .iter()
-            .copied()
-            .chain([w.a_phys(), a_true, delta]);
-        for (column, v) in columns.iter_mut().zip(row) {
-            column.push(v);
-        }
-    }
+            })
+    };
+    let (a_true, delta): (Vec<f64>, Vec<f64>) = samples
+        .iter()
+        .map(truth)
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .unzip();
+    values.push_column(
+        "A_phys".into(),
+        samples.iter().map(|w| w.a_phys()).collect(),
+    )?;
+    values.push_column("A_true".into(), a_true)?;
+    values.push_column("delta".into(), delta)?;
     Ok(SamplesTable {
         record: samples.iter().map(|w| w.record.clone()).collect(),
         window: samples.iter().map(|w| w.window).collect(),
@@ -352,7 +347,7 @@ pub fn samples_table(
             .iter()
             .map(|&t| if t { "test" } else { "train" })
             .collect(),
-        values: Table::new(names, columns)?,
+        values,
     })
 }
 

@@ -63,8 +63,8 @@ fn fit_predict_evaluate_on_synthetic_records() -> Result<(), Box<dyn std::error:
         .iter()
         .map(|r| RecordInput {
             id: &r.id,
-            fs: 1000.0,
-            freq_hz: r.f,
+            fs_hz: 1000.0,
+            frequency_hz: r.f,
             signal: &r.accel,
             truth: Some(&r.probe),
         })
@@ -108,8 +108,8 @@ fn fit_predict_evaluate_on_synthetic_records() -> Result<(), Box<dyn std::error:
     let r = &recs[0];
     let pred = loaded.predict(&RecordInput {
         id: &r.id,
-        fs: 1000.0,
-        freq_hz: r.f,
+        fs_hz: 1000.0,
+        frequency_hz: r.f,
         signal: &r.accel,
         truth: None,
     })?;

@@ -59,7 +59,7 @@ proptest! {
         let dphi = (back.phase - phase + PI).rem_euclid(2.0 * PI) - PI;
         prop_assert!(dphi.abs() <= 1e-9, "phase {} vs {}", back.phase, phase);
         let f4 = hxai_signal::fit_sine4(&x, fs, f * 1.001).unwrap();
-        prop_assert!((f4.freq_hz - f).abs() <= 1e-9 * f, "{} vs {}", f4.freq_hz, f);
+        prop_assert!((f4.frequency_hz - f).abs() <= 1e-9 * f, "{} vs {}", f4.frequency_hz, f);
     }
 
     // Invariant: A_corr = A_phys + delta_hat exactly (bit for bit), with the physics phase
@@ -77,7 +77,7 @@ proptest! {
         let fs = 2000.0;
         let (accel, probe) = record(fs, f, amp, ph, 4000);
         let h = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
-        let rec = RecordInput { id: "r", fs, freq_hz: f, signal: &accel, truth: Some(&probe) };
+        let rec = RecordInput { id: "r", fs_hz: fs, frequency_hz: f, signal: &accel, truth: Some(&probe) };
         let pred = h.predict(&rec, &Constant(c)).unwrap();
         for (w, s) in pred.windows.iter().zip(&pred.samples) {
             prop_assert_eq!(w.corrected.amplitude, s.a_phys() + c);
@@ -98,7 +98,7 @@ proptest! {
         let fs = 2000.0;
         let (accel, probe) = record(fs, f, amp, ph, 4000);
         let h = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
-        let rec = RecordInput { id: "r", fs, freq_hz: f, signal: &accel, truth: Some(&probe) };
+        let rec = RecordInput { id: "r", fs_hz: fs, frequency_hz: f, signal: &accel, truth: Some(&probe) };
         let pred = h.predict(&rec, &ZeroCorrection).unwrap();
         prop_assert_eq!(pred.windows.len(), 3);
         for (w, s) in pred.windows.iter().zip(&pred.samples) {
@@ -338,8 +338,8 @@ fn short_record_error_names_record_and_need() -> Result<(), Box<dyn std::error::
     let (accel, _) = record(2000.0, 20.0, 5.0, 0.0, 1500); // 0.75 s < 1 s needed
     let rec = RecordInput {
         id: "short",
-        fs: 2000.0,
-        freq_hz: 20.0,
+        fs_hz: 2000.0,
+        frequency_hz: 20.0,
         signal: &accel,
         truth: None,
     };

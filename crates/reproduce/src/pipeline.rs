@@ -61,8 +61,8 @@ pub fn compute(
         .iter()
         .map(|r| RecordInput {
             id: &r.id,
-            fs: r.fs,
-            freq_hz: r.frequency_hz,
+            fs_hz: r.fs_hz,
+            frequency_hz: r.frequency_hz,
             signal: &r.accel_ms2,
             truth: Some(&r.probe_um),
         })
@@ -157,14 +157,14 @@ pub fn compute(
     // Descriptive tables.
     let feature_ranges = names
         .iter()
-        .enumerate()
-        .map(|(c, name)| FeatureRange::new(name, c, samples))
-        .collect();
+        .map(|name| FeatureRange::new(name, &table.values))
+        .collect::<Result<Vec<_>, _>>()?;
     let amplitudes = records
         .iter()
         .map(AmplitudeRow::of)
         .collect::<Result<Vec<_>, _>>()?;
     let delta_summary = hxai_eval::summarize(&deltas)?;
+    let delta_extent = hxai_eval::extent(&deltas)?;
     let data = DataSummary {
         n_records: records.len(),
         n_samples: samples.len(),
@@ -180,9 +180,9 @@ pub fn compute(
         window_s: fit.model.window.length_s,
         discard_s: fit.model.window.discard_s,
         delta_min_mean_max_sd: [
-            deltas.iter().copied().fold(f64::INFINITY, f64::min),
+            delta_extent.min,
             delta_summary.mean,
-            deltas.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            delta_extent.max,
             delta_summary.std,
         ],
     };

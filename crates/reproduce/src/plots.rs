@@ -61,8 +61,8 @@ fn pick(c: &Computed, f: f64) -> Option<&SimRecord> {
 
 /// `(first sample, count)` of three periods starting at the first window.
 fn span(c: &Computed, r: &SimRecord) -> (usize, usize) {
-    let start = (c.fit.model.window.discard_s * r.fs).round() as usize;
-    let n = (3.0 * r.fs / r.frequency_hz).round() as usize;
+    let start = (c.fit.model.window.discard_s * r.fs_hz).round() as usize;
+    let n = (3.0 * r.fs_hz / r.frequency_hz).round() as usize;
     let end = (start + n).min(r.time_s.len());
     (start.min(end), end - start.min(end))
 }
@@ -94,8 +94,8 @@ fn means(pairs: impl Iterator<Item = (f64, f64)>) -> Vec<(f64, f64)> {
 fn input(r: &SimRecord) -> RecordInput<'_> {
     RecordInput {
         id: &r.id,
-        fs: r.fs,
-        freq_hz: r.frequency_hz,
+        fs_hz: r.fs_hz,
+        frequency_hz: r.frequency_hz,
         signal: &r.accel_ms2,
         truth: Some(&r.probe_um),
     }
@@ -251,7 +251,8 @@ fn test_amplitudes(c: &Computed) -> Vec<(f64, f64, f64, f64, f64)> {
         .filter(|(i, _)| c.fit.is_test[*i])
         .filter_map(|(i, w)| {
             let (a, f) = conds.get(w.record.as_str())?;
-            Some((w.a_true()?, w.a_phys(), w.a_phys() + c.delta_hat[i], *a, *f))
+            let a_corr = hxai_hybrid::corrected_latent(&w.physics, c.delta_hat[i]).amplitude;
+            Some((w.a_true()?, w.a_phys(), a_corr, *a, *f))
         })
         .collect()
 }

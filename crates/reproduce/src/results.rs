@@ -5,8 +5,9 @@
 
 use crate::{ReproduceError, paper};
 use hxai_eval::Metrics;
-use hxai_hybrid::{Evaluation, WindowSample};
+use hxai_hybrid::Evaluation;
 use hxai_sim::SimRecord;
+use hxai_table::Table;
 use serde::Serialize;
 
 /// The whole document.
@@ -94,22 +95,15 @@ pub struct FeatureRange {
 }
 
 impl FeatureRange {
-    /// Range of column `c` over `samples`.
-    pub fn new(name: &str, c: usize, samples: &[WindowSample]) -> Self {
-        let vals = samples.iter().filter_map(|s| s.features.get(c).copied());
-        let (mut min, mut max, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0);
-        for v in vals {
-            min = min.min(v);
-            max = max.max(v);
-            sum += v;
-            n += 1;
-        }
-        Self {
+    /// Range of the column `name` of `samples`.
+    pub fn new(name: &str, samples: &Table) -> Result<Self, ReproduceError> {
+        let e = hxai_eval::extent(samples.require(name)?)?;
+        Ok(Self {
             name: name.to_string(),
-            min,
-            max,
-            mean: sum / n.max(1) as f64,
-        }
+            min: e.min,
+            max: e.max,
+            mean: e.mean,
+        })
     }
 }
 
@@ -135,15 +129,8 @@ pub struct AmplitudeRow {
 impl AmplitudeRow {
     /// Fits a sine at the commanded frequency to each channel.
     pub fn of(r: &SimRecord) -> Result<Self, ReproduceError> {
-        let fit = |x: &[f64]| hxai_signal::fit_sine(x, r.fs, r.frequency_hz);
+        let fit = |x: &[f64]| hxai_signal::fit_sine(x, r.fs_hz, r.frequency_hz);
         let (c, e, p) = (fit(&r.command_um)?, fit(&r.encoder_um)?, fit(&r.probe_um)?);
-        let mut dphi = p.phase - e.phase;
-        while dphi > std::f64::consts::PI {
-            dphi -= 2.0 * std::f64::consts::PI;
-        }
-        while dphi <= -std::f64::consts::PI {
-            dphi += 2.0 * std::f64::consts::PI;
-        }
         Ok(Self {
             record: r.id.clone(),
             amplitude_um: r.amplitude_um,
@@ -151,7 +138,7 @@ impl AmplitudeRow {
             command_um: c.amplitude,
             encoder_um: e.amplitude,
             probe_um: p.amplitude,
-            encoder_lag_ms: dphi / (2.0 * std::f64::consts::PI * r.frequency_hz) * 1e3,
+            encoder_lag_ms: hxai_signal::phase_lag_s(&p, &e, r.frequency_hz) * 1e3,
         })
     }
 }

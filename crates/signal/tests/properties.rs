@@ -137,7 +137,7 @@ proptest! {
         let dphi = (fit.phase - phase + PI).rem_euclid(2.0 * PI) - PI;
         prop_assert!(dphi.abs() < 0.01);
         let f4 = fit_sine4(&x, fs, freq * 1.002).unwrap();
-        prop_assert!((f4.freq_hz / freq - 1.0).abs() < 1e-3);
+        prop_assert!((f4.frequency_hz / freq - 1.0).abs() < 1e-3);
         prop_assert!((f4.fit.amplitude - amp).abs() < 0.01 * amp);
     }
 
