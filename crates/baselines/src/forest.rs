@@ -80,7 +80,7 @@ impl Regressor for RandomForest {
         }
         let n = x.n_rows();
         let cols = x.columns();
-        let sorted_all = argsort_columns(&cols);
+        let sorted_all = argsort_columns(cols);
         let limits = Limits {
             max_depth: self.max_depth,
             min_samples_leaf: self.min_samples_leaf,
@@ -100,15 +100,7 @@ impl Regressor for RandomForest {
                     .iter()
                     .map(|l| l.iter().copied().filter(|&i| w[i] > 0.0).collect())
                     .collect();
-                grow(
-                    TreeData {
-                        cols: &cols,
-                        y,
-                        w: &w,
-                    },
-                    sorted,
-                    limits,
-                )
+                grow(TreeData { cols, y, w: &w }, sorted, limits)
             })
             .collect();
         self.fitted = Some(x.n_cols());

@@ -451,21 +451,13 @@ impl Regressor for DecisionTree {
         check_limits(self.max_leaf_nodes, self.min_samples_leaf)?;
         let cols = x.columns();
         let w = vec![1.0; y.len()];
-        let sorted = argsort_columns(&cols);
+        let sorted = argsort_columns(cols);
         let limits = Limits {
             max_depth: self.max_depth,
             min_samples_leaf: self.min_samples_leaf,
             max_leaf_nodes: self.max_leaf_nodes,
         };
-        self.tree = grow(
-            TreeData {
-                cols: &cols,
-                y,
-                w: &w,
-            },
-            sorted,
-            limits,
-        );
+        self.tree = grow(TreeData { cols, y, w: &w }, sorted, limits);
         self.fitted = Some(x.n_cols());
         Ok(())
     }
