@@ -220,3 +220,17 @@ pub fn extent(values: &[f64]) -> Result<Extent, EvalError> {
         mean: values.iter().sum::<f64>() / values.len() as f64,
     })
 }
+
+/// The mean value of each key of `(key, value)` pairs, in increasing key order (a curve of
+/// means over conditions such as frequencies). Keys are compared after rounding to 1e-6,
+/// so the same condition read from two places counts once.
+pub fn means_by_key(pairs: impl IntoIterator<Item = (f64, f64)>) -> Vec<(f64, f64)> {
+    let mut groups: std::collections::BTreeMap<i64, Vec<f64>> = std::collections::BTreeMap::new();
+    for (k, v) in pairs {
+        groups.entry((k * 1e6).round() as i64).or_default().push(v);
+    }
+    groups
+        .into_iter()
+        .map(|(k, v)| (k as f64 / 1e6, v.iter().sum::<f64>() / v.len() as f64))
+        .collect()
+}
