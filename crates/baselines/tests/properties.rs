@@ -227,3 +227,53 @@ fn cross_validate_scores_every_fold() -> R {
     assert!(scores.iter().all(|m| m.r2 > 1.0 - 1e-12));
     Ok(())
 }
+
+// `compare` fits every model in order, scores it on the test rows with `hxai_eval::score`,
+// reports progress per model, and names the model that fails.
+#[test]
+fn compare_scores_each_model_and_names_a_failure() -> R {
+    let rows: Vec<Vec<f64>> = (0..30)
+        .map(|i| vec![i as f64, (i as f64 * 0.7).sin()])
+        .collect();
+    let x = table(&rows)?;
+    let y: Vec<f64> = rows_of(&x).map(|r| 2.0 * r[0] - r[1] + 1.0).collect();
+    let (train, test): (Vec<usize>, Vec<usize>) = (0..30).partition(|i| i % 5 != 0);
+    let (x_train, x_test) = (x.select_rows(&train)?, x.select_rows(&test)?);
+    let pick = |idx: &[usize]| idx.iter().map(|&i| y[i]).collect::<Vec<f64>>();
+    let (y_train, y_test) = (pick(&train), pick(&test));
+    let models: Vec<Box<dyn Regressor>> = vec![
+        Box::new(LinearRegression::new()),
+        Box::new(DecisionTree::with_max_leaf_nodes(5)),
+    ];
+    let mut heard = Vec::new();
+    let rows = compare(models, &x_train, &y_train, &x_test, &y_test, &mut |p| {
+        heard.push((p.done, p.total))
+    })?;
+    assert_eq!(heard, [(1, 2), (2, 2)]);
+    let names: Vec<&str> = rows.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["linear", "tree_5"]);
+    // Noiseless linear data: the linear model is exact to 1e-10 in R^2.
+    assert!(rows[0].metrics.r2 > 1.0 - 1e-10, "{:?}", rows[0]);
+    let mut tree = DecisionTree::with_max_leaf_nodes(5);
+    tree.fit(&x_train, &y_train)?;
+    assert_eq!(
+        rows[1].metrics,
+        hxai_eval::score(&y_test, &tree.predict(&x_test)?)?
+    );
+    let one_col = x_test.select_columns(&["x0"])?;
+    let err = compare(
+        vec![Box::new(LinearRegression::new())],
+        &x_train,
+        &y_train,
+        &one_col,
+        &y_test,
+        &mut |_| {},
+    )
+    .err()
+    .ok_or("expected an error")?;
+    assert!(
+        matches!(&err, BaselineError::Model { model, .. } if model == "linear"),
+        "{err:?}"
+    );
+    Ok(())
+}

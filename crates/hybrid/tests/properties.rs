@@ -348,3 +348,45 @@ fn short_record_error_names_record_and_need() -> Result<(), Box<dyn std::error::
     assert!(err.to_string().contains("short"), "{err}");
     Ok(())
 }
+
+// The samples table: `record`, `window`, `split`, the features, then `A_phys`, `A_true`
+// and `delta = A_true - A_phys` (exact: the same subtraction as `WindowSample::delta`);
+// a sample without truth is an error naming its record.
+#[test]
+fn samples_table_columns_and_missing_truth() -> Result<(), Box<dyn std::error::Error>> {
+    let latent = |amplitude: f64| Latent {
+        amplitude,
+        phase: 0.1,
+        offset: 0.0,
+    };
+    let sample = |record: &str, window: usize, truth: Option<f64>| WindowSample {
+        record: record.into(),
+        window,
+        range: 0..10,
+        features: vec![1.0, 2.0],
+        physics: latent(4.0),
+        truth: truth.map(latent),
+    };
+    let names = vec!["a".to_string(), "b".to_string()];
+    let samples = [sample("r1", 0, Some(4.5)), sample("r2", 3, Some(3.75))];
+    let t = hxai_hybrid::samples_table(&samples, &[false, true], &names)?;
+    assert_eq!(
+        t.names(),
+        [
+            "record", "window", "split", "a", "b", "A_phys", "A_true", "delta"
+        ]
+    );
+    assert_eq!(t.record, ["r1", "r2"]);
+    assert_eq!(t.window, [0, 3]);
+    assert_eq!(t.split, ["train", "test"]);
+    assert_eq!(t.values.column("delta"), Some(&[0.5, -0.25][..]));
+    assert_eq!(t.values.column("A_phys"), Some(&[4.0, 4.0][..]));
+    let err = hxai_hybrid::samples_table(&[sample("r3", 0, None)], &[false], &names)
+        .err()
+        .ok_or("expected an error")?;
+    assert!(
+        matches!(&err, HybridError::NoTruth { record } if record == "r3"),
+        "{err:?}"
+    );
+    Ok(())
+}
