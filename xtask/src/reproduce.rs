@@ -154,9 +154,9 @@ fn summary(out: &hxai_reproduce::Reproduction, total_s: f64) {
     let h = &r.hybrid;
     println!(
         "\ndisplacement, test records: physics RMSE {:.3} um (R2 {:.3}) -> hybrid {:.3} um (R2 {:.3}), {:.1} % lower; p = {}",
-        h.physics.rmse_um,
+        h.physics.rmse,
         h.physics.r2,
-        h.hybrid.rmse_um,
+        h.hybrid.rmse,
         h.hybrid.r2,
         h.improvement_pct,
         h.t_test

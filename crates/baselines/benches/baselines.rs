@@ -23,9 +23,9 @@ impl SplitMix {
 }
 
 /// Friedman-1-like target on 12 uniform features (7 of them pure noise).
-fn table(n: usize, p: usize) -> (Matrix, Vec<f64>) {
+fn table(n: usize, p: usize) -> (Table, Vec<f64>) {
     let mut g = SplitMix(2026);
-    let mut data = Vec::with_capacity(n * p);
+    let mut data = Vec::with_capacity(n);
     let mut y = Vec::with_capacity(n);
     for _ in 0..n {
         let row: Vec<f64> = (0..p).map(|_| g.uniform()).collect();
@@ -37,10 +37,11 @@ fn table(n: usize, p: usize) -> (Matrix, Vec<f64>) {
                 + 5.0 * row[4]
                 + noise,
         );
-        data.extend(row);
+        data.push(row);
     }
+    let names = (0..p).map(|j| format!("x{j}")).collect();
     (
-        Matrix::new(n, p, data).expect("shape is n x p by construction"),
+        Table::from_rows(names, &data).expect("finite n x p rows by construction"),
         y,
     )
 }
@@ -61,7 +62,7 @@ fn bench(c: &mut Criterion) {
         .num_threads(1)
         .build()
         .expect("thread pool");
-    let folds = hxai_eval::kfold(x.nrows(), 5, 42).expect("1000 rows, 5 folds");
+    let folds = hxai_eval::kfold(x.n_rows(), 5, 42).expect("1000 rows, 5 folds");
     for name in ["linear", "lasso_cv", "tree_5", "tree_8", "forest"] {
         let mut g = c.benchmark_group(name);
         if name == "forest" {
@@ -86,7 +87,10 @@ fn bench(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new("cv5", "1000x12"), |b| {
             b.iter(|| {
                 run(&|| {
-                    black_box(cross_validate(&|| model(name), &x, &y, &folds).expect("valid data"));
+                    black_box(
+                        cross_validate(&|| model(name), &x, &y, &folds, &mut |_| {})
+                            .expect("valid data"),
+                    );
                 })
             })
         });

@@ -3,18 +3,16 @@
 /// Everything that can go wrong when fitting or applying a baseline model.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum BaselineError {
-    /// A matrix or target has no rows or no columns.
+    /// A feature table or target has no rows.
     #[error("{what} is empty: pass at least one row and one feature column")]
     Empty {
         /// Which input.
         what: &'static str,
     },
-    /// The data of a matrix does not fill `nrows x ncols`, or rows/columns are ragged.
-    #[error("matrix shape: {detail}")]
-    Shape {
-        /// What does not fit.
-        detail: String,
-    },
+    /// A feature table could not be built or sliced (ragged, a missing column, a row out
+    /// of range, a non-finite value).
+    #[error("feature table: {0}")]
+    Table(#[from] hxai_table::TableError),
     /// Feature rows and target values differ in number.
     #[error("x has {rows} rows but y has {targets} values; pass one target per row")]
     LengthMismatch {
@@ -61,8 +59,8 @@ pub enum BaselineError {
         /// Why it is invalid and how to mend it.
         detail: String,
     },
-    /// A row index passed to [`crate::Matrix::select_rows`] is out of range.
-    #[error("row index {index} is out of range for a matrix with {nrows} rows")]
+    /// A row index of a split is out of range for the targets.
+    #[error("row index {index} is out of range for {nrows} rows")]
     RowIndex {
         /// The index.
         index: usize,
@@ -83,4 +81,12 @@ pub enum BaselineError {
     /// The symbolic-regression engine failed.
     #[error("symbolic regression: {0}")]
     Symbolic(String),
+    /// A model of a comparison failed; `source` says how.
+    #[error("model `{model}`: {source}")]
+    Model {
+        /// The model's name.
+        model: String,
+        /// What went wrong.
+        source: Box<BaselineError>,
+    },
 }

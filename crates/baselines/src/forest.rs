@@ -1,9 +1,11 @@
 //! Random forest of bootstrap regression trees (scikit-learn's `RandomForestRegressor`
 //! defaults: every feature considered at each split, no depth limit, leaves of 1 sample).
 
+use crate::matrix::RowMajor;
 use crate::matrix::{check_fit, check_predict};
 use crate::tree::{Limits, Tree, TreeData, argsort_columns, check_limits, grow};
-use crate::{BaselineError, Matrix, Regressor};
+use crate::{BaselineError, Regressor};
+use hxai_table::Table;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -67,7 +69,7 @@ impl Regressor for RandomForest {
         "forest"
     }
 
-    fn fit(&mut self, x: &Matrix, y: &[f64]) -> Result<(), BaselineError> {
+    fn fit(&mut self, x: &Table, y: &[f64]) -> Result<(), BaselineError> {
         check_fit(x, y)?;
         check_limits(None, self.min_samples_leaf)?;
         if self.n_trees == 0 {
@@ -76,9 +78,9 @@ impl Regressor for RandomForest {
                 detail: "must be at least 1".into(),
             });
         }
-        let n = x.nrows();
+        let n = x.n_rows();
         let cols = x.columns();
-        let sorted_all = argsort_columns(&cols);
+        let sorted_all = argsort_columns(cols);
         let limits = Limits {
             max_depth: self.max_depth,
             min_samples_leaf: self.min_samples_leaf,
@@ -98,25 +100,18 @@ impl Regressor for RandomForest {
                     .iter()
                     .map(|l| l.iter().copied().filter(|&i| w[i] > 0.0).collect())
                     .collect();
-                grow(
-                    TreeData {
-                        cols: &cols,
-                        y,
-                        w: &w,
-                    },
-                    sorted,
-                    limits,
-                )
+                grow(TreeData { cols, y, w: &w }, sorted, limits)
             })
             .collect();
-        self.fitted = Some(x.ncols());
+        self.fitted = Some(x.n_cols());
         Ok(())
     }
 
-    fn predict(&self, x: &Matrix) -> Result<Vec<f64>, BaselineError> {
+    fn predict(&self, x: &Table) -> Result<Vec<f64>, BaselineError> {
         check_predict(self.name(), self.fitted, x)?;
         let k = self.trees.len() as f64;
-        Ok(x.rows()
+        Ok(RowMajor::of(x)
+            .rows()
             .map(|r| self.trees.iter().map(|t| t.predict_row(r)).sum::<f64>() / k)
             .collect())
     }

@@ -10,7 +10,8 @@
 
 use crate::linear::{centre, linear_predict};
 use crate::matrix::{check_fit, check_predict};
-use crate::{BaselineError, Matrix, Regressor};
+use crate::{BaselineError, Regressor};
+use hxai_table::Table;
 use rayon::prelude::*;
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -358,7 +359,7 @@ impl Regressor for Lasso {
         "lasso"
     }
 
-    fn fit(&mut self, x: &Matrix, y: &[f64]) -> Result<(), BaselineError> {
+    fn fit(&mut self, x: &Table, y: &[f64]) -> Result<(), BaselineError> {
         check_fit(x, y)?;
         check_solver(self.tol, self.max_iter)?;
         if !(self.alpha.is_finite() && self.alpha >= 0.0) {
@@ -367,11 +368,11 @@ impl Regressor for Lasso {
                 detail: format!("must be >= 0, got {}", self.alpha),
             });
         }
-        let n = x.nrows();
+        let n = x.n_rows();
         let (x_mean, cols) = centre(x);
         let y_mean = y.iter().sum::<f64>() / n as f64;
         let yc: Vec<f64> = y.iter().map(|v| v - y_mean).collect();
-        let mut w = vec![0.0; x.ncols()];
+        let mut w = vec![0.0; x.n_cols()];
         self.converged = cd_plain(
             &mut w,
             self.alpha * n as f64,
@@ -382,11 +383,11 @@ impl Regressor for Lasso {
         );
         self.intercept = y_mean - dot(&x_mean, &w);
         self.coef = w;
-        self.fitted = Some(x.ncols());
+        self.fitted = Some(x.n_cols());
         Ok(())
     }
 
-    fn predict(&self, x: &Matrix) -> Result<Vec<f64>, BaselineError> {
+    fn predict(&self, x: &Table) -> Result<Vec<f64>, BaselineError> {
         check_predict(self.name(), self.fitted, x)?;
         Ok(linear_predict(x, &self.coef, self.intercept))
     }
@@ -484,7 +485,7 @@ fn geomspace(start: f64, stop: f64, num: usize) -> Vec<f64> {
 
 /// Test MSE along the alpha path for one fold.
 fn fold_mse(
-    x: &Matrix,
+    x: &Table,
     y: &[f64],
     train: &[usize],
     test: &[usize],
@@ -494,8 +495,8 @@ fn fold_mse(
 ) -> Result<Vec<f64>, BaselineError> {
     let xt = x.select_rows(train)?;
     let yt: Vec<f64> = train.iter().map(|&i| y[i]).collect();
-    let n = xt.nrows();
-    let p = xt.ncols();
+    let n = xt.n_rows();
+    let p = xt.n_cols();
     let (x_mean, cols) = centre(&xt);
     let y_mean = yt.iter().sum::<f64>() / n as f64;
     let yc: Vec<f64> = yt.iter().map(|v| v - y_mean).collect();
@@ -531,7 +532,7 @@ impl Regressor for LassoCv {
         "lasso_cv"
     }
 
-    fn fit(&mut self, x: &Matrix, y: &[f64]) -> Result<(), BaselineError> {
+    fn fit(&mut self, x: &Table, y: &[f64]) -> Result<(), BaselineError> {
         check_fit(x, y)?;
         check_solver(self.tol, self.max_iter)?;
         if self.n_alphas == 0 {
@@ -546,18 +547,18 @@ impl Regressor for LassoCv {
                 detail: format!("must be > 0, got {}", self.eps),
             });
         }
-        let folds = hxai_eval::kfold_contiguous(x.nrows(), self.cv)?;
+        let folds = hxai_eval::kfold_contiguous(x.n_rows(), self.cv)?;
         if folds.iter().any(|f| f.train.len() < 2) {
             return Err(BaselineError::InvalidParameter {
                 what: "cv",
                 detail: format!(
                     "{} folds of {} rows leave fewer than 2 training rows",
                     self.cv,
-                    x.nrows()
+                    x.n_rows()
                 ),
             });
         }
-        let n = x.nrows() as f64;
+        let n = x.n_rows() as f64;
         let (_, cols) = centre(x);
         let y_mean = y.iter().sum::<f64>() / n;
         let yc: Vec<f64> = y.iter().map(|v| v - y_mean).collect();
@@ -602,7 +603,7 @@ impl Regressor for LassoCv {
         Ok(())
     }
 
-    fn predict(&self, x: &Matrix) -> Result<Vec<f64>, BaselineError> {
+    fn predict(&self, x: &Table) -> Result<Vec<f64>, BaselineError> {
         check_predict(self.name(), self.model.fitted, x)?;
         self.model.predict(x)
     }

@@ -8,20 +8,25 @@
 //! * [`RandomForest`]: 200 bootstrap trees, seed 42, built in parallel, identical for any
 //!   thread count.
 //! * [`SymbolicRegressor`]: `hxai_symreg::search` behind the same trait.
-//! * [`Matrix`]: a small row-major feature matrix; [`cross_validate`] runs any model over
-//!   the splits of `hxai-eval`; [`table3_models`] lists the paper's line-up.
+//! * Every model takes its features as an `hxai_table::Table` (re-exported as [`Table`]);
+//!   the ones that walk rows make their row-major copy inside. [`cross_validate`] runs any
+//!   model over the splits of `hxai-eval`; [`table3_models`] lists the paper's line-up and
+//!   [`compare`] fits and scores a line-up on one split (the paper's Table 3).
 //!
 //! Design decision: every model is written here rather than taken from linfa or smartcore,
 //! because the point of Table 3 is comparison with scikit-learn's numbers, so the models
 //! must reproduce scikit-learn's algorithms (its alpha grid, fold layout, coordinate order
 //! and stopping rule; its best-first growth and threshold rule), not merely solve the same
-//! problem. See `docs/parts/baselines-architecture.md`.
+//! problem.
 //!
 //! ```
-//! use hxai_baselines::{LinearRegression, Matrix, Regressor};
+//! use hxai_baselines::{LinearRegression, Regressor, Table};
 //!
-//! let x = Matrix::from_rows(&[vec![0.0, 1.0], vec![1.0, 0.0], vec![2.0, 2.0], vec![3.0, 1.0]])?;
-//! let y: Vec<f64> = x.rows().map(|r| 1.0 + 2.0 * r[0] - r[1]).collect();
+//! let x = Table::new(
+//!     vec!["a".into(), "b".into()],
+//!     vec![vec![0.0, 1.0, 2.0, 3.0], vec![1.0, 0.0, 2.0, 1.0]],
+//! )?;
+//! let y: Vec<f64> = (0..x.n_rows()).map(|i| x.row(i)).map(|r| 1.0 + 2.0 * r[0] - r[1]).collect();
 //! let mut m = LinearRegression::new();
 //! m.fit(&x, &y)?;
 //! assert!((m.coef()[0] - 2.0).abs() < 1e-12 && (m.intercept() - 1.0).abs() < 1e-12);
@@ -30,6 +35,7 @@
 //! ```
 #![deny(missing_docs)]
 
+mod compare;
 mod cv;
 mod error;
 mod forest;
@@ -39,12 +45,13 @@ mod matrix;
 mod symbolic;
 mod tree;
 
+pub use compare::{Comparison, compare};
 pub use cv::cross_validate;
 pub use error::BaselineError;
 pub use forest::RandomForest;
+pub use hxai_table::{Table, TableError};
 pub use lasso::{Lasso, LassoCv};
 pub use linear::LinearRegression;
-pub use matrix::Matrix;
 pub use symbolic::SymbolicRegressor;
 pub use tree::DecisionTree;
 
@@ -56,17 +63,27 @@ pub trait Regressor {
     /// Short, stable name (e.g. `linear`, `lasso_cv`, `tree_5`, `forest`).
     fn name(&self) -> &str;
 
-    /// Fits the model on rows `x` and targets `y`.
+    /// Fits the model on the rows of `x` (one column per feature) and targets `y`.
     ///
     /// # Errors
-    /// Empty data, mismatched lengths, non-finite values, invalid hyper-parameters.
-    fn fit(&mut self, x: &Matrix, y: &[f64]) -> Result<(), BaselineError>;
+    /// Empty data, mismatched lengths, non-finite targets, invalid hyper-parameters.
+    fn fit(&mut self, x: &Table, y: &[f64]) -> Result<(), BaselineError>;
 
-    /// Predicts one value per row of `x`.
+    /// Predicts one value per row of `x` (the columns of the fit, in its order).
     ///
     /// # Errors
-    /// Not fitted, wrong number of features, non-finite values.
-    fn predict(&self, x: &Matrix) -> Result<Vec<f64>, BaselineError>;
+    /// Not fitted, wrong number of features.
+    fn predict(&self, x: &Table) -> Result<Vec<f64>, BaselineError>;
+}
+
+/// What a long computation of this crate ([`compare`], [`cross_validate`]) reports after
+/// each step: `done` of `total` models or folds finished.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Progress {
+    /// Steps finished.
+    pub done: usize,
+    /// Steps in all.
+    pub total: usize,
 }
 
 /// The paper's Table 3 baselines, unfitted, in table order: `linear`, `lasso_cv`,

@@ -1,8 +1,10 @@
 //! Ordinary least squares with an intercept (scikit-learn's `LinearRegression`).
 
+use crate::matrix::RowMajor;
 use crate::matrix::{check_fit, check_predict};
-use crate::{BaselineError, Matrix, Regressor};
+use crate::{BaselineError, Regressor};
 use faer::Mat;
+use hxai_table::Table;
 
 /// Least squares `y ~ intercept + x . coef`.
 ///
@@ -35,9 +37,9 @@ impl LinearRegression {
 }
 
 /// Column means and the centred columns-major copy of `x`.
-pub(crate) fn centre(x: &Matrix) -> (Vec<f64>, Vec<Vec<f64>>) {
-    let n = x.nrows() as f64;
-    let mut cols = x.columns();
+pub(crate) fn centre(x: &Table) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let n = x.n_rows() as f64;
+    let mut cols = x.columns().to_vec();
     let means: Vec<f64> = cols.iter().map(|c| c.iter().sum::<f64>() / n).collect();
     for (c, m) in cols.iter_mut().zip(&means) {
         c.iter_mut().for_each(|v| *v -= m);
@@ -50,9 +52,9 @@ impl Regressor for LinearRegression {
         "linear"
     }
 
-    fn fit(&mut self, x: &Matrix, y: &[f64]) -> Result<(), BaselineError> {
+    fn fit(&mut self, x: &Table, y: &[f64]) -> Result<(), BaselineError> {
         check_fit(x, y)?;
-        let (n, p) = (x.nrows(), x.ncols());
+        let (n, p) = (x.n_rows(), x.n_cols());
         let (x_mean, cols) = centre(x);
         let y_mean = y.iter().sum::<f64>() / n as f64;
         let a = Mat::<f64>::from_fn(n, p, |i, j| cols[j][i]);
@@ -81,14 +83,15 @@ impl Regressor for LinearRegression {
         Ok(())
     }
 
-    fn predict(&self, x: &Matrix) -> Result<Vec<f64>, BaselineError> {
+    fn predict(&self, x: &Table) -> Result<Vec<f64>, BaselineError> {
         check_predict(self.name(), self.fitted, x)?;
         Ok(linear_predict(x, &self.coef, self.intercept))
     }
 }
 
-pub(crate) fn linear_predict(x: &Matrix, coef: &[f64], intercept: f64) -> Vec<f64> {
-    x.rows()
+pub(crate) fn linear_predict(x: &Table, coef: &[f64], intercept: f64) -> Vec<f64> {
+    RowMajor::of(x)
+        .rows()
         .map(|r| intercept + r.iter().zip(coef).map(|(a, b)| a * b).sum::<f64>())
         .collect()
 }

@@ -1,11 +1,12 @@
 //! The symbolic-regression model of `hxai-symreg` behind the [`Regressor`] trait.
 
 use crate::matrix::{check_fit, check_predict};
-use crate::{BaselineError, Matrix, Regressor};
+use crate::{BaselineError, Regressor};
 use hxai_symreg::{Model, SearchConfig, SearchResult, Table};
+use std::borrow::Cow;
 
 /// Adapter over [`hxai_symreg::search()`]: `fit` runs the search on the columns of `x`
-/// (named `x0`, `x1`, ... unless [`SymbolicRegressor::with_names`] says otherwise) and keeps
+/// (under the table's names unless [`SymbolicRegressor::with_names`] renames them) and keeps
 /// the best model; `predict` evaluates its equation.
 #[derive(Debug, Clone)]
 pub struct SymbolicRegressor {
@@ -49,18 +50,19 @@ impl SymbolicRegressor {
         self.result.as_ref()
     }
 
-    fn dataset(&self, x: &Matrix) -> Result<Table, BaselineError> {
-        let names = match &self.names {
-            Some(n) if n.len() == x.ncols() => n.clone(),
-            Some(n) => {
-                return Err(BaselineError::FeatureCount {
-                    fitted: n.len(),
-                    got: x.ncols(),
-                });
+    /// `x` under the names the equation uses: itself, or a renamed copy.
+    fn named<'a>(&self, x: &'a Table) -> Result<Cow<'a, Table>, BaselineError> {
+        match &self.names {
+            None => Ok(Cow::Borrowed(x)),
+            Some(n) if n.as_slice() == x.names() => Ok(Cow::Borrowed(x)),
+            Some(n) if n.len() == x.n_cols() => {
+                Ok(Cow::Owned(Table::new(n.clone(), x.columns().to_vec())?))
             }
-            None => (0..x.ncols()).map(|j| format!("x{j}")).collect(),
-        };
-        Table::new(names, x.columns()).map_err(|e| BaselineError::Symbolic(e.to_string()))
+            Some(n) => Err(BaselineError::FeatureCount {
+                fitted: n.len(),
+                got: x.n_cols(),
+            }),
+        }
     }
 }
 
@@ -69,23 +71,24 @@ impl Regressor for SymbolicRegressor {
         "symbolic"
     }
 
-    fn fit(&mut self, x: &Matrix, y: &[f64]) -> Result<(), BaselineError> {
+    fn fit(&mut self, x: &Table, y: &[f64]) -> Result<(), BaselineError> {
         check_fit(x, y)?;
-        let data = self.dataset(x)?;
+        let data = self.named(x)?;
         let result = hxai_symreg::search(&data, y, &self.config, &mut |_| {})
             .map_err(|e| BaselineError::Symbolic(e.to_string()))?;
         self.result = Some(result);
-        self.fitted = Some(x.ncols());
+        self.fitted = Some(x.n_cols());
         Ok(())
     }
 
-    fn predict(&self, x: &Matrix) -> Result<Vec<f64>, BaselineError> {
+    fn predict(&self, x: &Table) -> Result<Vec<f64>, BaselineError> {
         check_predict(self.name(), self.fitted, x)?;
         let model = self.model().ok_or_else(|| BaselineError::NotFitted {
             model: "symbolic".into(),
         })?;
+        let data = self.named(x)?;
         model
-            .predict(&self.dataset(x)?)
+            .predict(&data)
             .map_err(|e| BaselineError::Symbolic(e.to_string()))
     }
 }

@@ -10,8 +10,10 @@
 //! Each feature's sample list is sorted once per tree; a split partitions every list
 //! stably in place, so a node costs `O(features x samples)` instead of a sort per node.
 
+use crate::matrix::RowMajor;
 use crate::matrix::{check_fit, check_predict};
-use crate::{BaselineError, Matrix, Regressor};
+use crate::{BaselineError, Regressor};
+use hxai_table::Table;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -444,32 +446,27 @@ impl Regressor for DecisionTree {
         &self.name
     }
 
-    fn fit(&mut self, x: &Matrix, y: &[f64]) -> Result<(), BaselineError> {
+    fn fit(&mut self, x: &Table, y: &[f64]) -> Result<(), BaselineError> {
         check_fit(x, y)?;
         check_limits(self.max_leaf_nodes, self.min_samples_leaf)?;
         let cols = x.columns();
         let w = vec![1.0; y.len()];
-        let sorted = argsort_columns(&cols);
+        let sorted = argsort_columns(cols);
         let limits = Limits {
             max_depth: self.max_depth,
             min_samples_leaf: self.min_samples_leaf,
             max_leaf_nodes: self.max_leaf_nodes,
         };
-        self.tree = grow(
-            TreeData {
-                cols: &cols,
-                y,
-                w: &w,
-            },
-            sorted,
-            limits,
-        );
-        self.fitted = Some(x.ncols());
+        self.tree = grow(TreeData { cols, y, w: &w }, sorted, limits);
+        self.fitted = Some(x.n_cols());
         Ok(())
     }
 
-    fn predict(&self, x: &Matrix) -> Result<Vec<f64>, BaselineError> {
+    fn predict(&self, x: &Table) -> Result<Vec<f64>, BaselineError> {
         check_predict(self.name(), self.fitted, x)?;
-        Ok(x.rows().map(|r| self.tree.predict_row(r)).collect())
+        Ok(RowMajor::of(x)
+            .rows()
+            .map(|r| self.tree.predict_row(r))
+            .collect())
     }
 }

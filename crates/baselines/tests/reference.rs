@@ -59,6 +59,12 @@ struct Reference {
     forest: ForestRef,
 }
 
+/// A feature table of `rows`, columns named `x0`, `x1`, ...
+fn table(rows: &[Vec<f64>]) -> Result<Table, TableError> {
+    let p = rows.first().map_or(1, Vec::len);
+    Table::from_rows((0..p).map(|j| format!("x{j}")).collect(), rows)
+}
+
 fn load() -> Result<Reference, Box<dyn std::error::Error>> {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -71,7 +77,7 @@ fn load() -> Result<Reference, Box<dyn std::error::Error>> {
 fn linear_regression_matches_sklearn_to_1e9() -> R {
     let r = load()?.linear;
     let mut m = LinearRegression::new();
-    m.fit(&Matrix::from_rows(&r.x)?, &r.y)?;
+    m.fit(&table(&r.x)?, &r.y)?;
     for (a, b) in m.coef().iter().zip(&r.coef) {
         assert_relative_eq!(*a, *b, max_relative = 1e-9);
     }
@@ -83,7 +89,7 @@ fn linear_regression_matches_sklearn_to_1e9() -> R {
 fn lasso_cv_matches_sklearn_alpha_path_and_coefficients_to_1e6() -> R {
     let r = load()?.lasso;
     let mut m = LassoCv::new();
-    m.fit(&Matrix::from_rows(&r.x)?, &r.y)?;
+    m.fit(&table(&r.x)?, &r.y)?;
     assert_eq!(m.alphas().len(), r.alphas.len());
     for (a, b) in m.alphas().iter().zip(&r.alphas) {
         assert_relative_eq!(*a, *b, max_relative = 1e-6);
@@ -106,10 +112,7 @@ fn lasso_cv_matches_sklearn_alpha_path_and_coefficients_to_1e6() -> R {
 #[test]
 fn best_first_trees_match_sklearn_predictions() -> R {
     let r = load()?.tree;
-    let (xtr, xte) = (
-        Matrix::from_rows(&r.x_train)?,
-        Matrix::from_rows(&r.x_test)?,
-    );
+    let (xtr, xte) = (table(&r.x_train)?, table(&r.x_test)?);
     for k in [5usize, 6, 8] {
         let want = &r.models[&k.to_string()];
         let mut t = DecisionTree::with_max_leaf_nodes(k);
@@ -131,8 +134,8 @@ fn best_first_trees_match_sklearn_predictions() -> R {
 fn forest_test_r2_within_0_02_of_sklearn() -> R {
     let r = load()?.forest;
     let mut f = RandomForest::new();
-    f.fit(&Matrix::from_rows(&r.x_train)?, &r.y_train)?;
-    let r2 = hxai_eval::r2(&r.y_test, &f.predict(&Matrix::from_rows(&r.x_test)?)?)?;
+    f.fit(&table(&r.x_train)?, &r.y_train)?;
+    let r2 = hxai_eval::r2(&r.y_test, &f.predict(&table(&r.x_test)?)?)?;
     assert!(
         (r2 - r.test_r2).abs() <= 0.02,
         "forest R^2 {r2} vs sklearn {}",

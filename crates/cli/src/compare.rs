@@ -2,12 +2,10 @@
 //! table and scored on another.
 use crate::Global;
 use anyhow::{Context, Result};
-use hxai_baselines::{Matrix, SymbolicRegressor, table3_models};
-use hxai_data::Table;
+use hxai_baselines::{SymbolicRegressor, table3_models};
 use hxai_symreg::SearchConfig;
 use serde_json::json;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// Arguments of `hxai compare`.
 #[derive(Debug, clap::Args)]
@@ -29,77 +27,43 @@ pub struct Args {
     pub json: bool,
 }
 
-fn column<'a>(t: &'a Table, name: &str, path: &Path) -> Result<&'a Vec<f64>> {
-    let i = t.names.iter().position(|n| n == name).with_context(|| {
-        format!(
-            "no column `{name}` in {}: the columns are {}",
-            path.display(),
-            t.names.join(", ")
-        )
-    })?;
-    Ok(&t.columns[i])
-}
-
-/// Feature matrix (columns `features`, in that order) and target of a table.
-fn xy(t: &Table, features: &[String], target: &str, path: &Path) -> Result<(Matrix, Vec<f64>)> {
-    let cols = features
-        .iter()
-        .map(|f| column(t, f, path).cloned())
-        .collect::<Result<Vec<_>>>()?;
-    let x = Matrix::from_columns(&cols).with_context(|| format!("bad table {}", path.display()))?;
-    Ok((x, column(t, target, path)?.clone()))
-}
-
 /// Runs `hxai compare`.
 #[allow(clippy::print_stdout)]
 pub fn run(args: Args, _g: &Global) -> Result<()> {
     let read = |p: &Path| {
         hxai_data::read_table(p).with_context(|| format!("cannot read the table {}", p.display()))
     };
-    let (train, test) = (read(&args.train)?, read(&args.test)?);
-    column(&train, &args.target, &args.train)?;
-    let features: Vec<String> = train
-        .names
-        .iter()
-        .filter(|n| **n != args.target)
-        .cloned()
-        .collect();
-    anyhow::ensure!(
-        !features.is_empty(),
-        "{} has no input column besides `{}`",
-        args.train.display(),
-        args.target
-    );
-    let (x_train, y_train) = xy(&train, &features, &args.target, &args.train)?;
-    let (x_test, y_test) = xy(&test, &features, &args.target, &args.test)?;
+    let (mut x_train, test) = (read(&args.train)?, read(&args.test)?);
+    let y_train = x_train.remove_column(&args.target).with_context(|| {
+        format!(
+            "cannot take column `{}` of {} as the target: it must be there, besides at least \
+             one input column (the columns are {})",
+            args.target,
+            args.train.display(),
+            x_train.names().join(", ")
+        )
+    })?;
+    let in_test = |what: &str| format!("{what} of {}", args.test.display());
+    let x_test = test
+        .select_columns(x_train.names())
+        .with_context(|| in_test("the training table's input columns"))?;
+    let y_test = test
+        .require(&args.target)
+        .with_context(|| in_test("the target column"))?;
 
     let mut models = table3_models(args.seed);
     let cfg = SearchConfig {
         seed: args.seed,
         ..SearchConfig::default()
     };
-    models.push(Box::new(
-        SymbolicRegressor::new(cfg).with_names(features.clone()),
-    ));
-
-    let mut rows = Vec::new();
-    for mut m in models {
-        let t0 = Instant::now();
-        m.fit(&x_train, &y_train)
-            .with_context(|| format!("fitting `{}` failed", m.name()))?;
-        let seconds = t0.elapsed().as_secs_f64();
-        let pred = m
-            .predict(&x_test)
-            .with_context(|| format!("predicting with `{}` failed", m.name()))?;
-        let s = hxai_eval::score(&y_test, &pred)
-            .with_context(|| format!("scoring `{}` failed", m.name()))?;
-        rows.push((m.name().to_string(), s, seconds));
-    }
+    models.push(Box::new(SymbolicRegressor::new(cfg)));
+    let rows = hxai_baselines::compare(models, &x_train, &y_train, &x_test, y_test, &mut |_| {})
+        .context("the comparison failed")?;
 
     if args.json {
         let models: Vec<_> = rows
             .iter()
-            .map(|(name, s, sec)| json!({"name": name, "r2": s.r2, "rmse": s.rmse, "mae": s.mae, "seconds": sec}))
+            .map(|c| json!({"name": c.name, "r2": c.metrics.r2, "rmse": c.metrics.rmse, "mae": c.metrics.mae, "seconds": c.seconds}))
             .collect();
         let doc = json!({
             "models": models,
@@ -121,10 +85,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             "{:<10} {:>10} {:>12} {:>12} {:>10}",
             "model", "R^2", "RMSE", "MAE", "seconds"
         );
-        for (name, s, sec) in &rows {
+        for c in &rows {
+            let s = &c.metrics;
             println!(
-                "{name:<10} {:>10.4} {:>12.5} {:>12.5} {:>10.3}",
-                s.r2, s.rmse, s.mae, sec
+                "{:<10} {:>10.4} {:>12.5} {:>12.5} {:>10.3}",
+                c.name, s.r2, s.rmse, s.mae, c.seconds
             );
         }
     }

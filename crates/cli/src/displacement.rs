@@ -73,7 +73,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     );
     let rec = hxai_data::read_record(&args.record)
         .with_context(|| format!("reading record {}", args.record.display()))?;
-    let fs = rec.fs();
+    let fs = rec.fs_hz();
     let cfg = PhysicsConfig {
         low_hz: args.low_hz,
         high_hz: args.high_hz,
@@ -96,10 +96,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         .with_context(|| format!("physics model on {}", args.record.display()))?;
     let fit = hxai_signal::fit_sine(&d_um, fs, args.frequency_hz)
         .context("fitting the commanded sine to the displacement")?;
-    let table = hxai_data::Table {
-        names: vec!["time_s".into(), "displacement_um".into()],
-        columns: vec![rec.time_s.clone(), d_um],
-    };
+    let table = hxai_data::Table::new(
+        vec!["time_s".into(), "displacement_um".into()],
+        vec![rec.time_s.clone(), d_um],
+    )
+    .context("the displacement is not a finite table")?;
     hxai_data::write_table(&args.out, &table)
         .with_context(|| format!("writing {}", args.out.display()))?;
     let summary = serde_json::json!({

@@ -72,10 +72,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             ("physics sine", ev.physics_sine),
             ("hybrid", ev.hybrid),
         ] {
-            println!(
-                "{name:<16} {:>10.4} {:>8.4} {:>10.4}",
-                s.rmse_um, s.r2, s.mae_um
-            );
+            println!("{name:<16} {:>10.4} {:>8.4} {:>10.4}", s.rmse, s.r2, s.mae);
         }
         println!(
             "improvement {:.2} % (vs physics sine {:.2} %)",

@@ -58,7 +58,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             PsdArg::Periodogram => PsdEstimator::Periodogram,
         },
     };
-    let f = hxai_features::extract_with(&rec.accel_ms2, rec.fs(), args.frequency_hz, &cfg)
+    let f = hxai_features::extract_with(&rec.accel_ms2, rec.fs_hz(), args.frequency_hz, &cfg)
         .with_context(|| format!("features of {}", args.record.display()))?;
     #[allow(clippy::print_stdout)]
     if args.json {

@@ -1,21 +1,11 @@
 //! `hxai fit`: fit the tool-position hybrid model on a data folder.
 use crate::Global;
+use crate::strategy::StrategyArg;
 use anyhow::{Context, Result};
 use hxai_hybrid::{FitConfig, FitProgress, SplitKind, WindowConfig};
-use hxai_symreg::{SearchConfig, Strategy};
+use hxai_symreg::SearchConfig;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
-
-/// Symbolic-regression engine.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Engine {
-    /// QLattice-style path sampling.
-    Qlattice,
-    /// Genetic programming.
-    Genetic,
-    /// Both, sharing one archive.
-    Combined,
-}
 
 /// How windows are split into train and test.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -41,9 +31,9 @@ pub struct Args {
     /// Fraction of records (or windows, with --split window) held out for testing.
     #[arg(long, default_value_t = 0.2)]
     pub test_fraction: f64,
-    /// Symbolic-regression engine.
-    #[arg(long, value_enum, default_value_t = Engine::Combined)]
-    pub engine: Engine,
+    /// Symbolic-regression search strategy (`--engine` is accepted as an alias).
+    #[arg(long, alias = "engine", value_enum, default_value_t = StrategyArg::Combined)]
+    pub strategy: StrategyArg,
     /// Search epochs (default: the search's default, 10).
     #[arg(long)]
     pub epochs: Option<usize>,
@@ -93,11 +83,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
 
     let mut search = SearchConfig {
         seed: args.seed,
-        strategy: match args.engine {
-            Engine::Qlattice => Strategy::QLattice,
-            Engine::Genetic => Strategy::Genetic,
-            Engine::Combined => Strategy::Combined,
-        },
+        strategy: args.strategy.into(),
         ..SearchConfig::default()
     };
     if let Some(e) = args.epochs {
@@ -139,7 +125,17 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     hxai_data::write_text(&args.out, &json)
         .with_context(|| format!("cannot write the model to {}", args.out.display()))?;
     if let Some(path) = &args.samples {
-        let table = samples_table(&out);
+        use hxai_data::Column;
+        let s = out.samples_table().context("cannot tabulate the samples")?;
+        let mut table = hxai_data::MixedTable {
+            names: vec!["record".into(), "window".into(), "split".into()],
+            columns: vec![
+                Column::Text(s.record),
+                Column::Number(s.window.iter().map(|&w| w as f64).collect()),
+                Column::Text(s.split.iter().map(|s| s.to_string()).collect()),
+            ],
+        };
+        table.push_table(s.values);
         hxai_data::write_mixed_table(path, &table)
             .with_context(|| format!("cannot write the samples to {}", path.display()))?;
     }
@@ -165,8 +161,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         }
     } else {
         let t = &m.training;
-        let fmt = |s: &Option<hxai_hybrid::Scores>| {
-            s.map(|s| format!("R^2 {:.4}, RMSE {:.4} um", s.r2, s.rmse_um))
+        let fmt = |s: &Option<hxai_eval::Metrics>| {
+            s.map(|s| format!("R^2 {:.4}, RMSE {:.4} um", s.r2, s.rmse))
                 .unwrap_or_else(|| "n/a".into())
         };
         #[allow(clippy::print_stdout)]
@@ -192,38 +188,4 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// The samples as a table: `record`, `window`, `split`, features, `A_phys`, `A_true`, `delta`.
-fn samples_table(out: &hxai_hybrid::FitOutput) -> hxai_data::MixedTable {
-    use hxai_data::Column;
-    let s = &out.samples;
-    let mut names = vec!["record".to_string(), "window".into(), "split".into()];
-    let mut columns = vec![
-        Column::Text(s.iter().map(|w| w.record.clone()).collect()),
-        Column::Number(s.iter().map(|w| w.window as f64).collect()),
-        Column::Text(
-            out.is_test
-                .iter()
-                .map(|&t| if t { "test" } else { "train" }.to_string())
-                .collect(),
-        ),
-    ];
-    for (j, name) in out.model.features.names.iter().enumerate() {
-        names.push(name.clone());
-        columns.push(Column::Number(
-            s.iter()
-                .map(|w| w.features.get(j).copied().unwrap_or(f64::NAN))
-                .collect(),
-        ));
-    }
-    names.extend(["A_phys".to_string(), "A_true".into(), "delta".into()]);
-    columns.push(Column::Number(s.iter().map(|w| w.a_phys()).collect()));
-    columns.push(Column::Number(
-        s.iter().map(|w| w.a_true().unwrap_or(f64::NAN)).collect(),
-    ));
-    columns.push(Column::Number(
-        s.iter().map(|w| w.delta().unwrap_or(f64::NAN)).collect(),
-    ));
-    hxai_data::MixedTable { names, columns }
 }

@@ -18,6 +18,7 @@ mod predict;
 mod records;
 mod simulate;
 mod sr;
+mod strategy;
 
 /// Options shared by every subcommand.
 #[derive(Debug, Clone, clap::Args)]

@@ -50,16 +50,17 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         .to_owned();
     let input = RecordInput {
         id: &id,
-        fs: rec.fs(),
-        freq_hz: args.frequency_hz,
+        fs_hz: rec.fs_hz(),
+        frequency_hz: args.frequency_hz,
         signal: &rec.accel_ms2,
         truth: None,
     };
     let pred = model.predict(&input).context("prediction failed")?;
-    let table = hxai_data::Table {
-        names: vec!["time_s".into(), "physics_um".into(), "hybrid_um".into()],
-        columns: vec![rec.time_s.clone(), pred.physics, pred.hybrid],
-    };
+    let table = hxai_data::Table::new(
+        vec!["time_s".into(), "physics_um".into(), "hybrid_um".into()],
+        vec![rec.time_s.clone(), pred.physics, pred.hybrid],
+    )
+    .context("the prediction is not a finite table")?;
     hxai_data::write_table(&args.out, &table)
         .with_context(|| format!("cannot write {}", args.out.display()))?;
     if args.json {

@@ -40,8 +40,8 @@ pub fn inputs<'a>(entries: &[&'a ManifestEntry], recs: &'a [Record]) -> Vec<Reco
         .zip(recs)
         .map(|(e, r)| RecordInput {
             id: &e.record,
-            fs: r.fs(),
-            freq_hz: e.frequency_hz,
+            fs_hz: r.fs_hz(),
+            frequency_hz: e.frequency_hz,
             signal: &r.accel_ms2,
             truth: r.probe_um.as_deref(),
         })

@@ -35,8 +35,8 @@ pub struct Args {
     #[arg(long)]
     pub duration_s: Option<f64>,
     /// Sampling rate in Hz [default: 10000].
-    #[arg(long)]
-    pub fs: Option<f64>,
+    #[arg(long, alias = "fs")]
+    pub fs_hz: Option<f64>,
     /// Commanded amplitudes in um, comma-separated [default: 4,5,...,11].
     #[arg(long, value_delimiter = ',', num_args = 1..)]
     pub amplitudes: Option<Vec<f64>>,
@@ -95,7 +95,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     if let Some(d) = args.duration_s {
         cfg.duration_s = d;
     }
-    if let Some(fs) = args.fs {
+    if let Some(fs) = args.fs_hz {
         cfg.fs_hz = fs;
     }
     if let Some(a) = args.amplitudes {
@@ -104,7 +104,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     if let Some(f) = args.frequencies {
         cfg.frequencies_hz = f;
     }
-    cfg.validate().context("invalid simulation settings")?;
+    cfg.check().context("invalid simulation settings")?;
 
     let n = cfg.n_records();
     let bar = ProgressBar::new(n as u64);

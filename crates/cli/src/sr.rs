@@ -1,7 +1,8 @@
 //! `hxai sr`: symbolic regression of one column of a table on the others.
 use crate::Global;
+use crate::strategy::StrategyArg;
 use anyhow::{Context, Result};
-use hxai_symreg::{Criterion, Model, SearchConfig, Strategy, Table, search};
+use hxai_symreg::{Criterion, Model, SearchConfig, Table, search};
 use serde_json::{Value, json};
 use std::path::PathBuf;
 
@@ -48,17 +49,6 @@ pub struct Args {
     pub json: bool,
 }
 
-/// `--strategy` values.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum StrategyArg {
-    /// QLattice-style path sampling over lineages.
-    Qlattice,
-    /// Island genetic programming.
-    Genetic,
-    /// Both, sharing one Pareto archive.
-    Combined,
-}
-
 /// `--criterion` values.
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
 pub enum CriterionArg {
@@ -70,56 +60,41 @@ pub enum CriterionArg {
     Pareto,
 }
 
+/// A model's forms and its training scores (`null` when a score cannot be computed, e.g. a
+/// non-finite prediction).
 fn summary(m: &Model, data: &Table, y: &[f64]) -> Result<Value> {
-    let pred = m.predict(data)?;
-    let n = y.len() as f64;
-    let mean = y.iter().sum::<f64>() / n;
-    let sst: f64 = y.iter().map(|v| (v - mean).powi(2)).sum();
-    let sse: f64 = y.iter().zip(&pred).map(|(a, b)| (a - b).powi(2)).sum();
+    let scores = hxai_eval::score(y, &m.predict(data)?).ok();
     Ok(json!({
         "equation": m.equation(),
         "sympy": m.sympy(),
         "latex": m.latex(),
         "complexity": m.complexity(),
         "features": m.features(),
-        "r2": 1.0 - sse / sst,
-        "rmse": (sse / n).sqrt(),
+        "r2": scores.map(|s| s.r2),
+        "rmse": scores.map(|s| s.rmse),
     }))
 }
 
 /// Runs `hxai sr`.
 #[allow(clippy::print_stdout)]
 pub fn run(args: Args, _g: &Global) -> Result<()> {
-    let table = hxai_data::read_table(&args.csv)
+    let mut data = hxai_data::read_table(&args.csv)
         .with_context(|| format!("cannot read the table {}", args.csv.display()))?;
-    let ti = table
-        .names
-        .iter()
-        .position(|n| *n == args.target)
-        .with_context(|| {
-            format!(
-                "no column `{}` in {}: the columns are {}",
-                args.target,
-                args.csv.display(),
-                table.names.join(", ")
-            )
-        })?;
-    let mut names = table.names.clone();
-    let mut columns = table.columns.clone();
-    let y = columns.remove(ti);
-    names.remove(ti);
-    let data = Table::new(names, columns)?;
+    let y = data.remove_column(&args.target).with_context(|| {
+        format!(
+            "cannot take column `{}` of {} as the target (the columns are {})",
+            args.target,
+            args.csv.display(),
+            data.names().join(", ")
+        )
+    })?;
     let mut cfg = SearchConfig {
         seed: args.seed,
         max_complexity: args.max_complexity,
         epochs: args.epochs,
         time_limit_s: args.time_limit_s,
         max_evaluations: args.max_evaluations,
-        strategy: match args.strategy {
-            StrategyArg::Qlattice => Strategy::QLattice,
-            StrategyArg::Genetic => Strategy::Genetic,
-            StrategyArg::Combined => Strategy::Combined,
-        },
+        strategy: args.strategy.into(),
         criterion: match args.criterion {
             CriterionArg::Bic => Criterion::Bic,
             CriterionArg::Aic => Criterion::Aic,

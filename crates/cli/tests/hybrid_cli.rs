@@ -192,26 +192,31 @@ fn fit_evaluate_predict() -> TestResult {
         String::from_utf8_lossy(&out.stderr)
     );
     let t = read_table(&pred)?;
-    assert_eq!(t.names, vec!["time_s", "physics_um", "hybrid_um"]);
-    assert_eq!(t.height(), 2000);
+    assert_eq!(t.names(), ["time_s", "physics_um", "hybrid_um"]);
+    assert_eq!(t.n_rows(), 2000);
     Ok(())
 }
 
 #[test]
 fn bad_inputs_fail_with_one_line() -> TestResult {
     let dir = scratch("bad")?;
-    let out = hxai(&[
-        "fit",
-        "--data",
-        s(&dir.join("nope")),
-        "--out",
-        s(&dir.join("m.json")),
-    ])?;
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(err.trim().lines().count(), 1, "{err}");
-    assert!(err.contains("nope"), "{err}");
-    assert!(out.stdout.is_empty());
+    // `fit` takes the search strategy as `--strategy`, like `sr`, and still accepts the
+    // `--engine` of the interface contract: with either, the run fails only on the folder.
+    for strategy in [
+        &[][..],
+        &["--strategy", "genetic"],
+        &["--engine", "genetic"],
+    ] {
+        let (data, model) = (dir.join("nope"), dir.join("m.json"));
+        let mut args = vec!["fit", "--data", s(&data), "--out", s(&model)];
+        args.extend_from_slice(strategy);
+        let out = hxai(&args)?;
+        assert!(!out.status.success());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.trim().lines().count(), 1, "{strategy:?}: {err}");
+        assert!(err.contains("nope"), "{strategy:?}: {err}");
+        assert!(out.stdout.is_empty());
+    }
 
     let model = dir.join("m.json");
     std::fs::write(&model, "{\"schema_version\": 99}")?;

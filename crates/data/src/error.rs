@@ -172,6 +172,14 @@ pub enum DataError {
         /// The reference length.
         expected: usize,
     },
+    #[error("{}: {source}", path.display())]
+    /// The columns read do not make a table (an empty column name, ...).
+    Table {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        source: hxai_table::TableError,
+    },
     /// A table was given a different number of names and columns.
     #[error("{}: {names} column names but {columns} columns", path.display())]
     NamesMismatch {

@@ -227,7 +227,7 @@ pub fn write_folder(
         }
         seen.insert(&entry.record, i + 1);
         let file = format!("{}.{}", entry.record, format.extension());
-        rec.validate(&dir.join(&file))?;
+        rec.check(&dir.join(&file))?;
         let mut e = entry.clone();
         e.file = file;
         entries.push(e);

@@ -11,7 +11,8 @@
 //! - [`DataFolder`] and [`ManifestEntry`]: a folder with `manifest.csv` (columns `record`,
 //!   `file`, `amplitude_um`, `frequency_hz`, optional `repeat`, extra columns kept as text)
 //!   and one file per record; [`read_folder`] / [`write_folder`].
-//! - [`Table`] (numbers only) and [`MixedTable`] (numbers and text): generic tables for
+//! - [`Table`] (numbers only; `hxai-table`'s, re-exported) and [`MixedTable`] (numbers and
+//!   text, whose numeric part is a [`Table`]): generic tables for
 //!   `hxai sr`, `hxai compare` and outputs; [`read_table`], [`write_table`],
 //!   [`read_mixed_table`], [`write_mixed_table`].
 //! - [`read_text`] / [`write_text`]: whole text files such as model JSON, so that file
@@ -38,7 +39,7 @@
 //! Required columns present; no empty, non-numeric, NaN or infinite cell; at least two
 //! samples; `time_s` strictly increasing and uniform: every step within
 //! [`UNIFORM_TIME_TOLERANCE`] (1 %) of the median step. The sampling rate is
-//! `(n - 1) / (t_last - t_first)` ([`Record::fs`]).
+//! `(n - 1) / (t_last - t_first)` ([`Record::fs_hz`]).
 //!
 //! # Example
 //!
@@ -55,7 +56,7 @@
 //! write_record(&path, &rec)?;
 //! let back = read_record(&path)?;
 //! assert_eq!(back, rec);
-//! assert!((back.fs() - fs).abs() < 1e-6 * fs);
+//! assert!((back.fs_hz() - fs).abs() < 1e-6 * fs);
 //! std::fs::remove_dir_all(&dir)?;
 //! # Ok(())
 //! # }
@@ -75,10 +76,9 @@ pub use folder::{
     DataFolder, MANIFEST_COLUMNS, MANIFEST_FILE, ManifestEntry, read_folder, write_folder,
     write_manifest,
 };
+pub use hxai_table::{Table, TableError};
 pub use record::{RECORD_COLUMNS, Record, UNIFORM_TIME_TOLERANCE, read_record, write_record};
-pub use table::{
-    Column, MixedTable, Table, read_mixed_table, read_table, write_mixed_table, write_table,
-};
+pub use table::{Column, MixedTable, read_mixed_table, read_table, write_mixed_table, write_table};
 pub use text::{read_text, write_text};
 
 use std::path::Path;

@@ -25,7 +25,7 @@ pub const RECORD_COLUMNS: [&str; 5] = [
 
 /// One recording of the machine (see "Recording format" in the interfaces document).
 ///
-/// A `Record` returned by [`read_record`] has passed [`Record::validate`]: at least two
+/// A `Record` returned by [`read_record`] has passed [`Record::check`]: at least two
 /// samples, all channels equally long and finite, time strictly increasing and uniform.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Record {
@@ -45,7 +45,7 @@ impl Record {
     /// Sampling rate in Hz, `(n - 1) / (t_last - t_first)`.
     ///
     /// Returns NaN when the record has fewer than two samples (a validated record never does).
-    pub fn fs(&self) -> f64 {
+    pub fn fs_hz(&self) -> f64 {
         match (self.time_s.first(), self.time_s.last()) {
             (Some(a), Some(b)) if self.time_s.len() >= 2 && b > a => {
                 (self.time_s.len() - 1) as f64 / (b - a)
@@ -66,7 +66,7 @@ impl Record {
 
     /// Checks the record as if it were the file `path` (used before writing, and by
     /// readers): lengths, finiteness and time, each error naming the row and column.
-    pub fn validate(&self, path: &Path) -> Result<(), DataError> {
+    pub fn check(&self, path: &Path) -> Result<(), DataError> {
         let n = self.time_s.len();
         for (name, col) in self.channels() {
             if col.len() != n {
@@ -161,7 +161,7 @@ pub fn read_record(path: &Path) -> Result<Record, DataError> {
         command_um: optional("command_um")?,
         encoder_um: optional("encoder_um")?,
     };
-    rec.validate(path)?;
+    rec.check(path)?;
     Ok(rec)
 }
 
@@ -169,7 +169,7 @@ pub fn read_record(path: &Path) -> Result<Record, DataError> {
 /// so a written file always reads back.
 pub fn write_record(path: &Path, rec: &Record) -> Result<(), DataError> {
     let format = Format::from_path(path)?;
-    rec.validate(path)?;
+    rec.check(path)?;
     let channels = rec.channels();
     let names: Vec<String> = channels.iter().map(|(n, _)| (*n).to_owned()).collect();
     let cols: Vec<OutColumn<'_>> = channels.iter().map(|(_, c)| OutColumn::Num(c)).collect();

@@ -1,34 +1,11 @@
-//! Generic tables: numeric ones (inputs of `hxai sr` and `hxai compare`, outputs such as
+//! Generic tables: numeric ones ([`hxai_table::Table`]) (inputs of `hxai sr` and `hxai compare`, outputs such as
 //! `time_s,displacement_um`) and mixed ones with text columns (such as `samples.csv`).
 
 use crate::cells::{check_all_finite, finite_column, is_numeric, require_rows, text_column};
 use crate::raw::{self, OutColumn};
 use crate::{DataError, Format};
+use hxai_table::Table;
 use std::path::Path;
-
-/// A table of numbers: one name per column, all columns equally long.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Table {
-    /// Column names.
-    pub names: Vec<String>,
-    /// Columns, in the order of `names`.
-    pub columns: Vec<Vec<f64>>,
-}
-
-impl Table {
-    /// The column with the given name.
-    pub fn column(&self, name: &str) -> Option<&[f64]> {
-        self.names
-            .iter()
-            .position(|n| n == name)
-            .map(|i| self.columns[i].as_slice())
-    }
-
-    /// Number of rows (0 for a table without columns).
-    pub fn height(&self) -> usize {
-        self.columns.first().map_or(0, Vec::len)
-    }
-}
 
 /// One column of a [`MixedTable`].
 #[derive(Debug, Clone, PartialEq)]
@@ -65,19 +42,29 @@ pub struct MixedTable {
 
 impl MixedTable {
     /// The numeric columns as a [`Table`], and the names of the text columns left out.
-    pub fn numeric(&self) -> (Table, Vec<String>) {
-        let mut t = Table::default();
-        let mut skipped = Vec::new();
+    ///
+    /// # Errors
+    /// [`hxai_table::TableError`] when there is no numeric column or the numeric columns
+    /// break a table invariant (ragged, a duplicate name, a non-finite value).
+    pub fn numeric(&self) -> Result<(Table, Vec<String>), hxai_table::TableError> {
+        let (mut names, mut columns, mut skipped) = (Vec::new(), Vec::new(), Vec::new());
         for (n, c) in self.names.iter().zip(&self.columns) {
             match c {
                 Column::Number(v) => {
-                    t.names.push(n.clone());
-                    t.columns.push(v.clone());
+                    names.push(n.clone());
+                    columns.push(v.clone());
                 }
                 Column::Text(_) => skipped.push(n.clone()),
             }
         }
-        (t, skipped)
+        Ok((Table::new(names, columns)?, skipped))
+    }
+
+    /// Appends every column of `table`, as numbers, in its order.
+    pub fn push_table(&mut self, table: Table) {
+        let (names, columns) = table.into_parts();
+        self.names.extend(names);
+        self.columns.extend(columns.into_iter().map(Column::Number));
     }
 }
 
@@ -90,9 +77,9 @@ pub fn read_table(path: &Path) -> Result<Table, DataError> {
     let columns = (0..raw.names.len())
         .map(|i| finite_column(path, &raw, i))
         .collect::<Result<_, _>>()?;
-    Ok(Table {
-        names: raw.names,
-        columns,
+    Table::new(raw.names, columns).map_err(|source| DataError::Table {
+        path: path.to_path_buf(),
+        source,
     })
 }
 
@@ -155,20 +142,12 @@ fn check_shape<'a>(
     Ok(())
 }
 
-/// Writes a numeric table; CSV or Parquet by extension. Values must be finite.
+/// Writes a numeric table; CSV or Parquet by extension. A [`Table`] is rectangular,
+/// uniquely named and finite by construction, so only the file can fail.
 pub fn write_table(path: &Path, table: &Table) -> Result<(), DataError> {
     let format = Format::from_path(path)?;
-    check_shape(
-        path,
-        &table.names,
-        table.columns.iter().map(Vec::len),
-        table.columns.len(),
-    )?;
-    for (n, c) in table.names.iter().zip(&table.columns) {
-        check_all_finite(path, n, c)?;
-    }
-    let cols: Vec<OutColumn<'_>> = table.columns.iter().map(|c| OutColumn::Num(c)).collect();
-    raw::write(path, format, &table.names, &cols)
+    let cols: Vec<OutColumn<'_>> = table.columns().iter().map(|c| OutColumn::Num(c)).collect();
+    raw::write(path, format, table.names(), &cols)
 }
 
 /// Writes a mixed table; CSV or Parquet by extension. Numeric values must be finite.

@@ -45,8 +45,11 @@ pub mod split;
 pub mod stats;
 
 pub use error::EvalError;
-pub use metrics::{Metrics, improvement_pct, mae, r2, rmse, score, squared_errors};
+pub use metrics::{Metrics, improvement_pct, mae, r2, residuals, rmse, score, squared_errors};
 pub use split::{
     Split, grouped_kfold, grouped_train_test_split, kfold, kfold_contiguous, train_test_split,
 };
-pub use stats::{Interval, Summary, TTest, paired_t_test, summarize, summarize_at, t_two_tailed_p};
+pub use stats::{
+    Extent, Interval, Summary, TTest, extent, means_by_key, paired_t_test, summarize, summarize_at,
+    t_two_tailed_p,
+};

@@ -97,6 +97,16 @@ pub fn squared_errors(y_true: &[f64], y_pred: &[f64]) -> Result<Vec<f64>, EvalEr
         .collect())
 }
 
+/// Per-sample errors `y_pred[i] - y_true[i]` (positive where the prediction lies above the
+/// truth), as an error-over-time plot shows them.
+///
+/// # Errors
+/// Empty input, different lengths, or a non-finite value.
+pub fn residuals(y_true: &[f64], y_pred: &[f64]) -> Result<Vec<f64>, EvalError> {
+    check_pair(y_true, y_pred)?;
+    Ok(y_true.iter().zip(y_pred).map(|(t, p)| p - t).collect())
+}
+
 /// Relative RMSE reduction in percent: `(rmse_phys - rmse_hybrid) / rmse_phys * 100`.
 ///
 /// # Errors

@@ -196,3 +196,41 @@ pub fn paired_t_test(a: &[f64], b: &[f64]) -> Result<TTest, EvalError> {
         p_value: t_two_tailed_p(statistic, df),
     })
 }
+
+/// Smallest, largest and mean value of a sample (the descriptive columns of a results table).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Extent {
+    /// Smallest value.
+    pub min: f64,
+    /// Largest value.
+    pub max: f64,
+    /// Arithmetic mean, the values summed in order.
+    pub mean: f64,
+}
+
+/// Smallest, largest and mean value of `values`.
+///
+/// # Errors
+/// No value, or a non-finite value.
+pub fn extent(values: &[f64]) -> Result<Extent, EvalError> {
+    check_finite("values", values, 1)?;
+    Ok(Extent {
+        min: values.iter().copied().fold(f64::INFINITY, f64::min),
+        max: values.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        mean: values.iter().sum::<f64>() / values.len() as f64,
+    })
+}
+
+/// The mean value of each key of `(key, value)` pairs, in increasing key order (a curve of
+/// means over conditions such as frequencies). Keys are compared after rounding to 1e-6,
+/// so the same condition read from two places counts once.
+pub fn means_by_key(pairs: impl IntoIterator<Item = (f64, f64)>) -> Vec<(f64, f64)> {
+    let mut groups: std::collections::BTreeMap<i64, Vec<f64>> = std::collections::BTreeMap::new();
+    for (k, v) in pairs {
+        groups.entry((k * 1e6).round() as i64).or_default().push(v);
+    }
+    groups
+        .into_iter()
+        .map(|(k, v)| (k as f64 / 1e6, v.iter().sum::<f64>() / v.len() as f64))
+        .collect()
+}

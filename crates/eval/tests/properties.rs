@@ -218,3 +218,25 @@ fn constant_shift_gives_infinite_statistic_and_zero_p() -> R {
     assert_eq!(t.p_value, 0.0);
     Ok(())
 }
+
+// `extent`, `residuals` and `means_by_key` on hand-checked numbers (exact: every value is a
+// small dyadic fraction, so sums and means are exact in f64).
+#[test]
+fn extent_residuals_and_means_by_key_by_hand() -> R {
+    let e = extent(&[0.5, -1.25, 2.0, 0.75])?;
+    assert_eq!((e.min, e.max, e.mean), (-1.25, 2.0, 0.5));
+    assert!(matches!(extent(&[]), Err(EvalError::Empty { .. })));
+    assert!(matches!(
+        extent(&[1.0, f64::NAN]),
+        Err(EvalError::NonFinite { index: 1, .. })
+    ));
+    assert_eq!(residuals(&[1.0, 2.0], &[1.5, 1.0])?, [0.5, -1.0]);
+    assert!(matches!(
+        residuals(&[1.0], &[1.0, 2.0]),
+        Err(EvalError::LengthMismatch { .. })
+    ));
+    // 10 Hz twice (once read with a rounding error below 1e-6), 20 Hz once; keys ascending.
+    let m = means_by_key([(20.0, 4.0), (10.0, 1.0), (10.000_000_1, 2.0)]);
+    assert_eq!(m, [(10.0, 1.5), (20.0, 4.0)]);
+    Ok(())
+}

@@ -2,8 +2,9 @@
 //! records cut into windows.
 
 use crate::HybridError;
-use crate::traits::{Correction, Decomposition, FeatureMap, FeatureTable, Latent, PhysicsModel};
+use crate::traits::{Correction, Decomposition, FeatureMap, Latent, PhysicsModel};
 use crate::window::WindowConfig;
+use hxai_table::Table;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 
@@ -13,9 +14,9 @@ pub struct RecordInput<'a> {
     /// Record id.
     pub id: &'a str,
     /// Sampling rate, Hz.
-    pub fs: f64,
+    pub fs_hz: f64,
     /// Known frequency of the periodic response (the commanded frequency), Hz.
-    pub freq_hz: f64,
+    pub frequency_hz: f64,
     /// Measured signal the physics model and the features use (acceleration).
     pub signal: &'a [f64],
     /// Ground truth in the physics model's output unit (probe position), if recorded.
@@ -131,21 +132,21 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
         }
         let ranges = self
             .window
-            .windows(input.signal.len(), input.fs, input.id)?;
+            .windows(input.signal.len(), input.fs_hz, input.id)?;
         let physics = self
             .physics
-            .predict(input.signal, input.fs)
+            .predict(input.signal, input.fs_hz)
             .map_err(|e| e.in_record(input.id, None))?;
         let mut windows = Vec::with_capacity(ranges.len());
         for (k, r) in ranges.into_iter().enumerate() {
             let ctx = |e: HybridError| e.in_record(input.id, Some(k));
             let phys = self
                 .decomposition
-                .decompose(&physics[r.clone()], input.fs, input.freq_hz)
+                .decompose(&physics[r.clone()], input.fs_hz, input.frequency_hz)
                 .map_err(ctx)?;
             let feats = self
                 .features
-                .features(&input.signal[r.clone()], input.fs, input.freq_hz)
+                .features(&input.signal[r.clone()], input.fs_hz, input.frequency_hz)
                 .map_err(ctx)?;
             let truth = match input.truth {
                 None => None,
@@ -155,7 +156,7 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
                     let centred: Vec<f64> = w.iter().map(|v| v - m).collect();
                     Some(
                         self.decomposition
-                            .decompose(&centred, input.fs, input.freq_hz)
+                            .decompose(&centred, input.fs_hz, input.frequency_hz)
                             .map_err(ctx)?,
                     )
                 }
@@ -176,9 +177,8 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
     pub fn feature_table<'s>(
         &self,
         samples: impl IntoIterator<Item = &'s WindowSample>,
-    ) -> Result<FeatureTable, HybridError> {
-        let rows: Vec<Vec<f64>> = samples.into_iter().map(|s| s.features.clone()).collect();
-        FeatureTable::from_rows(self.features.names(), &rows)
+    ) -> Result<Table, HybridError> {
+        feature_table(self.features.names(), samples)
     }
 
     /// Steps 3-4 on one record: correct each window's amplitude by `correction` and
@@ -206,7 +206,12 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
                 corrected: corrected_latent(&s.physics, d),
             })
             .collect();
-        let hybrid = self.reconstruct_record(&windows, input.signal.len(), input.fs, input.freq_hz);
+        let hybrid = self.reconstruct_record(
+            &windows,
+            input.signal.len(),
+            input.fs_hz,
+            input.frequency_hz,
+        );
         Ok(RecordPrediction {
             physics: rs.physics,
             hybrid,
@@ -247,6 +252,31 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
         }
         out
     }
+}
+
+/// The features of `samples` as a table, one column per name of `names`.
+///
+/// # Errors
+/// [`HybridError::InvalidConfig`] for a sample with another number of features,
+/// [`HybridError::Table`] for a non-finite feature.
+pub(crate) fn feature_table<'s>(
+    names: Vec<String>,
+    samples: impl IntoIterator<Item = &'s WindowSample>,
+) -> Result<Table, HybridError> {
+    let mut columns = vec![Vec::new(); names.len()];
+    for (r, s) in samples.into_iter().enumerate() {
+        if s.features.len() != names.len() {
+            return Err(HybridError::InvalidConfig(format!(
+                "feature row {r} has {} values but there are {} feature names",
+                s.features.len(),
+                names.len()
+            )));
+        }
+        for (column, v) in columns.iter_mut().zip(&s.features) {
+            column.push(*v);
+        }
+    }
+    Ok(Table::new(names, columns)?)
 }
 
 /// Eq. 10-11: `A_corr = A_phys + delta_hat`, phase from the physics signal, offset zero.

@@ -23,6 +23,9 @@ pub enum HybridError {
     /// The symbolic-regression search or a symbolic model failed.
     #[error("symbolic regression failed: {0}")]
     Symreg(#[from] hxai_symreg::SrError),
+    /// A table of features or samples broke a table invariant (a non-finite value, ...).
+    #[error("table: {0}")]
+    Table(#[from] hxai_table::TableError),
     /// A statistic could not be computed.
     #[error("evaluation failed: {0}")]
     Eval(#[from] hxai_eval::EvalError),

@@ -3,18 +3,72 @@
 use crate::HybridError;
 use crate::composer::{Hybrid, RecordInput};
 use crate::traits::{Correction, Decomposition, FeatureMap, PhysicsModel};
+use hxai_eval::Metrics;
 use serde::{Deserialize, Serialize};
 
-/// Scores of one prediction against the truth, pooled over every sample of every
-/// evaluated window. Units are the truth's (micrometres in the tool-position case).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Scores {
-    /// Root mean squared error.
-    pub rmse_um: f64,
-    /// Coefficient of determination (scikit-learn's definition).
-    pub r2: f64,
-    /// Mean absolute error.
-    pub mae_um: f64,
+/// The serde form of a [`Metrics`] in the truth's unit (micrometres in the tool-position
+/// case): keys `rmse_um`, `r2`, `mae_um`, in that order, as the model file and
+/// `hxai evaluate --json` have always written them. Keys `rmse` and `mae` are read too.
+pub(crate) mod metrics_um {
+    use hxai_eval::Metrics;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    #[derive(Serialize, Deserialize)]
+    struct Um {
+        #[serde(alias = "rmse")]
+        rmse_um: f64,
+        r2: f64,
+        #[serde(alias = "mae")]
+        mae_um: f64,
+    }
+
+    impl From<&Metrics> for Um {
+        fn from(m: &Metrics) -> Self {
+            Um {
+                rmse_um: m.rmse,
+                r2: m.r2,
+                mae_um: m.mae,
+            }
+        }
+    }
+
+    impl From<Um> for Metrics {
+        fn from(u: Um) -> Self {
+            Metrics {
+                r2: u.r2,
+                rmse: u.rmse_um,
+                mae: u.mae_um,
+            }
+        }
+    }
+
+    pub(crate) fn serialize<S: Serializer>(m: &Metrics, s: S) -> Result<S::Ok, S::Error> {
+        Um::from(m).serialize(s)
+    }
+
+    pub(crate) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Metrics, D::Error> {
+        Um::deserialize(d).map(Metrics::from)
+    }
+
+    /// The same for an optional [`Metrics`] (`null` when absent).
+    pub(crate) mod option {
+        use super::Um;
+        use hxai_eval::Metrics;
+        use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+        pub(crate) fn serialize<S: Serializer>(
+            m: &Option<Metrics>,
+            s: S,
+        ) -> Result<S::Ok, S::Error> {
+            m.as_ref().map(Um::from).serialize(s)
+        }
+
+        pub(crate) fn deserialize<'de, D: Deserializer<'de>>(
+            d: D,
+        ) -> Result<Option<Metrics>, D::Error> {
+            Ok(Option::<Um>::deserialize(d)?.map(Metrics::from))
+        }
+    }
 }
 
 /// Paired two-tailed t-test of per-window mean squared errors, physics vs hybrid.
@@ -48,12 +102,16 @@ pub struct Evaluation {
     pub n_records: usize,
     /// The records evaluated.
     pub records: Vec<String>,
-    /// The physics signal.
-    pub physics: Scores,
+    /// The physics signal (RMSE and MAE in the truth's unit; JSON keys `rmse_um`, `r2`,
+    /// `mae_um`).
+    #[serde(with = "metrics_um")]
+    pub physics: Metrics,
     /// The physics model's sine representation (zero correction).
-    pub physics_sine: Scores,
+    #[serde(with = "metrics_um")]
+    pub physics_sine: Metrics,
     /// The hybrid model.
-    pub hybrid: Scores,
+    #[serde(with = "metrics_um")]
+    pub hybrid: Metrics,
     /// `(RMSE_phys - RMSE_hybrid) / RMSE_phys * 100`.
     pub improvement_pct: f64,
     /// The same against the physics sine: what the correction alone buys.
@@ -64,7 +122,8 @@ pub struct Evaluation {
     pub t_test: Option<TTestReport>,
     /// How well `delta_hat` matches `delta = A_true - A_phys` over the windows (`None`
     /// when it cannot be scored, e.g. a single window).
-    pub delta: Option<Scores>,
+    #[serde(default, with = "metrics_um::option")]
+    pub delta: Option<Metrics>,
 }
 
 /// Which windows of a record to evaluate.
@@ -74,14 +133,6 @@ pub struct EvalInput<'a> {
     pub record: RecordInput<'a>,
     /// Window indices to use; `None` for all.
     pub windows: Option<&'a [usize]>,
-}
-
-fn scores(truth: &[f64], pred: &[f64]) -> Result<Scores, HybridError> {
-    Ok(Scores {
-        rmse_um: hxai_eval::rmse(truth, pred)?,
-        r2: hxai_eval::r2(truth, pred)?,
-        mae_um: hxai_eval::mae(truth, pred)?,
-    })
 }
 
 fn mse(truth: &[f64], pred: &[f64]) -> f64 {
@@ -135,8 +186,8 @@ where
             let hw = &pred.hybrid[r.clone()];
             let sw = hybrid.decomposition.reconstruct(
                 &crate::composer::corrected_latent(&s.physics, 0.0),
-                rec.fs,
-                rec.freq_hz,
+                rec.fs_hz,
+                rec.frequency_hz,
                 0,
                 r.len(),
             );
@@ -160,9 +211,9 @@ where
             "no window to evaluate: the selection is empty".into(),
         ));
     }
-    let physics = scores(&truth, &phys)?;
-    let physics_sine = scores(&truth, &sine)?;
-    let hybrid_s = scores(&truth, &hyb)?;
+    let physics = hxai_eval::score(&truth, &phys)?;
+    let physics_sine = hxai_eval::score(&truth, &sine)?;
+    let hybrid_s = hxai_eval::score(&truth, &hyb)?;
     let t_test = if mse_p.len() >= 2 {
         hxai_eval::paired_t_test(&mse_p, &mse_h)
             .ok()
@@ -182,13 +233,13 @@ where
         n_windows: mse_p.len(),
         n_records: records.len(),
         records,
-        improvement_pct: improvement(physics.rmse_um, hybrid_s.rmse_um),
-        improvement_vs_sine_pct: improvement(physics_sine.rmse_um, hybrid_s.rmse_um),
+        improvement_pct: improvement(physics.rmse, hybrid_s.rmse),
+        improvement_vs_sine_pct: improvement(physics_sine.rmse, hybrid_s.rmse),
         r2_change_pct: (hybrid_s.r2 - physics.r2) / physics.r2.abs() * 100.0,
         physics,
         physics_sine,
         hybrid: hybrid_s,
         t_test,
-        delta: scores(&delta, &delta_hat).ok(),
+        delta: hxai_eval::score(&delta, &delta_hat).ok(),
     })
 }

@@ -48,7 +48,7 @@
 //! let accel: Vec<f64> = t.iter().map(|t| -amp_um * 1e-6 * w * w * (w * t).sin()).collect();
 //! let probe: Vec<f64> = t.iter().map(|t| amp_um * (w * t).sin()).collect();
 //! let hybrid = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
-//! let rec = RecordInput { id: "r1", fs, freq_hz: f, signal: &accel, truth: Some(&probe) };
+//! let rec = RecordInput { id: "r1", fs_hz: fs, frequency_hz: f, signal: &accel, truth: Some(&probe) };
 //! let samples = hybrid.samples(&rec)?;
 //! assert_eq!(samples.windows.len(), 3); // 2 s - 2 x 0.25 s = 1.5 s = three 0.5 s windows
 //! let a_phys = samples.windows[0].a_phys();
@@ -75,15 +75,14 @@ pub use composer::{
     corrected_latent,
 };
 pub use error::HybridError;
-pub use evaluate::{EvalInput, Evaluation, Scores, TTestReport, evaluate};
+pub use evaluate::{EvalInput, Evaluation, TTestReport, evaluate};
 pub use model::{
     CorrectionInfo, CorrectionKind, FeatureInfo, FitConfig, FitOutput, FitProgress, HybridModel,
-    LoadedCorrection, SCHEMA_VERSION, SplitInfo, SplitKind, ToolHybrid, TrainingInfo, WindowId,
-    fit, split_samples, tool_hybrid, tool_hybrid_with,
+    LoadedCorrection, SCHEMA_VERSION, SamplesTable, SplitInfo, SplitKind, ToolHybrid, TrainingInfo,
+    WindowId, fit, samples_table, split_samples, tool_hybrid, tool_hybrid_with,
 };
 pub use tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
 pub use traits::{
-    Correction, Decomposition, FeatureMap, FeatureTable, Latent, PhysicsModel, SymbolicCorrection,
-    ZeroCorrection,
+    Correction, Decomposition, FeatureMap, Latent, PhysicsModel, SymbolicCorrection, ZeroCorrection,
 };
 pub use window::WindowConfig;

@@ -2,11 +2,14 @@
 
 use crate::HybridError;
 use crate::composer::{Hybrid, RecordInput, RecordPrediction, WindowSample};
-use crate::evaluate::{EvalInput, Evaluation, Scores, evaluate};
+use crate::evaluate::{EvalInput, Evaluation, evaluate, metrics_um};
 use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
-use crate::traits::{Correction, FeatureMap, FeatureTable, SymbolicCorrection, ZeroCorrection};
+use crate::traits::{Correction, FeatureMap, SymbolicCorrection, ZeroCorrection};
 use crate::window::WindowConfig;
+use hxai_eval::Metrics;
 use hxai_signal::PhysicsConfig;
+use hxai_symreg::Strategy;
+use hxai_table::Table;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -142,8 +145,11 @@ impl Default for FeatureInfo {
 /// How the model was trained.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TrainingInfo {
-    /// Search strategy (`qlattice`, `genetic`, `combined`), or `none` for a zero correction.
-    pub engine: String,
+    /// Search strategy, `None` for a zero correction. Stored under the key `strategy` with
+    /// [`Strategy`]'s serde names (`null` for none); files that stored it as `engine` with
+    /// the names `qlattice`, `genetic`, `combined` or `none` still load.
+    #[serde(alias = "engine", with = "strategy_name")]
+    pub strategy: Option<Strategy>,
     /// Seed of the search.
     pub seed: u64,
     /// Epochs of the search.
@@ -156,10 +162,39 @@ pub struct TrainingInfo {
     pub n_train_windows: usize,
     /// Test windows.
     pub n_test_windows: usize,
-    /// `delta_hat` vs `delta` on the training windows.
-    pub delta_train: Option<Scores>,
+    /// `delta_hat` vs `delta` on the training windows (JSON keys `rmse_um`, `r2`, `mae_um`).
+    #[serde(with = "metrics_um::option")]
+    pub delta_train: Option<Metrics>,
     /// `delta_hat` vs `delta` on the test windows.
-    pub delta_test: Option<Scores>,
+    #[serde(with = "metrics_um::option")]
+    pub delta_test: Option<Metrics>,
+}
+
+/// The serde form of [`TrainingInfo::strategy`]: [`Strategy`]'s own names, `null` for none;
+/// reads the names of files written before (`qlattice`, and `none`) too.
+mod strategy_name {
+    use hxai_symreg::Strategy;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub(crate) fn serialize<S: Serializer>(v: &Option<Strategy>, s: S) -> Result<S::Ok, S::Error> {
+        v.serialize(s)
+    }
+
+    pub(crate) fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<Strategy>, D::Error> {
+        let Some(name) = Option::<String>::deserialize(d)? else {
+            return Ok(None);
+        };
+        match name.as_str() {
+            "none" => Ok(None),
+            "qlattice" => Ok(Some(Strategy::QLattice)),
+            other => {
+                Strategy::deserialize(serde::de::value::StrDeserializer::<D::Error>::new(other))
+                    .map(Some)
+            }
+        }
+    }
 }
 
 /// A fitted tool-position hybrid model: everything needed to predict, and the record of
@@ -242,6 +277,100 @@ pub struct FitOutput {
     pub search: hxai_symreg::SearchResult,
 }
 
+/// The samples of a fit as columns, one row per sample in record then window order: the
+/// table `hxai fit --samples` and the reproduction's `samples.csv` write.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SamplesTable {
+    /// Record id of each sample (column `record`).
+    pub record: Vec<String>,
+    /// Window index within the record (column `window`).
+    pub window: Vec<usize>,
+    /// `train` or `test` (column `split`).
+    pub split: Vec<&'static str>,
+    /// The features (named by the feature map, `f1`..`f12`), then `A_phys`, `A_true` and
+    /// `delta = A_true - A_phys`, in micrometres.
+    pub values: Table,
+}
+
+impl SamplesTable {
+    /// Every column name in file order: `record`, `window`, `split`, then the values'.
+    pub fn names(&self) -> Vec<String> {
+        let mut names = vec!["record".to_string(), "window".into(), "split".into()];
+        names.extend(self.values.names().iter().cloned());
+        names
+    }
+}
+
+/// The samples table of `samples` (each with its truth) split by `is_test`, feature columns
+/// named `feature_names`.
+///
+/// # Errors
+/// [`HybridError::NoTruth`] for a sample without truth, [`HybridError::InvalidConfig`] when
+/// `is_test` or a sample's features do not match in length, [`HybridError::Table`] for a
+/// non-finite value.
+pub fn samples_table(
+    samples: &[WindowSample],
+    is_test: &[bool],
+    feature_names: &[String],
+) -> Result<SamplesTable, HybridError> {
+    if is_test.len() != samples.len() {
+        return Err(HybridError::InvalidConfig(format!(
+            "{} split flags for {} samples",
+            is_test.len(),
+            samples.len()
+        )));
+    }
+    let mut values = crate::composer::feature_table(feature_names.to_vec(), samples)?;
+    let truth = |w: &WindowSample| {
+        w.a_true()
+            .zip(w.delta())
+            .ok_or_else(|| HybridError::NoTruth {
+                record: w.record.clone(),
+            })
+    };
+    let (a_true, delta): (Vec<f64>, Vec<f64>) = samples
+        .iter()
+        .map(truth)
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .unzip();
+    values.push_column(
+        "A_phys".into(),
+        samples.iter().map(|w| w.a_phys()).collect(),
+    )?;
+    values.push_column("A_true".into(), a_true)?;
+    values.push_column("delta".into(), delta)?;
+    Ok(SamplesTable {
+        record: samples.iter().map(|w| w.record.clone()).collect(),
+        window: samples.iter().map(|w| w.window).collect(),
+        split: is_test
+            .iter()
+            .map(|&t| if t { "test" } else { "train" })
+            .collect(),
+        values,
+    })
+}
+
+impl FitOutput {
+    /// The samples of this fit as a [`SamplesTable`].
+    ///
+    /// # Errors
+    /// As [`samples_table`].
+    pub fn samples_table(&self) -> Result<SamplesTable, HybridError> {
+        samples_table(&self.samples, &self.is_test, &self.model.features.names)
+    }
+
+    /// `delta_hat` of every sample (record then window order) by the fitted correction.
+    ///
+    /// # Errors
+    /// Those of the correction.
+    pub fn delta_hat(&self) -> Result<Vec<f64>, HybridError> {
+        let hybrid = self.model.hybrid();
+        let table = hybrid.feature_table(&self.samples)?;
+        self.model.correction()?.predict(&table)
+    }
+}
+
 /// The tool-position composer for the given settings.
 pub fn tool_hybrid(physics: &PhysicsConfig, window: WindowConfig) -> ToolHybrid {
     tool_hybrid_with(physics, &hxai_features::FeatureConfig::default(), window)
@@ -263,14 +392,6 @@ pub fn tool_hybrid_with(
         },
         window,
     }
-}
-
-fn delta_scores(delta: &[f64], hat: &[f64]) -> Option<Scores> {
-    Some(Scores {
-        rmse_um: hxai_eval::rmse(delta, hat).ok()?,
-        r2: hxai_eval::r2(delta, hat).ok()?,
-        mae_um: hxai_eval::mae(delta, hat).ok()?,
-    })
 }
 
 /// Splits samples into train and test (`true` = test).
@@ -347,9 +468,7 @@ pub fn fit(
     let train_table = hybrid.feature_table(train.iter().copied())?;
     let test_table = hybrid.feature_table(test.iter().copied())?;
     let (train_delta, test_delta) = (delta_of(&train), delta_of(&test));
-    let data = hxai_symreg::Table::new(train_table.names.clone(), train_table.columns.clone())
-        .map_err(hxai_symreg::SrError::from)?;
-    let result = hxai_symreg::search(&data, &train_delta, &cfg.search, &mut |p| {
+    let result = hxai_symreg::search(&train_table, &train_delta, &cfg.search, &mut |p| {
         progress(FitProgress::Search(p.clone()));
     })?;
     let correction = SymbolicCorrection {
@@ -395,15 +514,15 @@ pub fn fit(
             test_windows,
         },
         training: TrainingInfo {
-            engine: format!("{:?}", cfg.search.strategy).to_lowercase(),
+            strategy: Some(cfg.search.strategy),
             seed: cfg.search.seed,
             epochs: cfg.search.epochs,
             evaluations: result.evaluations,
             seconds: result.seconds,
             n_train_windows: train.len(),
             n_test_windows: test.len(),
-            delta_train: delta_scores(&train_delta, &hat_train),
-            delta_test: delta_scores(&test_delta, &hat_test),
+            delta_train: hxai_eval::score(&train_delta, &hat_train).ok(),
+            delta_test: hxai_eval::score(&test_delta, &hat_test).ok(),
         },
     };
     Ok(FitOutput {
@@ -431,7 +550,7 @@ impl Correction for LoadedCorrection {
         }
     }
 
-    fn predict(&self, features: &FeatureTable) -> Result<Vec<f64>, HybridError> {
+    fn predict(&self, features: &Table) -> Result<Vec<f64>, HybridError> {
         match self {
             LoadedCorrection::Symbolic(s) => s.predict(features),
             LoadedCorrection::Zero(z) => z.predict(features),

@@ -1,6 +1,7 @@
 //! The four parts of a hybrid model, as traits (paper section 2, steps 1-4).
 
 use crate::HybridError;
+use hxai_table::Table;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -59,40 +60,6 @@ pub trait Decomposition {
     }
 }
 
-/// A table of features: one named column per feature, one row per sample.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-pub struct FeatureTable {
-    /// Feature names.
-    pub names: Vec<String>,
-    /// Columns in the order of `names`, all of the same length.
-    pub columns: Vec<Vec<f64>>,
-}
-
-impl FeatureTable {
-    /// Builds a table from rows (each row in the order of `names`).
-    pub fn from_rows(names: Vec<String>, rows: &[Vec<f64>]) -> Result<Self, HybridError> {
-        let mut columns = vec![Vec::with_capacity(rows.len()); names.len()];
-        for (r, row) in rows.iter().enumerate() {
-            if row.len() != names.len() {
-                return Err(HybridError::InvalidConfig(format!(
-                    "feature row {r} has {} values but there are {} feature names",
-                    row.len(),
-                    names.len()
-                )));
-            }
-            for (c, v) in row.iter().enumerate() {
-                columns[c].push(*v);
-            }
-        }
-        Ok(Self { names, columns })
-    }
-
-    /// Number of rows.
-    pub fn n_rows(&self) -> usize {
-        self.columns.first().map_or(0, Vec::len)
-    }
-}
-
 /// The feature map: a window of the measured signal to a feature vector.
 pub trait FeatureMap {
     /// Names of the features, in the order [`FeatureMap::features`] returns them.
@@ -107,7 +74,7 @@ pub trait Correction {
     /// Readable equation of the correction.
     fn equation(&self) -> String;
     /// One `delta_hat` per row of `features` (columns are looked up by name).
-    fn predict(&self, features: &FeatureTable) -> Result<Vec<f64>, HybridError>;
+    fn predict(&self, features: &Table) -> Result<Vec<f64>, HybridError>;
 }
 
 /// The zero correction: `delta_hat = 0`, so the hybrid model is the physics model's sine
@@ -120,7 +87,7 @@ impl Correction for ZeroCorrection {
         "0".into()
     }
 
-    fn predict(&self, features: &FeatureTable) -> Result<Vec<f64>, HybridError> {
+    fn predict(&self, features: &Table) -> Result<Vec<f64>, HybridError> {
         Ok(vec![0.0; features.n_rows()])
     }
 }
@@ -137,20 +104,18 @@ impl Correction for SymbolicCorrection {
         self.model.equation()
     }
 
-    fn predict(&self, features: &FeatureTable) -> Result<Vec<f64>, HybridError> {
+    fn predict(&self, features: &Table) -> Result<Vec<f64>, HybridError> {
         for name in self.model.features() {
-            if !features.names.contains(&name) {
+            if features.index_of(&name).is_none() {
                 return Err(HybridError::UnknownFeature {
                     name,
-                    available: features.names.join(", "),
+                    available: features.names().join(", "),
                 });
             }
         }
         if features.n_rows() == 0 {
             return Ok(Vec::new());
         }
-        let data = hxai_symreg::Table::new(features.names.clone(), features.columns.clone())
-            .map_err(hxai_symreg::SrError::from)?;
-        Ok(self.model.predict(&data)?)
+        Ok(self.model.predict(features)?)
     }
 }

@@ -63,8 +63,8 @@ fn fit_predict_evaluate_on_synthetic_records() -> Result<(), Box<dyn std::error:
         .iter()
         .map(|r| RecordInput {
             id: &r.id,
-            fs: 1000.0,
-            freq_hz: r.f,
+            fs_hz: 1000.0,
+            frequency_hz: r.f,
             signal: &r.accel,
             truth: Some(&r.probe),
         })
@@ -98,7 +98,7 @@ fn fit_predict_evaluate_on_synthetic_records() -> Result<(), Box<dyn std::error:
     // at most half the physics RMSE, and a significant paired t-test (p < 0.01).
     let delta = ev.delta.ok_or("delta not scored")?;
     assert!(delta.r2 > 0.9, "delta R^2 {}", delta.r2);
-    assert!(ev.hybrid.rmse_um < 0.5 * ev.physics.rmse_um, "{ev:?}");
+    assert!(ev.hybrid.rmse < 0.5 * ev.physics.rmse, "{ev:?}");
     assert!(ev.improvement_pct > 50.0, "{ev:?}");
     let t = ev.t_test.ok_or("no t-test")?;
     assert!(t.p_value < 0.01, "{t:?}");
@@ -108,8 +108,8 @@ fn fit_predict_evaluate_on_synthetic_records() -> Result<(), Box<dyn std::error:
     let r = &recs[0];
     let pred = loaded.predict(&RecordInput {
         id: &r.id,
-        fs: 1000.0,
-        freq_hz: r.f,
+        fs_hz: 1000.0,
+        frequency_hz: r.f,
         signal: &r.accel,
         truth: None,
     })?;

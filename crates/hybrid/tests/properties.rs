@@ -2,12 +2,13 @@
 #![allow(clippy::unwrap_used)]
 
 use hxai_hybrid::{
-    Correction, CorrectionInfo, Decomposition, FeatureInfo, FeatureTable, HybridError, HybridModel,
-    Latent, RecordInput, SCHEMA_VERSION, SineDecomposition, SplitInfo, SplitKind, TrainingInfo,
+    Correction, CorrectionInfo, Decomposition, FeatureInfo, HybridError, HybridModel, Latent,
+    RecordInput, SCHEMA_VERSION, SineDecomposition, SplitInfo, SplitKind, TrainingInfo,
     WindowConfig, WindowId, WindowSample, ZeroCorrection, corrected_latent, split_samples,
     tool_hybrid,
 };
 use hxai_signal::PhysicsConfig;
+use hxai_symreg::{Strategy as SearchStrategy, Table};
 use proptest::prelude::*;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -20,7 +21,7 @@ impl Correction for Constant {
     fn equation(&self) -> String {
         self.0.to_string()
     }
-    fn predict(&self, f: &FeatureTable) -> Result<Vec<f64>, HybridError> {
+    fn predict(&self, f: &Table) -> Result<Vec<f64>, HybridError> {
         Ok(vec![self.0; f.n_rows()])
     }
 }
@@ -58,7 +59,7 @@ proptest! {
         let dphi = (back.phase - phase + PI).rem_euclid(2.0 * PI) - PI;
         prop_assert!(dphi.abs() <= 1e-9, "phase {} vs {}", back.phase, phase);
         let f4 = hxai_signal::fit_sine4(&x, fs, f * 1.001).unwrap();
-        prop_assert!((f4.freq_hz - f).abs() <= 1e-9 * f, "{} vs {}", f4.freq_hz, f);
+        prop_assert!((f4.frequency_hz - f).abs() <= 1e-9 * f, "{} vs {}", f4.frequency_hz, f);
     }
 
     // Invariant: A_corr = A_phys + delta_hat exactly (bit for bit), with the physics phase
@@ -76,7 +77,7 @@ proptest! {
         let fs = 2000.0;
         let (accel, probe) = record(fs, f, amp, ph, 4000);
         let h = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
-        let rec = RecordInput { id: "r", fs, freq_hz: f, signal: &accel, truth: Some(&probe) };
+        let rec = RecordInput { id: "r", fs_hz: fs, frequency_hz: f, signal: &accel, truth: Some(&probe) };
         let pred = h.predict(&rec, &Constant(c)).unwrap();
         for (w, s) in pred.windows.iter().zip(&pred.samples) {
             prop_assert_eq!(w.corrected.amplitude, s.a_phys() + c);
@@ -97,7 +98,7 @@ proptest! {
         let fs = 2000.0;
         let (accel, probe) = record(fs, f, amp, ph, 4000);
         let h = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
-        let rec = RecordInput { id: "r", fs, freq_hz: f, signal: &accel, truth: Some(&probe) };
+        let rec = RecordInput { id: "r", fs_hz: fs, frequency_hz: f, signal: &accel, truth: Some(&probe) };
         let pred = h.predict(&rec, &ZeroCorrection).unwrap();
         prop_assert_eq!(pred.windows.len(), 3);
         for (w, s) in pred.windows.iter().zip(&pred.samples) {
@@ -213,7 +214,7 @@ fn model_strategy() -> impl Strategy<Value = HybridModel> {
                     }],
                 },
                 training: TrainingInfo {
-                    engine: "combined".into(),
+                    strategy: Some(SearchStrategy::Combined),
                     seed,
                     epochs: 10,
                     evaluations: 1234,
@@ -221,10 +222,10 @@ fn model_strategy() -> impl Strategy<Value = HybridModel> {
                     n_train_windows: 40,
                     n_test_windows: 10,
                     delta_train: None,
-                    delta_test: Some(hxai_hybrid::Scores {
-                        rmse_um: 0.5,
+                    delta_test: Some(hxai_eval::Metrics {
+                        rmse: 0.5,
                         r2: 0.9,
-                        mae_um: 0.4,
+                        mae: 0.4,
                     }),
                 },
             }
@@ -267,6 +268,41 @@ fn other_schema_version_is_a_clear_error() -> Result<(), Box<dyn std::error::Err
     Ok(())
 }
 
+// A model file written before the strategy had serde names (`"engine": "qlattice"` or
+// `"none"`) still loads, and the delta scores keep their `_um` keys both ways.
+#[test]
+fn model_files_with_the_old_engine_key_still_load() -> Result<(), Box<dyn std::error::Error>> {
+    let mut v: serde_json::Value = serde_json::from_str(&model_zero().to_json()?)?;
+    assert!(v["training"].get("strategy").is_some(), "{v}");
+    let training = v["training"]
+        .as_object_mut()
+        .ok_or("training is an object")?;
+    training.remove("strategy");
+    training.insert("engine".into(), serde_json::json!("none"));
+    assert_eq!(
+        HybridModel::from_json(&v.to_string())?.training.strategy,
+        None
+    );
+    v["training"]["engine"] = serde_json::json!("qlattice");
+    v["training"]["delta_test"] = serde_json::json!({"rmse_um": 0.5, "r2": 0.9, "mae_um": 0.4});
+    let back = HybridModel::from_json(&v.to_string())?;
+    assert_eq!(back.training.strategy, Some(SearchStrategy::QLattice));
+    assert_eq!(
+        back.training.delta_test,
+        Some(hxai_eval::Metrics {
+            r2: 0.9,
+            rmse: 0.5,
+            mae: 0.4
+        })
+    );
+    let again: serde_json::Value = serde_json::from_str(&back.to_json()?)?;
+    assert_eq!(
+        again["training"]["delta_test"]["rmse_um"].as_f64(),
+        Some(0.5)
+    );
+    Ok(())
+}
+
 fn model_zero() -> HybridModel {
     HybridModel {
         schema_version: SCHEMA_VERSION,
@@ -283,7 +319,7 @@ fn model_zero() -> HybridModel {
             test_windows: vec![],
         },
         training: TrainingInfo {
-            engine: "none".into(),
+            strategy: None,
             seed: 1,
             epochs: 0,
             evaluations: 0,
@@ -302,13 +338,55 @@ fn short_record_error_names_record_and_need() -> Result<(), Box<dyn std::error::
     let (accel, _) = record(2000.0, 20.0, 5.0, 0.0, 1500); // 0.75 s < 1 s needed
     let rec = RecordInput {
         id: "short",
-        fs: 2000.0,
-        freq_hz: 20.0,
+        fs_hz: 2000.0,
+        frequency_hz: 20.0,
         signal: &accel,
         truth: None,
     };
     let err = h.samples(&rec).err().ok_or("expected an error")?;
     assert!(matches!(err, HybridError::RecordTooShort { .. }), "{err:?}");
     assert!(err.to_string().contains("short"), "{err}");
+    Ok(())
+}
+
+// The samples table: `record`, `window`, `split`, the features, then `A_phys`, `A_true`
+// and `delta = A_true - A_phys` (exact: the same subtraction as `WindowSample::delta`);
+// a sample without truth is an error naming its record.
+#[test]
+fn samples_table_columns_and_missing_truth() -> Result<(), Box<dyn std::error::Error>> {
+    let latent = |amplitude: f64| Latent {
+        amplitude,
+        phase: 0.1,
+        offset: 0.0,
+    };
+    let sample = |record: &str, window: usize, truth: Option<f64>| WindowSample {
+        record: record.into(),
+        window,
+        range: 0..10,
+        features: vec![1.0, 2.0],
+        physics: latent(4.0),
+        truth: truth.map(latent),
+    };
+    let names = vec!["a".to_string(), "b".to_string()];
+    let samples = [sample("r1", 0, Some(4.5)), sample("r2", 3, Some(3.75))];
+    let t = hxai_hybrid::samples_table(&samples, &[false, true], &names)?;
+    assert_eq!(
+        t.names(),
+        [
+            "record", "window", "split", "a", "b", "A_phys", "A_true", "delta"
+        ]
+    );
+    assert_eq!(t.record, ["r1", "r2"]);
+    assert_eq!(t.window, [0, 3]);
+    assert_eq!(t.split, ["train", "test"]);
+    assert_eq!(t.values.column("delta"), Some(&[0.5, -0.25][..]));
+    assert_eq!(t.values.column("A_phys"), Some(&[4.0, 4.0][..]));
+    let err = hxai_hybrid::samples_table(&[sample("r3", 0, None)], &[false], &names)
+        .err()
+        .ok_or("expected an error")?;
+    assert!(
+        matches!(&err, HybridError::NoTruth { record } if record == "r3"),
+        "{err:?}"
+    );
     Ok(())
 }

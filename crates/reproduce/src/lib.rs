@@ -145,6 +145,9 @@ pub enum ReproduceError {
     /// A statistic could not be computed.
     #[error("statistics: {0}")]
     Eval(#[from] hxai_eval::EvalError),
+    /// A table of samples could not be sliced.
+    #[error("table: {0}")]
+    Table(#[from] hxai_table::TableError),
     /// A figure could not be drawn.
     #[error(transparent)]
     Figure(#[from] figures::FigureError),
@@ -183,7 +186,7 @@ pub fn run(
             "results.json".to_string(),
             serde_json::to_string_pretty(&computed.results)? + "\n",
         ),
-        ("samples.csv".to_string(), report::samples_csv(&computed)),
+        ("samples.csv".to_string(), report::samples_csv(&computed)?),
     ];
     files.extend(plots::all(&computed)?);
     progress(Progress::done("report", 1));

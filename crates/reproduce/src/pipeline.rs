@@ -4,10 +4,10 @@ use crate::results::{
     AmplitudeRow, CvRow, DataSummary, FeatureRange, ModelRow, Results, Settings, SymbolicSummary,
 };
 use crate::{Progress, ReproduceConfig, ReproduceError};
-use hxai_baselines::Matrix;
-use hxai_hybrid::{FitConfig, FitOutput, FitProgress, RecordInput, WindowSample};
+use hxai_baselines::{Regressor, SymbolicRegressor};
+use hxai_hybrid::{FitConfig, FitOutput, FitProgress, RecordInput};
 use hxai_sim::SimRecord;
-use hxai_symreg::{SearchConfig, SrError, Table};
+use hxai_symreg::SearchConfig;
 use std::time::Instant;
 
 /// Everything the report and the figures are made from.
@@ -26,25 +26,9 @@ pub struct Computed {
     pub timings: Vec<(&'static str, f64)>,
 }
 
-fn rows_of(samples: &[WindowSample], idx: &[usize]) -> Vec<Vec<f64>> {
-    idx.iter().map(|&i| samples[i].features.clone()).collect()
-}
-
-fn deltas_of(samples: &[WindowSample], idx: &[usize]) -> Result<Vec<f64>, ReproduceError> {
-    idx.iter()
-        .map(|&i| {
-            samples[i]
-                .delta()
-                .ok_or_else(|| ReproduceError::Pipeline(format!("sample {i} has no ground truth")))
-        })
-        .collect()
-}
-
-fn dataset(names: &[String], rows: &[Vec<f64>]) -> Result<Table, ReproduceError> {
-    let columns = (0..names.len())
-        .map(|c| rows.iter().map(|r| r[c]).collect())
-        .collect();
-    Ok(Table::new(names.to_vec(), columns).map_err(SrError::from)?)
+/// `values[i]` for every `i` of `idx`.
+fn pick(values: &[f64], idx: &[usize]) -> Vec<f64> {
+    idx.iter().map(|&i| values[i]).collect()
 }
 
 /// The search settings of every symbolic fit in the run (main fit and CV folds).
@@ -77,8 +61,8 @@ pub fn compute(
         .iter()
         .map(|r| RecordInput {
             id: &r.id,
-            fs: r.fs,
-            freq_hz: r.frequency_hz,
+            fs_hz: r.fs_hz,
+            frequency_hz: r.frequency_hz,
             signal: &r.accel_ms2,
             truth: Some(&r.probe_um),
         })
@@ -111,27 +95,27 @@ pub fn compute(
     let names = fit.model.features.names.clone();
     let train: Vec<usize> = (0..samples.len()).filter(|&i| !fit.is_test[i]).collect();
     let test: Vec<usize> = (0..samples.len()).filter(|&i| fit.is_test[i]).collect();
-    let all_rows = rows_of(samples, &(0..samples.len()).collect::<Vec<_>>());
-    let delta_hat = fit.search.best.predict(&dataset(&names, &all_rows)?)?;
+    let delta_hat = fit.delta_hat()?;
+    let table = fit.samples_table()?;
+    let x_all = table.values.select_columns(&names)?;
+    let deltas = table.values.require("delta")?.to_vec();
 
-    // 4. Table 3: every baseline and the symbolic model on the same split.
+    // 4. Table 3: every baseline on the same split, then the fitted symbolic model.
     let t = Instant::now();
-    let (x_train, y_train) = (rows_of(samples, &train), deltas_of(samples, &train)?);
-    let (x_test, y_test) = (rows_of(samples, &test), deltas_of(samples, &test)?);
-    let (m_train, m_test) = (Matrix::from_rows(&x_train)?, Matrix::from_rows(&x_test)?);
+    let (x_train, y_train) = (x_all.select_rows(&train)?, pick(&deltas, &train));
+    let (x_test, y_test) = (x_all.select_rows(&test)?, pick(&deltas, &test));
     let models = hxai_baselines::table3_models(cfg.seed);
     let n_models = models.len() as u64 + 1;
     progress(Progress::start("baselines", n_models));
-    let mut table3 = Vec::new();
-    for (k, mut m) in models.into_iter().enumerate() {
-        m.fit(&m_train, &y_train)?;
-        let pred = m.predict(&m_test)?;
-        let s = hxai_eval::score(&y_test, &pred)?;
-        table3.push(ModelRow::new(m.name(), s, None));
-        progress(Progress::done_of("baselines", k as u64 + 1, n_models));
-    }
-    let sym_test: Vec<f64> = test.iter().map(|&i| delta_hat[i]).collect();
-    let sym_score = hxai_eval::score(&y_test, &sym_test)?;
+    let compared =
+        hxai_baselines::compare(models, &x_train, &y_train, &x_test, &y_test, &mut |p| {
+            progress(Progress::done_of("baselines", p.done as u64, n_models))
+        })?;
+    let mut table3: Vec<ModelRow> = compared
+        .into_iter()
+        .map(|c| ModelRow::new(&c.name, c.metrics, None))
+        .collect();
+    let sym_score = hxai_eval::score(&y_test, &pick(&delta_hat, &test))?;
     let best = &fit.search.best;
     table3.push(ModelRow::new(
         "symbolic",
@@ -144,29 +128,22 @@ pub fn compute(
     let t = Instant::now();
     let groups: Vec<&str> = samples.iter().map(|s| s.record.as_str()).collect();
     let folds = hxai_eval::grouped_kfold(&groups, cfg.folds, cfg.seed)?;
-    let (mut r2s, mut rmses, mut maes) = (Vec::new(), Vec::new(), Vec::new());
-    progress(Progress::start("cross-validation", folds.len() as u64));
-    for (k, fold) in folds.iter().enumerate() {
-        let data = dataset(&names, &rows_of(samples, &fold.train))?;
-        let y = deltas_of(samples, &fold.train)?;
-        let res = hxai_symreg::search(&data, &y, &search_config(cfg), &mut |_| {})?;
-        let pred = res
-            .best
-            .predict(&dataset(&names, &rows_of(samples, &fold.test))?)?;
-        let s = hxai_eval::score(&deltas_of(samples, &fold.test)?, &pred)?;
-        r2s.push(s.r2);
-        rmses.push(s.rmse);
-        maes.push(s.mae);
+    let n_folds = folds.len() as u64;
+    progress(Progress::start("cross-validation", n_folds));
+    let search = search_config(cfg);
+    let make = || -> Box<dyn Regressor> { Box::new(SymbolicRegressor::new(search.clone())) };
+    let scores = hxai_baselines::cross_validate(&make, &x_all, &deltas, &folds, &mut |p| {
         progress(Progress::done_of(
             "cross-validation",
-            k as u64 + 1,
-            folds.len() as u64,
-        ));
-    }
+            p.done as u64,
+            n_folds,
+        ))
+    })?;
+    let metric = |f: fn(&hxai_eval::Metrics) -> f64| scores.iter().map(f).collect::<Vec<_>>();
     let cv = vec![
-        CvRow::new("R2", &r2s, 0)?,
-        CvRow::new("RMSE", &rmses, 1)?,
-        CvRow::new("MAE", &maes, 2)?,
+        CvRow::new("R2", &metric(|m| m.r2), 0)?,
+        CvRow::new("RMSE", &metric(|m| m.rmse), 1)?,
+        CvRow::new("MAE", &metric(|m| m.mae), 2)?,
     ];
     timings.push(("cross-validation", t.elapsed().as_secs_f64()));
 
@@ -180,16 +157,14 @@ pub fn compute(
     // Descriptive tables.
     let feature_ranges = names
         .iter()
-        .enumerate()
-        .map(|(c, name)| FeatureRange::new(name, c, samples))
-        .collect();
+        .map(|name| FeatureRange::new(name, &table.values))
+        .collect::<Result<Vec<_>, _>>()?;
     let amplitudes = records
         .iter()
         .map(AmplitudeRow::of)
         .collect::<Result<Vec<_>, _>>()?;
-    let all_idx: Vec<usize> = (0..samples.len()).collect();
-    let deltas = deltas_of(samples, &all_idx)?;
     let delta_summary = hxai_eval::summarize(&deltas)?;
+    let delta_extent = hxai_eval::extent(&deltas)?;
     let data = DataSummary {
         n_records: records.len(),
         n_samples: samples.len(),
@@ -205,9 +180,9 @@ pub fn compute(
         window_s: fit.model.window.length_s,
         discard_s: fit.model.window.discard_s,
         delta_min_mean_max_sd: [
-            deltas.iter().copied().fold(f64::INFINITY, f64::min),
+            delta_extent.min,
             delta_summary.mean,
-            deltas.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            delta_extent.max,
             delta_summary.std,
         ],
     };
@@ -224,7 +199,7 @@ pub fn compute(
             .iter()
             .map(|m| (m.complexity(), m.equation()))
             .collect(),
-        test: sym_score.into(),
+        test: sym_score,
     };
     let results = Results {
         settings: Settings {

@@ -61,8 +61,8 @@ fn pick(c: &Computed, f: f64) -> Option<&SimRecord> {
 
 /// `(first sample, count)` of three periods starting at the first window.
 fn span(c: &Computed, r: &SimRecord) -> (usize, usize) {
-    let start = (c.fit.model.window.discard_s * r.fs).round() as usize;
-    let n = (3.0 * r.fs / r.frequency_hz).round() as usize;
+    let start = (c.fit.model.window.discard_s * r.fs_hz).round() as usize;
+    let n = (3.0 * r.fs_hz / r.frequency_hz).round() as usize;
     let end = (start + n).min(r.time_s.len());
     (start.min(end), end - start.min(end))
 }
@@ -73,29 +73,11 @@ fn trace(r: &SimRecord, x: &[f64], start: usize, n: usize, offset: f64) -> Vec<(
         .collect()
 }
 
-fn mean(x: &[f64]) -> f64 {
-    if x.is_empty() {
-        return f64::NAN;
-    }
-    x.iter().sum::<f64>() / x.len() as f64
-}
-
-/// Groups `(key, value)` and returns `(key, mean value)` in key order.
-fn means(pairs: impl Iterator<Item = (f64, f64)>) -> Vec<(f64, f64)> {
-    let mut m: BTreeMap<i64, Vec<f64>> = BTreeMap::new();
-    for (k, v) in pairs {
-        m.entry((k * 1e6).round() as i64).or_default().push(v);
-    }
-    m.into_iter()
-        .map(|(k, v)| (k as f64 / 1e6, mean(&v)))
-        .collect()
-}
-
 fn input(r: &SimRecord) -> RecordInput<'_> {
     RecordInput {
         id: &r.id,
-        fs: r.fs,
-        freq_hz: r.frequency_hz,
+        fs_hz: r.fs_hz,
+        frequency_hz: r.frequency_hz,
         signal: &r.accel_ms2,
         truth: Some(&r.probe_um),
     }
@@ -121,7 +103,7 @@ fn fig4(c: &Computed) -> Vec<Panel> {
     let a = &c.results.amplitudes;
     let by = |key: fn(&crate::results::AmplitudeRow) -> f64,
               val: fn(&crate::results::AmplitudeRow) -> f64| {
-        means(a.iter().map(|x| (key(x), val(x))))
+        hxai_eval::means_by_key(a.iter().map(|x| (key(x), val(x))))
     };
     for (title, x_label, key) in [
         (
@@ -155,7 +137,7 @@ fn fig5(c: &Computed) -> Result<Vec<Panel>, ReproduceError> {
         if let Some(r) = pick(c, f) {
             let pred = c.fit.model.predict(&input(r))?;
             let (s, n) = span(c, r);
-            let offset = mean(&r.probe_um[s..s + n]);
+            let offset = hxai_eval::extent(&r.probe_um[s..s + n])?.mean;
             panels.push(Panel {
                 title: format!("{} µm, {f} Hz", r.amplitude_um),
                 x_label: T_LABEL.into(),
@@ -193,7 +175,7 @@ fn fig5(c: &Computed) -> Result<Vec<Panel>, ReproduceError> {
             y_label: "δ = A_true - A_phys (µm)".into(),
             series: vec![
                 Series::points("windows", p.clone()),
-                Series::line("mean", means(p.into_iter())),
+                Series::line("mean", hxai_eval::means_by_key(p.into_iter())),
             ],
         });
     }
@@ -251,7 +233,8 @@ fn test_amplitudes(c: &Computed) -> Vec<(f64, f64, f64, f64, f64)> {
         .filter(|(i, _)| c.fit.is_test[*i])
         .filter_map(|(i, w)| {
             let (a, f) = conds.get(w.record.as_str())?;
-            Some((w.a_true()?, w.a_phys(), w.a_phys() + c.delta_hat[i], *a, *f))
+            let a_corr = hxai_hybrid::corrected_latent(&w.physics, c.delta_hat[i]).amplitude;
+            Some((w.a_true()?, w.a_phys(), a_corr, *a, *f))
         })
         .collect()
 }
@@ -286,9 +269,18 @@ fn fig10(c: &Computed) -> Vec<Panel> {
             x_label: x_label.into(),
             y_label: "amplitude (µm)".into(),
             series: vec![
-                Series::line("true", means(t.iter().map(|x| (k(x), x.0)))),
-                Series::line("physics", means(t.iter().map(|x| (k(x), x.1)))),
-                Series::line("hybrid", means(t.iter().map(|x| (k(x), x.2)))),
+                Series::line(
+                    "true",
+                    hxai_eval::means_by_key(t.iter().map(|x| (k(x), x.0))),
+                ),
+                Series::line(
+                    "physics",
+                    hxai_eval::means_by_key(t.iter().map(|x| (k(x), x.1))),
+                ),
+                Series::line(
+                    "hybrid",
+                    hxai_eval::means_by_key(t.iter().map(|x| (k(x), x.2))),
+                ),
             ],
         });
     }
@@ -317,15 +309,15 @@ fn fig11_12(c: &Computed) -> Result<(Vec<Panel>, Vec<Panel>), ReproduceError> {
         let Some(r) = pick(c, f) else { continue };
         let pred = c.fit.model.predict(&input(r))?;
         let (s, n) = span(c, r);
-        let offset = mean(&r.probe_um[s..s + n]);
+        let offset = hxai_eval::extent(&r.probe_um[s..s + n])?.mean;
         let truth = trace(r, &r.probe_um, s, n, offset);
         let phys = trace(r, &pred.physics, s, n, 0.0);
         let hyb = trace(r, &pred.hybrid, s, n, 0.0);
-        let diff = |p: &[(f64, f64)]| -> Vec<(f64, f64)> {
-            p.iter()
-                .zip(&truth)
-                .map(|(a, b)| (a.0, a.1 - b.1))
-                .collect()
+        let truth_um: Vec<f64> = truth.iter().map(|p| p.1).collect();
+        let diff = |p: &[(f64, f64)]| -> Result<Vec<(f64, f64)>, ReproduceError> {
+            let pred_um: Vec<f64> = p.iter().map(|p| p.1).collect();
+            let err = hxai_eval::residuals(&truth_um, &pred_um)?;
+            Ok(p.iter().zip(err).map(|(a, e)| (a.0, e)).collect())
         };
         let title = format!("{} µm, {f} Hz ({})", r.amplitude_um, r.id);
         err.push(Panel {
@@ -333,8 +325,8 @@ fn fig11_12(c: &Computed) -> Result<(Vec<Panel>, Vec<Panel>), ReproduceError> {
             x_label: T_LABEL.into(),
             y_label: "error, prediction - true (µm)".into(),
             series: vec![
-                Series::line("physics", diff(&phys)),
-                Series::line("hybrid", diff(&hyb)),
+                Series::line("physics", diff(&phys)?),
+                Series::line("hybrid", diff(&hyb)?),
             ],
         });
         sig.push(Panel {

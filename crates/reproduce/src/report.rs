@@ -242,23 +242,23 @@ pub fn markdown(r: &Results) -> String {
     let _ = writeln!(
         s,
         "| physics (double integration) | {:.4} | {:.4} | {:.4} | {} | {} |",
-        h.physics.rmse_um,
+        h.physics.rmse,
         h.physics.r2,
-        h.physics.mae_um,
+        h.physics.mae,
         paper::PHYSICS_RMSE_UM,
         paper::PHYSICS_R2
     );
     let _ = writeln!(
         s,
         "| physics, sine representation (zero correction) | {:.4} | {:.4} | {:.4} | – | – |",
-        h.physics_sine.rmse_um, h.physics_sine.r2, h.physics_sine.mae_um
+        h.physics_sine.rmse, h.physics_sine.r2, h.physics_sine.mae
     );
     let _ = writeln!(
         s,
         "| hybrid (physics + symbolic δ) | {:.4} | {:.4} | {:.4} | {} | {} |",
-        h.hybrid.rmse_um,
+        h.hybrid.rmse,
         h.hybrid.r2,
-        h.hybrid.mae_um,
+        h.hybrid.mae,
         paper::HYBRID_RMSE_UM,
         paper::HYBRID_R2
     );
@@ -319,23 +319,19 @@ pub fn markdown(r: &Results) -> String {
     s
 }
 
-/// `samples.csv`: one row per sample, columns `record,window,split,f1..f12,A_phys,A_true,delta`.
-pub fn samples_csv(c: &Computed) -> String {
-    let mut s = String::from("record,window,split");
-    for n in &c.fit.model.features.names {
-        s.push(',');
-        s.push_str(n);
-    }
-    s.push_str(",A_phys,A_true,delta\n");
-    for (i, w) in c.fit.samples.iter().enumerate() {
-        let split = if c.fit.is_test[i] { "test" } else { "train" };
-        let _ = write!(s, "{},{},{}", w.record, w.window, split);
-        for v in &w.features {
-            let _ = write!(s, ",{v}");
+/// `samples.csv`: one row per sample, columns `record,window,split,f1..f12,A_phys,A_true,delta`
+/// ([`hxai_hybrid::SamplesTable`]), numbers in Rust's shortest round-trip form.
+pub fn samples_csv(c: &Computed) -> Result<String, crate::ReproduceError> {
+    let t = c.fit.samples_table()?;
+    let mut s = t.names().join(",");
+    s.push('\n');
+    let columns = t.values.columns();
+    for (i, ((record, window), split)) in t.record.iter().zip(&t.window).zip(&t.split).enumerate() {
+        let _ = write!(s, "{record},{window},{split}");
+        for column in columns {
+            let _ = write!(s, ",{}", column[i]);
         }
-        let a_true = w.a_true().unwrap_or(f64::NAN);
-        let delta = w.delta().unwrap_or(f64::NAN);
-        let _ = writeln!(s, ",{},{},{}", w.a_phys(), a_true, delta);
+        s.push('\n');
     }
-    s
+    Ok(s)
 }

@@ -4,8 +4,10 @@
 //! settings and the seed, and `cargo xtask reproduce --check` can compare it exactly.
 
 use crate::{ReproduceError, paper};
-use hxai_hybrid::{Evaluation, WindowSample};
+use hxai_eval::Metrics;
+use hxai_hybrid::Evaluation;
 use hxai_sim::SimRecord;
+use hxai_table::Table;
 use serde::Serialize;
 
 /// The whole document.
@@ -93,22 +95,15 @@ pub struct FeatureRange {
 }
 
 impl FeatureRange {
-    /// Range of column `c` over `samples`.
-    pub fn new(name: &str, c: usize, samples: &[WindowSample]) -> Self {
-        let vals = samples.iter().filter_map(|s| s.features.get(c).copied());
-        let (mut min, mut max, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0);
-        for v in vals {
-            min = min.min(v);
-            max = max.max(v);
-            sum += v;
-            n += 1;
-        }
-        Self {
+    /// Range of the column `name` of `samples`.
+    pub fn new(name: &str, samples: &Table) -> Result<Self, ReproduceError> {
+        let e = hxai_eval::extent(samples.require(name)?)?;
+        Ok(Self {
             name: name.to_string(),
-            min,
-            max,
-            mean: sum / n.max(1) as f64,
-        }
+            min: e.min,
+            max: e.max,
+            mean: e.mean,
+        })
     }
 }
 
@@ -134,15 +129,8 @@ pub struct AmplitudeRow {
 impl AmplitudeRow {
     /// Fits a sine at the commanded frequency to each channel.
     pub fn of(r: &SimRecord) -> Result<Self, ReproduceError> {
-        let fit = |x: &[f64]| hxai_signal::fit_sine(x, r.fs, r.frequency_hz);
+        let fit = |x: &[f64]| hxai_signal::fit_sine(x, r.fs_hz, r.frequency_hz);
         let (c, e, p) = (fit(&r.command_um)?, fit(&r.encoder_um)?, fit(&r.probe_um)?);
-        let mut dphi = p.phase - e.phase;
-        while dphi > std::f64::consts::PI {
-            dphi -= 2.0 * std::f64::consts::PI;
-        }
-        while dphi <= -std::f64::consts::PI {
-            dphi += 2.0 * std::f64::consts::PI;
-        }
         Ok(Self {
             record: r.id.clone(),
             amplitude_um: r.amplitude_um,
@@ -150,29 +138,8 @@ impl AmplitudeRow {
             command_um: c.amplitude,
             encoder_um: e.amplitude,
             probe_um: p.amplitude,
-            encoder_lag_ms: dphi / (2.0 * std::f64::consts::PI * r.frequency_hz) * 1e3,
+            encoder_lag_ms: hxai_signal::phase_lag_s(&p, &e, r.frequency_hz) * 1e3,
         })
-    }
-}
-
-/// R^2, RMSE and MAE.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct Score {
-    /// Coefficient of determination.
-    pub r2: f64,
-    /// Root mean squared error (um).
-    pub rmse: f64,
-    /// Mean absolute error (um).
-    pub mae: f64,
-}
-
-impl From<hxai_eval::Metrics> for Score {
-    fn from(m: hxai_eval::Metrics) -> Self {
-        Self {
-            r2: m.r2,
-            rmse: m.rmse,
-            mae: m.mae,
-        }
     }
 }
 
@@ -181,8 +148,8 @@ impl From<hxai_eval::Metrics> for Score {
 pub struct ModelRow {
     /// Model name (`linear`, `lasso_cv`, `tree_5`, `tree_6`, `tree_8`, `forest`, `symbolic`).
     pub name: String,
-    /// Test scores on delta.
-    pub test: Score,
+    /// Test scores on delta (RMSE and MAE in um).
+    pub test: Metrics,
     /// Complexity (symbolic model only).
     pub complexity: Option<usize>,
     /// The paper's R^2, where it gives one.
@@ -191,10 +158,10 @@ pub struct ModelRow {
 
 impl ModelRow {
     /// A row with the paper's R^2 looked up by name.
-    pub fn new(name: &str, m: hxai_eval::Metrics, complexity: Option<usize>) -> Self {
+    pub fn new(name: &str, m: Metrics, complexity: Option<usize>) -> Self {
         Self {
             name: name.to_string(),
-            test: m.into(),
+            test: m,
             complexity,
             paper_r2: paper::table3_r2(name),
         }
@@ -218,8 +185,8 @@ pub struct SymbolicSummary {
     pub evaluations: u64,
     /// The Pareto front: (complexity, equation).
     pub pareto: Vec<(usize, String)>,
-    /// Test scores on delta.
-    pub test: Score,
+    /// Test scores on delta (RMSE and MAE in um).
+    pub test: Metrics,
 }
 
 /// One metric of the cross-validation table.

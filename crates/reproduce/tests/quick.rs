@@ -41,7 +41,7 @@ fn quick_run_writes_every_output_and_is_repeatable() -> Result<(), Box<dyn std::
         r.cv.iter()
             .all(|c| c.folds.len() == 5 && c.ci_t[0] <= c.ci_normal[0])
     );
-    assert!(r.hybrid.physics.rmse_um.is_finite() && r.hybrid.hybrid.rmse_um.is_finite());
+    assert!(r.hybrid.physics.rmse.is_finite() && r.hybrid.hybrid.rmse.is_finite());
     assert!(r.symbolic.complexity >= 1);
 
     let csv = &a

@@ -57,5 +57,5 @@ pub use error::SignalError;
 pub use filter::Sos;
 pub use integrate::{Detrend, cumulative_trapezoid, detrend, detrend_in_place};
 pub use physics::{Drift, Integrator, LengthUnit, PhysicsConfig, ValidPhysics, displacement};
-pub use sine::{SineFit, SineFit4, fit_sine, fit_sine4};
+pub use sine::{SineFit, SineFit4, fit_sine, fit_sine4, phase_lag_s};
 pub use spectral::{Psd, Scaling, WelchConfig, Window, welch};

@@ -21,8 +21,9 @@ pub struct SineFit {
 pub struct SineFit4 {
     /// Amplitude, phase and offset at the refined frequency.
     pub fit: SineFit,
-    /// Refined frequency, Hz.
-    pub freq_hz: f64,
+    /// Refined frequency, Hz (`freq_hz` in files written before the rename).
+    #[serde(alias = "freq_hz")]
+    pub frequency_hz: f64,
     /// Gauss-Newton iterations used.
     pub iterations: usize,
 }
@@ -127,6 +128,20 @@ fn to_fit(s: f64, c: f64, offset: f64) -> SineFit {
     }
 }
 
+/// How far the sine `later` lags the sine `reference` (both fitted at `frequency_hz`), in
+/// seconds: their phase difference wrapped to (-pi, pi], over `2 pi frequency_hz`.
+/// Positive when `later` comes later.
+pub fn phase_lag_s(reference: &SineFit, later: &SineFit, frequency_hz: f64) -> f64 {
+    let mut dphi = reference.phase - later.phase;
+    while dphi > PI {
+        dphi -= 2.0 * PI;
+    }
+    while dphi <= -PI {
+        dphi += 2.0 * PI;
+    }
+    dphi / (2.0 * PI * frequency_hz)
+}
+
 /// Three-parameter least-squares sine fit at a known frequency (IEEE 1057): solves for
 /// `x ~ s sin(w t) + c cos(w t) + offset` and returns amplitude `hypot(s, c)` and phase
 /// `atan2(c, s)`.
@@ -185,7 +200,7 @@ pub fn fit_sine4(x: &[f64], fs: f64, freq_hz: f64) -> Result<SineFit4, SignalErr
             let fit = fit_sine(x, fs, w * fs / (2.0 * PI))?;
             return Ok(SineFit4 {
                 fit,
-                freq_hz: w * fs / (2.0 * PI),
+                frequency_hz: w * fs / (2.0 * PI),
                 iterations: it,
             });
         }

@@ -137,7 +137,7 @@ proptest! {
         let dphi = (fit.phase - phase + PI).rem_euclid(2.0 * PI) - PI;
         prop_assert!(dphi.abs() < 0.01);
         let f4 = fit_sine4(&x, fs, freq * 1.002).unwrap();
-        prop_assert!((f4.freq_hz / freq - 1.0).abs() < 1e-3);
+        prop_assert!((f4.frequency_hz / freq - 1.0).abs() < 1e-3);
         prop_assert!((f4.fit.amplitude - amp).abs() < 0.01 * amp);
     }
 
@@ -214,4 +214,25 @@ proptest! {
         let freq = PhysicsConfig { integrator: hxai_signal::Integrator::Frequency, ..phys };
         let _ = hxai_signal::displacement(&x, fs, &freq);
     }
+}
+
+// `phase_lag_s`: the phase difference over 2 pi f, wrapped to (-pi, pi] first, so a lag of
+// nearly a full period reads as a small lead. Tolerance 1e-12 s (a few ulps of the inputs).
+#[test]
+fn phase_lag_wraps_to_half_a_period() {
+    use hxai_signal::{SineFit, phase_lag_s};
+    let sine = |phase: f64| SineFit {
+        amplitude: 1.0,
+        phase,
+        offset: 0.0,
+    };
+    let f = 10.0;
+    let lag = phase_lag_s(&sine(0.3), &sine(0.1), f);
+    assert!((lag - 0.2 / (2.0 * PI * f)).abs() < 1e-12, "{lag}");
+    let lead = phase_lag_s(&sine(3.0), &sine(-3.0), f);
+    assert!(
+        (lead - (6.0 - 2.0 * PI) / (2.0 * PI * f)).abs() < 1e-12,
+        "{lead}"
+    );
+    assert!(lead < 0.0);
 }

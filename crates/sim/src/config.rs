@@ -201,7 +201,7 @@ impl Default for EncoderParams {
 
 /// Everything the simulator needs: test matrix, sampling, and the machine and sensor models.
 ///
-/// Build it with `SimConfig::default()` and change fields; [`SimConfig::validate`] (called by
+/// Build it with `SimConfig::default()` and change fields; [`SimConfig::check`] (called by
 /// [`crate::simulate`]) rejects bad values before any work starts.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -333,7 +333,7 @@ impl SimConfig {
     }
 
     /// Checks every parameter; returns the first problem found, with how to mend it.
-    pub fn validate(&self) -> Result<(), SimError> {
+    pub fn check(&self) -> Result<(), SimError> {
         if self.amplitudes_um.is_empty() {
             return Err(SimError::EmptyList {
                 name: "amplitudes_um",

@@ -1,7 +1,7 @@
 //! The one error type of `hxai-sim`.
 
 /// Everything that can go wrong when simulating: all of it is a bad [`crate::SimConfig`],
-/// found by [`crate::SimConfig::validate`] before any work starts.
+/// found by [`crate::SimConfig::check`] before any work starts.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimError {
     /// A parameter is outside its valid range.

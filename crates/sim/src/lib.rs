@@ -17,7 +17,7 @@
 //!   vibration and 16-bit conversion; double integration of it (the physics model) therefore
 //!   misses the true amplitude in a frequency-dependent way.
 //!
-//! Main types: [`SimConfig`] (all parameters, [`SimConfig::validate`]), [`SimRecord`] (one
+//! Main types: [`SimConfig`] (all parameters, [`SimConfig::check`]), [`SimRecord`] (one
 //! record in memory), [`SimError`]. Entry points: [`simulate`], [`simulate_with_progress`],
 //! [`record_plan`].
 //!
@@ -70,8 +70,9 @@ pub struct SimRecord {
     pub frequency_hz: f64,
     /// Repeat number, starting at 1.
     pub repeat: usize,
-    /// Sampling rate (Hz).
-    pub fs: f64,
+    /// Sampling rate (Hz); files written before the rename call it `fs`.
+    #[serde(alias = "fs")]
+    pub fs_hz: f64,
     /// Sample times (s).
     pub time_s: Vec<f64>,
     /// Accelerometer, Z, as recorded (m/s^2).
@@ -129,7 +130,7 @@ pub fn simulate_with_progress(
     cfg: &SimConfig,
     progress: &(dyn Fn() + Sync),
 ) -> Result<Vec<SimRecord>, SimError> {
-    cfg.validate()?;
+    cfg.check()?;
     record_plan(cfg)
         .into_par_iter()
         .map(|spec| {
@@ -142,7 +143,7 @@ pub fn simulate_with_progress(
 
 /// Simulates a single record of the plan (validates the configuration first).
 pub fn simulate_record(cfg: &SimConfig, spec: &RecordSpec) -> Result<SimRecord, SimError> {
-    cfg.validate()?;
+    cfg.check()?;
     simulate_one(cfg, spec)
 }
 
@@ -173,7 +174,7 @@ fn simulate_one(cfg: &SimConfig, spec: &RecordSpec) -> Result<SimRecord, SimErro
         amplitude_um: spec.amplitude_um,
         frequency_hz: spec.frequency_hz,
         repeat: spec.repeat,
-        fs,
+        fs_hz: fs,
         time_s: (0..n).map(|i| i as f64 / fs).collect(),
         accel_ms2: accel[n_warm..].to_vec(),
         probe_um: probe,

@@ -80,10 +80,10 @@ fn frictionless_noiseless_machine_matches_transfer_functions() -> TestResult {
             .add(slide.mul(hz).mul(C(kappa, 0.0)));
         let accel = C(-w * w * 1e-6, 0.0).mul(accel_pos);
 
-        let fc = fit_sine(&r.command_um, r.fs, f)?;
-        let fe = fit_sine(&r.encoder_um, r.fs, f)?;
-        let fp = fit_sine(&r.probe_um, r.fs, f)?;
-        let fa = fit_sine(&r.accel_ms2, r.fs, f)?;
+        let fc = fit_sine(&r.command_um, r.fs_hz, f)?;
+        let fe = fit_sine(&r.encoder_um, r.fs_hz, f)?;
+        let fp = fit_sine(&r.probe_um, r.fs_hz, f)?;
+        let fa = fit_sine(&r.accel_ms2, r.fs_hz, f)?;
         // Tolerance: 1e-4 relative in amplitude and 1e-4 rad in phase (RK4 at 40 kHz is far
         // more accurate; the steady-state start leaves no transient to speak of).
         let check = |name: &str, got: hxai_signal::SineFit, want: C| {

@@ -50,8 +50,8 @@ proptest! {
         let mut cfg = short(seed, a, f);
         cfg.duration_s = 1.0;
         let r = &simulate(&cfg).unwrap()[0];
-        let p = fit_sine(&r.probe_um, r.fs, f).unwrap().amplitude;
-        let c = fit_sine(&r.command_um, r.fs, f).unwrap().amplitude;
+        let p = fit_sine(&r.probe_um, r.fs_hz, f).unwrap().amplitude;
+        let c = fit_sine(&r.command_um, r.fs_hz, f).unwrap().amplitude;
         prop_assert!((p - c).abs() <= 0.02 * c + 0.15, "probe {} vs command {}", p, c);
     }
 
@@ -60,8 +60,8 @@ proptest! {
     #[test]
     fn encoder_lags_probe(seed in any::<u64>(), a in 2.0..20.0f64, f in 5.0..60.0f64) {
         let r = &simulate(&short(seed, a, f)).unwrap()[0];
-        let p = fit_sine(&r.probe_um, r.fs, f).unwrap();
-        let e = fit_sine(&r.encoder_um, r.fs, f).unwrap();
+        let p = fit_sine(&r.probe_um, r.fs_hz, f).unwrap();
+        let e = fit_sine(&r.encoder_um, r.fs_hz, f).unwrap();
         let lag = wrap(p.phase - e.phase);
         prop_assert!(lag > 0.0, "lag {} rad at A = {}, f = {}", lag, a, f);
     }
@@ -89,7 +89,7 @@ proptest! {
         cfg.servo.damping = servo_damping;
         cfg.tool.natural_hz = tool_hz;
         cfg.accel.sensitivity_error = sens;
-        if cfg.validate().is_ok() {
+        if cfg.check().is_ok() {
             let recs = simulate(&cfg).unwrap();
             for r in &recs {
                 for ch in [&r.time_s, &r.accel_ms2, &r.probe_um, &r.command_um, &r.encoder_um] {
@@ -129,7 +129,7 @@ fn structural_errors() {
         ..SimConfig::default()
     };
     assert_eq!(
-        empty.validate(),
+        empty.check(),
         Err(SimError::EmptyList {
             name: "amplitudes_um"
         })
@@ -139,7 +139,7 @@ fn structural_errors() {
         ..SimConfig::default()
     };
     assert!(matches!(
-        zero.validate(),
+        zero.check(),
         Err(SimError::InvalidParameter {
             name: "repeats",
             ..
@@ -150,7 +150,7 @@ fn structural_errors() {
         ..SimConfig::default()
     };
     assert!(matches!(
-        fast.validate(),
+        fast.check(),
         Err(SimError::InvalidParameter {
             name: "frequencies_hz",
             ..
@@ -160,13 +160,13 @@ fn structural_errors() {
         duration_s: 1.0e6,
         ..SimConfig::default()
     };
-    assert!(matches!(huge.validate(), Err(SimError::TooLarge { .. })));
+    assert!(matches!(huge.check(), Err(SimError::TooLarge { .. })));
     let late = SimConfig {
         warmup_s: 0.0,
         ..SimConfig::default()
     };
     assert!(matches!(
-        late.validate(),
+        late.check(),
         Err(SimError::InvalidParameter {
             name: "encoder.delay_s",
             ..

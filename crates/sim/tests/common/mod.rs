@@ -59,7 +59,7 @@ pub fn evaluate(records: &[SimRecord]) -> Result<Evaluation, Box<dyn std::error:
     let mut ys: Vec<f64> = Vec::new();
     let mut windows = Vec::new();
     for r in records {
-        let fs = r.fs;
+        let fs = r.fs_hz;
         let phys = displacement(&r.accel_ms2, fs, &cfg)?;
         let edge = (EDGE_S * fs).round() as usize;
         let win = (WINDOW_S * fs).round() as usize;
