@@ -93,9 +93,6 @@ pub enum HybridError {
         /// The features available.
         available: String,
     },
-    /// A table operation failed (an unknown column, a bad row selection).
-    #[error(transparent)]
-    Table(#[from] hxai_table::TableError),
     /// The physics equation does not parse.
     #[error("physics equation `{equation}`: {source}")]
     Equation {

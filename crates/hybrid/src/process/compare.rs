@@ -5,7 +5,7 @@ use super::{
     deltas, fit_inner, gather, physics_values, process_split, resolve,
 };
 use crate::HybridError;
-use hxai_baselines::{Matrix, RandomForest, Regressor};
+use hxai_baselines::{RandomForest, Regressor};
 use hxai_eval::Split;
 use hxai_symreg::Table;
 use serde::{Deserialize, Serialize};
@@ -96,11 +96,9 @@ fn forest_delta(
     delta: &[f64],
     seed: u64,
 ) -> Result<Vec<f64>, HybridError> {
-    let cols = columns_of(table, features, "feature")?;
-    let pick = |rows: &[usize]| -> Result<Matrix, HybridError> {
-        let cs: Vec<Vec<f64>> = cols.iter().map(|c| gather(c, rows)).collect();
-        Ok(Matrix::from_columns(&cs)?)
-    };
+    columns_of(table, features, "feature")?;
+    let x = table.select_columns(features)?;
+    let pick = |rows: &[usize]| -> Result<Table, HybridError> { Ok(x.select_rows(rows)?) };
     let mut forest = RandomForest::with_seed(seed);
     forest.fit(&pick(&split.train)?, delta)?;
     Ok(forest.predict(&pick(&split.test)?)?)
