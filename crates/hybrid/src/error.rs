@@ -90,6 +90,97 @@ pub enum HybridError {
         /// The features available.
         available: String,
     },
+    /// A table operation failed (an unknown column, a bad row selection).
+    #[error(transparent)]
+    Table(#[from] hxai_table::TableError),
+    /// The physics equation does not parse.
+    #[error("physics equation `{equation}`: {source}")]
+    Equation {
+        /// The equation text.
+        equation: String,
+        /// What the parser reported (with the character position).
+        source: hxai_symreg::SrError,
+    },
+    /// A name in the physics equation is neither a column nor a parameter.
+    #[error(
+        "physics equation: `{name}` at character {position} is neither a column of the table nor a parameter; \
+         fit it with --calibrate {name}, give it with --set {name}=VALUE, or fix the spelling (columns: {columns})"
+    )]
+    UnknownName {
+        /// The name.
+        name: String,
+        /// 1-based character position of its first use.
+        position: usize,
+        /// The table's columns, comma-separated.
+        columns: String,
+    },
+    /// A parameter (in --calibrate, --set or --init) is also a column of the table.
+    #[error(
+        "`{name}` is given as a parameter (--{flag}) but it is also a column of the table; \
+         a name in the equation is a column when the table has it: rename the parameter"
+    )]
+    ParameterIsColumn {
+        /// The name.
+        name: String,
+        /// The option that names it (`calibrate`, `set`, `init`).
+        flag: &'static str,
+    },
+    /// A parameter given in --calibrate, --set or --init does not appear in the equation.
+    #[error("parameter `{name}` (--{flag}) does not appear in the physics equation `{equation}`")]
+    ParameterNotInEquation {
+        /// The name.
+        name: String,
+        /// The option that names it.
+        flag: &'static str,
+        /// The equation.
+        equation: String,
+    },
+    /// The target column appears in the physics equation.
+    #[error(
+        "the physics equation uses the target column `{name}` (at character {position}): the physics must predict the target from other columns"
+    )]
+    TargetInPhysics {
+        /// The target.
+        name: String,
+        /// 1-based character position of its first use.
+        position: usize,
+    },
+    /// A column named in the configuration is not in the table.
+    #[error("{what} `{name}` is not a column of the table (columns: {columns})")]
+    MissingColumn {
+        /// Which setting names it (`target`, `feature`, `group`, ...).
+        what: &'static str,
+        /// The name.
+        name: String,
+        /// The table's columns, comma-separated.
+        columns: String,
+    },
+    /// No feature column is left for the correction.
+    #[error("{0}")]
+    NoFeatures(String),
+    /// The physics prediction cannot be used at a row.
+    #[error("row {row} (0-based): the physics prediction is {value}, {why}")]
+    BadPhysics {
+        /// Row index, 0-based in the table's order.
+        row: usize,
+        /// The physics value there.
+        value: f64,
+        /// Why it cannot be used.
+        why: String,
+    },
+    /// The correction is not finite at a row (outside the domain of its equation).
+    #[error(
+        "row {row} (0-based): the correction is {value} (the row lies outside the domain of the correction's equation)"
+    )]
+    BadCorrection {
+        /// Row index, 0-based.
+        row: usize,
+        /// The correction's value there.
+        value: f64,
+    },
+    /// A baseline model (the forest of `compare`) failed.
+    #[error("baseline model failed: {0}")]
+    Baseline(#[from] hxai_baselines::BaselineError),
 }
 
 impl HybridError {

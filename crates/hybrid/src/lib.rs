@@ -65,6 +65,7 @@ mod composer;
 mod error;
 pub mod evaluate;
 mod model;
+pub mod process;
 mod tool;
 mod traits;
 mod window;

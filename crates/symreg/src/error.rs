@@ -63,4 +63,20 @@ pub enum SrError {
     /// A saved model is malformed.
     #[error("malformed model: {0}")]
     MalformedModel(String),
+    /// An equation's text does not parse ([`crate::infix`]).
+    #[error("{message} at character {position}")]
+    Parse {
+        /// 1-based character position.
+        position: usize,
+        /// What is wrong there.
+        message: String,
+    },
+    /// An equation uses a name that is neither an input nor a known constant.
+    #[error("unknown symbol `{name}` at character {position}")]
+    UnknownSymbol {
+        /// The name.
+        name: String,
+        /// 1-based character position of its first use.
+        position: usize,
+    },
 }

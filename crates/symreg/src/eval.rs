@@ -126,6 +126,7 @@ fn forward_impl(
                         Op::Tanh => unary(dst, a, vmath::tanh),
                         Op::Abs => unary(dst, a, f64::abs),
                         Op::Gaussian => unary(dst, a, |v| vmath::exp(-v * v)),
+                        Op::Tan => unary(dst, a, f64::tan),
                         _ => dst.fill(f64::NAN),
                     }
                 } else {
@@ -136,6 +137,7 @@ fn forward_impl(
                         Op::Mul => binary(dst, a, b, |x, y| x * y),
                         Op::Div => binary(dst, a, b, |x, y| x / y),
                         Op::Gaussian2 => binary(dst, a, b, |x, y| vmath::exp(-(x * x + y * y))),
+                        Op::Pow => binary(dst, a, b, f64::powf),
                         _ => dst.fill(f64::NAN),
                     }
                 }

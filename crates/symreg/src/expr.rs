@@ -217,7 +217,7 @@ impl Expr {
             Expr::Num(v) if *v < 0.0 => 2,
             // a power binds less tightly than an atom: (x**2)**2, not x**2**2 (which Python
             // reads as x**(2**2))
-            Expr::Un(Op::Square, _) => 8,
+            Expr::Un(Op::Square, _) | Expr::Bin(Op::Pow, ..) => 8,
             Expr::Num(_) | Expr::Var(_) | Expr::Un(..) => 9,
             Expr::Bin(Op::Gaussian2, ..) => 9,
             Expr::Neg(_) => 3,
@@ -278,6 +278,7 @@ impl Expr {
                 Op::Mul => format!("{}*{}", wrap(a, 2), wrap_right(b, 2)),
                 Op::Div => format!("{}/{}", wrap(a, 2), wrap_right(b, 3)),
                 Op::Gaussian2 => format!("exp(-({}**2 + {}**2))", wrap(a, 9), wrap(b, 9)),
+                Op::Pow => format!("{}**{}", wrap(a, 9), wrap(b, 9)),
                 _ => format!(
                     "{}({}, {})",
                     op.name(),
@@ -328,6 +329,7 @@ impl Expr {
                     Op::Sin => format!("\\sin\\left({s}\\right)"),
                     Op::Cos => format!("\\cos\\left({s}\\right)"),
                     Op::Tanh => format!("\\tanh\\left({s}\\right)"),
+                    Op::Tan => format!("\\tan\\left({s}\\right)"),
                     _ => format!("\\operatorname{{{}}}\\left({s}\\right)", op.name()),
                 }
             }
@@ -349,6 +351,7 @@ impl Expr {
                     wrap(a, 4),
                     wrap(b, 4)
                 ),
+                Op::Pow => format!("{}^{{{}}}", wrap(a, 9), b.to_latex(digits)),
                 _ => format!(
                     "\\operatorname{{{}}}\\left({}, {}\\right)",
                     op.name(),

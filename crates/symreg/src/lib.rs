@@ -41,6 +41,7 @@ mod error;
 pub mod eval;
 pub mod expr;
 pub mod fit;
+pub mod infix;
 mod model;
 pub mod ops;
 pub mod program;

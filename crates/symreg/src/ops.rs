@@ -37,10 +37,16 @@ pub enum Op {
     Gaussian,
     /// exp(-(a^2 + b^2)), QLattice's two-input gaussian
     Gaussian2,
+    /// a^b (`a.powf(b)`): for user equations (`hxai hybrid`), not a search operator
+    Pow,
+    /// tan(a): for user equations (`hxai hybrid`), not a search operator
+    Tan,
 }
 
 impl Op {
-    /// Every operator, in a fixed order.
+    /// Every operator the search can use, in a fixed order. [`Op::Pow`] and [`Op::Tan`]
+    /// are left out: they exist for equations users write (see [`crate::infix`]), and the
+    /// search's operator set stays as it was.
     pub const ALL: [Op; 15] = [
         Op::Add,
         Op::Sub,
@@ -77,6 +83,8 @@ impl Op {
             Op::Abs => "abs",
             Op::Gaussian => "gaussian",
             Op::Gaussian2 => "gaussian2",
+            Op::Pow => "pow",
+            Op::Tan => "tan",
         }
     }
 
@@ -110,7 +118,7 @@ impl Op {
     /// 1 or 2.
     pub fn arity(self) -> usize {
         match self {
-            Op::Add | Op::Sub | Op::Mul | Op::Div | Op::Gaussian2 => 2,
+            Op::Add | Op::Sub | Op::Mul | Op::Div | Op::Gaussian2 | Op::Pow => 2,
             _ => 1,
         }
     }
@@ -135,6 +143,7 @@ impl Op {
             Op::Tanh => vmath::tanh(a),
             Op::Abs => a.abs(),
             Op::Gaussian => vmath::exp(-a * a),
+            Op::Tan => a.tan(),
             _ => f64::NAN,
         }
     }
@@ -148,6 +157,7 @@ impl Op {
             Op::Mul => a * b,
             Op::Div => a / b,
             Op::Gaussian2 => vmath::exp(-(a * a + b * b)),
+            Op::Pow => a.powf(b),
             _ => f64::NAN,
         }
     }
@@ -174,6 +184,7 @@ impl Op {
                 }
             }
             Op::Gaussian => -2.0 * a * out,
+            Op::Tan => 1.0 + out * out,
             _ => f64::NAN,
         }
     }
@@ -187,6 +198,17 @@ impl Op {
             Op::Mul => (b, a),
             Op::Div => (1.0 / b, -out / b),
             Op::Gaussian2 => (-2.0 * a * out, -2.0 * b * out),
+            // d/db = a^b ln a exists for a > 0 only (and is 0 where a^b is 0 for b > 0)
+            Op::Pow => (
+                if b == 0.0 { 0.0 } else { b * a.powf(b - 1.0) },
+                if a > 0.0 {
+                    out * a.ln()
+                } else if out == 0.0 && b > 0.0 {
+                    0.0
+                } else {
+                    f64::NAN
+                },
+            ),
             _ => (f64::NAN, f64::NAN),
         }
     }
@@ -195,7 +217,15 @@ impl Op {
     pub fn is_transcendental(self) -> bool {
         matches!(
             self,
-            Op::Exp | Op::Log | Op::Sin | Op::Cos | Op::Tanh | Op::Gaussian | Op::Gaussian2
+            Op::Exp
+                | Op::Log
+                | Op::Sin
+                | Op::Cos
+                | Op::Tanh
+                | Op::Gaussian
+                | Op::Gaussian2
+                | Op::Pow
+                | Op::Tan
         )
     }
 }

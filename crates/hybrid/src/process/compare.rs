@@ -1,0 +1,303 @@
+//! Every way of modelling the target on the same splits (`hxai hybrid compare`).
+use super::model::columns_of;
+use super::{
+    CorrectionForm, ProcessConfig, ProcessModel, ProcessProgress, calibrate_physics, check_rows,
+    deltas, fit_inner, gather, physics_values, process_split, resolve,
+};
+use crate::HybridError;
+use hxai_baselines::{Matrix, RandomForest, Regressor};
+use hxai_eval::Split;
+use hxai_symreg::Table;
+use serde::{Deserialize, Serialize};
+
+/// Test-split scores of one model.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ModelScore {
+    /// `physics`, `physics_calibrated`, `symbolic`, `physics_forest` or `hybrid`.
+    pub name: String,
+    /// R^2 on the test rows.
+    pub r2: f64,
+    /// RMSE on the test rows.
+    pub rmse: f64,
+    /// MAE on the test rows.
+    pub mae: f64,
+}
+
+/// Cross-validated R^2 of one model.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct CvScore {
+    /// Model name (as in [`ModelScore`]).
+    pub name: String,
+    /// Mean R^2 over the folds.
+    pub r2_mean: f64,
+    /// Sample standard deviation of R^2 over the folds.
+    pub r2_sd: f64,
+    /// Student-t 95 % interval of the mean.
+    pub r2_ci: [f64; 2],
+    /// Mean RMSE over the folds.
+    pub rmse_mean: f64,
+    /// R^2 of each fold.
+    pub r2_folds: Vec<f64>,
+}
+
+/// A paired two-tailed t-test of per-row squared errors on the test rows.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct TTestScore {
+    /// The model tested (`hybrid`).
+    pub model: String,
+    /// What it is compared with.
+    pub baseline: String,
+    /// t statistic of `se_baseline - se_model` (positive: the model's errors are smaller).
+    pub statistic: f64,
+    /// Degrees of freedom.
+    pub df: f64,
+    /// Two-tailed p-value.
+    pub p_value: f64,
+}
+
+/// What [`compare_process`] returns.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Comparison {
+    /// The target column.
+    pub target: String,
+    /// Split kind (`random`, `grouped`, `extrapolate`).
+    pub split: String,
+    /// Training rows of the test split.
+    pub n_train: usize,
+    /// Test rows.
+    pub n_test: usize,
+    /// Test-split scores, in the order physics, physics_calibrated (with calibration),
+    /// symbolic, physics_forest, hybrid.
+    pub models: Vec<ModelScore>,
+    /// k-fold cross-validation (empty when fewer than 2 folds were asked for).
+    pub cv: Vec<CvScore>,
+    /// Folds of the cross-validation.
+    pub folds: usize,
+    /// Hybrid vs the physics as given (uncalibrated), on the test rows.
+    pub t_test: TTestScore,
+    /// Every paired test of the hybrid: vs `physics`, vs `physics_calibrated` (with
+    /// calibration), vs `physics_forest`, vs `symbolic`.
+    pub t_tests: Vec<TTestScore>,
+    /// The hybrid fitted on the test split's training rows.
+    pub hybrid: ProcessModel,
+}
+
+/// Test-row predictions of every model on one split.
+struct SplitPredictions {
+    names: Vec<&'static str>,
+    preds: Vec<Vec<f64>>,
+    model: ProcessModel,
+}
+
+fn forest_delta(
+    table: &Table,
+    features: &[String],
+    split: &Split,
+    delta: &[f64],
+    seed: u64,
+) -> Result<Vec<f64>, HybridError> {
+    let cols = columns_of(table, features, "feature")?;
+    let pick = |rows: &[usize]| -> Result<Matrix, HybridError> {
+        let cs: Vec<Vec<f64>> = cols.iter().map(|c| gather(c, rows)).collect();
+        Ok(Matrix::from_columns(&cs)?)
+    };
+    let mut forest = RandomForest::with_seed(seed);
+    forest.fit(&pick(&split.train)?, delta)?;
+    Ok(forest.predict(&pick(&split.test)?)?)
+}
+
+fn predictions_on(
+    table: &Table,
+    cfg: &ProcessConfig,
+    split: &Split,
+    kind: &str,
+    tasks: (usize, usize),
+    progress: &mut dyn FnMut(&ProcessProgress),
+) -> Result<SplitPredictions, HybridError> {
+    check_rows(table, split)?;
+    if split.test.is_empty() {
+        return Err(HybridError::NoData("the split has no test rows".into()));
+    }
+    let res = resolve(table, cfg)?;
+    let y = table.require(&cfg.target)?;
+    let mut names = vec!["physics"];
+    let mut preds = vec![gather(
+        &physics_values(table, &res, &res.compiled)?,
+        &split.test,
+    )];
+
+    // physics calibrated alone (the hybrid's own physics differs under --joint), and a
+    // forest on its delta
+    let (phys, _) = calibrate_physics(table, cfg, &res, &split.train)?;
+    let physics = physics_values(table, &res, &phys)?;
+    if !res.calibrate.is_empty() {
+        names.push("physics_calibrated");
+        preds.push(gather(&physics, &split.test));
+    }
+
+    let model = fit_inner(table, cfg, split, kind, tasks, progress)?;
+    let hp = model.predict(table)?;
+
+    let ft = table
+        .select_columns(&res.features)?
+        .select_rows(&split.train)?;
+    let label = format!("symbolic ({}/{})", tasks.0 + 1, tasks.1);
+    let sym = hxai_symreg::search(
+        &ft,
+        &gather(y, &split.train),
+        &cfg.search_config(),
+        &mut |p| {
+            progress(&ProcessProgress {
+                task: tasks.0 + 1,
+                tasks: tasks.1,
+                label: label.clone(),
+                search: p.clone(),
+            })
+        },
+    )?;
+    let test_table = table.select_rows(&split.test)?;
+    names.push("symbolic");
+    preds.push(sym.best.predict(&test_table)?);
+
+    let delta = deltas(cfg.correction, y, &physics, &split.train)?;
+    let d = forest_delta(table, &res.features, split, &delta, cfg.seed)?;
+    names.push("physics_forest");
+    preds.push(
+        split
+            .test
+            .iter()
+            .zip(&d)
+            .map(|(&i, d)| match cfg.correction {
+                CorrectionForm::Additive => physics[i] + d,
+                CorrectionForm::Multiplicative => physics[i] * (1.0 + d),
+            })
+            .collect(),
+    );
+
+    names.push("hybrid");
+    preds.push(gather(&hp.hybrid, &split.test));
+    Ok(SplitPredictions {
+        names,
+        preds,
+        model,
+    })
+}
+
+fn t_test(
+    y: &[f64],
+    model: &[f64],
+    baseline: &[f64],
+    mname: &str,
+    bname: &str,
+) -> Result<TTestScore, HybridError> {
+    let se_m = hxai_eval::squared_errors(y, model)?;
+    let se_b = hxai_eval::squared_errors(y, baseline)?;
+    let t = hxai_eval::paired_t_test(&se_b, &se_m)?;
+    Ok(TTestScore {
+        model: mname.into(),
+        baseline: bname.into(),
+        statistic: t.statistic,
+        df: t.df,
+        p_value: t.p_value,
+    })
+}
+
+/// Fits and scores, on the split of [`fit_process`](super::fit_process): `physics` (the
+/// equation with `--init`/`--set` values, uncalibrated), `physics_calibrated` (when
+/// parameters are calibrated), `symbolic` (symbolic regression of the target on the
+/// features, no physics), `physics_forest` (calibrated physics + a random forest on the
+/// same `delta`), `hybrid`; then the same over `folds` folds (grouped when `cfg.group` is
+/// set; skipped when `folds < 2`), and paired t-tests of the hybrid on the test rows.
+///
+/// # Errors
+/// As [`fit_process`](super::fit_process), and fewer rows (or groups) than folds.
+pub fn compare_process(
+    table: &Table,
+    cfg: &ProcessConfig,
+    folds: usize,
+    progress: &mut dyn FnMut(&ProcessProgress),
+) -> Result<Comparison, HybridError> {
+    let (split, kind) = process_split(table, cfg)?;
+    let cv_splits: Vec<Split> = if folds >= 2 {
+        match &cfg.group {
+            Some(g) => {
+                let col = table.require(g)?;
+                let keys: Vec<u64> = col.iter().map(|v| (v + 0.0).to_bits()).collect();
+                hxai_eval::grouped_kfold(&keys, folds, cfg.seed)?
+            }
+            None => hxai_eval::kfold(table.n_rows(), folds, cfg.seed)?,
+        }
+    } else {
+        Vec::new()
+    };
+    let tasks = 2 * (1 + cv_splits.len());
+    let y = table.require(&cfg.target)?;
+    let main = predictions_on(table, cfg, &split, &kind, (1, tasks), progress)?;
+    let y_test = gather(y, &split.test);
+    let mut models = Vec::new();
+    for (name, p) in main.names.iter().zip(&main.preds) {
+        let m = hxai_eval::score(&y_test, p)?;
+        models.push(ModelScore {
+            name: (*name).to_string(),
+            r2: m.r2,
+            rmse: m.rmse,
+            mae: m.mae,
+        });
+    }
+    let pred_of = |name: &str| {
+        main.names
+            .iter()
+            .position(|n| *n == name)
+            .map(|i| main.preds[i].as_slice())
+    };
+    let hybrid = pred_of("hybrid").unwrap_or(&[]);
+    let mut t_tests = Vec::new();
+    for base in [
+        "physics",
+        "physics_calibrated",
+        "physics_forest",
+        "symbolic",
+    ] {
+        if let Some(b) = pred_of(base) {
+            t_tests.push(t_test(&y_test, hybrid, b, "hybrid", base)?);
+        }
+    }
+    let t_test_physics = t_tests[0].clone();
+
+    let mut per_model: Vec<(Vec<f64>, Vec<f64>)> = vec![(Vec::new(), Vec::new()); main.names.len()];
+    for (f, s) in cv_splits.iter().enumerate() {
+        let fold = predictions_on(table, cfg, s, "fold", (3 + 2 * f, tasks), progress)?;
+        let yt = gather(y, &s.test);
+        for (k, p) in fold.preds.iter().enumerate() {
+            let m = hxai_eval::score(&yt, p)?;
+            per_model[k].0.push(m.r2);
+            per_model[k].1.push(m.rmse);
+        }
+    }
+    let mut cv = Vec::new();
+    if !cv_splits.is_empty() {
+        for (name, (r2s, rmses)) in main.names.iter().zip(&per_model) {
+            let s = hxai_eval::summarize(r2s)?;
+            cv.push(CvScore {
+                name: (*name).to_string(),
+                r2_mean: s.mean,
+                r2_sd: s.std,
+                r2_ci: [s.ci_t.lower, s.ci_t.upper],
+                rmse_mean: rmses.iter().sum::<f64>() / rmses.len() as f64,
+                r2_folds: r2s.clone(),
+            });
+        }
+    }
+    Ok(Comparison {
+        target: cfg.target.clone(),
+        split: kind,
+        n_train: split.train.len(),
+        n_test: split.test.len(),
+        models,
+        cv,
+        folds: cv_splits.len(),
+        t_test: t_test_physics,
+        t_tests,
+        hybrid: main.model,
+    })
+}

@@ -1,0 +1,418 @@
+//! The model file of a process hybrid: physics equation and parameters, correction, the
+//! whole hybrid as one equation; prediction and evaluation on new tables.
+use super::CorrectionForm;
+use crate::HybridError;
+use hxai_eval::Metrics;
+use hxai_symreg::infix::{Compiled, compile, parse};
+use hxai_symreg::{Model, Node, Op, Program, Table, expr::Expr};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Schema version of the process model file.
+pub const PROCESS_SCHEMA_VERSION: u32 = 1;
+
+/// The physics part of the model file.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct PhysicsInfo {
+    /// The equation as given (over column and parameter names).
+    pub equation: String,
+    /// Columns the equation uses, in order of first use.
+    pub columns: Vec<String>,
+    /// Every parameter's value: fitted (calibrated) or given (`--set`).
+    pub parameters: BTreeMap<String, f64>,
+    /// Standard error of each calibrated parameter (`null` where undefined).
+    pub standard_errors: BTreeMap<String, Option<f64>>,
+    /// The calibrated parameters.
+    pub calibrated: Vec<String>,
+    /// Starting values of the calibrated parameters (what `physics` means in `compare`).
+    pub initial: BTreeMap<String, f64>,
+    /// The equation with the parameter values substituted (sympy text, full precision).
+    pub sympy: String,
+    /// The same in LaTeX (4 significant digits).
+    pub latex: String,
+}
+
+/// The correction part of the model file.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct CorrectionInfo {
+    /// `additive` (`y = f_p + delta`) or `multiplicative` (`y = f_p (1 + delta)`).
+    pub kind: CorrectionForm,
+    /// Plain text, 4 significant digits.
+    pub equation: String,
+    /// sympy-parseable text, full precision.
+    pub sympy: String,
+    /// LaTeX, 4 significant digits.
+    pub latex: String,
+    /// Complexity (features + operators).
+    pub complexity: usize,
+    /// Features the correction uses.
+    pub features: Vec<String>,
+    /// Feature columns the search was offered.
+    pub candidates: Vec<String>,
+    /// The fitted symbolic model (what `predict` evaluates).
+    pub model: Model,
+}
+
+/// An equation in three forms.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct EquationInfo {
+    /// Plain text, 4 significant digits (for reading).
+    pub equation: String,
+    /// sympy-parseable text with full-precision constants: reproduces `predict` to
+    /// rounding (and parses back with `hxai_symreg::infix`).
+    pub sympy: String,
+    /// LaTeX, 4 significant digits.
+    pub latex: String,
+}
+
+/// Which rows were used for fitting and which were held out.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct SplitInfo {
+    /// `random`, `grouped`, `extrapolate` or `given`.
+    pub kind: String,
+    /// Training rows (0-based, in the table's order).
+    pub train: Vec<usize>,
+    /// Test rows.
+    pub test: Vec<usize>,
+}
+
+/// Physics vs hybrid scores on one side of the split.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct PairScores {
+    /// The (calibrated) physics alone.
+    pub physics: Metrics,
+    /// The hybrid.
+    pub hybrid: Metrics,
+}
+
+/// Scores on the fitting table.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ScoresInfo {
+    /// On the training rows.
+    pub train: PairScores,
+    /// On the test rows (absent when the split left none).
+    pub test: Option<PairScores>,
+}
+
+/// The two-stage result that a joint refit replaced.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct JointInfo {
+    /// Physics parameters after calibration alone (before the joint refit).
+    pub sequential_parameters: BTreeMap<String, f64>,
+    /// Their standard errors.
+    pub sequential_standard_errors: BTreeMap<String, Option<f64>>,
+    /// The correction before the joint refit (sympy text).
+    pub sequential_correction: String,
+    /// Training RMSE of the hybrid before the joint refit.
+    pub sequential_train_rmse: f64,
+    /// Training RMSE after it.
+    pub joint_train_rmse: f64,
+}
+
+/// A fitted process hybrid: everything needed to predict, and its report.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ProcessModel {
+    /// [`PROCESS_SCHEMA_VERSION`].
+    pub schema_version: u32,
+    /// The target column.
+    pub target: String,
+    /// The physics equation and its parameters.
+    pub physics: PhysicsInfo,
+    /// The learned correction.
+    pub correction: CorrectionInfo,
+    /// The whole hybrid as one equation over the columns, every parameter substituted.
+    pub hybrid: EquationInfo,
+    /// The split of the fitting table.
+    pub split: SplitInfo,
+    /// The grouping column, if any.
+    pub group: Option<String>,
+    /// With a joint refit (`--joint`): the two-stage values it replaced.
+    pub joint: Option<JointInfo>,
+    /// Physics vs hybrid on the fitting table.
+    pub scores: ScoresInfo,
+}
+
+/// Per-row predictions of a process hybrid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProcessPrediction {
+    /// The physics equation.
+    pub physics: Vec<f64>,
+    /// The correction `delta`.
+    pub correction: Vec<f64>,
+    /// The hybrid.
+    pub hybrid: Vec<f64>,
+}
+
+/// Physics vs hybrid against the target on a table.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ProcessEvaluation {
+    /// Scores of the physics alone.
+    pub physics: Metrics,
+    /// Scores of the hybrid.
+    pub hybrid: Metrics,
+    /// `(rmse_physics - rmse_hybrid) / rmse_physics * 100`.
+    pub improvement_pct: f64,
+    /// Paired two-tailed t-test of the per-row squared errors (physics vs hybrid).
+    pub t_test: hxai_eval::TTest,
+    /// Rows evaluated.
+    pub n_samples: usize,
+}
+
+pub(crate) fn columns_of<'a>(
+    table: &'a Table,
+    names: &[String],
+    what: &'static str,
+) -> Result<Vec<&'a [f64]>, HybridError> {
+    names
+        .iter()
+        .map(|n| {
+            table.column(n).ok_or_else(|| HybridError::MissingColumn {
+                what,
+                name: n.clone(),
+                columns: table.names().join(", "),
+            })
+        })
+        .collect()
+}
+
+/// Compiles the physics equation with the given parameter values.
+pub(crate) fn compile_physics(
+    equation: &str,
+    columns: &[String],
+    parameters: &BTreeMap<String, f64>,
+) -> Result<Compiled, HybridError> {
+    let parsed = parse(equation).map_err(|source| HybridError::Equation {
+        equation: equation.to_string(),
+        source,
+    })?;
+    compile(&parsed, columns, parameters).map_err(|source| HybridError::Equation {
+        equation: equation.to_string(),
+        source,
+    })
+}
+
+/// The hybrid as one program over `names`: physics nodes, then the correction with its
+/// affine inputs and output map spelled out as constant leaves, joined by the correction
+/// form. Returns the program, its parameters, the input names, and where each physics
+/// parameter slot and each correction parameter went.
+pub(crate) struct Combined {
+    pub program: Program,
+    pub params: Vec<f64>,
+    pub names: Vec<String>,
+    /// physics param index -> combined index (for constant leaves)
+    pub phys_map: BTreeMap<usize, usize>,
+    /// correction param index -> combined index
+    pub corr_map: Vec<usize>,
+}
+
+pub(crate) fn combine(phys: &Compiled, corr: &Model, kind: CorrectionForm) -> Combined {
+    let mut names: Vec<String> = phys.inputs.clone();
+    for f in &corr.feature_names {
+        if !names.contains(f) {
+            names.push(f.clone());
+        }
+    }
+    let idx = |n: &str, names: &[String]| names.iter().position(|m| m == n).unwrap_or(0) as u16;
+    let mut nodes: Vec<Node> = Vec::new();
+    let mut params = vec![1.0, 0.0];
+    let mut phys_map = BTreeMap::new();
+    let phys_offs = phys.program.param_offsets();
+    for (k, n) in phys.program.nodes.iter().enumerate() {
+        match n {
+            Node::Var(j) => nodes.push(Node::Var(idx(&phys.inputs[*j as usize], &names))),
+            Node::Const => {
+                phys_map.insert(phys_offs[k], params.len());
+                params.push(phys.params[phys_offs[k]]);
+                nodes.push(Node::Const);
+            }
+            Node::Op(op) => nodes.push(Node::Op(*op)),
+        }
+    }
+    let mut corr_map = vec![0usize; corr.params.len()];
+    let offs = corr.program.param_offsets();
+    let mut konst = |nodes: &mut Vec<Node>, params: &mut Vec<f64>, from: usize| {
+        corr_map[from] = params.len();
+        params.push(corr.params[from]);
+        nodes.push(Node::Const);
+    };
+    for (k, n) in corr.program.nodes.iter().enumerate() {
+        match n {
+            Node::Var(j) => {
+                let v = Node::Var(idx(&corr.feature_names[*j as usize], &names));
+                if corr.program.affine {
+                    konst(&mut nodes, &mut params, offs[k]);
+                    nodes.push(v);
+                    nodes.push(Node::Op(Op::Mul));
+                    konst(&mut nodes, &mut params, offs[k] + 1);
+                    nodes.push(Node::Op(Op::Add));
+                } else {
+                    nodes.push(v);
+                }
+            }
+            Node::Const => konst(&mut nodes, &mut params, offs[k]),
+            Node::Op(op) => nodes.push(Node::Op(*op)),
+        }
+    }
+    konst(&mut nodes, &mut params, 0);
+    nodes.push(Node::Op(Op::Mul));
+    konst(&mut nodes, &mut params, 1);
+    nodes.push(Node::Op(Op::Add));
+    match kind {
+        CorrectionForm::Additive => nodes.push(Node::Op(Op::Add)),
+        CorrectionForm::Multiplicative => {
+            nodes.push(Node::Const);
+            params.push(1.0);
+            nodes.push(Node::Op(Op::Add));
+            nodes.push(Node::Op(Op::Mul));
+        }
+    }
+    Combined {
+        program: Program {
+            nodes,
+            affine: false,
+        },
+        params,
+        names,
+        phys_map,
+        corr_map,
+    }
+}
+
+/// The three printed forms of an expression.
+pub(crate) fn forms(e: &Expr) -> EquationInfo {
+    EquationInfo {
+        equation: e.to_text(Some(4), false),
+        sympy: e.to_text(None, true),
+        latex: e.to_latex(4),
+    }
+}
+
+/// Combines physics and correction values by the correction form.
+pub(crate) fn combine_values(kind: CorrectionForm, physics: f64, delta: f64) -> f64 {
+    match kind {
+        CorrectionForm::Additive => physics + delta,
+        CorrectionForm::Multiplicative => physics * (1.0 + delta),
+    }
+}
+
+impl ProcessModel {
+    /// The physics equation compiled with the model's parameter values.
+    ///
+    /// # Errors
+    /// A corrupt model file (the equation does not parse or names an unknown symbol).
+    pub fn physics_program(&self) -> Result<Compiled, HybridError> {
+        compile_physics(
+            &self.physics.equation,
+            &self.physics.columns,
+            &self.physics.parameters,
+        )
+    }
+
+    /// Physics, correction and hybrid for every row of `table` (the target is not needed;
+    /// extra columns are ignored).
+    ///
+    /// # Errors
+    /// [`HybridError::MissingColumn`] for a column the model needs;
+    /// [`HybridError::BadPhysics`] naming the first row where the physics is not finite.
+    pub fn predict(&self, table: &Table) -> Result<ProcessPrediction, HybridError> {
+        let phys = self.physics_program()?;
+        let cols = columns_of(table, &phys.inputs, "physics column")?;
+        let physics = phys.eval_columns(&cols, table.n_rows());
+        if let Some((row, v)) = physics.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(HybridError::BadPhysics {
+                row,
+                value: *v,
+                why: "not a finite number: check the equation's domain at this row".into(),
+            });
+        }
+        columns_of(
+            table,
+            &self.correction.model.feature_names,
+            "correction feature",
+        )?;
+        let correction = self.correction.model.predict(table)?;
+        if let Some((row, v)) = correction.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(HybridError::BadCorrection { row, value: *v });
+        }
+        let hybrid = physics
+            .iter()
+            .zip(&correction)
+            .map(|(p, d)| combine_values(self.correction.kind, *p, *d))
+            .collect();
+        Ok(ProcessPrediction {
+            physics,
+            correction,
+            hybrid,
+        })
+    }
+
+    /// Physics vs hybrid against the target column of `table`.
+    ///
+    /// # Errors
+    /// A missing column (the target included), a bad physics value, or fewer than two rows
+    /// or non-finite predictions (from the statistics).
+    pub fn evaluate(&self, table: &Table) -> Result<ProcessEvaluation, HybridError> {
+        let y = columns_of(table, std::slice::from_ref(&self.target), "target")?[0];
+        let p = self.predict(table)?;
+        evaluation(y, &p.physics, &p.hybrid)
+    }
+
+    /// The whole hybrid as one expression over the columns.
+    ///
+    /// # Errors
+    /// A corrupt model file.
+    pub fn hybrid_expr(&self) -> Result<Expr, HybridError> {
+        let phys = self.physics_program()?;
+        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        Ok(Expr::from_program(&c.program, &c.params, &c.names))
+    }
+
+    /// Pretty JSON of the model file.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// Reads a model file written by [`ProcessModel::to_json`] and checks it.
+    ///
+    /// # Errors
+    /// [`HybridError::ModelFormat`] for text that is not such a model,
+    /// [`HybridError::SchemaVersion`] for another version, or a physics equation that no
+    /// longer compiles.
+    pub fn from_json(text: &str) -> Result<Self, HybridError> {
+        let v: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        match v.get("schema_version").and_then(serde_json::Value::as_u64) {
+            Some(n) if n == u64::from(PROCESS_SCHEMA_VERSION) => {}
+            other => {
+                return Err(HybridError::SchemaVersion {
+                    found: other.map_or_else(|| "none".to_string(), |n| n.to_string()),
+                    expected: PROCESS_SCHEMA_VERSION,
+                });
+            }
+        }
+        let m: ProcessModel =
+            serde_json::from_value(v).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        m.physics_program()?;
+        // the correction model checks itself on the way in
+        Model::from_json(&serde_json::to_string(&m.correction.model).unwrap_or_default())?;
+        Ok(m)
+    }
+}
+
+pub(crate) fn evaluation(
+    y: &[f64],
+    physics: &[f64],
+    hybrid: &[f64],
+) -> Result<ProcessEvaluation, HybridError> {
+    let ps = hxai_eval::score(y, physics)?;
+    let hs = hxai_eval::score(y, hybrid)?;
+    let se_p = hxai_eval::squared_errors(y, physics)?;
+    let se_h = hxai_eval::squared_errors(y, hybrid)?;
+    Ok(ProcessEvaluation {
+        improvement_pct: hxai_eval::improvement_pct(ps.rmse, hs.rmse)?,
+        t_test: hxai_eval::paired_t_test(&se_p, &se_h)?,
+        physics: ps,
+        hybrid: hs,
+        n_samples: y.len(),
+    })
+}

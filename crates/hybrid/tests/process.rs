@@ -1,0 +1,392 @@
+//! The process hybrid (`hxai_hybrid::process`) on synthetic tables with known laws:
+//! calibration and its standard errors, the one-equation hybrid against `predict`, splits,
+//! the comparison, and every bad-input error naming what is wrong.
+#![allow(clippy::unwrap_used)]
+use hxai_hybrid::HybridError;
+use hxai_hybrid::process::{
+    CorrectionForm, ProcessConfig, ProcessModel, compare_process, fit_process, fit_process_split,
+    process_split,
+};
+use hxai_symreg::Table;
+use hxai_symreg::infix::compile_text;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::collections::BTreeMap;
+
+/// Turning-like table: feed f, nose radius r, speed v, a distractor d;
+/// Ra = 1.3 f^2/(32 r) + 2e-4 v + noise (sd `noise`).
+fn roughness(n: usize, noise: f64, seed: u64) -> Table {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut cols = vec![Vec::new(); 5];
+    for _ in 0..n {
+        let f: f64 = rng.gen_range(0.05..0.3);
+        let r: f64 = rng.gen_range(0.4..1.6);
+        let v: f64 = rng.gen_range(50.0..300.0);
+        let d: f64 = rng.gen_range(0.0..1.0);
+        let e: f64 = rng.gen_range(-1.0..1.0) * noise;
+        let ra = 1.3 * f * f / (32.0 * r) + 2e-4 * v + e;
+        for (c, x) in cols.iter_mut().zip([f, r, v, d, ra]) {
+            c.push(x);
+        }
+    }
+    Table::new(
+        ["f", "r", "v", "d", "Ra"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect(),
+        cols,
+    )
+    .unwrap()
+}
+
+fn quick(mut cfg: ProcessConfig) -> ProcessConfig {
+    cfg.search.epochs = 3;
+    cfg.search.candidates_per_epoch = 300;
+    cfg
+}
+
+fn cfg_roughness() -> ProcessConfig {
+    let mut c = quick(ProcessConfig::new("Ra", "k*f^2/(32*r)"));
+    c.calibrate = vec!["k".into()];
+    c
+}
+
+/// Evaluates `text` (infix, e.g. the model's sympy form) on every row of `table`.
+fn eval_text(text: &str, table: &Table) -> Vec<f64> {
+    let c = compile_text(text, &BTreeMap::new()).unwrap();
+    let cols: Vec<&[f64]> = c.inputs.iter().map(|n| table.column(n).unwrap()).collect();
+    c.eval_columns(&cols, table.n_rows())
+}
+
+fn assert_rel(a: &[f64], b: &[f64], tol: f64, what: &str) {
+    assert_eq!(a.len(), b.len());
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        assert!(
+            (x - y).abs() <= tol * x.abs().max(y.abs()).max(1e-300),
+            "{what} row {i}: {x} vs {y}"
+        );
+    }
+}
+
+/// Calibrating `a*x + b` is ordinary least squares: the estimates and their standard
+/// errors `s^2 (X^T X)^-1` must match the closed form (1e-7 relative; LM stops at a
+/// relative improvement of 1e-15 in the MSE).
+#[test]
+fn calibration_matches_least_squares_with_standard_errors() {
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let n = 200;
+    let x: Vec<f64> = (0..n).map(|_| rng.gen_range(0.0..10.0)).collect();
+    let z: Vec<f64> = (0..n).map(|_| rng.gen_range(0.0..1.0)).collect();
+    let y: Vec<f64> = x
+        .iter()
+        .zip(&z)
+        .map(|(x, z)| 3.0 * x - 2.0 + 0.5 * z + rng.gen_range(-0.3..0.3))
+        .collect();
+    let t = Table::new(
+        vec!["x".into(), "z".into(), "y".into()],
+        vec![x.clone(), z, y.clone()],
+    )
+    .unwrap();
+    let mut cfg = quick(ProcessConfig::new("y", "a*x + b"));
+    cfg.calibrate = vec!["a".into(), "b".into()];
+    let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
+    // closed form on the training rows
+    let rows = &m.split.train;
+    let (xs, ys): (Vec<f64>, Vec<f64>) = rows.iter().map(|&i| (x[i], y[i])).unzip();
+    let k = xs.len() as f64;
+    let (mx, my) = (xs.iter().sum::<f64>() / k, ys.iter().sum::<f64>() / k);
+    let sxx: f64 = xs.iter().map(|v| (v - mx).powi(2)).sum();
+    let sxy: f64 = xs.iter().zip(&ys).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let a = sxy / sxx;
+    let b = my - a * mx;
+    let sse: f64 = xs
+        .iter()
+        .zip(&ys)
+        .map(|(u, v)| (v - a * u - b).powi(2))
+        .sum();
+    let s2 = sse / (k - 2.0);
+    let se_a = (s2 / sxx).sqrt();
+    let se_b = (s2 * (1.0 / k + mx * mx / sxx)).sqrt();
+    let p = &m.physics.parameters;
+    let se = &m.physics.standard_errors;
+    assert!((p["a"] - a).abs() < 1e-7 * a.abs(), "{} vs {a}", p["a"]);
+    assert!((p["b"] - b).abs() < 1e-7 * b.abs(), "{} vs {b}", p["b"]);
+    assert!((se["a"].unwrap() - se_a).abs() < 1e-6 * se_a);
+    assert!((se["b"].unwrap() - se_b).abs() < 1e-6 * se_b);
+    assert_eq!(m.physics.initial["a"], 1.0);
+}
+
+/// A parameter used twice moves as one unknown: `C*x + C` is least squares of y on
+/// (x + 1), so C = sum((x+1) y) / sum((x+1)^2) over the training rows (1e-9 relative).
+#[test]
+fn a_parameter_used_twice_is_one_unknown() {
+    let x: Vec<f64> = (0..80).map(|i| 0.1 * i as f64).collect();
+    let w: Vec<f64> = (0..80).map(|i| ((i * 37) % 17) as f64).collect();
+    let y: Vec<f64> = x
+        .iter()
+        .zip(&w)
+        .map(|(x, w)| 2.5 * (x + 1.0) + 0.1 * w)
+        .collect();
+    let t = Table::new(
+        vec!["x".into(), "w".into(), "y".into()],
+        vec![x.clone(), w, y.clone()],
+    )
+    .unwrap();
+    let mut cfg = quick(ProcessConfig::new("y", "C*x + C"));
+    cfg.calibrate = vec!["C".into()];
+    let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
+    let rows = &m.split.train;
+    let num: f64 = rows.iter().map(|&i| (x[i] + 1.0) * y[i]).sum();
+    let den: f64 = rows.iter().map(|&i| (x[i] + 1.0).powi(2)).sum();
+    let c = m.physics.parameters["C"];
+    assert!(
+        (c - num / den).abs() < 1e-9 * c.abs(),
+        "{c} vs {}",
+        num / den
+    );
+    assert!(m.physics.standard_errors["C"].is_some());
+}
+
+/// The hybrid's one equation (sympy text, full precision) reproduces `predict` to 1e-9
+/// relative on every row, for both correction forms and with the joint refit.
+#[test]
+fn hybrid_equation_reproduces_predict() {
+    let t = roughness(300, 1e-4, 1);
+    for (form, joint) in [
+        (CorrectionForm::Additive, false),
+        (CorrectionForm::Multiplicative, false),
+        (CorrectionForm::Additive, true),
+    ] {
+        let mut cfg = cfg_roughness();
+        cfg.correction = form;
+        cfg.joint = joint;
+        let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
+        let p = m.predict(&t).unwrap();
+        let from_text = eval_text(&m.hybrid.sympy, &t);
+        assert_rel(
+            &from_text,
+            &p.hybrid,
+            1e-9,
+            &format!("{form:?} joint {joint}"),
+        );
+        // and the physics' own substituted form reproduces the physics column
+        assert_rel(
+            &eval_text(&m.physics.sympy, &t),
+            &p.physics,
+            1e-9,
+            "physics",
+        );
+        // the hybrid's printed parts: the hybrid equals its components
+        for ((h, ph), d) in p.hybrid.iter().zip(&p.physics).zip(&p.correction) {
+            let want = match form {
+                CorrectionForm::Additive => ph + d,
+                CorrectionForm::Multiplicative => ph * (1.0 + d),
+            };
+            assert_eq!(*h, want);
+        }
+        assert!(!m.hybrid.latex.is_empty() && !m.hybrid.equation.is_empty());
+        if joint {
+            let j = m.joint.as_ref().unwrap();
+            assert!(j.joint_train_rmse <= j.sequential_train_rmse * (1.0 + 1e-12));
+            assert!(j.sequential_parameters.contains_key("k"));
+        } else {
+            assert!(m.joint.is_none());
+        }
+    }
+}
+
+/// The hybrid learns the missing speed term: test RMSE well below the calibrated physics
+/// (factor 3; noise sd 5.8e-5 against a 2e-4 v effect of sd ~0.014).
+#[test]
+fn hybrid_beats_the_physics_and_round_trips_through_json() {
+    let t = roughness(400, 1e-4, 2);
+    let m = fit_process(&t, &cfg_roughness(), &mut |_| {}).unwrap();
+    let test = m.scores.test.unwrap();
+    assert!(
+        test.hybrid.rmse * 3.0 < test.physics.rmse,
+        "{} vs {}",
+        test.hybrid.rmse,
+        test.physics.rmse
+    );
+    assert!(
+        m.correction.features.contains(&"v".to_string()),
+        "{:?}",
+        m.correction.features
+    );
+    let back = ProcessModel::from_json(&m.to_json()).unwrap();
+    assert_eq!(back, m);
+    let ev = back
+        .evaluate(&t.select_rows(&m.split.test).unwrap())
+        .unwrap();
+    assert_eq!(ev.n_samples, m.split.test.len());
+    assert_eq!(ev.hybrid, test.hybrid);
+    assert!(ev.improvement_pct > 50.0 && ev.t_test.p_value < 1e-3);
+    // predicting needs no target
+    let mut no_target = t.clone();
+    no_target.remove_column("Ra").unwrap();
+    assert_eq!(
+        back.predict(&no_target).unwrap().hybrid,
+        back.predict(&t).unwrap().hybrid
+    );
+}
+
+/// Extrapolation puts the top share of the column in the test set; groups never straddle.
+#[test]
+fn extrapolation_and_grouped_splits() {
+    let mut t = roughness(100, 0.0, 4);
+    let g: Vec<f64> = (0..100).map(|i| (i / 5) as f64).collect();
+    t.push_column("batch".into(), g.clone()).unwrap();
+    let mut cfg = cfg_roughness();
+    cfg.extrapolate = Some("v".into());
+    let (s, kind) = process_split(&t, &cfg).unwrap();
+    assert_eq!(kind, "extrapolate");
+    assert_eq!(s.test.len(), 20);
+    let v = t.column("v").unwrap();
+    let lowest_test = s.test.iter().map(|&i| v[i]).fold(f64::INFINITY, f64::min);
+    assert!(s.train.iter().all(|&i| v[i] < lowest_test));
+    let mut cfg = cfg_roughness();
+    cfg.group = Some("batch".into());
+    let (s, kind) = process_split(&t, &cfg).unwrap();
+    assert_eq!(kind, "grouped");
+    for &i in &s.test {
+        assert!(s.train.iter().all(|&j| g[j] != g[i]));
+    }
+    // and with both, whole groups by their mean
+    cfg.extrapolate = Some("v".into());
+    let (s, _) = process_split(&t, &cfg).unwrap();
+    for &i in &s.test {
+        assert!(s.train.iter().all(|&j| g[j] != g[i]));
+    }
+    // the group column is not a default feature
+    let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
+    assert!(!m.correction.candidates.contains(&"batch".to_string()));
+    assert_eq!(m.group.as_deref(), Some("batch"));
+}
+
+/// `compare` scores the five models on one split and summarises k folds.
+#[test]
+fn compare_reports_every_model_and_the_folds() {
+    let t = roughness(200, 1e-4, 5);
+    let mut cfg = cfg_roughness();
+    cfg.search.epochs = 2;
+    cfg.search.candidates_per_epoch = 150;
+    let c = compare_process(&t, &cfg, 3, &mut |_| {}).unwrap();
+    let names: Vec<&str> = c.models.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "physics",
+            "physics_calibrated",
+            "symbolic",
+            "physics_forest",
+            "hybrid"
+        ]
+    );
+    assert_eq!(c.cv.len(), 5);
+    for s in &c.cv {
+        assert_eq!(s.r2_folds.len(), 3);
+        assert!(s.r2_ci[0] <= s.r2_mean && s.r2_mean <= s.r2_ci[1]);
+    }
+    assert_eq!(c.t_test.baseline, "physics");
+    assert_eq!(c.t_tests.len(), 4);
+    let score = |n: &str| c.models.iter().find(|m| m.name == n).unwrap().rmse;
+    // with k = 1 the uncalibrated law is 1.3x off: calibration must help
+    assert!(score("physics_calibrated") < score("physics"));
+    assert!(score("hybrid") < score("physics_calibrated"));
+    // same split as fit
+    let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
+    assert_eq!(m.split, c.hybrid.split);
+}
+
+fn err(cfg: &ProcessConfig, t: &Table) -> String {
+    let e = fit_process(t, cfg, &mut |_| {}).unwrap_err();
+    let s = e.to_string();
+    assert!(!s.contains('\n'), "one line: {s}");
+    s
+}
+
+/// Every bad input of issue 13 gives a one-line error naming the culprit.
+#[test]
+fn bad_input_is_named() {
+    let t = roughness(60, 0.0, 6);
+    // a name that is neither a column nor a parameter
+    let mut c = cfg_roughness();
+    c.physics = "k*f^2/(32*rr)".into();
+    let s = err(&c, &t);
+    assert!(s.contains("`rr`") && s.contains("character 11"), "{s}");
+    // a parameter that is also a column
+    let mut c = cfg_roughness();
+    c.calibrate = vec!["k".into(), "r".into()];
+    let s = err(&c, &t);
+    assert!(s.contains("`r`") && s.contains("column"), "{s}");
+    let mut c = cfg_roughness();
+    c.set = BTreeMap::from([("v".into(), 1.0)]);
+    assert!(err(&c, &t).contains("`v`"));
+    // a calibrated parameter that does not appear
+    let mut c = cfg_roughness();
+    c.calibrate.push("n".into());
+    let s = err(&c, &t);
+    assert!(s.contains("`n`") && s.contains("does not appear"), "{s}");
+    // a syntax error
+    let mut c = cfg_roughness();
+    c.physics = "k*f^2/(32*r".into();
+    let s = err(&c, &t);
+    assert!(s.contains("character 12") && s.contains("`)`"), "{s}");
+    // an empty feature set
+    let mut c = cfg_roughness();
+    c.exclude = vec!["f".into(), "r".into(), "v".into(), "d".into()];
+    let s = err(&c, &t);
+    assert!(s.contains("no feature column"), "{s}");
+    assert!(matches!(
+        fit_process(&t, &c, &mut |_| {}),
+        Err(HybridError::NoFeatures(_))
+    ));
+    // the target inside the physics
+    let mut c = cfg_roughness();
+    c.physics = "k*f^2/(32*r) + 0*Ra".into();
+    let s = err(&c, &t);
+    assert!(
+        s.contains("target") && s.contains("`Ra`") && s.contains("character 18"),
+        "{s}"
+    );
+    // a missing target, an unknown feature
+    let mut c = cfg_roughness();
+    c.target = "Rz".into();
+    assert!(err(&c, &t).contains("`Rz`"));
+    let mut c = cfg_roughness();
+    c.features = Some(vec!["q".into()]);
+    assert!(err(&c, &t).contains("`q`"));
+    // an unknown function
+    let mut c = cfg_roughness();
+    c.physics = "k*sqr(f)".into();
+    let s = err(&c, &t);
+    assert!(s.contains("`sqr`") && s.contains("character 3"), "{s}");
+}
+
+/// The physics must be usable at every row: zero (multiplicative) or non-finite values are
+/// refused with the row named.
+#[test]
+fn unusable_physics_names_the_row() {
+    let mut t = roughness(50, 0.0, 7);
+    let mut z = vec![1.0; 50];
+    z[17] = 0.0;
+    t.push_column("z".into(), z).unwrap();
+    let mut c = cfg_roughness();
+    c.physics = "k*z*f^2/(32*r)".into();
+    c.exclude = vec!["z".into()];
+    c.correction = CorrectionForm::Multiplicative;
+    let split = hxai_eval::Split {
+        train: (0..50).collect(),
+        test: vec![],
+    };
+    let e = fit_process_split(&t, &c, &split, &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("row 17") && e.contains("multiplicative"), "{e}");
+    c.physics = "k*log(z)".into();
+    c.correction = CorrectionForm::Additive;
+    let e = fit_process_split(&t, &c, &split, &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("row 17") && e.contains("finite"), "{e}");
+}
