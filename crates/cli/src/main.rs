@@ -13,6 +13,7 @@ mod displacement;
 mod evaluate;
 mod features;
 mod fit;
+mod hybrid;
 mod predict;
 mod records;
 mod simulate;
@@ -57,6 +58,8 @@ enum Command {
     Sr(sr::Args),
     /// Table 3 baselines and the symbolic model on a train/test table pair.
     Compare(compare::Args),
+    /// Hybrid models of any process on a table: physics equation + symbolic correction.
+    Hybrid(hybrid::Args),
 }
 
 fn main() {
@@ -89,5 +92,6 @@ fn run(cli: Cli) -> Result<()> {
         Command::Evaluate(a) => evaluate::run(a, g),
         Command::Sr(a) => sr::run(a, g),
         Command::Compare(a) => compare::run(a, g),
+        Command::Hybrid(a) => hybrid::run(a, g),
     }
 }

@@ -185,6 +185,7 @@ fn hybrid_equation_reproduces_predict() {
             assert_eq!(*h, want);
         }
         assert!(!m.hybrid.latex.is_empty() && !m.hybrid.equation.is_empty());
+        assert_eq!(ProcessModel::from_json(&m.to_json()).unwrap(), m);
         if joint {
             let j = m.joint.as_ref().unwrap();
             assert!(j.joint_train_rmse <= j.sequential_train_rmse * (1.0 + 1e-12));

@@ -64,7 +64,7 @@ pub enum SrError {
     #[error("malformed model: {0}")]
     MalformedModel(String),
     /// An equation's text does not parse ([`crate::infix`]).
-    #[error("{message} at character {position}")]
+    #[error("character {position}: {message}")]
     Parse {
         /// 1-based character position.
         position: usize,

@@ -271,7 +271,7 @@ impl Parser {
         self.next();
         let exponent = self.unary()?;
         Ok(match exponent {
-            Expr::Num(v) if v == 2.0 => Expr::Un(Op::Square, Box::new(base)),
+            Expr::Num(2.0) => Expr::Un(Op::Square, Box::new(base)),
             e => Expr::Bin(Op::Pow, Box::new(base), Box::new(e)),
         })
     }

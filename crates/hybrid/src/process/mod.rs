@@ -649,11 +649,6 @@ pub(crate) fn fit_inner(
             for (i, &ci) in c.corr_map.iter().enumerate() {
                 correction.params[i] = c.params[ci];
             }
-            correction = hxai_symreg::Model::new(
-                correction.feature_names.clone(),
-                correction.program.clone(),
-                correction.params.clone(),
-            )?;
             ses = res
                 .calibrate
                 .iter()

@@ -278,8 +278,37 @@ pub(crate) fn combine(phys: &Compiled, corr: &Model, kind: CorrectionForm) -> Co
     }
 }
 
+/// Re-associates `a + (-x + c)` as `(a - x) + c` (and `a + (-x - c)` as `(a - x) - c`),
+/// which arises where the physics meets a correction that starts with a minus sign, so the
+/// printed hybrid reads `a - x + c` instead of `a + -x + c`. Equal up to rounding.
+fn tidy(e: Expr) -> Expr {
+    match e {
+        Expr::Bin(op, a, b) => {
+            let a = tidy(*a);
+            let b = tidy(*b);
+            match (op, b) {
+                (Op::Add, Expr::Bin(inner @ (Op::Add | Op::Sub), l, r)) => match *l {
+                    Expr::Neg(x) => {
+                        Expr::Bin(inner, Box::new(Expr::Bin(Op::Sub, Box::new(a), x)), r)
+                    }
+                    l => Expr::Bin(
+                        Op::Add,
+                        Box::new(a),
+                        Box::new(Expr::Bin(inner, Box::new(l), r)),
+                    ),
+                },
+                (op, b) => Expr::Bin(op, Box::new(a), Box::new(b)),
+            }
+        }
+        Expr::Un(op, a) => Expr::Un(op, Box::new(tidy(*a))),
+        Expr::Neg(a) => Expr::Neg(Box::new(tidy(*a))),
+        e => e,
+    }
+}
+
 /// The three printed forms of an expression.
 pub(crate) fn forms(e: &Expr) -> EquationInfo {
+    let e = &tidy(e.clone());
     EquationInfo {
         equation: e.to_text(Some(4), false),
         sympy: e.to_text(None, true),

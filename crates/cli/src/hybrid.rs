@@ -1,0 +1,519 @@
+//! `hxai hybrid fit | predict | evaluate | compare`: hybrid models of any process on a table
+//! (a physics equation over the columns, its error learned by symbolic regression).
+//!
+//! This module parses options, reads and writes files and prints; every computation is
+//! `hxai_hybrid::process`.
+use crate::Global;
+use anyhow::{Context, Result, bail};
+use hxai_hybrid::process::{
+    Comparison, CorrectionForm, ProcessConfig, ProcessModel, ProcessProgress, compare_process,
+    fit_process,
+};
+use hxai_symreg::Table;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Arguments of `hxai hybrid`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    command: Sub,
+}
+
+#[derive(Debug, clap::Subcommand)]
+enum Sub {
+    /// Calibrate a physics equation, learn its correction, write the model file.
+    Fit(FitArgs),
+    /// Physics, correction and hybrid for every row of a table.
+    Predict(PredictArgs),
+    /// Physics vs hybrid on the rows of a table (needs the target column).
+    Evaluate(EvaluateArgs),
+    /// Physics, calibrated physics, symbolic regression, physics + forest and the hybrid on
+    /// the same splits, with k-fold CV and paired t-tests.
+    Compare(CompareArgs),
+}
+
+/// `--correction` values.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum CorrectionArg {
+    /// y = f_p + delta.
+    Additive,
+    /// y = f_p (1 + delta).
+    Multiplicative,
+}
+
+/// Options shared by `fit` and `compare`.
+#[derive(Debug, clap::Args)]
+struct Common {
+    /// Table (CSV or Parquet, by extension).
+    #[arg(long)]
+    data: PathBuf,
+    /// Column to model.
+    #[arg(long)]
+    target: String,
+    /// Physics equation over column and parameter names, e.g. "kc*b*h^(1-mc)".
+    #[arg(long)]
+    physics: String,
+    /// Parameters fitted on the training rows (comma-separated).
+    #[arg(long, value_delimiter = ',')]
+    calibrate: Vec<String>,
+    /// Starting values of calibrated parameters: P1=V,P2=V (default 1).
+    #[arg(long, value_delimiter = ',')]
+    init: Vec<String>,
+    /// Values of parameters that are not calibrated: P=V (repeat or comma-separate).
+    #[arg(long, value_delimiter = ',')]
+    set: Vec<String>,
+    /// Feature columns of the correction (default: every column except target and group).
+    #[arg(long, value_delimiter = ',', conflicts_with = "exclude")]
+    features: Option<Vec<String>>,
+    /// Columns left out of the default feature set.
+    #[arg(long, value_delimiter = ',')]
+    exclude: Vec<String>,
+    /// How the correction enters the hybrid.
+    #[arg(long, value_enum, default_value_t = CorrectionArg::Additive)]
+    correction: CorrectionArg,
+    /// Rows sharing this column's value stay on one side of every split.
+    #[arg(long)]
+    group: Option<String>,
+    /// Share of rows (or groups) held out for testing.
+    #[arg(long, default_value_t = 0.2)]
+    test_fraction: f64,
+    /// Test on the rows with the top --test-fraction of this column (train low, test high).
+    #[arg(long)]
+    extrapolate: Option<String>,
+    /// Seed of the split and the search.
+    #[arg(long, default_value_t = 42)]
+    seed: u64,
+    /// Epochs of the symbolic-regression search.
+    #[arg(long, default_value_t = 10)]
+    epochs: usize,
+    /// Largest complexity of the correction (input leaves + operators).
+    #[arg(long, default_value_t = 10)]
+    max_complexity: usize,
+    /// Refit physics parameters and correction constants together once the correction's
+    /// structure is chosen (the two-stage values are reported too).
+    #[arg(long)]
+    joint: bool,
+    /// Print one JSON document on stdout instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Debug, clap::Args)]
+struct FitArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Where to write the model file (JSON).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Debug, clap::Args)]
+struct CompareArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Folds of the cross-validation (0 to skip it).
+    #[arg(long, default_value_t = 5)]
+    folds: usize,
+}
+
+#[derive(Debug, clap::Args)]
+struct PredictArgs {
+    /// Model file written by `hxai hybrid fit`.
+    #[arg(long)]
+    model: PathBuf,
+    /// Table (CSV or Parquet).
+    #[arg(long)]
+    data: PathBuf,
+    /// Output table (CSV or Parquet): columns physics, correction, hybrid.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Debug, clap::Args)]
+struct EvaluateArgs {
+    /// Model file written by `hxai hybrid fit`.
+    #[arg(long)]
+    model: PathBuf,
+    /// Table (CSV or Parquet) with the target column.
+    #[arg(long)]
+    data: PathBuf,
+    /// Print one JSON document on stdout instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Runs `hxai hybrid ...`.
+pub fn run(args: Args, _g: &Global) -> Result<()> {
+    match args.command {
+        Sub::Fit(a) => fit(a),
+        Sub::Predict(a) => predict(a),
+        Sub::Evaluate(a) => evaluate(a),
+        Sub::Compare(a) => compare(a),
+    }
+}
+
+/// A table read for the hybrid: numeric columns, plus the group column (text groups are
+/// numbered in order of first appearance) and its original cells for `predict`'s output.
+struct Loaded {
+    table: Table,
+    group_cells: Option<hxai_data::Column>,
+    /// Text columns left out (other than the group column).
+    text: Vec<String>,
+}
+
+impl Loaded {
+    /// Refuses a text column where numbers are needed (the library would only see it as
+    /// missing).
+    fn check_numeric(&self, c: &Common) -> Result<()> {
+        let mut wanted: Vec<String> = vec![c.target.clone()];
+        wanted.extend(c.features.iter().flatten().cloned());
+        wanted.extend(c.extrapolate.iter().cloned());
+        if let Ok(p) = hxai_symreg::infix::parse(&c.physics) {
+            wanted.extend(p.names().into_iter().map(str::to_string));
+        }
+        if let Some(n) = wanted.iter().find(|n| self.text.contains(n)) {
+            bail!(
+                "column `{n}` of {} holds text, not numbers: hxai hybrid needs numeric columns (text is allowed only in the --group column)",
+                c.data.display()
+            );
+        }
+        Ok(())
+    }
+}
+
+fn read(path: &Path, group: Option<&str>) -> Result<Loaded> {
+    let mixed = hxai_data::read_mixed_table(path)
+        .with_context(|| format!("cannot read the table {}", path.display()))?;
+    let mut names = Vec::new();
+    let mut columns = Vec::new();
+    let mut group_cells = None;
+    let mut text = Vec::new();
+    for (n, c) in mixed.names.iter().zip(&mixed.columns) {
+        if Some(n.as_str()) == group {
+            group_cells = Some(c.clone());
+        }
+        match c {
+            hxai_data::Column::Number(v) => {
+                names.push(n.clone());
+                columns.push(v.clone());
+            }
+            hxai_data::Column::Text(cells) if Some(n.as_str()) == group => {
+                let mut ids: BTreeMap<&str, usize> = BTreeMap::new();
+                let mut next = 0usize;
+                let codes = cells
+                    .iter()
+                    .map(|s| {
+                        *ids.entry(s.as_str()).or_insert_with(|| {
+                            next += 1;
+                            next - 1
+                        }) as f64
+                    })
+                    .collect();
+                names.push(n.clone());
+                columns.push(codes);
+            }
+            hxai_data::Column::Text(_) => text.push(n.clone()),
+        }
+    }
+    let table = Table::new(names, columns)
+        .with_context(|| format!("the table {} has no usable numeric column", path.display()))?;
+    Ok(Loaded {
+        table,
+        group_cells,
+        text,
+    })
+}
+
+fn pairs(list: &[String], flag: &str) -> Result<BTreeMap<String, f64>> {
+    let mut out = BTreeMap::new();
+    for item in list {
+        let Some((k, v)) = item.split_once('=') else {
+            bail!("--{flag} `{item}`: write NAME=VALUE");
+        };
+        let v: f64 = v
+            .trim()
+            .parse()
+            .with_context(|| format!("--{flag} `{item}`: `{}` is not a number", v.trim()))?;
+        if out.insert(k.trim().to_string(), v).is_some() {
+            bail!("--{flag} names `{}` twice", k.trim());
+        }
+    }
+    Ok(out)
+}
+
+fn config(c: &Common) -> Result<ProcessConfig> {
+    let mut cfg = ProcessConfig::new(&c.target, &c.physics);
+    cfg.calibrate = c.calibrate.iter().map(|s| s.trim().to_string()).collect();
+    cfg.init = pairs(&c.init, "init")?;
+    cfg.set = pairs(&c.set, "set")?;
+    cfg.features = c
+        .features
+        .as_ref()
+        .map(|f| f.iter().map(|s| s.trim().to_string()).collect());
+    cfg.exclude = c.exclude.iter().map(|s| s.trim().to_string()).collect();
+    cfg.correction = match c.correction {
+        CorrectionArg::Additive => CorrectionForm::Additive,
+        CorrectionArg::Multiplicative => CorrectionForm::Multiplicative,
+    };
+    cfg.group = c.group.clone();
+    cfg.test_fraction = c.test_fraction;
+    cfg.extrapolate = c.extrapolate.clone();
+    cfg.seed = c.seed;
+    cfg.joint = c.joint;
+    cfg.search.epochs = c.epochs;
+    cfg.search.max_complexity = c.max_complexity;
+    Ok(cfg)
+}
+
+fn bar(hidden: bool, epochs: usize) -> ProgressBar {
+    if hidden {
+        return ProgressBar::hidden();
+    }
+    let b = ProgressBar::new(epochs as u64);
+    b.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed}]")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    b
+}
+
+fn on_progress(b: &ProgressBar) -> impl FnMut(&ProcessProgress) + '_ {
+    move |p: &ProcessProgress| {
+        let e = p.search.epochs as u64;
+        b.set_length(p.tasks as u64 * e);
+        b.set_position((p.task as u64 - 1) * e + p.search.epoch as u64);
+        b.set_message(format!("{} epoch {}/{}", p.label, p.search.epoch, e));
+    }
+}
+
+/// Writes through a temporary file in the target folder, then renames; refuses to write
+/// over an input.
+fn write_atomic(
+    out: &Path,
+    inputs: &[&Path],
+    write: impl FnOnce(&Path) -> Result<()>,
+) -> Result<()> {
+    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => a == b,
+    };
+    if let Some(i) = inputs.iter().find(|i| same(out, i)) {
+        bail!(
+            "--out {} is an input file: choose another path",
+            i.display()
+        );
+    }
+    let dir = out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let file = out
+        .file_name()
+        .with_context(|| format!("--out {} names no file", out.display()))?
+        .to_string_lossy()
+        .to_string();
+    let ext = out.extension().map(|e| e.to_string_lossy().to_string());
+    let tmp = dir.join(match ext {
+        Some(e) => format!(".{file}.{}.tmp.{e}", std::process::id()),
+        None => format!(".{file}.{}.tmp", std::process::id()),
+    });
+    let r = write(&tmp).and_then(|()| {
+        std::fs::rename(&tmp, out)
+            .with_context(|| format!("cannot move {} to {}", tmp.display(), out.display()))
+    });
+    if r.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    r
+}
+
+fn fmt_se(se: Option<&Option<f64>>) -> String {
+    match se {
+        Some(Some(s)) => format!(" +- {s:.4e}"),
+        Some(None) => " +- (undefined)".into(),
+        None => String::new(),
+    }
+}
+
+#[allow(clippy::print_stdout)]
+fn print_model(m: &ProcessModel) {
+    println!("physics: {}", m.physics.equation);
+    for (name, v) in &m.physics.parameters {
+        let tag = if m.physics.calibrated.contains(name) {
+            "calibrated"
+        } else {
+            "set"
+        };
+        println!(
+            "  {name} = {v:.6e}{} ({tag})",
+            fmt_se(m.physics.standard_errors.get(name))
+        );
+    }
+    println!(
+        "correction ({}, complexity {}): {}",
+        m.correction.kind.name(),
+        m.correction.complexity,
+        m.correction.equation
+    );
+    println!("hybrid: {} = {}", m.target, m.hybrid.equation);
+    if let Some(j) = &m.joint {
+        println!(
+            "joint refit: train RMSE {:.6e} -> {:.6e} (two-stage correction: {})",
+            j.sequential_train_rmse, j.joint_train_rmse, j.sequential_correction
+        );
+    }
+    let s = &m.scores;
+    println!(
+        "train ({} rows): physics RMSE {:.6e} R^2 {:.4}, hybrid RMSE {:.6e} R^2 {:.4}",
+        m.split.train.len(),
+        s.train.physics.rmse,
+        s.train.physics.r2,
+        s.train.hybrid.rmse,
+        s.train.hybrid.r2
+    );
+    if let Some(t) = &s.test {
+        println!(
+            "test  ({} rows, {} split): physics RMSE {:.6e} R^2 {:.4}, hybrid RMSE {:.6e} R^2 {:.4}",
+            m.split.test.len(),
+            m.split.kind,
+            t.physics.rmse,
+            t.physics.r2,
+            t.hybrid.rmse,
+            t.hybrid.r2
+        );
+    }
+}
+
+#[allow(clippy::print_stdout)]
+fn fit(a: FitArgs) -> Result<()> {
+    let cfg = config(&a.common)?;
+    let loaded = read(&a.common.data, cfg.group.as_deref())?;
+    loaded.check_numeric(&a.common)?;
+    let b = bar(a.common.json, cfg.search.epochs);
+    let model = fit_process(&loaded.table, &cfg, &mut on_progress(&b))?;
+    b.finish_and_clear();
+    let json = model.to_json();
+    write_atomic(&a.out, &[&a.common.data], |tmp| {
+        hxai_data::write_text(tmp, &json)
+            .with_context(|| format!("cannot write the model to {}", a.out.display()))
+    })?;
+    if a.common.json {
+        println!("{json}");
+    } else {
+        print_model(&model);
+        println!("model written to {}", a.out.display());
+    }
+    Ok(())
+}
+
+fn load_model(path: &Path) -> Result<ProcessModel> {
+    let text = hxai_data::read_text(path)
+        .with_context(|| format!("cannot read the model {}", path.display()))?;
+    ProcessModel::from_json(&text)
+        .with_context(|| format!("cannot load the model {}", path.display()))
+}
+
+#[allow(clippy::print_stdout)]
+fn predict(a: PredictArgs) -> Result<()> {
+    let model = load_model(&a.model)?;
+    let loaded = read(&a.data, model.group.as_deref())?;
+    let p = model.predict(&loaded.table)?;
+    let mut t = hxai_data::MixedTable::default();
+    if let (Some(g), Some(cells)) = (&model.group, loaded.group_cells) {
+        t.names.push(g.clone());
+        t.columns.push(cells);
+    }
+    for (n, v) in [
+        ("physics", p.physics),
+        ("correction", p.correction),
+        ("hybrid", p.hybrid),
+    ] {
+        t.names.push(n.to_string());
+        t.columns.push(hxai_data::Column::Number(v));
+    }
+    write_atomic(&a.out, &[&a.data, &a.model], |tmp| {
+        hxai_data::write_mixed_table(tmp, &t)
+            .with_context(|| format!("cannot write the predictions to {}", a.out.display()))
+    })?;
+    println!(
+        "{} rows written to {}",
+        loaded.table.n_rows(),
+        a.out.display()
+    );
+    Ok(())
+}
+
+#[allow(clippy::print_stdout)]
+fn evaluate(a: EvaluateArgs) -> Result<()> {
+    let model = load_model(&a.model)?;
+    let loaded = read(&a.data, model.group.as_deref())?;
+    let e = model.evaluate(&loaded.table)?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&e)?);
+    } else {
+        println!(
+            "{} rows: physics RMSE {:.6e} R^2 {:.4}; hybrid RMSE {:.6e} R^2 {:.4}; improvement {:.2} %; paired t-test p = {:.3e}",
+            e.n_samples,
+            e.physics.rmse,
+            e.physics.r2,
+            e.hybrid.rmse,
+            e.hybrid.r2,
+            e.improvement_pct,
+            e.t_test.p_value
+        );
+    }
+    Ok(())
+}
+
+#[allow(clippy::print_stdout)]
+fn print_comparison(c: &Comparison) {
+    println!(
+        "{} split: {} train rows, {} test rows",
+        c.split, c.n_train, c.n_test
+    );
+    println!("{:<20} {:>10} {:>14} {:>14}", "model", "R^2", "RMSE", "MAE");
+    for m in &c.models {
+        println!(
+            "{:<20} {:>10.4} {:>14.6e} {:>14.6e}",
+            m.name, m.r2, m.rmse, m.mae
+        );
+    }
+    if !c.cv.is_empty() {
+        println!(
+            "{}-fold CV, R^2 mean +- sd [95 % Student-t interval]:",
+            c.folds
+        );
+        for s in &c.cv {
+            println!(
+                "{:<20} {:>8.4} +- {:.4} [{:.4}, {:.4}]",
+                s.name, s.r2_mean, s.r2_sd, s.r2_ci[0], s.r2_ci[1]
+            );
+        }
+    }
+    for t in &c.t_tests {
+        println!(
+            "paired t-test {} vs {} (squared errors): t = {:.3}, p = {:.3e}",
+            t.model, t.baseline, t.statistic, t.p_value
+        );
+    }
+    println!("hybrid: {} = {}", c.target, c.hybrid.hybrid.equation);
+}
+
+#[allow(clippy::print_stdout)]
+fn compare(a: CompareArgs) -> Result<()> {
+    let cfg = config(&a.common)?;
+    let loaded = read(&a.common.data, cfg.group.as_deref())?;
+    loaded.check_numeric(&a.common)?;
+    let b = bar(a.common.json, cfg.search.epochs);
+    let c = compare_process(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
+    b.finish_and_clear();
+    if a.common.json {
+        println!("{}", serde_json::to_string_pretty(&c)?);
+    } else {
+        print_comparison(&c);
+    }
+    Ok(())
+}

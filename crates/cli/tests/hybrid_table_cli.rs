@@ -1,0 +1,408 @@
+//! `hxai hybrid fit | predict | evaluate | compare` end to end on a small CSV and Parquet
+//! table with a known law, and one-line errors for bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+type TestResult = Result<(), Box<dyn std::error::Error>>;
+
+fn scratch(name: &str) -> Result<PathBuf, std::io::Error> {
+    let dir = std::env::temp_dir().join(format!(
+        "hxai-cli-hybrid-table-{}-{name}",
+        std::process::id()
+    ));
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir)?;
+    }
+    std::fs::create_dir_all(&dir)?;
+    Ok(dir)
+}
+
+fn hxai(args: &[&str]) -> Result<Output, std::io::Error> {
+    Command::new(env!("CARGO_BIN_EXE_hxai")).args(args).output()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap_or_default()
+}
+
+/// Turning-like table: Ra = 1.3 f^2/(32 r) + 2e-4 v, a distractor d, a text batch column.
+fn roughness_csv(n: usize) -> String {
+    let mut out = String::from("batch,f,r,v,d,Ra\n");
+    for i in 0..n {
+        let f = 0.05 + 0.25 * ((i * 7) % 23) as f64 / 22.0;
+        let r = 0.4 + 1.2 * ((i * 5) % 13) as f64 / 12.0;
+        let v = 50.0 + 250.0 * ((i * 11) % 29) as f64 / 28.0;
+        let d = ((i * 3) % 7) as f64;
+        let ra = 1.3 * f * f / (32.0 * r) + 2e-4 * v;
+        out.push_str(&format!("b{},{f},{r},{v},{d},{ra}\n", i / 4));
+    }
+    out
+}
+
+fn ok(out: &Output, what: &str) {
+    assert!(
+        out.status.success(),
+        "{what}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+const QUICK: [&str; 4] = ["--epochs", "2", "--max-complexity", "8"];
+
+fn fit_args<'a>(data: &'a str, out: &'a str) -> Vec<&'a str> {
+    let mut a = vec![
+        "hybrid",
+        "fit",
+        "--data",
+        data,
+        "--target",
+        "Ra",
+        "--physics",
+        "k*f^2/(32*r)",
+        "--calibrate",
+        "k",
+        "--out",
+        out,
+    ];
+    a.extend_from_slice(&QUICK);
+    a
+}
+
+#[test]
+fn fit_predict_evaluate_follow_the_contract() -> TestResult {
+    let dir = scratch("contract")?;
+    let data = dir.join("ra.csv");
+    std::fs::write(&data, roughness_csv(160))?;
+    let model = dir.join("model.json");
+    let mut args = fit_args(s(&data), s(&model));
+    args.extend_from_slice(&["--group", "batch", "--json"]);
+    let out = hxai(&args)?;
+    ok(&out, "fit");
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+    let file: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model)?)?;
+    assert_eq!(doc, file, "--json prints the model file");
+    for key in [
+        "/schema_version",
+        "/physics/equation",
+        "/physics/parameters/k",
+        "/physics/standard_errors/k",
+        "/correction/kind",
+        "/correction/equation",
+        "/correction/sympy",
+        "/correction/latex",
+        "/correction/complexity",
+        "/correction/features",
+        "/hybrid/equation",
+        "/hybrid/sympy",
+        "/hybrid/latex",
+        "/target",
+        "/split/train",
+        "/split/test",
+    ] {
+        assert!(doc.pointer(key).is_some(), "missing {key}");
+    }
+    assert_eq!(doc["correction"]["kind"], "additive");
+    assert_eq!(doc["target"], "Ra");
+    // groups of four rows never straddle the split
+    let test: Vec<u64> = doc["split"]["test"]
+        .as_array()
+        .ok_or("test")?
+        .iter()
+        .filter_map(serde_json::Value::as_u64)
+        .collect();
+    for i in &test {
+        let g = i / 4;
+        assert!((g * 4..g * 4 + 4).all(|j| test.contains(&j)));
+    }
+
+    // predict: one row per input row, with the group column; the target is not needed
+    let no_target = dir.join("new.csv");
+    let text: String = roughness_csv(160)
+        .lines()
+        .map(|l| l.rsplit_once(',').map_or(l, |(a, _)| a).to_string() + "\n")
+        .collect();
+    std::fs::write(&no_target, text)?;
+    let pred = dir.join("pred.csv");
+    let out = hxai(&[
+        "hybrid",
+        "predict",
+        "--model",
+        s(&model),
+        "--data",
+        s(&no_target),
+        "--out",
+        s(&pred),
+    ])?;
+    ok(&out, "predict");
+    let written = std::fs::read_to_string(&pred)?;
+    let mut lines = written.lines();
+    assert_eq!(lines.next(), Some("batch,physics,correction,hybrid"));
+    assert_eq!(lines.count(), 160);
+
+    // evaluate
+    let out = hxai(&[
+        "hybrid",
+        "evaluate",
+        "--model",
+        s(&model),
+        "--data",
+        s(&data),
+        "--json",
+    ])?;
+    ok(&out, "evaluate");
+    let ev: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+    for key in [
+        "/physics/rmse",
+        "/physics/r2",
+        "/hybrid/rmse",
+        "/hybrid/r2",
+        "/improvement_pct",
+        "/t_test/p_value",
+        "/n_samples",
+    ] {
+        assert!(ev.pointer(key).is_some(), "missing {key}");
+    }
+    assert_eq!(ev["n_samples"], 160);
+    // the hybrid improves on the calibrated law, which misses the speed term
+    assert!(ev["improvement_pct"].as_f64().ok_or("pct")? > 50.0, "{ev}");
+    // predict refuses to write over its input
+    let out = hxai(&[
+        "hybrid",
+        "predict",
+        "--model",
+        s(&model),
+        "--data",
+        s(&data),
+        "--out",
+        s(&data),
+    ])?;
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("input"));
+    Ok(())
+}
+
+#[test]
+fn parquet_tables_and_compare_work() -> TestResult {
+    let dir = scratch("parquet")?;
+    let csv = dir.join("ra.csv");
+    std::fs::write(&csv, roughness_csv(120))?;
+    // convert with hxai itself: predict writes Parquet; here write the input via hxai-data
+    let table = hxai_data::read_mixed_table(&csv)?;
+    let pq = dir.join("ra.parquet");
+    hxai_data::write_mixed_table(&pq, &table)?;
+    let model = dir.join("m.json");
+    let out = hxai(&fit_args(s(&pq), s(&model)))?;
+    ok(&out, "fit parquet");
+    let pred = dir.join("p.parquet");
+    let out = hxai(&[
+        "hybrid",
+        "predict",
+        "--model",
+        s(&model),
+        "--data",
+        s(&pq),
+        "--out",
+        s(&pred),
+    ])?;
+    ok(&out, "predict parquet");
+    let back = hxai_data::read_mixed_table(&pred)?;
+    assert_eq!(back.names, ["physics", "correction", "hybrid"]);
+
+    let mut args = vec![
+        "hybrid",
+        "compare",
+        "--data",
+        s(&csv),
+        "--target",
+        "Ra",
+        "--physics",
+        "k*f^2/(32*r)",
+        "--calibrate",
+        "k",
+        "--init",
+        "k=1.1",
+        "--extrapolate",
+        "v",
+        "--folds",
+        "3",
+        "--json",
+    ];
+    args.extend_from_slice(&QUICK);
+    let out = hxai(&args)?;
+    ok(&out, "compare");
+    let c: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+    let names: Vec<&str> = c["models"]
+        .as_array()
+        .ok_or("models")?
+        .iter()
+        .filter_map(|m| m["name"].as_str())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "physics",
+            "physics_calibrated",
+            "symbolic",
+            "physics_forest",
+            "hybrid"
+        ]
+    );
+    for m in c["models"].as_array().ok_or("models")? {
+        for k in ["r2", "rmse", "mae"] {
+            assert!(m[k].is_number(), "{m}");
+        }
+    }
+    let cv = c["cv"].as_array().ok_or("cv")?;
+    assert_eq!(cv.len(), 5);
+    for s in cv {
+        for k in ["name", "r2_mean", "r2_sd", "r2_ci"] {
+            assert!(!s[k].is_null(), "{s}");
+        }
+    }
+    assert_eq!(c["split"], "extrapolate");
+    assert!(c["t_test"]["p_value"].is_number());
+    Ok(())
+}
+
+/// Runs `hybrid fit` with `extra` replacing defaults; requires failure with one stderr
+/// line that contains every needle.
+fn refused(data: &Path, physics: &str, extra: &[&str], needles: &[&str]) -> TestResult {
+    let dir = data.parent().ok_or("dir")?;
+    let model = dir.join("never.json");
+    let mut args = vec![
+        "hybrid",
+        "fit",
+        "--data",
+        s(data),
+        "--target",
+        "Ra",
+        "--physics",
+        physics,
+        "--out",
+        s(&model),
+    ];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&QUICK);
+    let out = hxai(&args)?;
+    assert!(!out.status.success(), "{physics} {extra:?} should fail");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    for n in needles {
+        assert!(err.contains(n), "{physics} {extra:?}: `{n}` not in {err}");
+    }
+    assert!(!model.exists());
+    Ok(())
+}
+
+#[test]
+fn bad_input_gives_one_line_naming_it() -> TestResult {
+    let dir = scratch("bad")?;
+    let data = dir.join("ra.csv");
+    std::fs::write(&data, roughness_csv(60))?;
+    let cal = ["--calibrate", "k"];
+    // neither a column nor a parameter
+    refused(&data, "k*f^2/(32*rr)", &cal, &["`rr`", "character 11"])?;
+    // a parameter that is also a column
+    refused(
+        &data,
+        "k*f^2/(32*r)",
+        &["--calibrate", "k,r"],
+        &["`r`", "column"],
+    )?;
+    // a calibrated parameter that does not appear
+    refused(
+        &data,
+        "k*f^2/(32*r)",
+        &["--calibrate", "k,n"],
+        &["`n`", "does not appear"],
+    )?;
+    // a syntax error
+    refused(&data, "k*f^2/(32*r", &cal, &["character 12", "`)`"])?;
+    // an empty feature set
+    refused(
+        &data,
+        "k*f^2/(32*r)",
+        &["--calibrate", "k", "--exclude", "f,r,v,d"],
+        &["no feature column"],
+    )?;
+    // the target in the physics
+    refused(&data, "k*f^2/(32*r) + 0*Ra", &cal, &["target", "`Ra`"])?;
+    // a text column where numbers are needed
+    refused(&data, "k*f^2/(32*r) + 0*batch", &cal, &["`batch`", "text"])?;
+    // a malformed --set
+    refused(
+        &data,
+        "k*f^2/(32*r)",
+        &["--set", "k"],
+        &["--set", "NAME=VALUE"],
+    )?;
+    Ok(())
+}
+
+/// The model's one hybrid equation, parsed by sympy, reproduces `hybrid predict` to 1e-9
+/// relative (scripts/check_hybrid_sympy.py). Needs a Python with sympy: `HXAI_PYTHON`
+/// (default `python3`). Without sympy the test says so and passes, unless
+/// `HXAI_REQUIRE_SYMPY=1` (set it in CI, where a venv with sympy is provided).
+#[test]
+fn sympy_reproduces_predict() -> TestResult {
+    let python = std::env::var("HXAI_PYTHON").unwrap_or_else(|_| "python3".into());
+    let has_sympy = Command::new(&python)
+        .args(["-c", "import sympy"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has_sympy {
+        assert!(
+            std::env::var("HXAI_REQUIRE_SYMPY").is_err(),
+            "HXAI_REQUIRE_SYMPY is set but `{python}` cannot import sympy"
+        );
+        #[allow(clippy::print_stderr)]
+        {
+            eprintln!("skipped: `{python}` has no sympy (set HXAI_PYTHON to a Python with sympy)");
+        }
+        return Ok(());
+    }
+    let dir = scratch("sympy")?;
+    let data = dir.join("ra.csv");
+    std::fs::write(&data, roughness_csv(120))?;
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/check_hybrid_sympy.py");
+    for form in ["additive", "multiplicative"] {
+        let model = dir.join(format!("{form}.json"));
+        let mut args = fit_args(s(&data), s(&model));
+        args.extend_from_slice(&["--correction", form, "--joint"]);
+        ok(&hxai(&args)?, "fit");
+        let pred = dir.join(format!("{form}.csv"));
+        ok(
+            &hxai(&[
+                "hybrid",
+                "predict",
+                "--model",
+                s(&model),
+                "--data",
+                s(&data),
+                "--out",
+                s(&pred),
+            ])?,
+            "predict",
+        );
+        let out = Command::new(&python)
+            .arg(&script)
+            .args([
+                "--model",
+                s(&model),
+                "--data",
+                s(&data),
+                "--predictions",
+                s(&pred),
+            ])
+            .args(["--rtol", "1e-9"])
+            .output()?;
+        assert!(
+            out.status.success(),
+            "{form}: {}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    Ok(())
+}
