@@ -190,7 +190,8 @@ pub struct Goals {
     pub complexity: usize,
     /// Features at most [`GOAL_FEATURES`] and complexity at most [`GOAL_COMPLEXITY`].
     pub goal_size_met: bool,
-    /// Generator effects the random split's correction names (through its features).
+    /// Generator effects (beyond the law itself) the random split's correction names through
+    /// its features.
     pub effects_named: Vec<String>,
     /// Distractor or identifier columns the correction uses (should be empty).
     pub distractors_used: Vec<String>,
@@ -386,6 +387,11 @@ fn p_of(s: &SplitResult, baseline: &str) -> Option<f64> {
         .map(|t| t.p_value)
 }
 
+/// Whether a column role is the engineer's law itself rather than an effect the generator adds.
+fn is_law(role: &str) -> bool {
+    role.starts_with("kinematic") || role.starts_with("Kienzle")
+}
+
 fn goals(spec: &CaseSpec, random: &SplitResult, extra: &SplitResult) -> Goals {
     let below = |s: &SplitResult, other: &str| match (rmse_of(s, "hybrid"), rmse_of(s, other)) {
         (Some(h), Some(o)) => h < o,
@@ -409,7 +415,7 @@ fn goals(spec: &CaseSpec, random: &SplitResult, extra: &SplitResult) -> Goals {
             distractors_used.push(f.clone());
         } else {
             for e in r.split("; ") {
-                if !e.is_empty() && !effects_named.iter().any(|x| x == e) {
+                if !e.is_empty() && !is_law(e) && !effects_named.iter().any(|x| x == e) {
                     effects_named.push(e.to_string());
                 }
             }
@@ -421,8 +427,7 @@ fn goals(spec: &CaseSpec, random: &SplitResult, extra: &SplitResult) -> Goals {
             continue;
         }
         for e in r.split("; ") {
-            let physics_only = e.starts_with("kinematic") || e.starts_with("Kienzle");
-            if !physics_only
+            if !is_law(e)
                 && !effects_named.iter().any(|x| x == e)
                 && !effects_missed.iter().any(|x| x == e)
             {
