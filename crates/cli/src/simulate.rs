@@ -1,11 +1,12 @@
-//! `hxai simulate`: write a simulated data folder (manifest + one record file per record).
+//! `hxai simulate`: write a simulated data folder (manifest + one record file per record),
+//! or, with `--case`, one table of a simulated manufacturing process (docs/cases.md).
 use crate::Global;
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use hxai_data::{Format, ManifestEntry, Record, write_folder};
 use hxai_sim::{SimConfig, SimRecord, simulate_with_progress};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Record file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -16,12 +17,43 @@ pub enum FormatArg {
     Parquet,
 }
 
+/// A process table generator of `hxai_sim::cases` (docs/cases.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum CaseArg {
+    /// Finish-turning surface roughness: kinematic law f^2/(32 r) plus ploughing, wear,
+    /// built-up edge, vibration and scatter.
+    #[value(name = "roughness")]
+    Roughness,
+    /// Main cutting force: Kienzle's law plus rake-angle, speed and wear factors and scatter.
+    #[value(name = "cutting_force")]
+    CuttingForce,
+}
+
+impl CaseArg {
+    fn name(self) -> &'static str {
+        match self {
+            CaseArg::Roughness => "roughness",
+            CaseArg::CuttingForce => "cutting_force",
+        }
+    }
+}
+
 /// Arguments of `hxai simulate`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Folder to write (created if needed): manifest.csv and one file per record.
+    /// Folder to write (created if needed): manifest.csv and one file per record. With
+    /// `--case`: the table file to write (.csv or .parquet).
     #[arg(long)]
     pub out: PathBuf,
+    /// Write one table of a simulated manufacturing process instead of a data folder.
+    #[arg(long, value_enum, conflicts_with_all = ["format", "repeats", "duration_s", "fs", "amplitudes", "frequencies", "config"])]
+    pub case: Option<CaseArg>,
+    /// Rows of the `--case` table [default: 400].
+    #[arg(long, requires = "case")]
+    pub rows: Option<usize>,
+    /// With `--case`: replace an existing table file.
+    #[arg(long, requires = "case")]
+    pub force: bool,
     /// Seed of every random choice (noise, mains phase); same seed, same data.
     #[arg(long)]
     pub seed: Option<u64>,
@@ -71,8 +103,82 @@ fn to_entry_and_record(r: SimRecord) -> (ManifestEntry, Record) {
     (entry, rec)
 }
 
+/// Writes `table` to `out` through a temporary file in the same folder, renamed at the end,
+/// so a failed or interrupted write never leaves a half table under the final name.
+fn write_table_atomically(out: &Path, table: hxai_table::Table) -> Result<()> {
+    let name = out
+        .file_name()
+        .and_then(|n| n.to_str())
+        .context("--out must name a file")?;
+    // The extension stays last: the writer picks CSV or Parquet from it.
+    let ext = hxai_data::Format::from_path(out)?.extension();
+    let tmp = out.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()));
+    let (names, columns) = table.into_parts();
+    let t = hxai_data::Table { names, columns };
+    if let Err(e) = hxai_data::write_table(&tmp, &t) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e).with_context(|| format!("cannot write {}", out.display()));
+    }
+    std::fs::rename(&tmp, out).with_context(|| {
+        let _ = std::fs::remove_file(&tmp);
+        format!("cannot move the table into place at {}", out.display())
+    })
+}
+
+/// `hxai simulate --case NAME --out TABLE`.
+fn run_case(case: CaseArg, args: &Args) -> Result<()> {
+    hxai_data::Format::from_path(&args.out)
+        .with_context(|| format!("--out {}: give a .csv or .parquet file", args.out.display()))?;
+    if args.out.is_dir() {
+        bail!(
+            "--out {} is a folder; with --case give a table file (.csv or .parquet)",
+            args.out.display()
+        );
+    }
+    if args.out.exists() && !args.force {
+        bail!("{} exists; pass --force to replace it", args.out.display());
+    }
+    let table = hxai_sim::cases::generate_case(case.name(), args.rows, args.seed)
+        .with_context(|| format!("cannot generate the {} table", case.name()))?;
+    let seed = args.seed.unwrap_or(hxai_sim::cases::DEFAULT_SEED);
+    let (rows, cols) = (table.n_rows(), table.n_cols());
+    let names = table.names().to_vec();
+    if let Some(parent) = args.out.parent()
+        && !parent.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(parent)
+            .with_context(|| format!("cannot create the folder {}", parent.display()))?;
+    }
+    write_table_atomically(&args.out, table)?;
+    #[allow(clippy::print_stdout)]
+    if args.json {
+        let doc = serde_json::json!({
+            "out": args.out.display().to_string(),
+            "case": case.name(),
+            "rows": rows,
+            "columns": names,
+            "seed": seed,
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&doc).context("cannot format JSON")?
+        );
+    } else {
+        println!(
+            "wrote the {} table ({rows} rows x {cols} columns, seed {}) to {}",
+            case.name(),
+            seed,
+            args.out.display()
+        );
+    }
+    Ok(())
+}
+
 /// Runs `hxai simulate`.
 pub fn run(args: Args, _g: &Global) -> Result<()> {
+    if let Some(case) = args.case {
+        return run_case(case, &args);
+    }
     let mut cfg = match &args.config {
         Some(path) => {
             let text = hxai_data::read_text(path)

@@ -28,6 +28,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod beyond;
 pub mod figures;
 pub mod paper;
 pub mod pipeline;
@@ -164,6 +165,8 @@ pub enum ReproduceError {
 pub struct Reproduction {
     /// Every number of the tables.
     pub results: results::Results,
+    /// The section "Beyond the paper" (the hybrid of any process on two more processes).
+    pub beyond: beyond::BeyondResults,
     /// Output files, `(file name inside docs/results, content)`.
     pub files: Vec<(String, String)>,
     /// Wall time of each stage (s), for the terminal only.
@@ -178,19 +181,40 @@ pub fn run(
     cfg: &ReproduceConfig,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Reproduction, ReproduceError> {
-    let computed = pipeline::compute(cfg, progress)?;
+    let mut computed = pipeline::compute(cfg, progress)?;
+    let started = std::time::Instant::now();
+    let (beyond, beyond_figures) = beyond::compute(cfg, progress)?;
+    computed
+        .timings
+        .push((beyond::STAGE, started.elapsed().as_secs_f64()));
     progress(Progress::start("report", 1));
+    /// results.json: the paper's document with the section "Beyond the paper" appended.
+    #[derive(serde::Serialize)]
+    struct Document<'a> {
+        #[serde(flatten)]
+        paper: &'a results::Results,
+        beyond_the_paper: &'a beyond::BeyondResults,
+    }
+    let doc = Document {
+        paper: &computed.results,
+        beyond_the_paper: &beyond,
+    };
     let mut files = vec![
-        ("README.md".to_string(), report::markdown(&computed.results)),
+        (
+            "README.md".to_string(),
+            report::markdown(&computed.results) + &beyond::markdown(&beyond),
+        ),
         (
             "results.json".to_string(),
-            serde_json::to_string_pretty(&computed.results)? + "\n",
+            serde_json::to_string_pretty(&doc)? + "\n",
         ),
         ("samples.csv".to_string(), report::samples_csv(&computed)?),
     ];
     files.extend(plots::all(&computed)?);
+    files.extend(beyond_figures);
     progress(Progress::done("report", 1));
     Ok(Reproduction {
+        beyond,
         results: computed.results,
         files,
         timings: computed.timings,

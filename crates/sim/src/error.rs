@@ -33,4 +33,16 @@ pub enum SimError {
     /// The colored-noise generator failed (an FFT error; should not happen for valid lengths).
     #[error("noise generation failed: {0}")]
     Noise(String),
+    /// `hxai simulate --case` was given a name that is not a generator.
+    #[error("unknown case `{name}` (known: {known})")]
+    UnknownCase {
+        /// The name asked for.
+        name: String,
+        /// The known case names, comma-separated.
+        known: String,
+    },
+    /// A generated table broke the table's invariants (a non-finite value: a bug or an
+    /// extreme configuration).
+    #[error("generated table: {0}")]
+    Table(#[from] hxai_table::TableError),
 }

@@ -43,6 +43,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod cases;
 mod config;
 mod error;
 mod machine;

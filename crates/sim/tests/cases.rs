@@ -1,0 +1,268 @@
+//! Property tests of the two table generators of issue 13 (roughness, cutting force).
+#![allow(clippy::unwrap_used)]
+
+use hxai_sim::SimError;
+use hxai_sim::cases::{
+    CASE_NAMES, CuttingForceConfig, RoughnessConfig, cutting_force, cutting_force::HANDBOOK_KC11,
+    generate_case, roughness,
+};
+use proptest::prelude::*;
+
+fn col<'a>(t: &'a hxai_table::Table, name: &str) -> &'a [f64] {
+    t.column(name).unwrap()
+}
+
+fn rough(seed: u64, n: usize) -> RoughnessConfig {
+    RoughnessConfig {
+        seed,
+        n_rows: n,
+        ..RoughnessConfig::default()
+    }
+}
+
+fn force(seed: u64, n: usize) -> CuttingForceConfig {
+    CuttingForceConfig {
+        seed,
+        n_rows: n,
+        ..CuttingForceConfig::default()
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    // Invariant: a table is a pure function of its configuration, and another seed gives
+    // other data.
+    #[test]
+    fn deterministic_per_seed(seed in any::<u64>(), n in 1usize..200) {
+        let a = roughness(&rough(seed, n)).unwrap();
+        prop_assert_eq!(&a, &roughness(&rough(seed, n)).unwrap());
+        let b = roughness(&rough(seed.wrapping_add(1), n)).unwrap();
+        prop_assert_ne!(col(&a, "Ra_um"), col(&b, "Ra_um"));
+        let f = cutting_force(&force(seed, n)).unwrap();
+        prop_assert_eq!(&f, &cutting_force(&force(seed, n)).unwrap());
+        let g = cutting_force(&force(seed.wrapping_add(1), n)).unwrap();
+        prop_assert_ne!(col(&f, "Fc_N"), col(&g, "Fc_N"));
+    }
+
+    // Invariant: a row does not depend on how many rows are asked for (one stream per row).
+    #[test]
+    fn rows_do_not_depend_on_the_row_count(seed in any::<u64>(), n in 1usize..60, extra in 1usize..60) {
+        let short = roughness(&rough(seed, n)).unwrap();
+        let long = roughness(&rough(seed, n + extra)).unwrap();
+        for name in short.names() {
+            prop_assert_eq!(col(&short, name), &col(&long, name)[..n]);
+        }
+        let short = cutting_force(&force(seed, n)).unwrap();
+        let long = cutting_force(&force(seed, n + extra)).unwrap();
+        for name in short.names() {
+            prop_assert_eq!(col(&short, name), &col(&long, name)[..n]);
+        }
+    }
+
+    // Invariant: every input column stays inside its configured range, the targets are
+    // positive, and the measured roughness never falls below the kinematic law by more than
+    // the scatter allows (every effect adds roughness; scatter is log-normal with sd 0.06,
+    // so 5 sd is a factor exp(-0.3)).
+    #[test]
+    fn columns_stay_in_their_ranges(seed in any::<u64>()) {
+        let c = rough(seed, 300);
+        let t = roughness(&c).unwrap();
+        let within = |name: &str, [lo, hi]: [f64; 2]| col(&t, name).iter().all(|v| (lo..=hi).contains(v));
+        prop_assert!(within("feed_mm", c.feed_mm));
+        prop_assert!(within("cutting_speed_m_min", c.cutting_speed_m_min));
+        prop_assert!(within("cutting_time_min", c.cutting_time_min));
+        prop_assert!(within("depth_of_cut_mm", c.depth_of_cut_mm));
+        prop_assert!(col(&t, "nose_radius_mm").iter().all(|r| c.nose_radii_mm.contains(r)));
+        prop_assert!(col(&t, "tool").iter().all(|k| *k >= 1.0 && *k <= c.n_tools as f64 && k.fract() == 0.0));
+        for (i, ra) in col(&t, "Ra_um").iter().enumerate() {
+            let f = col(&t, "feed_mm")[i];
+            let r = col(&t, "nose_radius_mm")[i];
+            let kin = 1000.0 * f * f / (32.0 * r);
+            prop_assert!(*ra > 0.0 && *ra < 50.0, "Ra {} um out of range", ra);
+            prop_assert!(*ra >= kin * (-5.0 * c.noise_rel).exp(), "Ra {} below kinematic {}", ra, kin);
+        }
+
+        let c = force(seed, 300);
+        let t = cutting_force(&c).unwrap();
+        let within = |name: &str, [lo, hi]: [f64; 2]| col(&t, name).iter().all(|v| (lo..=hi).contains(v));
+        prop_assert!(within("chip_thickness_mm", c.chip_thickness_mm));
+        prop_assert!(within("width_of_cut_mm", c.width_of_cut_mm));
+        prop_assert!(within("rake_angle_deg", c.rake_angle_deg));
+        prop_assert!(within("cutting_speed_m_min", c.cutting_speed_m_min));
+        prop_assert!(within("cutting_time_min", c.cutting_time_min));
+        // Every insert has one rake angle.
+        let tools = col(&t, "tool");
+        let rake = col(&t, "rake_angle_deg");
+        for i in 0..t.n_rows() {
+            for j in 0..i {
+                if tools[i] == tools[j] {
+                    prop_assert_eq!(rake[i], rake[j]);
+                }
+            }
+        }
+        // Bounds: the handbook's kc1.1 times the largest factors (rake 1.18, speed 1.03,
+        // wear 1 + 0.49, scatter exp(5 * 0.03)) over the largest chip section.
+        let fmax = HANDBOOK_KC11 * 4.0 * 0.5_f64.powf(0.78) * 1.18 * 1.03 * 1.49 * 1.17;
+        prop_assert!(col(&t, "Fc_N").iter().all(|f| *f > 0.0 && *f < fmax));
+    }
+
+    // Invariant: with every effect off and no scatter, the target column is the engineer's
+    // law exactly (relative 1e-12).
+    #[test]
+    fn physics_only_reproduces_the_law(seed in any::<u64>(), n in 1usize..100) {
+        let c = RoughnessConfig { seed, n_rows: n, ..RoughnessConfig::physics_only() };
+        let t = roughness(&c).unwrap();
+        for i in 0..n {
+            let f = col(&t, "feed_mm")[i];
+            let r = col(&t, "nose_radius_mm")[i];
+            let law = 1000.0 * f.powi(2) / (32.0 * r);
+            let ra = col(&t, "Ra_um")[i];
+            prop_assert!((ra - law).abs() <= 1e-12 * law, "row {}: {} vs {}", i, ra, law);
+        }
+        let c = CuttingForceConfig { seed, n_rows: n, ..CuttingForceConfig::physics_only() };
+        let t = cutting_force(&c).unwrap();
+        for i in 0..n {
+            let h = col(&t, "chip_thickness_mm")[i];
+            let b = col(&t, "width_of_cut_mm")[i];
+            let law = c.kc11_n_mm2 * b * h.powf(1.0 - c.mc);
+            let fc = col(&t, "Fc_N")[i];
+            prop_assert!((fc - law).abs() <= 1e-12 * law, "row {}: {} vs {}", i, fc, law);
+        }
+    }
+}
+
+/// Each effect, switched on alone, changes the target where the literature says it should.
+#[test]
+fn each_effect_acts_where_expected() {
+    let base = RoughnessConfig::physics_only();
+    let law = |t: &hxai_table::Table, i: usize| {
+        let f = col(t, "feed_mm")[i];
+        1000.0 * f * f / (32.0 * col(t, "nose_radius_mm")[i])
+    };
+    // Ploughing: the relative excess grows as the feed falls.
+    let t = roughness(&RoughnessConfig {
+        h_min_mm: 0.002,
+        h_min_tool_sd: 0.0,
+        ..base.clone()
+    })
+    .unwrap();
+    let feed = col(&t, "feed_mm");
+    let (lo, hi) = (0..t.n_rows()).fold((0.0_f64, f64::INFINITY), |(lo, hi), i| {
+        let excess = col(&t, "Ra_um")[i] / law(&t, i) - 1.0;
+        assert!(excess > 0.0);
+        if feed[i] < 0.06 {
+            (lo.max(excess), hi)
+        } else if feed[i] > 0.25 {
+            (lo, hi.min(excess))
+        } else {
+            (lo, hi)
+        }
+    });
+    assert!(
+        lo > hi,
+        "ploughing excess at low feed {lo} vs high feed {hi}"
+    );
+    // Built-up edge: only at low cutting speed (above 200 m/min it is < 1e-4 um).
+    let t = roughness(&RoughnessConfig {
+        bue_um: 0.8,
+        ..base.clone()
+    })
+    .unwrap();
+    for i in 0..t.n_rows() {
+        let excess = col(&t, "Ra_um")[i] - law(&t, i);
+        let vc = col(&t, "cutting_speed_m_min")[i];
+        if vc > 200.0 {
+            assert!(excess.abs() < 1e-4, "BUE {excess} at {vc} m/min");
+        }
+        if vc < 60.0 {
+            assert!(excess > 0.6, "BUE only {excess} at {vc} m/min");
+        }
+    }
+    // Wear: zero excess at zero cutting time, more with time.
+    let t = roughness(&RoughnessConfig {
+        wear_ra_per_mm: 2.0,
+        cutting_time_min: [0.0, 0.0],
+        ..base.clone()
+    })
+    .unwrap();
+    for i in 0..t.n_rows() {
+        assert_eq!(col(&t, "Ra_um")[i], law(&t, i));
+    }
+    // Force: a larger rake angle gives less force than Kienzle at the reference rake.
+    let c = CuttingForceConfig {
+        rake_per_deg: 0.015,
+        ..CuttingForceConfig::physics_only()
+    };
+    let t = cutting_force(&c).unwrap();
+    for i in 0..t.n_rows() {
+        let k = c.kc11_n_mm2
+            * col(&t, "width_of_cut_mm")[i]
+            * col(&t, "chip_thickness_mm")[i].powf(1.0 - c.mc);
+        let ratio = col(&t, "Fc_N")[i] / k;
+        let gamma = col(&t, "rake_angle_deg")[i];
+        assert!((ratio - (1.0 - 0.015 * (gamma - 6.0))).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn bad_settings_are_refused_by_name() {
+    let e = roughness(&RoughnessConfig {
+        feed_mm: [0.3, 0.1],
+        ..RoughnessConfig::default()
+    })
+    .unwrap_err();
+    assert!(matches!(
+        e,
+        SimError::InvalidParameter {
+            name: "feed_mm",
+            ..
+        }
+    ));
+    let e = roughness(&RoughnessConfig {
+        n_rows: 0,
+        ..RoughnessConfig::default()
+    })
+    .unwrap_err();
+    assert!(matches!(
+        e,
+        SimError::InvalidParameter { name: "n_rows", .. }
+    ));
+    let e = cutting_force(&CuttingForceConfig {
+        mc: 1.0,
+        ..CuttingForceConfig::default()
+    })
+    .unwrap_err();
+    assert!(matches!(e, SimError::InvalidParameter { name: "mc", .. }));
+    let e = cutting_force(&CuttingForceConfig {
+        rake_per_deg: 0.2,
+        ..CuttingForceConfig::default()
+    })
+    .unwrap_err();
+    assert!(matches!(
+        e,
+        SimError::InvalidParameter {
+            name: "rake_per_deg",
+            ..
+        }
+    ));
+    let e = generate_case("milling", None, None).unwrap_err();
+    assert!(e.to_string().contains("milling") && e.to_string().contains("roughness"));
+}
+
+#[test]
+fn named_cases_use_the_defaults() {
+    for name in CASE_NAMES {
+        let t = generate_case(name, Some(7), Some(3)).unwrap();
+        assert_eq!(t.n_rows(), 7);
+    }
+    assert_eq!(
+        generate_case("roughness", Some(5), Some(9)).unwrap(),
+        roughness(&RoughnessConfig {
+            n_rows: 5,
+            seed: 9,
+            ..RoughnessConfig::default()
+        })
+        .unwrap()
+    );
+}
