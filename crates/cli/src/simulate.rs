@@ -105,7 +105,7 @@ fn to_entry_and_record(r: SimRecord) -> (ManifestEntry, Record) {
 
 /// Writes `table` to `out` through a temporary file in the same folder, renamed at the end,
 /// so a failed or interrupted write never leaves a half table under the final name.
-fn write_table_atomically(out: &Path, table: hxai_table::Table) -> Result<()> {
+fn write_table_atomically(out: &Path, table: &hxai_table::Table) -> Result<()> {
     let name = out
         .file_name()
         .and_then(|n| n.to_str())
@@ -113,9 +113,7 @@ fn write_table_atomically(out: &Path, table: hxai_table::Table) -> Result<()> {
     // The extension stays last: the writer picks CSV or Parquet from it.
     let ext = hxai_data::Format::from_path(out)?.extension();
     let tmp = out.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()));
-    let (names, columns) = table.into_parts();
-    let t = hxai_data::Table { names, columns };
-    if let Err(e) = hxai_data::write_table(&tmp, &t) {
+    if let Err(e) = hxai_data::write_table(&tmp, table) {
         let _ = std::fs::remove_file(&tmp);
         return Err(e).with_context(|| format!("cannot write {}", out.display()));
     }
@@ -149,7 +147,7 @@ fn run_case(case: CaseArg, args: &Args) -> Result<()> {
         std::fs::create_dir_all(parent)
             .with_context(|| format!("cannot create the folder {}", parent.display()))?;
     }
-    write_table_atomically(&args.out, table)?;
+    write_table_atomically(&args.out, &table)?;
     #[allow(clippy::print_stdout)]
     if args.json {
         let doc = serde_json::json!({

@@ -51,8 +51,8 @@ fn writes_the_roughness_table_as_csv_and_parquet() -> TestResult {
         ])?;
         assert!(o.status.success(), "{}", text(&o));
         let t = read_table(&out)?;
-        assert_eq!(t.names, expected.names());
-        assert_eq!(t.height(), 25);
+        assert_eq!(t.names(), expected.names());
+        assert_eq!(t.n_rows(), 25);
         for (name, col) in expected.names().iter().zip(expected.columns()) {
             let got = t.column(name).ok_or("column")?;
             for (a, b) in got.iter().zip(col) {
@@ -108,7 +108,7 @@ fn refuses_to_overwrite_without_force() -> TestResult {
     assert_eq!(doc["rows"], 10);
     assert_eq!(doc["case"], "cutting_force");
     let t = read_table(&out)?;
-    assert_eq!(t.height(), 10);
+    assert_eq!(t.n_rows(), 10);
     assert!(t.column("Fc_N").is_some());
     std::fs::remove_dir_all(&dir)?;
     Ok(())
