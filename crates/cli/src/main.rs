@@ -96,3 +96,15 @@ fn run(cli: Cli) -> Result<()> {
         Command::Hybrid(a) => hybrid::run(a, g),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    /// clap checks the whole command tree (every subcommand's names, aliases, conflicts)
+    /// only when a subcommand is parsed in a debug build; this checks all of it at once, so a
+    /// renamed argument left in a `conflicts_with` list fails here and not in a user's hands.
+    #[test]
+    fn the_command_line_definition_is_consistent() {
+        use clap::CommandFactory;
+        super::Cli::command().debug_assert();
+    }
+}

@@ -46,7 +46,7 @@ pub struct Args {
     #[arg(long)]
     pub out: PathBuf,
     /// Write one table of a simulated manufacturing process instead of a data folder.
-    #[arg(long, value_enum, conflicts_with_all = ["format", "repeats", "duration_s", "fs", "amplitudes", "frequencies", "config"])]
+    #[arg(long, value_enum, conflicts_with_all = ["format", "repeats", "duration_s", "fs_hz", "amplitudes", "frequencies", "config"])]
     pub case: Option<CaseArg>,
     /// Rows of the `--case` table [default: 400].
     #[arg(long, requires = "case")]
