@@ -16,6 +16,10 @@
 //!   [`read_mixed_table`], [`write_mixed_table`].
 //! - [`read_text`] / [`write_text`]: whole text files such as model JSON, so that file
 //!   access stays in this crate.
+//! - [`write_atomic`] / [`write_bytes`]: every file this crate writes goes through them
+//!   (temporary file in the target folder, sync, rename), so a failed write never leaves a
+//!   half-written or emptied file; [`check_output`] refuses an output path that is one of
+//!   a command's inputs ([`DataFolder::input_files`] lists a folder's).
 //! - [`DataError`]: every failure, naming the file and, for a bad cell, the row and column.
 //!
 //! The format (CSV or Parquet) is chosen by the file extension, `.csv` or `.parquet`
@@ -62,7 +66,9 @@
 //! ```
 #![deny(missing_docs)]
 
+mod atomic;
 mod cells;
+mod csvscan;
 mod error;
 mod folder;
 mod raw;
@@ -70,7 +76,8 @@ mod record;
 mod table;
 mod text;
 
-pub use error::DataError;
+pub use atomic::{check_output, write_atomic, write_bytes};
+pub use error::{DataError, format_number};
 pub use folder::{
     DataFolder, MANIFEST_COLUMNS, MANIFEST_FILE, ManifestEntry, read_folder, write_folder,
     write_manifest,
