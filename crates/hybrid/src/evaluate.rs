@@ -65,6 +65,10 @@ pub struct Evaluation {
     /// How well `delta_hat` matches `delta = A_true - A_phys` over the windows (`None`
     /// when it cannot be scored, e.g. a single window).
     pub delta: Option<Scores>,
+    /// Implausible but legal input, one line each (filled by
+    /// [`crate::HybridModel::evaluate`]; empty from [`evaluate`]).
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
 
 /// Which windows of a record to evaluate.
@@ -190,5 +194,6 @@ where
         hybrid: hybrid_s,
         t_test,
         delta: scores(&delta, &delta_hat).ok(),
+        warnings: Vec::new(),
     })
 }
