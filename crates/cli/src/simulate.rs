@@ -50,6 +50,10 @@ pub struct Args {
     /// Print a JSON summary on stdout instead of the one-line message.
     #[arg(long)]
     pub json: bool,
+    /// Write into --out even if it already holds files (same-named records and the
+    /// manifest are replaced; other files stay).
+    #[arg(long)]
+    pub force: bool,
 }
 
 fn to_entry_and_record(r: SimRecord) -> (ManifestEntry, Record) {
@@ -73,6 +77,7 @@ fn to_entry_and_record(r: SimRecord) -> (ManifestEntry, Record) {
 
 /// Runs `hxai simulate`.
 pub fn run(args: Args, _g: &Global) -> Result<()> {
+    crate::safety::check_empty_folder(&args.out, args.force)?;
     let mut cfg = match &args.config {
         Some(path) => {
             let text = hxai_data::read_text(path)
