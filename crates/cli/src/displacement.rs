@@ -79,11 +79,15 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     crate::safety::check_table_path(&args.out)?;
     let rec = hxai_data::read_record(&args.record)
         .with_context(|| format!("reading record {}", args.record.display()))?;
-    let warnings: Vec<String> =
-        hxai_hybrid::record_warnings(&args.record.display().to_string(), rec.fs(), args.frequency_hz, rec.len())
-            .iter()
-            .map(ToString::to_string)
-            .collect();
+    let warnings: Vec<String> = hxai_hybrid::record_warnings(
+        &args.record.display().to_string(),
+        rec.fs(),
+        args.frequency_hz,
+        rec.len(),
+    )
+    .iter()
+    .map(ToString::to_string)
+    .collect();
     crate::safety::warn(&warnings);
     let fs = rec.fs();
     let cfg = PhysicsConfig {

@@ -135,7 +135,10 @@ mod tests {
     fn repeated_paths_are_said_once() {
         let inner = anyhow::anyhow!("r.csv: missing column `time_s`");
         let e = inner.context("reading record r.csv");
-        assert_eq!(one_line(&e), "reading record r.csv: missing column `time_s`");
+        assert_eq!(
+            one_line(&e),
+            "reading record r.csv: missing column `time_s`"
+        );
         let e = anyhow::anyhow!("x: y").context("x: y").context("x: y");
         assert_eq!(one_line(&e), "x: y");
         let e = anyhow::anyhow!("disk full").context("cannot write m.json");

@@ -108,6 +108,12 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let mut columns = table.columns.clone();
     let y = columns.remove(ti);
     names.remove(ti);
+    anyhow::ensure!(
+        !names.is_empty(),
+        "{}: no input column besides `{}`",
+        args.csv.display(),
+        args.target
+    );
     let data = Table::new(names, columns)?;
     let mut cfg = SearchConfig {
         seed: args.seed,

@@ -74,7 +74,9 @@ pub fn write_atomic(
 
 /// Writes bytes to `path` atomically (see [`write_atomic`]).
 pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), DataError> {
-    write_atomic(path, |f| f.write_all(bytes).map_err(|e| DataError::io(path, e)))
+    write_atomic(path, |f| {
+        f.write_all(bytes).map_err(|e| DataError::io(path, e))
+    })
 }
 
 /// The canonical form of a path that may not exist yet: its folder canonicalised, joined

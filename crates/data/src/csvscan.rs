@@ -25,22 +25,24 @@ fn scan(text: &str) -> Scan {
     let mut line_has_content = false;
     let mut chars = text.chars().peekable();
     let mut row = 0usize;
-    let mut end_record =
-        |fields: &mut Vec<String>, field: &mut String, has: &mut bool, header: &mut Option<Vec<String>>| {
-            if *has {
-                fields.push(std::mem::take(field));
-                if header.is_none() {
-                    *header = Some(std::mem::take(fields));
-                } else {
-                    row += 1;
-                    counts.push((row, fields.len()));
-                    fields.clear();
-                }
+    let mut end_record = |fields: &mut Vec<String>,
+                          field: &mut String,
+                          has: &mut bool,
+                          header: &mut Option<Vec<String>>| {
+        if *has {
+            fields.push(std::mem::take(field));
+            if header.is_none() {
+                *header = Some(std::mem::take(fields));
+            } else {
+                row += 1;
+                counts.push((row, fields.len()));
+                fields.clear();
             }
-            field.clear();
-            fields.clear();
-            *has = false;
-        };
+        }
+        field.clear();
+        fields.clear();
+        *has = false;
+    };
     while let Some(c) = chars.next() {
         if in_quotes {
             if c == '"' {
@@ -136,7 +138,15 @@ mod tests {
         assert!(matches!(e, DataError::DuplicateColumn { ref column, .. } if column == "y"));
         let e = check(p, b"x,y\n1,2\n3\n").unwrap_err();
         assert!(
-            matches!(e, DataError::RaggedRow { row: 2, found: 1, expected: 2, .. }),
+            matches!(
+                e,
+                DataError::RaggedRow {
+                    row: 2,
+                    found: 1,
+                    expected: 2,
+                    ..
+                }
+            ),
             "{e}"
         );
         assert!(check(p, b"\xef\xbb\xbfx,y\n1,2\n").is_ok());

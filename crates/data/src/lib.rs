@@ -101,7 +101,13 @@ pub enum Format {
 
 impl Format {
     /// The format of a file from its extension (`.csv` or `.parquet`, any letter case).
+    /// A folder is [`DataError::IsADirectory`], whatever its name.
     pub fn from_path(path: &Path) -> Result<Format, DataError> {
+        if path.is_dir() {
+            return Err(DataError::IsADirectory {
+                path: path.to_path_buf(),
+            });
+        }
         let ext = path
             .extension()
             .and_then(|e| e.to_str())

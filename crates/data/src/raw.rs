@@ -100,19 +100,36 @@ pub(crate) fn read(path: &Path, format: Format) -> Result<RawTable, DataError> {
         Format::Parquet => {
             let file = File::open(path).map_err(|e| DataError::io(path, e))?;
             let mut reader = ParquetReader::new(file);
-            let schema = reader.schema().map_err(|e| parse_err(path, e))?;
-            let mut seen: Vec<&str> = Vec::new();
-            for (name, field) in schema.iter() {
-                if seen.contains(&name.as_str()) {
+            // The reader's own messages describe its internals; what the user needs is this.
+            let not_parquet = |_| DataError::Parse {
+                path: path.to_path_buf(),
+                message: "not a readable Parquet file (damaged, cut short, or another format \
+                          named `.parquet`)"
+                    .into(),
+            };
+            // Repeated names are looked for in the file's own schema: polars cannot build
+            // its schema from them and would report an unreadable file.
+            let fields: Vec<String> = reader
+                .get_metadata()
+                .map_err(not_parquet)?
+                .schema()
+                .fields()
+                .iter()
+                .map(|f| f.name().to_owned())
+                .collect();
+            for (i, name) in fields.iter().enumerate() {
+                if fields[..i].contains(name) {
                     return Err(DataError::DuplicateColumn {
                         path: path.to_path_buf(),
-                        column: name.to_string(),
+                        column: name.clone(),
                     });
                 }
-                seen.push(name.as_str());
+            }
+            let schema = reader.schema().map_err(not_parquet)?;
+            for (name, field) in schema.iter() {
                 check_parquet_type(path, name.as_str(), field.dtype())?;
             }
-            reader.finish().map_err(|e| parse_err(path, e))?
+            reader.finish().map_err(not_parquet)?
         }
     };
     let mut names = Vec::with_capacity(df.width());
@@ -164,17 +181,14 @@ fn check_parquet_type(path: &Path, column: &str, dtype: &ArrowDataType) -> Resul
             hint,
         })
     };
-    const NUMBERS: &str = "store numbers as float64 (or float32, or an integer type)";
+    const NUMBERS: &str = "store numbers as float64 (or float32, int32, int64)";
+    const WIDE: &str = "store it as int32, int64 or float64";
     const TIME: &str = "store time as float64 seconds (for timestamps: (t - t0) in seconds)";
     match dtype {
         A::Null
         | A::Boolean
-        | A::Int8
-        | A::Int16
         | A::Int32
         | A::Int64
-        | A::UInt8
-        | A::UInt16
         | A::UInt32
         | A::UInt64
         | A::Float32
@@ -186,6 +200,11 @@ fn check_parquet_type(path: &Path, column: &str, dtype: &ArrowDataType) -> Resul
             Ok(())
         }
         A::Float16 => refuse("float16", NUMBERS),
+        // polars decodes these only with features this workspace does not build.
+        A::Int8 => refuse("int8", WIDE),
+        A::Int16 => refuse("int16", WIDE),
+        A::UInt8 => refuse("uint8", WIDE),
+        A::UInt16 => refuse("uint16", WIDE),
         A::Int128 | A::UInt128 => refuse("a 128-bit integer", NUMBERS),
         A::Decimal(p, s) => refuse(&format!("decimal({p}, {s})"), NUMBERS),
         A::Decimal32(p, s) => refuse(&format!("decimal({p}, {s})"), NUMBERS),

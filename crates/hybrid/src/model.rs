@@ -494,7 +494,10 @@ impl HybridModel {
             Some(v) => {
                 let found = match v {
                     serde_json::Value::String(s) => {
-                        format!("\"{}\" (text, not a number)", s.chars().take(20).collect::<String>())
+                        format!(
+                            "\"{}\" (text, not a number)",
+                            s.chars().take(20).collect::<String>()
+                        )
                     }
                     serde_json::Value::Number(n) => n.to_string().chars().take(24).collect(),
                     other => format!("of JSON type {}", json_type(other)),

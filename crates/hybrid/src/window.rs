@@ -37,7 +37,9 @@ impl WindowConfig {
     /// Checks the settings: a positive, finite length and a non-negative, finite discard,
     /// both at most [`MAX_WINDOW_SECONDS`].
     pub fn check(&self) -> Result<(), HybridError> {
-        if !(self.length_s.is_finite() && self.length_s > 0.0 && self.length_s <= MAX_WINDOW_SECONDS)
+        if !(self.length_s.is_finite()
+            && self.length_s > 0.0
+            && self.length_s <= MAX_WINDOW_SECONDS)
         {
             return Err(HybridError::InvalidConfig(format!(
                 "the window length must be a positive number of seconds up to {MAX_WINDOW_SECONDS:e}, got {}",
@@ -93,7 +95,10 @@ impl WindowConfig {
             window_s: self.length_s,
             discard_s: self.discard_s,
         };
-        let (len_f, skip_f) = ((self.length_s * fs).round().max(1.0), (self.discard_s * fs).round());
+        let (len_f, skip_f) = (
+            (self.length_s * fs).round().max(1.0),
+            (self.discard_s * fs).round(),
+        );
         if 2.0 * skip_f + len_f > n as f64 {
             return Err(too_short());
         }

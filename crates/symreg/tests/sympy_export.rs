@@ -11,10 +11,46 @@ use std::process::{Command, Stdio};
 
 /// Names a user's table can have that sympy reads as something else, or not at all.
 const AWKWARD: &[&str] = &[
-    "E", "I", "N", "S", "Q", "O", "pi", "oo", "beta", "gamma", "zeta", "lambda", "re", "im",
-    "sin", "exp", "Symbol", "x", "f3", "A_phys", "a b", "a_b", "a-b", "1st", "_x", "it's",
-    "back\\slash", "µm", "μm", "Δt", "温度", "x.y", "None", "True", "if", "print", "max",
-    "a'b\"c", "tab\tname", "😀",
+    "E",
+    "I",
+    "N",
+    "S",
+    "Q",
+    "O",
+    "pi",
+    "oo",
+    "beta",
+    "gamma",
+    "zeta",
+    "lambda",
+    "re",
+    "im",
+    "sin",
+    "exp",
+    "Symbol",
+    "x",
+    "f3",
+    "A_phys",
+    "a b",
+    "a_b",
+    "a-b",
+    "1st",
+    "_x",
+    "it's",
+    "back\\slash",
+    "µm",
+    "μm",
+    "Δt",
+    "温度",
+    "x.y",
+    "None",
+    "True",
+    "if",
+    "print",
+    "max",
+    "a'b\"c",
+    "tab\tname",
+    "😀",
 ];
 
 fn sum_expr(names: &[&str]) -> Expr {
@@ -36,8 +72,13 @@ fn sum_expr(names: &[&str]) -> Expr {
 #[test]
 fn reserved_list_is_sorted_for_binary_search() {
     assert!(SYMPY_RESERVED.windows(2).all(|w| w[0] < w[1]));
-    for n in ["E", "I", "N", "S", "Q", "O", "pi", "oo", "beta", "gamma", "lambda", "re", "im"] {
-        assert!(SYMPY_RESERVED.contains(&n), "{n} missing from the reserved list");
+    for n in [
+        "E", "I", "N", "S", "Q", "O", "pi", "oo", "beta", "gamma", "lambda", "re", "im",
+    ] {
+        assert!(
+            SYMPY_RESERVED.contains(&n),
+            "{n} missing from the reserved list"
+        );
     }
 }
 
@@ -48,7 +89,12 @@ fn escaping_is_injective_and_ascii() {
         assert!(t.is_ascii(), "{t}");
         assert!(!t.contains('\n') && !t.contains('\t'), "{t}");
         for (j, u) in texts.iter().enumerate() {
-            assert!(i == j || t != u, "{} and {} both give {t}", AWKWARD[i], AWKWARD[j]);
+            assert!(
+                i == j || t != u,
+                "{} and {} both give {t}",
+                AWKWARD[i],
+                AWKWARD[j]
+            );
         }
     }
     assert_eq!(sympy_symbol("x"), "x");
@@ -70,7 +116,10 @@ fn sympy_reads_every_awkward_name_back() {
         eprintln!("HXAI_PYTHON not set: sympy round trip skipped (the Rust checks above ran)");
         return;
     };
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scripts/check_sympy_export.py");
+    let script = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scripts/check_sympy_export.py"
+    );
     let cases: Vec<serde_json::Value> = AWKWARD
         .iter()
         .map(|n| serde_json::json!({"name": n, "text": sympy_symbol(n)}))
