@@ -308,7 +308,8 @@ impl DataError {
 ///
 /// ```
 /// assert_eq!(hxai_data::format_number(1e300), "1e300");
-/// assert_eq!(hxai_data::format_number(0.000123456789), "1.23457e-4");
+/// assert_eq!(hxai_data::format_number(0.000123456789), "0.000123457");
+/// assert_eq!(hxai_data::format_number(-2.5e-7), "-2.5e-7");
 /// assert_eq!(hxai_data::format_number(12.5), "12.5");
 /// assert_eq!(hxai_data::format_number(10000.0), "10000");
 /// ```
