@@ -50,7 +50,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         .extend(crate::records::amplitude_warnings(&wanted, &inputs));
     crate::safety::warn(&ev.warnings);
     if args.json {
-        let text = serde_json::to_string_pretty(&ev).context("cannot format JSON")?;
+        let mut doc = serde_json::to_value(&ev).context("cannot format JSON")?;
+        if let Some(obj) = doc.as_object_mut() {
+            obj.insert("warnings".into(), serde_json::json!(ev.warnings));
+        }
+        let text = serde_json::to_string_pretty(&doc).context("cannot format JSON")?;
         crate::safety::emit(&text)?;
         return Ok(());
     }

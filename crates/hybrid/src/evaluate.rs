@@ -66,8 +66,9 @@ pub struct Evaluation {
     /// when it cannot be scored, e.g. a single window).
     pub delta: Option<Scores>,
     /// Implausible but legal input, one line each (filled by
-    /// [`crate::HybridModel::evaluate`]; empty from [`evaluate`]).
-    #[serde(default)]
+    /// [`crate::HybridModel::evaluate`]; empty from [`evaluate`]). Left out of the JSON
+    /// when empty, so stored results do not change; `hxai evaluate --json` always has it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
 }
 
