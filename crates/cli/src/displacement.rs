@@ -62,17 +62,33 @@ pub struct Args {
 
 /// Runs `hxai displacement`.
 pub fn run(args: Args, _g: &Global) -> Result<()> {
+    let n = hxai_data::format_number;
     anyhow::ensure!(
         args.frequency_hz.is_finite()
             && args.frequency_hz >= args.low_hz
             && args.frequency_hz <= args.high_hz,
         "--frequency-hz {} lies outside the pass band {}..{} Hz; give the commanded frequency or widen the band with --low-hz/--high-hz",
-        args.frequency_hz,
-        args.low_hz,
-        args.high_hz
+        n(args.frequency_hz),
+        n(args.low_hz),
+        n(args.high_hz)
     );
+    crate::safety::check_output(
+        &args.out,
+        &[crate::safety::input(&args.record, "the record (--record)")],
+    )?;
+    crate::safety::check_table_path(&args.out)?;
     let rec = hxai_data::read_record(&args.record)
         .with_context(|| format!("reading record {}", args.record.display()))?;
+    let warnings: Vec<String> = hxai_hybrid::record_warnings(
+        &args.record.display().to_string(),
+        rec.fs_hz(),
+        args.frequency_hz,
+        rec.len(),
+    )
+    .iter()
+    .map(ToString::to_string)
+    .collect();
+    crate::safety::warn(&warnings);
     let fs = rec.fs_hz();
     let cfg = PhysicsConfig {
         low_hz: args.low_hz,
@@ -113,19 +129,19 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         "phase_rad": fit.phase,
         "offset_um": fit.offset,
         "config": cfg,
+        "warnings": warnings,
     });
-    #[allow(clippy::print_stdout)]
     if args.json {
-        println!("{summary}");
+        crate::safety::emit(&summary.to_string())?;
     } else {
-        println!(
+        crate::safety::emit(&format!(
             "wrote {} ({} samples at {:.1} Hz); physics amplitude at {} Hz: {:.4} um",
             args.out.display(),
             rec.len(),
             fs,
             args.frequency_hz,
             fit.amplitude
-        );
+        ))?;
     }
     Ok(())
 }

@@ -43,15 +43,19 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let pb = ProgressBar::new(wanted.len() as u64);
     let recs = crate::records::read_with_truth(&folder, &wanted, "evaluating", &pb)?;
     let inputs = crate::records::inputs(&wanted, &recs);
-    let ev = model
+    let mut ev = model
         .evaluate(&inputs, args.all)
         .context("evaluation failed")?;
+    ev.warnings
+        .extend(crate::records::amplitude_warnings(&wanted, &inputs));
+    crate::safety::warn(&ev.warnings);
     if args.json {
-        let text = serde_json::to_string_pretty(&ev).context("cannot format JSON")?;
-        #[allow(clippy::print_stdout)]
-        {
-            println!("{text}");
+        let mut doc = serde_json::to_value(&ev).context("cannot format JSON")?;
+        if let Some(obj) = doc.as_object_mut() {
+            obj.insert("warnings".into(), serde_json::json!(ev.warnings));
         }
+        let text = serde_json::to_string_pretty(&doc).context("cannot format JSON")?;
+        crate::safety::emit(&text)?;
         return Ok(());
     }
     #[allow(clippy::print_stdout)]

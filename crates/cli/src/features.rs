@@ -48,6 +48,32 @@ pub struct Args {
 pub fn run(args: Args, _g: &Global) -> Result<()> {
     let rec = hxai_data::read_record(&args.record)
         .with_context(|| format!("reading record {}", args.record.display()))?;
+    anyhow::ensure!(
+        args.frequency_hz.is_finite() && args.frequency_hz > 0.0,
+        "--frequency-hz must be a positive number of Hz, got {}",
+        hxai_data::format_number(args.frequency_hz)
+    );
+    // One period of the commanded frequency is the least a feature of it can describe.
+    let period_samples = (rec.fs_hz() / args.frequency_hz).ceil() + 1.0;
+    anyhow::ensure!(
+        rec.len() as f64 >= period_samples,
+        "{}: the record has {} samples but one period of {} Hz at {} Hz needs at least {}",
+        args.record.display(),
+        rec.len(),
+        hxai_data::format_number(args.frequency_hz),
+        hxai_data::format_number(rec.fs_hz()),
+        hxai_data::format_number(period_samples)
+    );
+    let warnings: Vec<String> = hxai_hybrid::record_warnings(
+        &args.record.display().to_string(),
+        rec.fs_hz(),
+        args.frequency_hz,
+        rec.len(),
+    )
+    .iter()
+    .map(ToString::to_string)
+    .collect();
+    crate::safety::warn(&warnings);
     let cfg = FeatureConfig {
         sigma: match args.sigma {
             SigmaArg::Biased => Sigma::Biased,
@@ -60,16 +86,19 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     };
     let f = hxai_features::extract_with(&rec.accel_ms2, rec.fs_hz(), args.frequency_hz, &cfg)
         .with_context(|| format!("features of {}", args.record.display()))?;
-    #[allow(clippy::print_stdout)]
     if args.json {
-        println!("{}", serde_json::to_string(&f)?);
+        let mut doc = serde_json::to_value(f)?;
+        if let Some(obj) = doc.as_object_mut() {
+            obj.insert("warnings".into(), serde_json::json!(warnings));
+        }
+        crate::safety::emit(&doc.to_string())?;
     } else {
         for ((name, long), v) in Features::NAMES
             .iter()
             .zip(Features::LONG_NAMES)
             .zip(f.to_vec())
         {
-            println!("{name:>4}  {long:<20} {v:.10e}");
+            crate::safety::emit(&format!("{name:>4}  {long:<20} {v:.10e}"))?;
         }
     }
     Ok(())

@@ -71,6 +71,15 @@ fn bar(len: u64, msg: &'static str) -> ProgressBar {
 pub fn run(args: Args, _g: &Global) -> Result<()> {
     let folder = hxai_data::read_folder(&args.data)
         .with_context(|| format!("cannot read the data folder {}", args.data.display()))?;
+    // Every output is checked before the (long) fit, so a bad path costs nothing and
+    // nothing is written for a command that fails.
+    let mut protected = folder.input_files();
+    crate::safety::check_output(&args.out, &protected)?;
+    if let Some(path) = &args.samples {
+        crate::safety::check_table_path(path)?;
+        protected.push(crate::safety::input(&args.out, "the model output (--out)"));
+        crate::safety::check_output(path, &protected)?;
+    }
     anyhow::ensure!(
         !folder.entries.is_empty(),
         "the manifest of {} lists no records",
@@ -120,6 +129,9 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     })
     .context("fitting the hybrid model failed")?;
     search_bar.finish_and_clear();
+    let mut warnings: Vec<String> = out.warnings.iter().map(ToString::to_string).collect();
+    warnings.extend(crate::records::amplitude_warnings(&entries, &inputs));
+    crate::safety::warn(&warnings);
 
     let json = out.model.to_json().context("cannot serialise the model")?;
     hxai_data::write_text(&args.out, &json)
@@ -143,7 +155,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let m = &out.model;
     if args.json {
         let doc = serde_json::json!({
-            "model": args.out,
+            "model": crate::safety::path_text(&args.out),
             "correction": {
                 "equation": m.correction.equation,
                 "sympy": m.correction.sympy,
@@ -153,6 +165,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             },
             "split": { "kind": m.split.kind, "train": m.split.train, "test": m.split.test },
             "training": m.training,
+            "warnings": warnings,
         });
         let text = serde_json::to_string_pretty(&doc).context("cannot format JSON")?;
         #[allow(clippy::print_stdout)]

@@ -16,6 +16,7 @@ mod fit;
 mod hybrid;
 mod predict;
 mod records;
+mod safety;
 mod simulate;
 mod sr;
 mod strategy;
@@ -64,12 +65,13 @@ enum Command {
 }
 
 fn main() {
+    safety::exit_quietly_on_broken_pipe();
     let cli = Cli::parse();
     if let Err(e) = run(cli) {
-        // One line on stderr: the reason, with its causes.
+        // One line on stderr: the reason, with its causes (each said once).
         #[allow(clippy::print_stderr)]
         {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", safety::one_line(&e));
         }
         std::process::exit(1);
     }
@@ -77,7 +79,11 @@ fn main() {
 
 fn run(cli: Cli) -> Result<()> {
     if let Some(n) = cli.global.threads {
-        anyhow::ensure!(n >= 1, "--threads must be at least 1");
+        anyhow::ensure!(
+            (1..=safety::MAX_THREADS).contains(&n),
+            "--threads must be 1 to {}, got {n}",
+            safety::MAX_THREADS
+        );
         rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build_global()

@@ -37,8 +37,16 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     anyhow::ensure!(
         args.frequency_hz.is_finite() && args.frequency_hz > 0.0,
         "--frequency-hz must be a positive number of Hz, got {}",
-        args.frequency_hz
+        hxai_data::format_number(args.frequency_hz)
     );
+    crate::safety::check_output(
+        &args.out,
+        &[
+            crate::safety::input(&args.record, "the record (--record)"),
+            crate::safety::input(&args.model, "the model (--model)"),
+        ],
+    )?;
+    crate::safety::check_table_path(&args.out)?;
     let model = load_model(&args.model)?;
     let rec = hxai_data::read_record(&args.record)
         .with_context(|| format!("cannot read the record {}", args.record.display()))?;
@@ -56,6 +64,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         truth: None,
     };
     let pred = model.predict(&input).context("prediction failed")?;
+    let warnings: Vec<String> = pred.warnings.iter().map(ToString::to_string).collect();
+    crate::safety::warn(&warnings);
     let table = hxai_data::Table::new(
         vec!["time_s".into(), "physics_um".into(), "hybrid_um".into()],
         vec![rec.time_s.clone(), pred.physics, pred.hybrid],
@@ -65,7 +75,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         .with_context(|| format!("cannot write {}", args.out.display()))?;
     if args.json {
         let doc = serde_json::json!({
-            "out": args.out,
+            "out": crate::safety::path_text(&args.out),
             "equation": model.correction.equation,
             "windows": pred.windows.iter().map(|w| serde_json::json!({
                 "window": w.window,
@@ -75,22 +85,17 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
                 "a_corr_um": w.corrected.amplitude,
                 "phase_rad": w.physics.phase,
             })).collect::<Vec<_>>(),
+            "warnings": warnings,
         });
         let text = serde_json::to_string_pretty(&doc).context("cannot format JSON")?;
-        #[allow(clippy::print_stdout)]
-        {
-            println!("{text}");
-        }
+        crate::safety::emit(&text)?;
     } else {
-        #[allow(clippy::print_stdout)]
-        {
-            println!(
-                "wrote {} ({} samples, {} windows corrected)",
-                args.out.display(),
-                rec.len(),
-                pred.windows.len()
-            );
-        }
+        crate::safety::emit(&format!(
+            "wrote {} ({} samples, {} windows corrected)",
+            args.out.display(),
+            rec.len(),
+            pred.windows.len()
+        ))?;
     }
     Ok(())
 }

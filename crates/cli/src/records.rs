@@ -47,3 +47,14 @@ pub fn inputs<'a>(entries: &[&'a ManifestEntry], recs: &'a [Record]) -> Vec<Reco
         })
         .collect()
 }
+
+/// Warnings for records whose probe amplitude is far from the manifest's commanded
+/// amplitude (a probe in mm, a wrong manifest row).
+pub fn amplitude_warnings(entries: &[&ManifestEntry], inputs: &[RecordInput<'_>]) -> Vec<String> {
+    entries
+        .iter()
+        .zip(inputs)
+        .filter_map(|(e, r)| hxai_hybrid::amplitude_warning(r, e.amplitude_um))
+        .map(|w| w.to_string())
+        .collect()
+}

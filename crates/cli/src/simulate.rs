@@ -6,7 +6,7 @@ use hxai_data::{Format, ManifestEntry, Record, write_folder};
 use hxai_sim::{SimConfig, SimRecord, simulate_with_progress};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Record file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -51,9 +51,6 @@ pub struct Args {
     /// Rows of the `--case` table [default: 400].
     #[arg(long, requires = "case")]
     pub rows: Option<usize>,
-    /// With `--case`: replace an existing table file.
-    #[arg(long, requires = "case")]
-    pub force: bool,
     /// Seed of every random choice (noise, mains phase); same seed, same data.
     #[arg(long)]
     pub seed: Option<u64>,
@@ -82,6 +79,10 @@ pub struct Args {
     /// Print a JSON summary on stdout instead of the one-line message.
     #[arg(long)]
     pub json: bool,
+    /// Write into --out even if it already holds files (same-named records and the
+    /// manifest are replaced; other files stay); with `--case`, replace the table file.
+    #[arg(long)]
+    pub force: bool,
 }
 
 fn to_entry_and_record(r: SimRecord) -> (ManifestEntry, Record) {
@@ -101,26 +102,6 @@ fn to_entry_and_record(r: SimRecord) -> (ManifestEntry, Record) {
         encoder_um: Some(r.encoder_um),
     };
     (entry, rec)
-}
-
-/// Writes `table` to `out` through a temporary file in the same folder, renamed at the end,
-/// so a failed or interrupted write never leaves a half table under the final name.
-fn write_table_atomically(out: &Path, table: &hxai_table::Table) -> Result<()> {
-    let name = out
-        .file_name()
-        .and_then(|n| n.to_str())
-        .context("--out must name a file")?;
-    // The extension stays last: the writer picks CSV or Parquet from it.
-    let ext = hxai_data::Format::from_path(out)?.extension();
-    let tmp = out.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()));
-    if let Err(e) = hxai_data::write_table(&tmp, table) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e).with_context(|| format!("cannot write {}", out.display()));
-    }
-    std::fs::rename(&tmp, out).with_context(|| {
-        let _ = std::fs::remove_file(&tmp);
-        format!("cannot move the table into place at {}", out.display())
-    })
 }
 
 /// `hxai simulate --case NAME --out TABLE`.
@@ -147,7 +128,8 @@ fn run_case(case: CaseArg, args: &Args) -> Result<()> {
         std::fs::create_dir_all(parent)
             .with_context(|| format!("cannot create the folder {}", parent.display()))?;
     }
-    write_table_atomically(&args.out, &table)?;
+    hxai_data::write_table(&args.out, &table)
+        .with_context(|| format!("cannot write {}", args.out.display()))?;
     #[allow(clippy::print_stdout)]
     if args.json {
         let doc = serde_json::json!({
@@ -177,6 +159,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     if let Some(case) = args.case {
         return run_case(case, &args);
     }
+    crate::safety::check_empty_folder(&args.out, args.force)?;
     let mut cfg = match &args.config {
         Some(path) => {
             let text = hxai_data::read_text(path)

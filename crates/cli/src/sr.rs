@@ -80,14 +80,20 @@ fn summary(m: &Model, data: &Table, y: &[f64]) -> Result<Value> {
 pub fn run(args: Args, _g: &Global) -> Result<()> {
     let mut data = hxai_data::read_table(&args.csv)
         .with_context(|| format!("cannot read the table {}", args.csv.display()))?;
-    let y = data.remove_column(&args.target).with_context(|| {
-        format!(
-            "cannot take column `{}` of {} as the target (the columns are {})",
-            args.target,
-            args.csv.display(),
-            data.names().join(", ")
-        )
-    })?;
+    anyhow::ensure!(
+        data.index_of(&args.target).is_some(),
+        "no column `{}` in {}: the columns are {}",
+        args.target,
+        args.csv.display(),
+        data.names().join(", ")
+    );
+    anyhow::ensure!(
+        data.n_cols() > 1,
+        "{}: no input column besides `{}`",
+        args.csv.display(),
+        args.target
+    );
+    let y = data.remove_column(&args.target)?;
     let mut cfg = SearchConfig {
         seed: args.seed,
         max_complexity: args.max_complexity,

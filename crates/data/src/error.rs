@@ -127,8 +127,8 @@ pub enum DataError {
     },
     /// `time_s` does not strictly increase.
     #[error(
-        "{}: row {row}, column `time_s`: time {value} s does not exceed the previous time {previous} s; time must strictly increase",
-        path.display()
+        "{}: row {row}, column `time_s`: time {} s does not exceed the previous time {} s; time must strictly increase",
+        path.display(), format_number(*value), format_number(*previous)
     )]
     TimeNotIncreasing {
         /// The file.
@@ -142,9 +142,9 @@ pub enum DataError {
     },
     /// The sampling of `time_s` is not uniform.
     #[error(
-        "{}: row {row}, column `time_s`: step {step} s differs from the median step {expected} s by more than {tolerance_pct} %; \
+        "{}: row {row}, column `time_s`: step {} s differs from the median step {} s by more than {} %; \
          sampling must be uniform (dropped or repeated samples?)",
-        path.display(), tolerance_pct = tolerance * 100.0
+        path.display(), format_number(*step), format_number(*expected), format_number(tolerance * 100.0)
     )]
     TimeNotUniform {
         /// The file.
@@ -196,8 +196,8 @@ pub enum DataError {
         /// The folder.
         dir: PathBuf,
     },
-    /// The manifest names a record file that does not exist.
-    #[error("{}: row {row}: record `{record}` points at `{file}`, which does not exist ({})", manifest.display(), resolved.display())]
+    /// The manifest names a record file that does not exist (or is a folder).
+    #[error("{}: row {row}: record `{record}` points at `{file}`, which {} ({})", manifest.display(), if resolved.is_dir() { "is a folder, not a file" } else { "does not exist" }, resolved.display())]
     MissingRecordFile {
         /// The manifest.
         manifest: PathBuf,
@@ -222,6 +222,71 @@ pub enum DataError {
         /// The id.
         record: String,
     },
+    /// A path that must be a file is a folder.
+    #[error("{}: is a folder, not a file", path.display())]
+    IsADirectory {
+        /// The path.
+        path: PathBuf,
+    },
+    /// A path that must be a folder is a file.
+    #[error("{}: is a file, not a folder", path.display())]
+    NotADirectory {
+        /// The path.
+        path: PathBuf,
+    },
+    /// An output path names one of the command's inputs; writing would destroy it.
+    #[error(
+        "{}: refusing to write over an input of this command ({}); choose another output path",
+        output.display(), role
+    )]
+    OutputIsInput {
+        /// The output as given.
+        output: PathBuf,
+        /// What the input is (`the record`, `the manifest of data`, ...).
+        role: String,
+    },
+    /// A data row has more or fewer cells than the header has columns.
+    #[error("{}: row {row} has {found} cells but the header has {expected} columns", path.display())]
+    RaggedRow {
+        /// The file.
+        path: PathBuf,
+        /// Data row, counted from 1.
+        row: usize,
+        /// Cells found on the row.
+        found: usize,
+        /// Columns in the header.
+        expected: usize,
+    },
+    /// A column's stored type is not one this crate reads as numbers or text.
+    #[error("{}: column `{column}` is stored as {dtype}, which hxai does not read; {hint}", path.display())]
+    UnsupportedType {
+        /// The file.
+        path: PathBuf,
+        /// The column.
+        column: String,
+        /// The stored type, by name.
+        dtype: String,
+        /// What to do instead.
+        hint: &'static str,
+    },
+    /// Two manifest rows point at the same record file.
+    #[error(
+        "{}: row {row}: record `{record}` uses the file `{file}`, which row {first_row} already uses; \
+         every record needs its own file (a shared file puts the same data in train and test)",
+        manifest.display()
+    )]
+    SharedRecordFile {
+        /// The manifest.
+        manifest: PathBuf,
+        /// The first row naming the file.
+        first_row: usize,
+        /// The row naming it again.
+        row: usize,
+        /// Record id on `row`.
+        record: String,
+        /// The `file` cell on `row`.
+        file: String,
+    },
     /// A record id cannot be used as a file name when writing a folder.
     #[error(
         "record id `{record}` cannot be written as a file name; use letters, digits, `-`, `_` and `.` only (not `.` or `..`)"
@@ -234,9 +299,48 @@ pub enum DataError {
 
 impl DataError {
     pub(crate) fn io(path: &std::path::Path, source: std::io::Error) -> Self {
+        if path.is_dir() && source.kind() != std::io::ErrorKind::PermissionDenied {
+            return DataError::IsADirectory {
+                path: path.to_path_buf(),
+            };
+        }
         DataError::Io {
             path: path.to_path_buf(),
             source,
+        }
+    }
+}
+
+/// A number for a message: at most 6 significant digits, exponent form outside 1e-4..1e6,
+/// so that a value such as `1e300` is not printed as 301 digits.
+///
+/// ```
+/// assert_eq!(hxai_data::format_number(1e300), "1e300");
+/// assert_eq!(hxai_data::format_number(0.000123456789), "0.000123457");
+/// assert_eq!(hxai_data::format_number(-2.5e-7), "-2.5e-7");
+/// assert_eq!(hxai_data::format_number(12.5), "12.5");
+/// assert_eq!(hxai_data::format_number(10000.0), "10000");
+/// ```
+pub fn format_number(v: f64) -> String {
+    fn trim(s: &str) -> &str {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            s
+        }
+    }
+    if v == 0.0 || !v.is_finite() {
+        return v.to_string();
+    }
+    let a = v.abs();
+    if (1e-4..1e6).contains(&a) {
+        let d = (5 - a.log10().floor() as i32).clamp(0, 9) as usize;
+        trim(&format!("{v:.d$}")).to_owned()
+    } else {
+        let s = format!("{v:.5e}");
+        match s.split_once('e') {
+            Some((m, e)) => format!("{}e{e}", trim(m)),
+            None => s,
         }
     }
 }

@@ -50,6 +50,22 @@ impl DataFolder {
         read_record(&self.path_of(entry))
     }
 
+    /// Every file the folder is made of, `manifest.csv` first, each with its role for an
+    /// error message; pass them to [`crate::check_output`] before writing anything.
+    pub fn input_files(&self) -> Vec<(PathBuf, String)> {
+        let mut out = vec![(
+            self.root.join(MANIFEST_FILE),
+            format!("the manifest of {}", self.root.display()),
+        )];
+        out.extend(self.entries.iter().map(|e| {
+            (
+                self.path_of(e),
+                format!("record `{}` of {}", e.record, self.root.display()),
+            )
+        }));
+        out
+    }
+
     /// The entry with the given record id.
     pub fn get(&self, record: &str) -> Option<&ManifestEntry> {
         self.entries.iter().find(|e| e.record == record)
@@ -57,11 +73,17 @@ impl DataFolder {
 }
 
 /// Reads `dir/manifest.csv` and checks it: required columns, numbers where numbers
-/// belong, positive frequencies, unique record ids, and that every record file exists.
+/// belong, positive frequencies, unique record ids, that every record file exists and
+/// that no two rows name the same file (in any spelling).
 /// Record files themselves are read lazily by [`DataFolder::read_record`].
 pub fn read_folder(dir: &Path) -> Result<DataFolder, DataError> {
     let manifest = dir.join(MANIFEST_FILE);
     if !manifest.is_file() {
+        if dir.is_file() {
+            return Err(DataError::NotADirectory {
+                path: dir.to_path_buf(),
+            });
+        }
         if !dir.is_dir() {
             return Err(DataError::Io {
                 path: dir.to_path_buf(),
@@ -95,6 +117,7 @@ pub fn read_folder(dir: &Path) -> Result<DataFolder, DataError> {
         .collect();
 
     let mut seen: HashMap<String, usize> = HashMap::new();
+    let mut seen_files: HashMap<PathBuf, usize> = HashMap::new();
     let mut entries = Vec::with_capacity(records.len());
     for i in 0..records.len() {
         let row = i + 1;
@@ -146,6 +169,17 @@ pub fn read_folder(dir: &Path) -> Result<DataFolder, DataError> {
                 resolved,
             });
         }
+        let key = resolved.canonicalize().unwrap_or_else(|_| resolved.clone());
+        if let Some(&first_row) = seen_files.get(&key) {
+            return Err(DataError::SharedRecordFile {
+                manifest: manifest.clone(),
+                first_row,
+                row,
+                record,
+                file,
+            });
+        }
+        seen_files.insert(key, row);
         let extra = extra_cols
             .iter()
             .map(|(n, c)| (n.clone(), c[i].clone()))

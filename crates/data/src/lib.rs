@@ -17,6 +17,10 @@
 //!   [`read_mixed_table`], [`write_mixed_table`].
 //! - [`read_text`] / [`write_text`]: whole text files such as model JSON, so that file
 //!   access stays in this crate.
+//! - [`write_atomic`] / [`write_bytes`]: every file this crate writes goes through them
+//!   (temporary file in the target folder, sync, rename), so a failed write never leaves a
+//!   half-written or emptied file; [`check_output`] refuses an output path that is one of
+//!   a command's inputs ([`DataFolder::input_files`] lists a folder's).
 //! - [`DataError`]: every failure, naming the file and, for a bad cell, the row and column.
 //!
 //! The format (CSV or Parquet) is chosen by the file extension, `.csv` or `.parquet`
@@ -63,7 +67,9 @@
 //! ```
 #![deny(missing_docs)]
 
+mod atomic;
 mod cells;
+mod csvscan;
 mod error;
 mod folder;
 mod raw;
@@ -71,7 +77,8 @@ mod record;
 mod table;
 mod text;
 
-pub use error::DataError;
+pub use atomic::{check_output, write_atomic, write_bytes};
+pub use error::{DataError, format_number};
 pub use folder::{
     DataFolder, MANIFEST_COLUMNS, MANIFEST_FILE, ManifestEntry, read_folder, write_folder,
     write_manifest,
@@ -94,7 +101,13 @@ pub enum Format {
 
 impl Format {
     /// The format of a file from its extension (`.csv` or `.parquet`, any letter case).
+    /// A folder is [`DataError::IsADirectory`], whatever its name.
     pub fn from_path(path: &Path) -> Result<Format, DataError> {
+        if path.is_dir() {
+            return Err(DataError::IsADirectory {
+                path: path.to_path_buf(),
+            });
+        }
         let ext = path
             .extension()
             .and_then(|e| e.to_str())

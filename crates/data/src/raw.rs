@@ -32,6 +32,8 @@ impl RawColumn {
 pub(crate) struct RawTable {
     pub names: Vec<String>,
     pub columns: Vec<RawColumn>,
+    /// For each column stored as integers (Parquet), the type's name; `None` otherwise.
+    pub integer_type: Vec<Option<String>>,
 }
 
 impl RawTable {
@@ -68,6 +70,11 @@ fn write_err(path: &Path, e: PolarsError) -> DataError {
 /// Reads a CSV or Parquet file into raw columns.
 pub(crate) fn read(path: &Path, format: Format) -> Result<RawTable, DataError> {
     let meta = std::fs::metadata(path).map_err(|e| DataError::io(path, e))?;
+    if meta.is_dir() {
+        return Err(DataError::IsADirectory {
+            path: path.to_path_buf(),
+        });
+    }
     if meta.len() == 0 {
         return Err(DataError::Empty {
             path: path.to_path_buf(),
@@ -75,23 +82,59 @@ pub(crate) fn read(path: &Path, format: Format) -> Result<RawTable, DataError> {
         });
     }
     let df = match format {
-        Format::Csv => CsvReadOptions::default()
-            .with_has_header(true)
-            // Read every cell as text: our own parser reports row and column of bad cells.
-            .with_infer_schema_length(Some(0))
-            .with_n_threads(Some(1))
-            .try_into_reader_with_file_path(Some(path.to_path_buf()))
-            .and_then(|r| r.finish())
-            .map_err(|e| parse_err(path, e))?,
+        Format::Csv => {
+            // The header and the row lengths are checked here, not by polars: polars
+            // renames a repeated column (`y_duplicated_0`) and reports ragged rows in
+            // its own terms.
+            let text = std::fs::read(path).map_err(|e| DataError::io(path, e))?;
+            crate::csvscan::check(path, &text)?;
+            CsvReadOptions::default()
+                .with_has_header(true)
+                // Read every cell as text: our own parser reports row and column of bad cells.
+                .with_infer_schema_length(Some(0))
+                .with_n_threads(Some(1))
+                .try_into_reader_with_file_path(Some(path.to_path_buf()))
+                .and_then(|r| r.finish())
+                .map_err(|e| parse_err(path, e))?
+        }
         Format::Parquet => {
             let file = File::open(path).map_err(|e| DataError::io(path, e))?;
-            ParquetReader::new(file)
-                .finish()
-                .map_err(|e| parse_err(path, e))?
+            let mut reader = ParquetReader::new(file);
+            // The reader's own messages describe its internals; what the user needs is this.
+            let not_parquet = |_| DataError::Parse {
+                path: path.to_path_buf(),
+                message: "not a readable Parquet file (damaged, cut short, or another format \
+                          named `.parquet`)"
+                    .into(),
+            };
+            // Repeated names are looked for in the file's own schema: polars cannot build
+            // its schema from them and would report an unreadable file.
+            let fields: Vec<String> = reader
+                .get_metadata()
+                .map_err(not_parquet)?
+                .schema()
+                .fields()
+                .iter()
+                .map(|f| f.name().to_owned())
+                .collect();
+            for (i, name) in fields.iter().enumerate() {
+                if fields[..i].contains(name) {
+                    return Err(DataError::DuplicateColumn {
+                        path: path.to_path_buf(),
+                        column: name.clone(),
+                    });
+                }
+            }
+            let schema = reader.schema().map_err(not_parquet)?;
+            for (name, field) in schema.iter() {
+                check_parquet_type(path, name.as_str(), field.dtype())?;
+            }
+            reader.finish().map_err(not_parquet)?
         }
     };
     let mut names = Vec::with_capacity(df.width());
     let mut columns = Vec::with_capacity(df.width());
+    let mut integer_type = Vec::with_capacity(df.width());
     for col in df.columns() {
         let name = col.name().to_string();
         if names.contains(&name) {
@@ -114,10 +157,75 @@ pub(crate) fn read(path: &Path, format: Format) -> Result<RawTable, DataError> {
             let ca = c.str().map_err(|e| parse_err(path, e))?;
             RawColumn::Text(ca.iter().map(|s| s.map(str::to_owned)).collect())
         };
+        integer_type.push(dtype.is_integer().then(|| dtype.to_string()));
         names.push(name);
         columns.push(raw);
     }
-    Ok(RawTable { names, columns })
+    Ok(RawTable {
+        names,
+        columns,
+        integer_type,
+    })
+}
+
+/// Refuses, by name, a Parquet type that is neither a number nor text this crate reads.
+/// Checked on the file's schema before polars decodes anything (some types, such as
+/// float16, it cannot decode without features this workspace does not build).
+fn check_parquet_type(path: &Path, column: &str, dtype: &ArrowDataType) -> Result<(), DataError> {
+    use ArrowDataType as A;
+    let refuse = |dtype: &str, hint: &'static str| {
+        Err(DataError::UnsupportedType {
+            path: path.to_path_buf(),
+            column: column.to_owned(),
+            dtype: dtype.to_owned(),
+            hint,
+        })
+    };
+    const NUMBERS: &str = "store numbers as float64 (or float32, int32, int64)";
+    const WIDE: &str = "store it as int32, int64 or float64";
+    const TIME: &str = "store time as float64 seconds (for timestamps: (t - t0) in seconds)";
+    match dtype {
+        A::Null
+        | A::Boolean
+        | A::Int32
+        | A::Int64
+        | A::UInt32
+        | A::UInt64
+        | A::Float32
+        | A::Float64
+        | A::Utf8
+        | A::LargeUtf8
+        | A::Utf8View => Ok(()),
+        A::Dictionary(_, value, _) if matches!(**value, A::Utf8 | A::LargeUtf8 | A::Utf8View) => {
+            Ok(())
+        }
+        A::Float16 => refuse("float16", NUMBERS),
+        // polars decodes these only with features this workspace does not build.
+        A::Int8 => refuse("int8", WIDE),
+        A::Int16 => refuse("int16", WIDE),
+        A::UInt8 => refuse("uint8", WIDE),
+        A::UInt16 => refuse("uint16", WIDE),
+        A::Int128 | A::UInt128 => refuse("a 128-bit integer", NUMBERS),
+        A::Decimal(p, s) => refuse(&format!("decimal({p}, {s})"), NUMBERS),
+        A::Decimal32(p, s) => refuse(&format!("decimal({p}, {s})"), NUMBERS),
+        A::Decimal64(p, s) => refuse(&format!("decimal({p}, {s})"), NUMBERS),
+        A::Decimal256(p, s) => refuse(&format!("decimal256({p}, {s})"), NUMBERS),
+        A::Timestamp(unit, _) => refuse(&format!("a timestamp ({unit:?})"), TIME),
+        A::Date32 | A::Date64 => refuse("a date", TIME),
+        A::Time32(unit) | A::Time64(unit) => refuse(&format!("a time of day ({unit:?})"), TIME),
+        A::Duration(unit) => refuse(&format!("a duration ({unit:?})"), TIME),
+        A::Interval(_) => refuse("an interval", TIME),
+        A::Binary | A::LargeBinary | A::FixedSizeBinary(_) | A::BinaryView => {
+            refuse("binary data", NUMBERS)
+        }
+        A::List(_) | A::LargeList(_) | A::FixedSizeList(..) => {
+            refuse("a list", "store one number per cell")
+        }
+        A::Struct(_) | A::Map(..) | A::Union(_) => {
+            refuse("a nested type", "store one number per cell")
+        }
+        other => refuse(&format!("{other:?}"), NUMBERS),
+    }
 }
 
 /// Writes columns (all of equal length, checked by the caller) as CSV or Parquet.
@@ -140,22 +248,18 @@ pub(crate) fn write(
         })
         .collect();
     let mut df = DataFrame::new(height, cols).map_err(|e| write_err(path, e))?;
-    if let Some(parent) = path.parent()
-        && !parent.as_os_str().is_empty()
-    {
-        std::fs::create_dir_all(parent).map_err(|e| DataError::io(parent, e))?;
-    }
-    let mut file = File::create(path).map_err(|e| DataError::io(path, e))?;
-    match format {
-        Format::Csv => CsvWriter::new(&mut file)
-            .include_header(true)
-            .finish(&mut df)
-            .map_err(|e| write_err(path, e))?,
-        Format::Parquet => {
-            ParquetWriter::new(&mut file)
+    crate::atomic::write_atomic(path, |file| {
+        match format {
+            Format::Csv => CsvWriter::new(file)
+                .include_header(true)
                 .finish(&mut df)
-                .map_err(|e| write_err(path, e))?;
+                .map_err(|e| write_err(path, e))?,
+            Format::Parquet => {
+                ParquetWriter::new(file)
+                    .finish(&mut df)
+                    .map_err(|e| write_err(path, e))?;
+            }
         }
-    }
-    Ok(())
+        Ok(())
+    })
 }

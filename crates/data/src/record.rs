@@ -148,6 +148,17 @@ pub fn read_record(path: &Path) -> Result<Record, DataError> {
     let raw = raw::read(path, format)?;
     require_rows(path, &raw)?;
     let time_i = require_column(path, &raw, "time_s")?;
+    if let Some(dtype) = &raw.integer_type[time_i] {
+        // Integer time is nanoseconds or milliseconds in practice, never whole seconds;
+        // read as seconds it would give a sampling rate of 1e-5 Hz without a word.
+        return Err(DataError::UnsupportedType {
+            path: path.to_path_buf(),
+            column: "time_s".into(),
+            dtype: format!("integers ({dtype})"),
+            hint: "`time_s` must be seconds as floating point; integer time is usually \
+                   nanoseconds or milliseconds: divide by 1e9 or 1e3 and store as float64",
+        });
+    }
     let accel_i = require_column(path, &raw, "accel_ms2")?;
     let optional = |name: &str| -> Result<Option<Vec<f64>>, DataError> {
         raw.find(name)

@@ -5,15 +5,18 @@ use std::path::Path;
 
 /// Reads a whole UTF-8 text file (for example a model file written by `hxai fit`).
 pub fn read_text(path: &Path) -> Result<String, DataError> {
-    std::fs::read_to_string(path).map_err(|e| DataError::io(path, e))
+    let bytes = std::fs::read(path).map_err(|e| DataError::io(path, e))?;
+    String::from_utf8(bytes).map_err(|e| DataError::Parse {
+        path: path.to_path_buf(),
+        message: format!(
+            "the file is not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        ),
+    })
 }
 
-/// Writes a whole text file, creating missing parent folders.
+/// Writes a whole text file atomically (temporary file, then rename; see
+/// [`crate::write_atomic`]), creating missing parent folders.
 pub fn write_text(path: &Path, text: &str) -> Result<(), DataError> {
-    if let Some(parent) = path.parent()
-        && !parent.as_os_str().is_empty()
-    {
-        std::fs::create_dir_all(parent).map_err(|e| DataError::io(parent, e))?;
-    }
-    std::fs::write(path, text).map_err(|e| DataError::io(path, e))
+    crate::atomic::write_bytes(path, text.as_bytes())
 }

@@ -173,7 +173,14 @@ fn ragged_csv_row_is_an_error() -> TestResult {
     assert!(
         matches!(
             err,
-            DataError::MissingValue { row: 2, .. } | DataError::Parse { .. }
+            DataError::MissingValue { row: 2, .. }
+                | DataError::Parse { .. }
+                | DataError::RaggedRow {
+                    row: 2,
+                    found: 1,
+                    expected: 2,
+                    ..
+                }
         ),
         "{err:?}"
     );
@@ -283,13 +290,25 @@ fn manifest_pointing_at_missing_file() -> TestResult {
 fn duplicate_record_id() -> TestResult {
     let dir = scratch("dup")?;
     write_record(&dir.join("a.csv"), &good_record(10))?;
+    write_record(&dir.join("c.csv"), &good_record(10))?;
     write_text(
         &dir.join("manifest.csv"),
-        "record,file,amplitude_um,frequency_hz\na,a.csv,5,10\nc,a.csv,5,10\na,a.csv,6,10\n",
+        "record,file,amplitude_um,frequency_hz\na,a.csv,5,10\nc,c.csv,5,10\na,d.csv,6,10\n",
     )?;
     let err = read_folder(&dir).err().ok_or("expected an error")?;
     assert!(
         matches!(&err, DataError::DuplicateRecord { first_row: 1, row: 3, record, .. } if record == "a"),
+        "{err:?}"
+    );
+    // Two rows naming one file (in any spelling) are refused too: they would share data
+    // between train and test.
+    write_text(
+        &dir.join("manifest.csv"),
+        "record,file,amplitude_um,frequency_hz\na,a.csv,5,10\nc,./a.csv,5,10\n",
+    )?;
+    let err = read_folder(&dir).err().ok_or("expected an error")?;
+    assert!(
+        matches!(&err, DataError::SharedRecordFile { first_row: 1, row: 2, record, .. } if record == "c"),
         "{err:?}"
     );
     let items = vec![

@@ -96,6 +96,9 @@ pub struct RecordPrediction {
     pub windows: Vec<WindowPrediction>,
     /// The samples (features, latent variables).
     pub samples: Vec<WindowSample>,
+    /// Implausible but legal input (filled by [`crate::HybridModel::predict`]; empty from
+    /// the generic composer).
+    pub warnings: Vec<crate::Warning>,
 }
 
 /// The generic hybrid composer (paper section 2): any physics model, decomposition and
@@ -217,6 +220,7 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
             hybrid,
             windows,
             samples: rs.windows,
+            warnings: Vec::new(),
         })
     }
 

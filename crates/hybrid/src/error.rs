@@ -31,8 +31,9 @@ pub enum HybridError {
     Eval(#[from] hxai_eval::EvalError),
     /// A record is too short for even one window.
     #[error(
-        "record `{record}` lasts {seconds:.3} s but one window needs {needed_s:.3} s \
-         ({discard_s} s discarded at each end + a {window_s} s window); use a longer record or a shorter --window-s"
+        "record `{record}` lasts {} s but one window needs {} s \
+         ({} s discarded at each end + a {} s window); use a longer record or a shorter --window-s",
+        num(*seconds), num(*needed_s), num(*discard_s), num(*window_s)
     )]
     RecordTooShort {
         /// Record id.
@@ -64,6 +65,22 @@ pub enum HybridError {
         /// Ground-truth length.
         truth: usize,
     },
+    /// The commanded frequency of a record lies outside the physics model's pass band, where
+    /// the band-pass removes the motion and the model would answer near zero.
+    #[error(
+        "record `{record}`: the commanded frequency {} Hz lies outside the physics model's pass band {}..{} Hz",
+        num(*freq_hz), num(*low_hz), num(*high_hz)
+    )]
+    FrequencyOutOfBand {
+        /// Record id.
+        record: String,
+        /// Its commanded frequency.
+        freq_hz: f64,
+        /// Lower band edge.
+        low_hz: f64,
+        /// Upper band edge.
+        high_hz: f64,
+    },
     /// A setting is out of range.
     #[error("invalid setting: {0}")]
     InvalidConfig(String),
@@ -72,7 +89,7 @@ pub enum HybridError {
     NoData(String),
     /// The model file was written by another schema version.
     #[error(
-        "the model file has schema_version {found} but this hxai reads version {expected}; refit the model with this version"
+        "the model file has schema_version {found} but this hxai reads version {expected} (a JSON number); refit the model with this version"
     )]
     SchemaVersion {
         /// Version in the file.
@@ -181,6 +198,31 @@ pub enum HybridError {
     /// A baseline model (the forest of `compare`) failed.
     #[error("baseline model failed: {0}")]
     Baseline(#[from] hxai_baselines::BaselineError),
+}
+
+/// A number for a message: at most 6 significant digits, exponent form outside 1e-4..1e6.
+pub(crate) fn num(v: f64) -> String {
+    fn trim(s: &str) -> &str {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            s
+        }
+    }
+    if v == 0.0 || !v.is_finite() {
+        return v.to_string();
+    }
+    let a = v.abs();
+    if (1e-4..1e6).contains(&a) {
+        let d = (5 - a.log10().floor() as i32).clamp(0, 9) as usize;
+        trim(&format!("{v:.d$}")).to_owned()
+    } else {
+        let s = format!("{v:.5e}");
+        match s.split_once('e') {
+            Some((m, e)) => format!("{}e{e}", trim(m)),
+            None => s,
+        }
+    }
 }
 
 impl HybridError {

@@ -124,6 +124,11 @@ pub struct Evaluation {
     /// when it cannot be scored, e.g. a single window).
     #[serde(default, with = "metrics_um::option")]
     pub delta: Option<Metrics>,
+    /// Implausible but legal input, one line each (filled by
+    /// [`crate::HybridModel::evaluate`]; empty from [`evaluate`]). Left out of the JSON
+    /// when empty, so stored results do not change; `hxai evaluate --json` always has it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// Which windows of a record to evaluate.
@@ -241,5 +246,6 @@ where
         hybrid: hybrid_s,
         t_test,
         delta: hxai_eval::score(&delta, &delta_hat).ok(),
+        warnings: Vec::new(),
     })
 }

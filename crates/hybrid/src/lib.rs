@@ -68,6 +68,7 @@ mod model;
 pub mod process;
 mod tool;
 mod traits;
+mod warnings;
 mod window;
 
 pub use composer::{
@@ -85,4 +86,8 @@ pub use tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
 pub use traits::{
     Correction, Decomposition, FeatureMap, Latent, PhysicsModel, SymbolicCorrection, ZeroCorrection,
 };
-pub use window::WindowConfig;
+pub use warnings::{
+    AMPLITUDE_RATIO_LIMIT, MIN_PERIODS_PER_WINDOW, PLAUSIBLE_FS_HZ, Warning, amplitude_warning,
+    input_warnings, record_warnings, units_warning,
+};
+pub use window::{MAX_WINDOW_SECONDS, WindowConfig};

@@ -5,6 +5,7 @@ use crate::composer::{Hybrid, RecordInput, RecordPrediction, WindowSample};
 use crate::evaluate::{EvalInput, Evaluation, evaluate, metrics_um};
 use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
 use crate::traits::{Correction, FeatureMap, SymbolicCorrection, ZeroCorrection};
+use crate::warnings::{Warning, input_warnings, units_warning};
 use crate::window::WindowConfig;
 use hxai_eval::Metrics;
 use hxai_signal::PhysicsConfig;
@@ -275,6 +276,38 @@ pub struct FitOutput {
     pub is_test: Vec<bool>,
     /// The full search result (Pareto front etc.).
     pub search: hxai_symreg::SearchResult,
+    /// Implausible but legal input met while fitting ([`input_warnings`], and records whose
+    /// probe and physics amplitudes differ by a units-like factor).
+    pub warnings: Vec<Warning>,
+}
+
+fn json_type(v: &serde_json::Value) -> &'static str {
+    match v {
+        serde_json::Value::Null => "null",
+        serde_json::Value::Bool(_) => "boolean",
+        serde_json::Value::Number(_) => "number",
+        serde_json::Value::String(_) => "string",
+        serde_json::Value::Array(_) => "array",
+        serde_json::Value::Object(_) => "object",
+    }
+}
+
+/// Refuses a record whose commanded frequency lies outside the physics band: the band-pass
+/// removes the motion there and the prediction would be a near-zero amplitude.
+fn check_band(physics: &PhysicsConfig, r: &RecordInput<'_>) -> Result<(), HybridError> {
+    if r.frequency_hz.is_finite()
+        && r.frequency_hz >= physics.low_hz
+        && r.frequency_hz <= physics.high_hz
+    {
+        Ok(())
+    } else {
+        Err(HybridError::FrequencyOutOfBand {
+            record: r.id.to_owned(),
+            freq_hz: r.frequency_hz,
+            low_hz: physics.low_hz,
+            high_hz: physics.high_hz,
+        })
+    }
 }
 
 /// The samples of a fit as columns, one row per sample in record then window order: the
@@ -432,15 +465,23 @@ pub fn fit(
             cfg.test_fraction
         )));
     }
+    cfg.window.check()?;
     let hybrid = tool_hybrid_with(&cfg.physics, &cfg.features, cfg.window);
     let mut samples = Vec::new();
-    for (i, r) in records.iter().enumerate() {
+    let mut warnings = Vec::new();
+    for r in records {
         if r.truth.is_none() {
             return Err(HybridError::NoTruth {
                 record: r.id.to_owned(),
             });
         }
-        samples.extend(hybrid.samples(r)?.windows);
+        check_band(&cfg.physics, r)?;
+    }
+    for (i, r) in records.iter().enumerate() {
+        warnings.extend(input_warnings(r, &cfg.window));
+        let rs = hybrid.samples(r)?;
+        warnings.extend(units_warning(r.id, &rs.windows));
+        samples.extend(rs.windows);
         progress(FitProgress::Samples {
             done: i + 1,
             total: records.len(),
@@ -530,6 +571,7 @@ pub fn fit(
         samples,
         is_test,
         search: result,
+        warnings,
     })
 }
 
@@ -572,8 +614,18 @@ impl HybridModel {
         match value.get("schema_version") {
             Some(v) if v.as_u64() == Some(u64::from(SCHEMA_VERSION)) => {}
             Some(v) => {
+                let found = match v {
+                    serde_json::Value::String(s) => {
+                        format!(
+                            "\"{}\" (text, not a number)",
+                            s.chars().take(20).collect::<String>()
+                        )
+                    }
+                    serde_json::Value::Number(n) => n.to_string().chars().take(24).collect(),
+                    other => format!("of JSON type {}", json_type(other)),
+                };
                 return Err(HybridError::SchemaVersion {
-                    found: v.to_string(),
+                    found,
                     expected: SCHEMA_VERSION,
                 });
             }
@@ -585,9 +637,44 @@ impl HybridModel {
         }
         let model: HybridModel =
             serde_json::from_value(value).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
-        model.correction()?;
-        model.window.check()?;
+        model.validate()?;
         Ok(model)
+    }
+
+    /// Checks a model in full before it is used (done by [`HybridModel::from_json`]): the
+    /// symbolic model's program, parameters and input indices, that its features are the
+    /// feature map's, the window settings, and the physics settings (band and orders).
+    ///
+    /// # Errors
+    /// [`HybridError::ModelFormat`], [`HybridError::UnknownFeature`],
+    /// [`HybridError::InvalidConfig`] or [`HybridError::Signal`], naming what is wrong.
+    pub fn validate(&self) -> Result<(), HybridError> {
+        let expected = AccelFeatures::default().names();
+        if self.features.names != expected {
+            return Err(HybridError::ModelFormat(format!(
+                "`features.names` must be {} (the features this hxai computes), found {}",
+                expected.join(", "),
+                self.features.names.join(", ")
+            )));
+        }
+        if let Some(m) = &self.correction.model {
+            m.validate().map_err(|e| {
+                HybridError::ModelFormat(format!("`correction.model` is corrupt: {e}"))
+            })?;
+        }
+        self.correction()?;
+        self.window.check()?;
+        // The band and orders are checked against a generous sampling rate: the record's
+        // own rate is checked again when the model is applied.
+        self.physics
+            .check(1e9)
+            .map_err(|e| HybridError::ModelFormat(format!("`physics` settings: {e}")))?;
+        Ok(())
+    }
+
+    /// Refuses a record whose commanded frequency lies outside this model's pass band.
+    fn check_band(&self, r: &RecordInput<'_>) -> Result<(), HybridError> {
+        check_band(&self.physics, r)
     }
 
     /// The composer with this model's physics and window settings.
@@ -619,9 +706,17 @@ impl HybridModel {
         }
     }
 
-    /// Physics and hybrid prediction of one record.
+    /// Physics and hybrid prediction of one record, with warnings about implausible input
+    /// ([`input_warnings`]) in [`RecordPrediction::warnings`].
+    ///
+    /// # Errors
+    /// [`HybridError::FrequencyOutOfBand`] when the record's frequency lies outside the
+    /// physics model's band, and the composer's errors.
     pub fn predict(&self, record: &RecordInput<'_>) -> Result<RecordPrediction, HybridError> {
-        self.hybrid().predict(record, &self.correction()?)
+        self.check_band(record)?;
+        let mut p = self.hybrid().predict(record, &self.correction()?)?;
+        p.warnings = input_warnings(record, &self.window);
+        Ok(p)
     }
 
     /// Evaluates the model on records. With `all` false, only this model's test data is
@@ -679,6 +774,15 @@ impl HybridModel {
                 self.split.test.join(", ")
             )));
         }
-        evaluate(&self.hybrid(), &self.correction()?, &inputs)
+        for i in &inputs {
+            self.check_band(&i.record)?;
+        }
+        let mut ev = evaluate(&self.hybrid(), &self.correction()?, &inputs)?;
+        ev.warnings = inputs
+            .iter()
+            .flat_map(|i| input_warnings(&i.record, &self.window))
+            .map(|w| w.to_string())
+            .collect();
+        Ok(ev)
     }
 }

@@ -29,19 +29,30 @@ impl Default for WindowConfig {
     }
 }
 
+/// Longest window or discarded time accepted, s (one million seconds, about 11.6 days):
+/// far beyond any recording, and small enough that sample counts cannot overflow.
+pub const MAX_WINDOW_SECONDS: f64 = 1e6;
+
 impl WindowConfig {
-    /// Checks the settings: a positive, finite length and a non-negative, finite discard.
+    /// Checks the settings: a positive, finite length and a non-negative, finite discard,
+    /// both at most [`MAX_WINDOW_SECONDS`].
     pub fn check(&self) -> Result<(), HybridError> {
-        if !(self.length_s.is_finite() && self.length_s > 0.0) {
+        if !(self.length_s.is_finite()
+            && self.length_s > 0.0
+            && self.length_s <= MAX_WINDOW_SECONDS)
+        {
             return Err(HybridError::InvalidConfig(format!(
-                "window length must be a positive number of seconds, got {}",
-                self.length_s
+                "the window length must be a positive number of seconds up to {MAX_WINDOW_SECONDS:e}, got {}",
+                crate::error::num(self.length_s)
             )));
         }
-        if !(self.discard_s.is_finite() && self.discard_s >= 0.0) {
+        if !(self.discard_s.is_finite()
+            && self.discard_s >= 0.0
+            && self.discard_s <= MAX_WINDOW_SECONDS)
+        {
             return Err(HybridError::InvalidConfig(format!(
-                "the time discarded at each record end must be zero or more seconds, got {}",
-                self.discard_s
+                "the time discarded at each record end must be 0 to {MAX_WINDOW_SECONDS:e} seconds, got {}",
+                crate::error::num(self.discard_s)
             )));
         }
         Ok(())
@@ -71,12 +82,29 @@ impl WindowConfig {
         self.check()?;
         if !(fs.is_finite() && fs > 0.0) {
             return Err(HybridError::InvalidConfig(format!(
-                "sampling rate must be positive, got {fs}"
+                "sampling rate must be positive, got {}",
+                crate::error::num(fs)
             )));
+        }
+        // Counted in f64 first: a window of 1e6 s at 1 GHz does not fit in any record, and
+        // must say so rather than overflow.
+        let too_short = || HybridError::RecordTooShort {
+            record: record.to_owned(),
+            seconds: n as f64 / fs,
+            needed_s: 2.0 * self.discard_s + self.length_s,
+            window_s: self.length_s,
+            discard_s: self.discard_s,
+        };
+        let (len_f, skip_f) = (
+            (self.length_s * fs).round().max(1.0),
+            (self.discard_s * fs).round(),
+        );
+        if 2.0 * skip_f + len_f > n as f64 {
+            return Err(too_short());
         }
         let len = self.length_samples(fs);
         let skip = self.discard_samples(fs);
-        let usable = n.saturating_sub(2 * skip);
+        let usable = n.saturating_sub(skip.saturating_mul(2));
         let count = usable / len;
         if count == 0 {
             return Err(HybridError::RecordTooShort {

@@ -48,16 +48,25 @@ impl Band {
     }
 }
 
+/// Highest Butterworth order [`butter`] designs. Orders beyond a few tens are numerically
+/// meaningless in double precision (poles crowd onto the unit circle) and make filtering
+/// slow; refusing them early turns a minutes-long failure into an immediate error.
+pub const MAX_ORDER: usize = 64;
+
 /// Designs a digital Butterworth filter of `order` as second-order sections, equal to
 /// `scipy.signal.butter(order, band, btype, fs=fs, output='sos')` (same sections in the same
 /// order, gain in the first section).
 ///
 /// # Errors
-/// [`SignalError::ZeroOrder`], [`SignalError::InvalidSampleRate`], [`SignalError::InvalidCutoff`]
+/// [`SignalError::ZeroOrder`], [`SignalError::OrderTooHigh`] (above [`MAX_ORDER`]),
+/// [`SignalError::InvalidSampleRate`], [`SignalError::InvalidCutoff`]
 /// (an edge outside (0, fs/2)), [`SignalError::InvalidBand`] (low >= high).
 pub fn butter(order: usize, band: Band, fs: f64) -> Result<Sos, SignalError> {
     if order == 0 {
         return Err(SignalError::ZeroOrder);
+    }
+    if order > MAX_ORDER {
+        return Err(SignalError::OrderTooHigh(order));
     }
     band.check(fs)?;
     let n = order as f64;

@@ -64,6 +64,9 @@ pub enum SignalError {
     /// Filter order 0 was requested.
     #[error("the filter order must be at least 1")]
     ZeroOrder,
+    /// A filter order above [`crate::MAX_ORDER`] was requested.
+    #[error("the filter order {0} is too high; at most {max} is supported (typical: 2 to 8)", max = crate::MAX_ORDER)]
+    OrderTooHigh(usize),
     /// A filter section is unusable (a0 = 0 or non-finite coefficients).
     #[error("filter section {index} is invalid: {reason}")]
     InvalidSection {

@@ -52,7 +52,7 @@ mod physics;
 mod sine;
 mod spectral;
 
-pub use design::{Band, butter};
+pub use design::{Band, MAX_ORDER, butter};
 pub use error::SignalError;
 pub use filter::Sos;
 pub use integrate::{Detrend, cumulative_trapezoid, detrend, detrend_in_place};

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 /// Closed-loop Z slide: second-order servo from command to slide position plus friction.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct ServoParams {
     /// Natural frequency of the closed position loop (Hz).
     pub natural_hz: f64,
@@ -38,7 +38,7 @@ impl Default for ServoParams {
 
 /// Flexible tool holder outside the servo loop: the tool tip is a mass-spring-damper on the slide.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct ToolParams {
     /// Natural frequency of the tool-holder mode (Hz).
     pub natural_hz: f64,
@@ -59,7 +59,7 @@ impl Default for ToolParams {
 /// encoder measure relative to the frame and do not see it; the accelerometer is inertial
 /// and does.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct BaseParams {
     /// Natural frequency of the frame mode (Hz).
     pub natural_hz: f64,
@@ -93,7 +93,7 @@ pub struct Harmonic {
 
 /// ICP accelerometer and its DAQ channel.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct AccelParams {
     /// Relative sensitivity error (measured / true - 1), e.g. -0.03 reads 3 % low (-).
     pub sensitivity_error: f64,
@@ -160,7 +160,7 @@ impl Default for AccelParams {
 
 /// Capacitance probe (the ground truth channel).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct ProbeParams {
     /// Bandwidth (first-order low-pass corner, Hz).
     pub bandwidth_hz: f64,
@@ -182,7 +182,7 @@ impl Default for ProbeParams {
 
 /// Linear encoder of the Z slide as read by the DAQ.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct EncoderParams {
     /// Resolution, the quantisation step (nm).
     pub resolution_nm: f64,
@@ -204,7 +204,7 @@ impl Default for EncoderParams {
 /// Build it with `SimConfig::default()` and change fields; [`SimConfig::check`] (called by
 /// [`crate::simulate`]) rejects bad values before any work starts.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct SimConfig {
     /// Seed of every random choice.
     pub seed: u64,

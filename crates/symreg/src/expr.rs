@@ -250,7 +250,7 @@ impl Expr {
             Expr::Num(v) => fmt_num(*v),
             Expr::Var(n) => {
                 if sympy {
-                    sanitize(n)
+                    sympy_symbol(n)
                 } else {
                     n.clone()
                 }
@@ -393,8 +393,53 @@ pub fn fmt_number(v: f64, digits: Option<usize>) -> String {
     }
 }
 
+/// How a column name is written in sympy text so that `sympy.sympify` reads it back as
+/// the symbol of exactly that name.
+///
+/// A plain ASCII identifier (a letter, then letters, digits and `_`) that sympy's parser
+/// does not already know is written as it is (`f3`, `A_phys`). Anything else is written as
+/// `Symbol('...')` with a Python string literal: names sympy would read as something else
+/// (`E`, `I`, `pi`, `oo`, `N`, `S`, `Q`, `O`, `beta`, `gamma`, `lambda`, `re`, `sin`, Python
+/// keywords and builtins; the list is [`SYMPY_RESERVED`]), names with spaces or
+/// punctuation, and non-ASCII names (escaped as `\uXXXX`, so the text is ASCII and
+/// unicode normalisation cannot merge two names). `a b` and `a_b` therefore stay two
+/// symbols.
+///
+/// ```
+/// use hxai_symreg::expr::sympy_symbol;
+/// assert_eq!(sympy_symbol("f3"), "f3");
+/// assert_eq!(sympy_symbol("E"), "Symbol('E')");
+/// assert_eq!(sympy_symbol("a b"), "Symbol('a b')");
+/// assert_eq!(sympy_symbol("it's"), "Symbol('it\\'s')");
+/// assert_eq!(sympy_symbol("\u{3bc}m"), "Symbol('\\u03bcm')");
+/// ```
+pub fn sympy_symbol(name: &str) -> String {
+    let mut chars = name.chars();
+    let plain = chars.next().is_some_and(|c| c.is_ascii_alphabetic())
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && SYMPY_RESERVED.binary_search(&name).is_err();
+    if plain {
+        return name.to_owned();
+    }
+    let mut out = String::from("Symbol('");
+    for c in name.chars() {
+        match c {
+            '\\' => out.push_str("\\\\"),
+            '\'' => out.push_str("\\'"),
+            ' '..='~' => out.push(c),
+            c if (c as u32) <= 0xffff => out.push_str(&format!("\\u{:04x}", c as u32)),
+            c => out.push_str(&format!("\\U{:08x}", c as u32)),
+        }
+    }
+    out.push_str("')");
+    out
+}
+
+pub use crate::sympy_names::SYMPY_RESERVED;
+
 /// Turns a column name into a Python identifier (non-alphanumerics become `_`, a leading
-/// digit gets a `_` prefix).
+/// digit gets a `_` prefix). Not injective (`a b` and `a_b` both give `a_b`) and not safe
+/// for names sympy knows (`E`); the sympy export uses [`sympy_symbol`] instead.
 pub fn sanitize(name: &str) -> String {
     let mut s: String = name
         .chars()

@@ -49,6 +49,7 @@ mod model;
 pub mod ops;
 pub mod program;
 pub mod search;
+mod sympy_names;
 pub mod vmath;
 
 pub use error::SrError;

@@ -56,6 +56,30 @@ impl Model {
         Ok(m)
     }
 
+    /// Checks a model read from a file in full: [`Model::new`]'s checks, plus finite
+    /// parameters and unique feature names. Call it on a model deserialised by other means
+    /// than [`Model::from_json`] (for example as part of a larger file) before using it.
+    ///
+    /// # Errors
+    /// [`SrError::MalformedModel`] naming what is wrong.
+    pub fn validate(&self) -> Result<(), SrError> {
+        self.check()?;
+        if let Some(i) = self.params.iter().position(|p| !p.is_finite()) {
+            return Err(SrError::MalformedModel(format!(
+                "parameter {i} is {}; every parameter must be a finite number",
+                self.params[i]
+            )));
+        }
+        for (i, n) in self.feature_names.iter().enumerate() {
+            if self.feature_names[..i].contains(n) {
+                return Err(SrError::MalformedModel(format!(
+                    "feature name `{n}` appears twice"
+                )));
+            }
+        }
+        Ok(())
+    }
+
     fn check(&self) -> Result<(), SrError> {
         if self.program.nodes.is_empty() || !self.program.is_valid() {
             return Err(SrError::MalformedModel(
@@ -118,8 +142,11 @@ impl Model {
         self.expr().to_text(Some(4), false)
     }
 
-    /// Text that `sympy.sympify` parses, with full-precision constants (`**` powers, `Abs`,
-    /// feature names made into identifiers).
+    /// Text that `sympy.sympify` parses, with full-precision constants (`**` powers, `Abs`).
+    /// A feature name is written as it is when sympy reads it back as a symbol of that
+    /// name, otherwise as `Symbol('name')` (names such as `E`, `I`, `pi`, `lambda`, `a b`,
+    /// unicode; see [`crate::sympy_symbol`]), so the text always reads back with plain
+    /// `sympy.sympify` and every feature stays a distinct symbol.
     pub fn sympy(&self) -> String {
         self.expr().to_text(None, true)
     }
@@ -160,7 +187,7 @@ impl Model {
     pub fn from_json(text: &str) -> Result<Self, SrError> {
         let m: Model =
             serde_json::from_str(text).map_err(|e| SrError::MalformedModel(e.to_string()))?;
-        m.check()?;
+        m.validate()?;
         Ok(m)
     }
 }

@@ -1,0 +1,147 @@
+//! What every command shares to stay safe with bad input: refusing outputs that are
+//! inputs, printing to a stdout that may be closed, warnings on stderr, and one-line error
+//! messages.
+
+use anyhow::Result;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Most worker threads `--threads` accepts: far above any machine this runs on, low enough
+/// that a typo (`--threads 100000000`) is refused at once instead of spawning for minutes.
+pub const MAX_THREADS: usize = 1024;
+
+/// Refuses `output` when it is one of `inputs` (each with its role for the message) or a
+/// folder. Call it before any work, so nothing is computed for a command that cannot write.
+pub fn check_output(output: &Path, inputs: &[(PathBuf, String)]) -> Result<()> {
+    hxai_data::check_output(output, inputs)?;
+    Ok(())
+}
+
+/// An input with its role, for [`check_output`].
+pub fn input(path: &Path, role: &str) -> (PathBuf, String) {
+    (path.to_path_buf(), role.to_owned())
+}
+
+/// Checks that a table output path has a known extension, before any work.
+pub fn check_table_path(path: &Path) -> Result<()> {
+    hxai_data::Format::from_path(path)?;
+    Ok(())
+}
+
+/// Refuses an output folder that exists and is not empty (unless `force`), or that is a
+/// file: writing a data folder there would replace some recordings and the manifest and
+/// orphan the rest.
+pub fn check_empty_folder(dir: &Path, force: bool) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        anyhow::bail!("{}: is a file, not a folder", dir.display());
+    }
+    if force || !dir.is_dir() {
+        return Ok(());
+    }
+    let mut entries = std::fs::read_dir(dir)
+        .map_err(|e| anyhow::anyhow!("cannot list {}: {e}", dir.display()))?;
+    if entries.next().is_some() {
+        anyhow::bail!(
+            "{}: the folder is not empty; choose a new folder, or pass --force to write into it",
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
+/// A path for JSON output and messages: lossy for names that are not UTF-8, never a panic.
+pub fn path_text(path: &Path) -> String {
+    path.display().to_string()
+}
+
+/// Prints `text` and a newline on stdout. A closed stdout (`hxai features ... | head -1`)
+/// ends the process normally with exit code 0: the reader has what it wanted.
+pub fn emit(text: &str) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    match writeln!(out, "{text}").and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(e) => Err(anyhow::anyhow!("cannot write to standard output: {e}")),
+    }
+}
+
+/// Prints warnings on stderr, one line each.
+pub fn warn<S: std::fmt::Display>(warnings: &[S]) {
+    for w in warnings {
+        #[allow(clippy::print_stderr)]
+        {
+            eprintln!("warning: {w}");
+        }
+    }
+}
+
+/// Installs a panic hook that turns a write to a closed stdout (`println!` after the
+/// reader went away) into a normal exit, keeping the default report for any other panic.
+pub fn exit_quietly_on_broken_pipe() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let msg = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if msg.contains("failed printing to stdout") && msg.contains("Broken pipe") {
+            std::process::exit(0);
+        }
+        default(info);
+    }));
+}
+
+/// One line for an error and its causes: each cause is added only when it says something
+/// the line does not already say, and a cause that repeats the end of the line (the same
+/// path) is added without that repetition. So `reading r.csv` + `r.csv: missing column`
+/// gives `reading r.csv: missing column`, not `reading r.csv: r.csv: missing column`.
+pub fn one_line(e: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        let text = text.trim();
+        if text.is_empty() || line.contains(text) {
+            continue;
+        }
+        if line.is_empty() {
+            line = text.to_owned();
+            continue;
+        }
+        // Longest prefix of the cause (ending before ": ") that the line ends with.
+        let mut rest = text;
+        let mut from = 0;
+        while let Some(i) = text[from..].find(": ") {
+            let head = &text[..from + i];
+            if line.ends_with(head) || line.contains(&format!("{head}:")) {
+                rest = &text[from + i + 2..];
+            }
+            from += i + 2;
+        }
+        if !line.contains(rest) {
+            line.push_str(": ");
+            line.push_str(rest);
+        }
+    }
+    line.replace('\n', " ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn repeated_paths_are_said_once() {
+        let inner = anyhow::anyhow!("r.csv: missing column `time_s`");
+        let e = inner.context("reading record r.csv");
+        assert_eq!(
+            one_line(&e),
+            "reading record r.csv: missing column `time_s`"
+        );
+        let e = anyhow::anyhow!("x: y").context("x: y").context("x: y");
+        assert_eq!(one_line(&e), "x: y");
+        let e = anyhow::anyhow!("disk full").context("cannot write m.json");
+        assert_eq!(one_line(&e), "cannot write m.json: disk full");
+    }
+}

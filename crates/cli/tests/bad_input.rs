@@ -1,0 +1,707 @@
+//! Every command against the corpus of bad files and flags in `testdata/bad/` (see its
+//! README): each must fail with exit code 1 and one line on stderr naming the problem,
+//! never panic (exit 101), never write over an input, never leave a partial file.
+#![allow(clippy::unwrap_used, clippy::print_stderr)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn corpus(rel: &str) -> String {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../testdata/bad")
+        .join(rel);
+    p.to_str().unwrap().to_owned()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("hxai-bad-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn hxai(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hxai"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Runs the command and requires exit code 1 with one stderr line containing `expect`.
+fn refused(args: &[&str], expect: &str) {
+    let out = hxai(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = stderr
+        .lines()
+        .filter(|l| !l.starts_with("warning: "))
+        .collect();
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{args:?}: expected exit code 1, got {:?}; stderr:\n{stderr}",
+        out.status.code()
+    );
+    assert_eq!(
+        lines.len(),
+        1,
+        "{args:?}: expected one line, got:\n{stderr}"
+    );
+    assert!(lines[0].starts_with("error: "), "{args:?}: {stderr}");
+    assert!(
+        lines[0].contains(expect),
+        "{args:?}: the message should contain {expect:?}:\n{stderr}"
+    );
+    assert!(lines[0].len() < 600, "{args:?}: message too long: {stderr}");
+    assert!(
+        !stderr.contains("polars"),
+        "{args:?}: library internals: {stderr}"
+    );
+}
+
+const BAD_RECORDS: &[(&str, &str)] = &[
+    (
+        "records/duplicate_column.csv",
+        "`accel_ms2` appears more than once",
+    ),
+    (
+        "records/duplicate_column.parquet",
+        "`accel_ms2` appears more than once",
+    ),
+    (
+        "records/ragged_row.csv",
+        "row 10 has 2 cells but the header has 3 columns",
+    ),
+    (
+        "records/text_cell.csv",
+        "row 5, column `accel_ms2`: `n/a` is not a number",
+    ),
+    (
+        "records/nan_cell.csv",
+        "row 7, column `accel_ms2`: value NaN is not finite",
+    ),
+    (
+        "records/huge_number.csv",
+        "row 4, column `accel_ms2`: value inf is not finite",
+    ),
+    ("records/time_not_increasing.csv", "row 11, column `time_s`"),
+    ("records/time_gap.csv", "sampling must be uniform"),
+    ("records/missing_time.csv", "missing column `time_s`"),
+    ("records/header_only.csv", "no data rows (only a header)"),
+    ("records/empty.csv", "no data rows (it is empty)"),
+    ("records/binary.csv", "not UTF-8"),
+    ("records/latin1.csv", "not UTF-8"),
+    ("records/record.txt", "unknown file type"),
+    ("records/float16.parquet", "stored as float16"),
+    ("records/int16.parquet", "stored as int16"),
+    ("records/uint8.parquet", "stored as uint8"),
+    ("records/decimal128.parquet", "stored as decimal(12, 6)"),
+    (
+        "records/time_ns_int64.parquet",
+        "`time_s` is stored as integers",
+    ),
+    ("records/time_timestamp.parquet", "stored as a timestamp"),
+    ("records/csv_named.parquet", "not a readable Parquet file"),
+    ("records/truncated.parquet", "not a readable Parquet file"),
+    ("records", "is a folder"),
+    ("records/nowhere.csv", "No such file"),
+];
+
+#[test]
+fn bad_records_are_refused_by_every_command_that_reads_one() {
+    let dir = scratch("records");
+    let out = dir.join("out.csv");
+    let out = out.to_str().unwrap();
+    let model = corpus("good/model.json");
+    for (file, expect) in BAD_RECORDS {
+        let rec = corpus(file);
+        refused(
+            &["features", "--record", &rec, "--frequency-hz", "20"],
+            expect,
+        );
+        refused(
+            &[
+                "displacement",
+                "--record",
+                &rec,
+                "--frequency-hz",
+                "20",
+                "--out",
+                out,
+            ],
+            expect,
+        );
+        refused(
+            &[
+                "predict",
+                "--model",
+                &model,
+                "--record",
+                &rec,
+                "--frequency-hz",
+                "20",
+                "--out",
+                out,
+            ],
+            expect,
+        );
+        assert!(!Path::new(out).exists(), "{file}: an output was written");
+    }
+    // Too short for what each command needs, with the minimum named.
+    let two = corpus("records/two_samples.csv");
+    refused(
+        &["features", "--record", &two, "--frequency-hz", "20"],
+        "needs at least 51",
+    );
+    refused(
+        &[
+            "displacement",
+            "--record",
+            &two,
+            "--frequency-hz",
+            "20",
+            "--out",
+            out,
+        ],
+        "samples",
+    );
+    refused(
+        &[
+            "predict",
+            "--model",
+            &model,
+            "--record",
+            &two,
+            "--frequency-hz",
+            "20",
+            "--out",
+            out,
+        ],
+        "one window needs 1 s",
+    );
+}
+
+#[test]
+fn integer_channels_of_any_width_are_read() {
+    let out = hxai(&[
+        "features",
+        "--record",
+        &corpus("records/int_channels.parquet"),
+        "--frequency-hz",
+        "20",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+const BAD_TABLES: &[(&str, &str)] = &[
+    (
+        "tables/duplicate_y.csv",
+        "column `y` appears more than once",
+    ),
+    (
+        "tables/text_column.csv",
+        "row 1, column `name`: `n0` is not a number",
+    ),
+    ("records/huge_number.csv", "value inf is not finite"),
+    ("records/ragged_row.csv", "row 10 has 2 cells"),
+    ("records/float16.parquet", "float16"),
+    ("records/empty.csv", "no data rows"),
+];
+
+#[test]
+fn bad_tables_are_refused_by_sr_and_compare() {
+    for (file, expect) in BAD_TABLES {
+        let t = corpus(file);
+        // `accel_ms2` is the target where the file is a record, `y` otherwise.
+        let target = if file.starts_with("records") {
+            "accel_ms2"
+        } else {
+            "y"
+        };
+        refused(
+            &["sr", "--csv", &t, "--target", target, "--epochs", "1"],
+            expect,
+        );
+        refused(
+            &["compare", "--train", &t, "--test", &t, "--target", target],
+            expect,
+        );
+    }
+    let good = corpus("tables/good.csv");
+    refused(
+        &[
+            "compare",
+            "--train",
+            &good,
+            "--test",
+            &corpus("tables/duplicate_y.csv"),
+            "--target",
+            "y",
+        ],
+        "appears more than once",
+    );
+    refused(
+        &[
+            "sr",
+            "--csv",
+            &corpus("tables/target_only.csv"),
+            "--target",
+            "y",
+        ],
+        "y",
+    );
+    refused(
+        &[
+            "sr",
+            "--csv",
+            &corpus("tables/empty_name.csv"),
+            "--target",
+            "y",
+        ],
+        "name",
+    );
+}
+
+const BAD_FOLDERS: &[(&str, &str)] = &[
+    ("folders/shared_file", "row 2: record `b` uses the file"),
+    (
+        "folders/same_file_two_spellings",
+        "which row 1 already uses",
+    ),
+    (
+        "folders/frequency_300hz",
+        "outside the physics model's pass band 5..200 Hz",
+    ),
+    ("folders/frequency_0_5hz", "frequency 0.5 Hz lies outside"),
+    ("folders/frequency_4000hz", "frequency 4000 Hz lies outside"),
+    ("folders/record_is_folder", "is a folder, not a file"),
+    ("folders/missing_file", "does not exist"),
+    ("folders/negative_frequency", "must be positive"),
+    (
+        "folders/short_records",
+        "record `a` lasts 0.2 s but one window needs 1 s",
+    ),
+    ("good/manifest.csv", "is a file, not a folder"),
+    ("folders/nowhere", "does not exist"),
+];
+
+#[test]
+fn bad_folders_are_refused_by_fit_and_evaluate() {
+    let dir = scratch("folders");
+    let out = dir.join("m.json");
+    let out = out.to_str().unwrap();
+    let model = corpus("good/model.json");
+    for (folder, expect) in BAD_FOLDERS {
+        let d = corpus(folder);
+        refused(
+            &["fit", "--data", &d, "--out", out, "--epochs", "1"],
+            expect,
+        );
+        assert!(!Path::new(out).exists(), "{folder}: a model was written");
+        refused(
+            &["evaluate", "--model", &model, "--data", &d, "--all"],
+            expect,
+        );
+    }
+}
+
+const BAD_MODELS: &[(&str, &str)] = &[
+    (
+        "models/input_index_out_of_range.json",
+        "input index 7 has no feature name",
+    ),
+    (
+        "models/schema_version_text.json",
+        "schema_version \"1\" (text, not a number)",
+    ),
+    (
+        "models/schema_version_2.json",
+        "schema_version 2 but this hxai reads version 1",
+    ),
+    (
+        "models/window_1e18.json",
+        "window length must be a positive number of seconds up to 1e6, got 1e18",
+    ),
+    ("models/discard_1e300.json", "got 1e300"),
+    (
+        "models/order_100000.json",
+        "filter order 100000 is too high",
+    ),
+    ("models/params_missing.json", "parameters"),
+    (
+        "models/feature_names_renamed.json",
+        "`features.names` must be f1",
+    ),
+    ("models/truncated.json", "not a valid hxai hybrid model"),
+    ("models", "is a folder"),
+    ("models/nowhere.json", "No such file"),
+];
+
+#[test]
+fn bad_models_are_refused_by_predict_and_evaluate() {
+    let dir = scratch("models");
+    let out = dir.join("p.csv");
+    let out = out.to_str().unwrap();
+    let rec = corpus("good/r1.parquet");
+    for (file, expect) in BAD_MODELS {
+        let m = corpus(file);
+        refused(
+            &[
+                "predict",
+                "--model",
+                &m,
+                "--record",
+                &rec,
+                "--frequency-hz",
+                "20",
+                "--out",
+                out,
+            ],
+            expect,
+        );
+        refused(
+            &[
+                "evaluate",
+                "--model",
+                &m,
+                "--data",
+                &corpus("good"),
+                "--all",
+            ],
+            expect,
+        );
+        assert!(!Path::new(out).exists());
+    }
+}
+
+#[test]
+fn bad_flags_are_refused_at_once() {
+    let dir = scratch("flags");
+    let rec = corpus("good/r1.parquet");
+    let good = corpus("good");
+    let model = corpus("good/model.json");
+    let out = dir.join("o.csv");
+    let out = out.to_str().unwrap();
+    let m = dir.join("m.json");
+    let m = m.to_str().unwrap();
+    let feats = ["features", "--record", &rec, "--frequency-hz", "20"];
+    for threads in ["0", "100000000"] {
+        let mut a = vec!["--threads", threads];
+        a.extend_from_slice(&feats);
+        refused(&a, "--threads must be 1 to 1024");
+    }
+    let t0 = std::time::Instant::now();
+    refused(
+        &[
+            "displacement",
+            "--record",
+            &rec,
+            "--frequency-hz",
+            "20",
+            "--out",
+            out,
+            "--order",
+            "100000",
+        ],
+        "filter order 100000 is too high; at most 64",
+    );
+    assert!(
+        t0.elapsed().as_secs() < 20,
+        "--order 100000 took {:?}",
+        t0.elapsed()
+    );
+    refused(
+        &[
+            "displacement",
+            "--record",
+            &rec,
+            "--frequency-hz",
+            "1e300",
+            "--out",
+            out,
+        ],
+        "--frequency-hz 1e300 lies outside the pass band 5..200 Hz",
+    );
+    refused(
+        &[
+            "predict",
+            "--model",
+            &model,
+            "--record",
+            &rec,
+            "--frequency-hz",
+            "300",
+            "--out",
+            out,
+        ],
+        "commanded frequency 300 Hz lies outside the physics model's pass band 5..200 Hz",
+    );
+    refused(
+        &["features", "--record", &rec, "--frequency-hz=-5"],
+        "positive",
+    );
+    for (flag, value, expect) in [
+        (
+            "--window-s",
+            "1e18",
+            "window length must be a positive number of seconds up to 1e6, got 1e18",
+        ),
+        ("--discard-s", "1e300", "got 1e300"),
+        ("--test-fraction", "2", "test fraction"),
+    ] {
+        refused(
+            &[
+                "fit", "--data", &good, "--out", m, flag, value, "--epochs", "1",
+            ],
+            expect,
+        );
+    }
+    refused(
+        &[
+            "fit",
+            "--data",
+            &good,
+            "--out",
+            m,
+            "--samples",
+            &format!("{}/x.txt", dir.display()),
+        ],
+        "unknown file type",
+    );
+    assert!(
+        !Path::new(m).exists(),
+        "the model was written before --samples was refused"
+    );
+    let new = dir.join("new");
+    let new = new.to_str().unwrap();
+    refused(
+        &[
+            "simulate",
+            "--out",
+            new,
+            "--config",
+            &corpus("configs/typo_key.json"),
+        ],
+        "unknown field `seeed`",
+    );
+    refused(
+        &[
+            "simulate",
+            "--out",
+            new,
+            "--config",
+            &corpus("configs/not_json.json"),
+        ],
+        "not a valid simulator configuration",
+    );
+    assert!(!Path::new(new).exists());
+    refused(&["simulate", "--out", &good], "the folder is not empty");
+    refused(&["simulate", "--out", &rec], "is a file, not a folder");
+}
+
+fn bytes(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap()
+}
+
+#[test]
+fn inputs_are_never_written_over() {
+    let dir = scratch("sacred");
+    let data = dir.join("data");
+    std::fs::create_dir_all(&data).unwrap();
+    for f in [
+        "manifest.csv",
+        "r1.parquet",
+        "r2.parquet",
+        "r3.parquet",
+        "r4.parquet",
+    ] {
+        std::fs::copy(corpus(&format!("good/{f}")), data.join(f)).unwrap();
+    }
+    let model = dir.join("model.json");
+    std::fs::copy(corpus("good/model.json"), &model).unwrap();
+    let rec = data.join("r1.parquet");
+    let manifest = data.join("manifest.csv");
+    let before: Vec<(PathBuf, Vec<u8>)> = [&rec, &manifest, &model]
+        .iter()
+        .map(|p| (p.to_path_buf(), bytes(p)))
+        .collect();
+    let s = |p: &Path| p.to_str().unwrap().to_owned();
+    let dotted = format!("{}/./r1.parquet", data.display());
+    let cases: Vec<Vec<String>> = vec![
+        vec![
+            "displacement".into(),
+            "--record".into(),
+            s(&rec),
+            "--frequency-hz".into(),
+            "20".into(),
+            "--out".into(),
+            s(&rec),
+        ],
+        vec![
+            "displacement".into(),
+            "--record".into(),
+            s(&rec),
+            "--frequency-hz".into(),
+            "20".into(),
+            "--out".into(),
+            dotted.clone(),
+        ],
+        vec![
+            "predict".into(),
+            "--model".into(),
+            s(&model),
+            "--record".into(),
+            s(&rec),
+            "--frequency-hz".into(),
+            "20".into(),
+            "--out".into(),
+            s(&rec),
+        ],
+        vec![
+            "predict".into(),
+            "--model".into(),
+            s(&model),
+            "--record".into(),
+            s(&rec),
+            "--frequency-hz".into(),
+            "20".into(),
+            "--out".into(),
+            format!("{}", model.display()),
+        ],
+        vec![
+            "fit".into(),
+            "--data".into(),
+            s(&data),
+            "--out".into(),
+            s(&manifest),
+        ],
+        vec![
+            "fit".into(),
+            "--data".into(),
+            s(&data),
+            "--out".into(),
+            s(&rec),
+        ],
+        vec![
+            "fit".into(),
+            "--data".into(),
+            s(&data),
+            "--out".into(),
+            s(&dir.join("m.json")),
+            "--samples".into(),
+            s(&manifest),
+        ],
+        vec![
+            "fit".into(),
+            "--data".into(),
+            s(&data),
+            "--out".into(),
+            s(&dir.join("m.csv")),
+            "--samples".into(),
+            s(&dir.join("m.csv")),
+        ],
+    ];
+    for args in &cases {
+        let a: Vec<&str> = args.iter().map(String::as_str).collect();
+        refused(&a, "refusing to write over an input");
+        for (p, b) in &before {
+            assert_eq!(&bytes(p), b, "{args:?} changed {}", p.display());
+        }
+    }
+    assert!(!dir.join("m.json").exists());
+}
+
+#[cfg(unix)]
+#[test]
+fn json_output_with_a_non_utf8_path_does_not_panic() {
+    use std::os::unix::ffi::OsStrExt;
+    let dir = scratch("nonutf8");
+    let out = dir.join(std::ffi::OsStr::from_bytes(b"p\xff.csv"));
+    let o = Command::new(env!("CARGO_BIN_EXE_hxai"))
+        .args(["predict", "--model", &corpus("good/model.json"), "--record"])
+        .arg(corpus("good/r1.parquet"))
+        .args(["--frequency-hz", "20", "--json", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(doc["warnings"].is_array());
+    assert!(out.exists());
+}
+
+#[test]
+fn closed_stdout_is_a_normal_exit() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hxai"))
+        .args([
+            "features",
+            "--record",
+            &corpus("good/r1.parquet"),
+            "--frequency-hz",
+            "20",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn implausible_input_gives_warnings_not_errors() {
+    // The probe is about 6 um where the manifest commands 4000-10000 um: a unit slip.
+    let out = hxai(&[
+        "evaluate",
+        "--model",
+        &corpus("good/model.json"),
+        "--data",
+        &corpus("folders/probe_in_mm"),
+        "--all",
+        "--json",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning: record `r1`: the probe amplitude"),
+        "{stderr}"
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let w = doc["warnings"].as_array().unwrap();
+    assert_eq!(w.len(), 4, "{w:?}");
+    // A 10 Hz sampling rate is legal but implausible.
+    let dir = scratch("warn");
+    let rec = dir.join("slow.csv");
+    let mut text = String::from("time_s,accel_ms2\n");
+    for i in 0..400 {
+        let t = i as f64 / 10.0;
+        text.push_str(&format!(
+            "{t},{}\n",
+            (2.0 * std::f64::consts::PI * 0.5 * t).sin()
+        ));
+    }
+    std::fs::write(&rec, text).unwrap();
+    let out = hxai(&[
+        "features",
+        "--record",
+        rec.to_str().unwrap(),
+        "--frequency-hz",
+        "0.5",
+        "--json",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("sampling rate 10 Hz is outside"),
+        "{stderr}"
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["warnings"].as_array().map(Vec::len), Some(1));
+}

@@ -1,0 +1,173 @@
+//! The one way this crate (and the command line) writes a file: atomically, and never over
+//! an input.
+//!
+//! [`write_atomic`] writes to a temporary file in the target's own folder, flushes it to
+//! disk, then renames it over the target. A reader (or a crash, or a full disk) therefore
+//! sees either the old file or the complete new one, never a file cut short; on any error
+//! the temporary file is removed and the target is left as it was.
+//!
+//! [`check_output`] refuses an output path that is one of the command's inputs, comparing
+//! canonical paths, so `--out ./r.csv` is caught for `--record r.csv` as well.
+
+use crate::DataError;
+use std::fs::File;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+static COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Writes `path` atomically: `write` fills a temporary file in the same folder, which is
+/// synced and renamed over `path`. Missing parent folders are created. On error the
+/// temporary file is removed and an existing `path` is unchanged.
+///
+/// # Errors
+/// [`DataError::IsADirectory`] when `path` is a folder, [`DataError::Io`] for the file
+/// system, or whatever `write` returns.
+pub fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut File) -> Result<(), DataError>,
+) -> Result<(), DataError> {
+    if path.is_dir() {
+        return Err(DataError::IsADirectory {
+            path: path.to_path_buf(),
+        });
+    }
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    std::fs::create_dir_all(&parent).map_err(|e| DataError::io(&parent, e))?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .ok_or_else(|| DataError::IsADirectory {
+            path: path.to_path_buf(),
+        })?;
+    let tmp = parent.join(format!(
+        ".{name}.{}-{}.tmp",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    let result = (|| {
+        let mut file = File::create_new(&tmp).map_err(|e| DataError::io(&tmp, e))?;
+        write(&mut file)?;
+        file.flush().map_err(|e| DataError::io(path, e))?;
+        file.sync_all().map_err(|e| DataError::io(path, e))?;
+        drop(file);
+        std::fs::rename(&tmp, path).map_err(|e| DataError::io(path, e))
+    })();
+    match result {
+        Ok(()) => {
+            // Make the rename itself durable; not all platforms can sync a folder.
+            if let Ok(dir) = File::open(&parent) {
+                let _ = dir.sync_all();
+            }
+            Ok(())
+        }
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
+}
+
+/// Writes bytes to `path` atomically (see [`write_atomic`]).
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), DataError> {
+    write_atomic(path, |f| {
+        f.write_all(bytes).map_err(|e| DataError::io(path, e))
+    })
+}
+
+/// The canonical form of a path that may not exist yet: its folder canonicalised, joined
+/// with its file name. `None` when even the folder cannot be resolved (then it exists
+/// nowhere and cannot be an input).
+fn canonical(path: &Path) -> Option<PathBuf> {
+    if let Ok(p) = path.canonicalize() {
+        return Some(p);
+    }
+    let name = path.file_name()?;
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    parent.canonicalize().ok().map(|p| p.join(name))
+}
+
+/// Refuses an output path that names one of the inputs (after resolving `.`, `..` and
+/// symbolic links), or that is a folder. Each input is `(path, role)`, the role saying in
+/// the message what would be destroyed (`"the record"`, `"the manifest of --data"`).
+///
+/// # Errors
+/// [`DataError::OutputIsInput`] or [`DataError::IsADirectory`].
+pub fn check_output(output: &Path, inputs: &[(PathBuf, String)]) -> Result<(), DataError> {
+    if output.is_dir() {
+        return Err(DataError::IsADirectory {
+            path: output.to_path_buf(),
+        });
+    }
+    let Some(out) = canonical(output) else {
+        return Ok(());
+    };
+    for (input, role) in inputs {
+        if canonical(input).is_some_and(|i| i == out) {
+            return Err(DataError::OutputIsInput {
+                output: output.to_path_buf(),
+                role: role.clone(),
+            });
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    fn dir(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("hxai-atomic-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[test]
+    fn failed_write_leaves_old_file_and_no_temp() {
+        let d = dir("fail");
+        let p = d.join("m.json");
+        std::fs::write(&p, "old").unwrap();
+        let r = write_atomic(&p, |f| {
+            f.write_all(b"half").unwrap();
+            Err(DataError::IsADirectory { path: p.clone() })
+        });
+        assert!(r.is_err());
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "old");
+        assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1, "temp file left");
+        write_bytes(&p, b"new").unwrap();
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "new");
+        assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn output_equal_to_an_input_is_refused_in_any_spelling() {
+        let d = dir("guard");
+        let input = d.join("r.csv");
+        std::fs::write(&input, "x").unwrap();
+        let inputs = vec![(input.clone(), "the record".to_string())];
+        let other = d.join("sub").join("..").join("r.csv");
+        std::fs::create_dir_all(d.join("sub")).unwrap();
+        for out in [input.clone(), other] {
+            let e = check_output(&out, &inputs).unwrap_err();
+            assert!(e.to_string().contains("the record"), "{e}");
+        }
+        assert!(check_output(&d.join("new.csv"), &inputs).is_ok());
+        assert!(check_output(&d.join("nowhere").join("x.csv"), &inputs).is_ok());
+        assert!(matches!(
+            check_output(&d, &inputs),
+            Err(DataError::IsADirectory { .. })
+        ));
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+}
