@@ -53,17 +53,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         "--frequency-hz must be a positive number of Hz, got {}",
         hxai_data::format_number(args.frequency_hz)
     );
-    // One period of the commanded frequency is the least a feature of it can describe.
-    let period_samples = (rec.fs_hz() / args.frequency_hz).ceil() + 1.0;
-    anyhow::ensure!(
-        rec.len() as f64 >= period_samples,
-        "{}: the record has {} samples but one period of {} Hz at {} Hz needs at least {}",
-        args.record.display(),
-        rec.len(),
-        hxai_data::format_number(args.frequency_hz),
-        hxai_data::format_number(rec.fs_hz()),
-        hxai_data::format_number(period_samples)
-    );
+    hxai_features::check_covers_one_period(rec.len(), rec.fs_hz(), args.frequency_hz)
+        .with_context(|| args.record.display().to_string())?;
     let warnings: Vec<String> = hxai_hybrid::record_warnings(
         &args.record.display().to_string(),
         rec.fs_hz(),

@@ -478,7 +478,7 @@ fn print_comparison(c: &Comparison) {
     for m in &c.models {
         println!(
             "{:<20} {:>10.4} {:>14.6e} {:>14.6e}",
-            m.name, m.r2, m.rmse, m.mae
+            m.name, m.metrics.r2, m.metrics.rmse, m.metrics.mae
         );
     }
     if !c.cv.is_empty() {
@@ -496,7 +496,7 @@ fn print_comparison(c: &Comparison) {
     for t in &c.t_tests {
         println!(
             "paired t-test {} vs {} (squared errors): t = {:.3}, p = {:.3e}",
-            t.model, t.baseline, t.statistic, t.p_value
+            t.model, t.baseline, t.test.statistic, t.test.p_value
         );
     }
     println!("hybrid: {} = {}", c.target, c.hybrid.hybrid.equation);

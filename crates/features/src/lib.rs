@@ -76,6 +76,54 @@ pub enum FeatureError {
     /// The spectrum estimate failed.
     #[error("power spectral density: {0}")]
     Signal(#[from] SignalError),
+    /// The record is shorter than one period of the command frequency
+    /// ([`check_covers_one_period`]).
+    #[error(
+        "the record has {len} samples but one period of {command_hz} Hz at {fs} Hz needs at least {need}"
+    )]
+    ShorterThanOnePeriod {
+        /// Samples given.
+        len: usize,
+        /// Samples one period needs (`ceil(fs / command_hz) + 1`).
+        need: usize,
+        /// Command frequency, Hz.
+        command_hz: f64,
+        /// Sampling rate, Hz.
+        fs: f64,
+    },
+}
+
+/// Refuses a record of `len` samples at `fs` Hz that does not cover one period of
+/// `command_hz` (`ceil(fs / command_hz) + 1` samples): the least a feature of the commanded
+/// motion can describe. [`extract`] itself accepts any record of two or more samples (a
+/// window of a long record is the caller's choice); front ends that take a whole record from
+/// a user call this first.
+///
+/// # Errors
+/// [`FeatureError::InvalidSampleRate`], [`FeatureError::InvalidCommandFrequency`],
+/// [`FeatureError::ShorterThanOnePeriod`].
+pub fn check_covers_one_period(len: usize, fs: f64, command_hz: f64) -> Result<(), FeatureError> {
+    if !(fs.is_finite() && fs > 0.0) {
+        return Err(FeatureError::InvalidSampleRate(fs));
+    }
+    if !(command_hz.is_finite() && command_hz > 0.0) {
+        return Err(FeatureError::InvalidCommandFrequency(command_hz));
+    }
+    let need = (fs / command_hz).ceil() + 1.0;
+    if (len as f64) < need {
+        return Err(FeatureError::ShorterThanOnePeriod {
+            len,
+            // Saturating: a period longer than usize::MAX samples is refused all the same.
+            need: if need >= usize::MAX as f64 {
+                usize::MAX
+            } else {
+                need as usize
+            },
+            command_hz,
+            fs,
+        });
+    }
+    Ok(())
 }
 
 /// How sigma in kurtosis and skewness is computed.

@@ -290,7 +290,7 @@ fn compare_reports_every_model_and_the_folds() {
     }
     assert_eq!(c.t_test.baseline, "physics");
     assert_eq!(c.t_tests.len(), 4);
-    let score = |n: &str| c.models.iter().find(|m| m.name == n).unwrap().rmse;
+    let score = |n: &str| c.models.iter().find(|m| m.name == n).unwrap().metrics.rmse;
     // with k = 1 the uncalibrated law is 1.3x off: calibration must help
     assert!(score("physics_calibrated") < score("physics"));
     assert!(score("hybrid") < score("physics_calibrated"));

@@ -15,7 +15,7 @@
 use crate::figures::{Panel, Series, draw};
 use crate::{Progress, ReproduceConfig, ReproduceError};
 use hxai_hybrid::process::{
-    Comparison, CorrectionForm, ProcessConfig, ProcessModel, compare_process,
+    Comparison, CorrectionForm, ModelScore, ProcessConfig, ProcessModel, compare_process,
 };
 use hxai_sim::cases::{
     CuttingForceConfig, RoughnessConfig, cutting_force, cutting_force::HANDBOOK_KC11,
@@ -97,7 +97,7 @@ pub struct SplitResult {
     /// Range of the extrapolated column on the training and the test rows.
     pub ranges: Option<[[f64; 2]; 2]>,
     /// Test-split scores of every model.
-    pub models: Vec<ModelRow>,
+    pub models: Vec<ModelScore>,
     /// k-fold cross-validation (empty at the extrapolation split).
     pub cv: Vec<CvRow>,
     /// Paired t-tests of the hybrid's squared errors against each other model's.
@@ -108,19 +108,6 @@ pub struct SplitResult {
     pub correction: EquationRow,
     /// The whole hybrid as one equation.
     pub hybrid: EquationRow,
-}
-
-/// Test scores of one model.
-#[derive(Debug, Clone, Serialize)]
-pub struct ModelRow {
-    /// `physics`, `physics_calibrated`, `symbolic`, `physics_forest` or `hybrid`.
-    pub name: String,
-    /// R².
-    pub r2: f64,
-    /// RMSE (target's unit).
-    pub rmse: f64,
-    /// MAE (target's unit).
-    pub mae: f64,
 }
 
 /// Cross-validated R² of one model.
@@ -313,24 +300,18 @@ fn split_result(c: &Comparison, table: &Table, extrapolate: Option<&str>) -> Spl
     let m: &ProcessModel = &c.hybrid;
     let ranges = extrapolate.and_then(|col| {
         let v = table.column(col)?;
-        let pick = |rows: &[usize]| span(rows.iter().filter_map(|&i| v.get(i).copied()));
-        Some([pick(&m.split.train), pick(&m.split.test)])
+        let pick = |rows: &[usize]| {
+            let values: Vec<f64> = rows.iter().filter_map(|&i| v.get(i).copied()).collect();
+            hxai_eval::extent(&values).ok().map(|e| [e.min, e.max])
+        };
+        Some([pick(&m.split.train)?, pick(&m.split.test)?])
     });
     SplitResult {
         split: c.split.clone(),
         n_train: c.n_train,
         n_test: c.n_test,
         ranges,
-        models: c
-            .models
-            .iter()
-            .map(|s| ModelRow {
-                name: s.name.clone(),
-                r2: s.r2,
-                rmse: s.rmse,
-                mae: s.mae,
-            })
-            .collect(),
+        models: c.models.clone(),
         cv: c
             .cv
             .iter()
@@ -346,8 +327,8 @@ fn split_result(c: &Comparison, table: &Table, extrapolate: Option<&str>) -> Spl
             .iter()
             .map(|t| TTestRow {
                 baseline: t.baseline.clone(),
-                statistic: t.statistic,
-                p_value: t.p_value,
+                statistic: t.test.statistic,
+                p_value: t.test.p_value,
             })
             .collect(),
         parameters: m
@@ -377,7 +358,10 @@ fn split_result(c: &Comparison, table: &Table, extrapolate: Option<&str>) -> Spl
 }
 
 fn rmse_of(s: &SplitResult, name: &str) -> Option<f64> {
-    s.models.iter().find(|m| m.name == name).map(|m| m.rmse)
+    s.models
+        .iter()
+        .find(|m| m.name == name)
+        .map(|m| m.metrics.rmse)
 }
 
 fn p_of(s: &SplitResult, baseline: &str) -> Option<f64> {
@@ -668,9 +652,9 @@ fn model_table(out: &mut String, s: &SplitResult, unit: &str) {
         out.push_str(&format!(
             "| {} | {:.4} | {} | {} | {} |\n",
             m.name,
-            m.r2,
-            num(m.rmse),
-            num(m.mae),
+            m.metrics.r2,
+            num(m.metrics.rmse),
+            num(m.metrics.mae),
             t
         ));
     }
@@ -796,11 +780,11 @@ fn verdicts(case: &CaseResult) -> String {
     for (s, label) in [(r, "random"), (e, "extrapolation")] {
         if let Some(h) = rmse_of(s, "hybrid") {
             for m in &s.models {
-                if m.name != "hybrid" && m.rmse <= h {
+                if m.name != "hybrid" && m.metrics.rmse <= h {
                     losses.push(format!(
                         "`{}` matches or beats it at the {label} split (test RMSE {})",
                         m.name,
-                        num(m.rmse)
+                        num(m.metrics.rmse)
                     ));
                 }
             }

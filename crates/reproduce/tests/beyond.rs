@@ -28,7 +28,7 @@ fn both_cases_at_both_splits_and_repeatable() -> Result<(), Box<dyn std::error::
             assert!(
                 s.models
                     .iter()
-                    .all(|m| m.rmse.is_finite() && m.r2.is_finite())
+                    .all(|m| m.metrics.rmse.is_finite() && m.metrics.r2.is_finite())
             );
             assert_eq!(s.n_train + s.n_test, a.rows);
             assert!(!s.parameters.is_empty());

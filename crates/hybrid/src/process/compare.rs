@@ -6,7 +6,7 @@ use super::{
 };
 use crate::HybridError;
 use hxai_baselines::{RandomForest, Regressor};
-use hxai_eval::Split;
+use hxai_eval::{Metrics, Split, TTest};
 use hxai_symreg::Table;
 use serde::{Deserialize, Serialize};
 
@@ -15,12 +15,9 @@ use serde::{Deserialize, Serialize};
 pub struct ModelScore {
     /// `physics`, `physics_calibrated`, `symbolic`, `physics_forest` or `hybrid`.
     pub name: String,
-    /// R^2 on the test rows.
-    pub r2: f64,
-    /// RMSE on the test rows.
-    pub rmse: f64,
-    /// MAE on the test rows.
-    pub mae: f64,
+    /// R^2, RMSE and MAE on the test rows (flattened into this object in JSON).
+    #[serde(flatten)]
+    pub metrics: Metrics,
 }
 
 /// Cross-validated R^2 of one model.
@@ -47,12 +44,10 @@ pub struct TTestScore {
     pub model: String,
     /// What it is compared with.
     pub baseline: String,
-    /// t statistic of `se_baseline - se_model` (positive: the model's errors are smaller).
-    pub statistic: f64,
-    /// Degrees of freedom.
-    pub df: f64,
-    /// Two-tailed p-value.
-    pub p_value: f64,
+    /// The test on `se_baseline - se_model` (positive statistic: the model's errors are
+    /// smaller); flattened into this object in JSON.
+    #[serde(flatten)]
+    pub test: TTest,
 }
 
 /// What [`compare_process`] returns.
@@ -194,9 +189,7 @@ fn t_test(
     Ok(TTestScore {
         model: mname.into(),
         baseline: bname.into(),
-        statistic: t.statistic,
-        df: t.df,
-        p_value: t.p_value,
+        test: t,
     })
 }
 
@@ -234,12 +227,9 @@ pub fn compare_process(
     let y_test = gather(y, &split.test);
     let mut models = Vec::new();
     for (name, p) in main.names.iter().zip(&main.preds) {
-        let m = hxai_eval::score(&y_test, p)?;
         models.push(ModelScore {
             name: (*name).to_string(),
-            r2: m.r2,
-            rmse: m.rmse,
-            mae: m.mae,
+            metrics: hxai_eval::score(&y_test, p)?,
         });
     }
     let pred_of = |name: &str| {
