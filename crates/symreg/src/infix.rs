@@ -4,7 +4,7 @@
 //! `kc*b*h^(1-mc)` or `f^2/(32*r)`. [`parse`] reads it into an [`Expr`]; [`compile`] turns
 //! that into a postfix [`Program`] over named inputs whose named parameters and numbers are
 //! constant leaves, so a physics law is evaluated and differentiated by the same
-//! [`Evaluator`](crate::eval::Evaluator) as every symbolic-regression candidate, and its
+//! [`Evaluator`] as every symbolic-regression candidate, and its
 //! parameters are calibrated by the same Levenberg-Marquardt machinery.
 //!
 //! Syntax: `+ - * /`, `^` and `**` (right-associative, binding tighter than unary minus, as

@@ -145,7 +145,7 @@ impl Model {
     /// Text that `sympy.sympify` parses, with full-precision constants (`**` powers, `Abs`).
     /// A feature name is written as it is when sympy reads it back as a symbol of that
     /// name, otherwise as `Symbol('name')` (names such as `E`, `I`, `pi`, `lambda`, `a b`,
-    /// unicode; see [`crate::sympy_symbol`]), so the text always reads back with plain
+    /// unicode; see [`crate::expr::sympy_symbol`]), so the text always reads back with plain
     /// `sympy.sympify` and every feature stays a distinct symbol.
     pub fn sympy(&self) -> String {
         self.expr().to_text(None, true)

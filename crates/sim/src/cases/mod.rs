@@ -1,6 +1,6 @@
 //! Two more manufacturing processes as seeded table generators (issue 13): finish-turning
-//! surface roughness ([`roughness`]) and the main cutting force in turning
-//! ([`cutting_force`]).
+//! surface roughness ([`roughness()`]) and the main cutting force in turning
+//! ([`cutting_force()`]).
 //!
 //! Each generator starts from the law an engineer would write down (the *physics*: the
 //! kinematic roughness `Ra = f^2 / (32 r)`, Kienzle's force law `Fc = kc1.1 b h^(1 - mc)`)
