@@ -47,37 +47,155 @@ pub fn cholesky_solve(a: &mut [f64], b: &mut [f64], m: usize) -> bool {
     true
 }
 
-/// Runs at most `max_iter` Levenberg-Marquardt iterations on the parameters whose index is
-/// in `free`, starting from `params` (which is updated in place). Returns the final mean
-/// squared error (`INFINITY` when the model is not finite on the data). Stops early when an
-/// accepted step lowers the error by less than the fraction `tol`.
-#[allow(clippy::too_many_arguments)]
+/// The unknowns Levenberg-Marquardt fits: which parameters move, and which move together.
+#[derive(Debug, Clone, Copy)]
+pub enum Unknowns<'a> {
+    /// One unknown per listed parameter index (the search's case).
+    Free(&'a [usize]),
+    /// One unknown per group of tied parameter indices: a physics parameter used twice in
+    /// an equation owns two constant leaves that must move as one. The Jacobian column of
+    /// a group is the sum of its leaves' columns, so its normal equations are sums of
+    /// blocks of the leaves' normal equations.
+    Tied(&'a [Vec<usize>]),
+}
+
+impl Unknowns<'_> {
+    /// The number of unknowns.
+    pub fn len(&self) -> usize {
+        match self {
+            Unknowns::Free(free) => free.len(),
+            Unknowns::Tied(groups) => groups.len(),
+        }
+    }
+
+    /// True when there is nothing to fit.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Gauss-Newton normal equations of the unknowns at `params`: fills `jtj` (`len()`
+    /// squared, row-major; the lower triangle is what [`cholesky_solve`] reads) and `jtr`
+    /// (`len()`) and returns the mean squared error (`INFINITY` if not finite). `Free`
+    /// fills the lower triangle only; `Tied` fills the whole symmetric matrix.
+    #[allow(clippy::too_many_arguments)]
+    pub fn normal_equations(
+        &self,
+        ev: &mut Evaluator,
+        prog: &Program,
+        params: &[f64],
+        cols: &[&[f64]],
+        y: &[f64],
+        jtj: &mut [f64],
+        jtr: &mut [f64],
+    ) -> f64 {
+        let groups = match self {
+            Unknowns::Free(free) => {
+                return ev.normal_equations(prog, params, free, cols, y, jtj, jtr);
+            }
+            Unknowns::Tied(groups) => groups,
+        };
+        let flat: Vec<usize> = groups.iter().flatten().copied().collect();
+        let owner: Vec<usize> = groups
+            .iter()
+            .enumerate()
+            .flat_map(|(g, v)| std::iter::repeat_n(g, v.len()))
+            .collect();
+        let mf = flat.len();
+        let mut leaf_jtj = vec![0.0; mf * mf];
+        let mut leaf_jtr = vec![0.0; mf];
+        let mse = ev.normal_equations(prog, params, &flat, cols, y, &mut leaf_jtj, &mut leaf_jtr);
+        let m = groups.len();
+        jtj.fill(0.0);
+        jtr.fill(0.0);
+        for a in 0..mf {
+            jtr[owner[a]] += leaf_jtr[a];
+            for b in 0..mf {
+                let v = if b <= a {
+                    leaf_jtj[a * mf + b]
+                } else {
+                    leaf_jtj[b * mf + a]
+                };
+                jtj[owner[a] * m + owner[b]] += v;
+            }
+        }
+        mse
+    }
+
+    /// Adds the step `delta` (one entry per unknown) to `params`.
+    fn apply(&self, params: &mut [f64], delta: &[f64]) {
+        match self {
+            Unknowns::Free(free) => {
+                for (i, &p) in free.iter().enumerate() {
+                    params[p] += delta[i];
+                }
+            }
+            Unknowns::Tied(groups) => {
+                for (g, d) in groups.iter().zip(delta) {
+                    for &i in g {
+                        params[i] += d;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// How long Levenberg-Marquardt runs and how it damps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LmSettings {
+    /// At most this many accepted steps.
+    pub max_iter: usize,
+    /// Stop when an accepted step lowers the error by less than this fraction.
+    pub tol: f64,
+    /// Damping increases tried per iteration before giving up.
+    pub retries: usize,
+    /// The damping `lambda` never falls below this after an accepted step.
+    pub lambda_floor: f64,
+}
+
+impl LmSettings {
+    /// The search's settings (8 damping retries, damping floor `1e-10`) with the given
+    /// iteration limit and relative tolerance.
+    pub fn new(max_iter: usize, tol: f64) -> Self {
+        Self {
+            max_iter,
+            tol,
+            retries: 8,
+            lambda_floor: 1e-10,
+        }
+    }
+}
+
+/// Runs Levenberg-Marquardt on `unknowns`, starting from `params` (which is updated in
+/// place). Returns the final mean squared error (`INFINITY` when the model is not finite on
+/// the data). Stops after `settings.max_iter` accepted steps, when no damping of
+/// `settings.retries` tries lowers the error, or early when an accepted step lowers the
+/// error by less than the fraction `settings.tol`.
 pub fn levenberg_marquardt(
     prog: &Program,
     params: &mut [f64],
-    free: &[usize],
+    unknowns: Unknowns,
     cols: &[&[f64]],
     y: &[f64],
-    max_iter: usize,
-    tol: f64,
+    settings: &LmSettings,
     ev: &mut Evaluator,
 ) -> f64 {
-    let m = free.len();
+    let m = unknowns.len();
     let mut jtj = vec![0.0; m * m];
     let mut jtr = vec![0.0; m];
     let mut a = vec![0.0; m * m];
     let mut delta = vec![0.0; m];
     let mut trial = params.to_vec();
-    let mut mse = ev.normal_equations(prog, params, free, cols, y, &mut jtj, &mut jtr);
+    let mut mse = unknowns.normal_equations(ev, prog, params, cols, y, &mut jtj, &mut jtr);
     if !mse.is_finite() || m == 0 {
         // a non-finite Jacobian (sqrt or log at 0, say) ends the fit, but the start's own
         // loss may still be finite
         return ev.mse(prog, params, cols, y);
     }
     let mut lambda = 1e-3;
-    for _ in 0..max_iter {
+    for _ in 0..settings.max_iter {
         let mut accepted = false;
-        for _ in 0..8 {
+        for _ in 0..settings.retries {
             a.copy_from_slice(&jtj);
             for i in 0..m {
                 let d = jtj[i * m + i];
@@ -91,17 +209,15 @@ pub fn levenberg_marquardt(
                 continue;
             }
             trial.copy_from_slice(params);
-            for (i, &p) in free.iter().enumerate() {
-                trial[p] += delta[i];
-            }
+            unknowns.apply(&mut trial, &delta);
             let new = ev.mse(prog, &trial, cols, y);
             if new < mse {
                 params.copy_from_slice(&trial);
-                lambda = (lambda * 0.2).max(1e-10);
+                lambda = (lambda * 0.2).max(settings.lambda_floor);
                 accepted = true;
                 let improvement = (mse - new) / mse.max(1e-300);
                 mse = new;
-                if improvement < tol {
+                if improvement < settings.tol {
                     return mse;
                 }
                 break;
@@ -111,7 +227,7 @@ pub fn levenberg_marquardt(
         if !accepted {
             break;
         }
-        let next = ev.normal_equations(prog, params, free, cols, y, &mut jtj, &mut jtr);
+        let next = unknowns.normal_equations(ev, prog, params, cols, y, &mut jtj, &mut jtr);
         if !next.is_finite() {
             // the accepted step's loss stands; only its Jacobian is unusable
             return mse;

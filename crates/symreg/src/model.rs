@@ -1,7 +1,7 @@
 //! Fitted models: evaluation on new data, export, and constant snapping.
 use crate::eval::Evaluator;
 use crate::expr::Expr;
-use crate::fit::levenberg_marquardt;
+use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::program::{ComplexityMeasure, Node, Program};
 use crate::{SrError, Table};
 use serde::{Deserialize, Serialize};
@@ -284,7 +284,15 @@ pub(crate) fn snap_params(
                 if direct <= allowed {
                     direct
                 } else {
-                    levenberg_marquardt(prog, &mut trial, &free, cols, y, 20, 1e-10, &mut ev)
+                    levenberg_marquardt(
+                        prog,
+                        &mut trial,
+                        Unknowns::Free(&free),
+                        cols,
+                        y,
+                        &LmSettings::new(20, 1e-10),
+                        &mut ev,
+                    )
                 }
             };
             if mse.is_finite() && mse <= allowed {

@@ -1,7 +1,7 @@
 //! Property tests of the expression machinery.
 #![allow(clippy::unwrap_used, clippy::needless_range_loop)]
 use hxai_symreg::eval::Evaluator;
-use hxai_symreg::fit::{InputScales, initial_params, levenberg_marquardt};
+use hxai_symreg::fit::{InputScales, LmSettings, Unknowns, initial_params, levenberg_marquardt};
 use hxai_symreg::search::generate::Tables;
 use hxai_symreg::{
     ComplexityMeasure, Model, Node, Op, Program, SearchConfig, Table, fit_structure,
@@ -168,7 +168,15 @@ proptest! {
         let mut p = initial_params(&prog, &InputScales::new(&refs), Some(&mut rng), &refs, &y, &mut ev);
         let before = ev.mse(&prog, &p, &refs, &y);
         let free: Vec<usize> = (0..p.len()).collect();
-        let after = levenberg_marquardt(&prog, &mut p, &free, &refs, &y, 20, 1e-12, &mut ev);
+        let after = levenberg_marquardt(
+            &prog,
+            &mut p,
+            Unknowns::Free(&free),
+            &refs,
+            &y,
+            &LmSettings::new(20, 1e-12),
+            &mut ev,
+        );
         prop_assert!(after <= before || !before.is_finite(), "{before} -> {after}");
     }
 }

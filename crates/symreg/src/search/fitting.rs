@@ -3,7 +3,7 @@
 use super::archive::{Candidate, Fitted};
 use super::config::{Criterion, MIN_ROWS, SearchConfig};
 use crate::eval::Evaluator;
-use crate::fit::{InputScales, initial_params, levenberg_marquardt};
+use crate::fit::{InputScales, LmSettings, Unknowns, initial_params, levenberg_marquardt};
 use crate::{SrError, Table};
 use rand::SeedableRng;
 use rand::seq::index::sample;
@@ -177,11 +177,10 @@ impl<'a> Problem<'a> {
             let mse = levenberg_marquardt(
                 prog,
                 &mut p,
-                &free,
+                Unknowns::Free(&free),
                 &cols,
                 y,
-                self.cfg.lm_iterations,
-                SEARCH_LM_TOLERANCE,
+                &LmSettings::new(self.cfg.lm_iterations, SEARCH_LM_TOLERANCE),
                 &mut ev,
             );
             if mse < best {

@@ -6,7 +6,7 @@ use super::config::Criterion;
 use super::export::to_model;
 use super::fitting::Problem;
 use crate::eval::Evaluator;
-use crate::fit::levenberg_marquardt;
+use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::model::{Model, snap_params};
 use crate::{SrError, Table};
 use rayon::prelude::*;
@@ -116,11 +116,10 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
     let mut mse = levenberg_marquardt(
         prog,
         &mut params,
-        &free,
+        Unknowns::Free(&free),
         full_cols,
         y,
-        REFIT_LM_ITERATIONS,
-        REFIT_LM_TOLERANCE,
+        &LmSettings::new(REFIT_LM_ITERATIONS, REFIT_LM_TOLERANCE),
         &mut ev,
     );
     if !mse.is_finite() {
