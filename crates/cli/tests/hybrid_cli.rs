@@ -145,7 +145,7 @@ fn fit_evaluate_predict() -> TestResult {
     );
     assert!(h < p, "hybrid {h:?} vs physics {p:?}");
 
-    let out = hxai_ok(&[
+    let out = hxai(&[
         "evaluate",
         "--model",
         s(&model),
@@ -160,7 +160,7 @@ fn fit_evaluate_predict() -> TestResult {
 
     let pred = dir.join("pred.csv");
     let rec = data.join("a7_f20.parquet");
-    let out = hxai(
+    hxai_ok(
         &[
             "predict",
             "--model",
