@@ -14,6 +14,7 @@ mod evaluate;
 mod features;
 mod fit;
 mod hybrid;
+mod one_record;
 mod predict;
 mod records;
 mod safety;
