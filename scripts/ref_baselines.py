@@ -7,9 +7,7 @@ Writes testdata/baselines/reference.json. Not run by CI.
 All features are continuous random draws, so no two values tie (tree splits are unique).
 """
 import json
-import os
 import pathlib
-import tempfile
 
 import numpy as np
 import sklearn
@@ -18,18 +16,10 @@ from sklearn.linear_model import LassoCV, LinearRegression
 from sklearn.metrics import r2_score
 from sklearn.tree import DecisionTreeRegressor
 
+from _common import write_atomic
+
 rng = np.random.default_rng(7)
 out = {"versions": {"numpy": np.__version__, "sklearn": sklearn.__version__}}
-
-
-def write_atomic(path, text):
-    """Writes `text` to `path` through a temporary file in the same folder, then a rename,
-    so an interrupted run never leaves a half-written reference file."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
 
 
 def rows(a):

@@ -6,9 +6,7 @@ Run: `cargo xtask refs` (all ref scripts, pinned versions from scripts/requireme
 Writes testdata/eval/reference.json. Not run by CI. Values come from scikit-learn and scipy.
 """
 import json
-import os
 import pathlib
-import tempfile
 
 import numpy as np
 import scipy
@@ -16,18 +14,11 @@ import sklearn
 from scipy import stats
 from sklearn.metrics import mean_absolute_error, mean_squared_error, r2_score
 
+from _common import write_atomic
+
 rng = np.random.default_rng(20261121)
 out = {"versions": {"numpy": np.__version__, "scipy": scipy.__version__, "sklearn": sklearn.__version__}}
 
-
-def write_atomic(path, text):
-    """Writes `text` to `path` through a temporary file in the same folder, then a rename,
-    so an interrupted run never leaves a half-written reference file."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
 
 metrics = []
 for n in [2, 5, 17, 100, 333]:

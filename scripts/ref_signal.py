@@ -7,13 +7,13 @@ Writes testdata/signal/*.json and testdata/features/*.json (small; committed; no
 Signals are drawn from a seeded numpy generator and stored, so Rust never has to regenerate them.
 """
 import json
-import os
 import pathlib
-import tempfile
 
 import numpy as np
 import scipy
 from scipy import integrate, signal, stats
+
+from _common import write_atomic
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 SIG = ROOT / "testdata" / "signal"
@@ -24,16 +24,6 @@ rng = np.random.default_rng(20260521)
 def dump(path, obj):
     obj = {"generator": f"scripts/ref_signal.py (scipy {scipy.__version__}, numpy {np.__version__})", **obj}
     write_atomic(path, json.dumps(obj, separators=(",", ":")) + "\n")
-
-
-def write_atomic(path, text):
-    """Writes `text` to `path` through a temporary file in the same folder, then a rename,
-    so an interrupted run never leaves a half-written reference file."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
 
 
 def lst(a):

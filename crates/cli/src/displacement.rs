@@ -6,6 +6,7 @@ use anyhow::{Context, Result};
 use hxai_signal::{Drift, Integrator, PhysicsConfig};
 
 use crate::Global;
+use crate::one_record::RecordArgs;
 
 /// How the acceleration is integrated.
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
@@ -30,13 +31,11 @@ pub enum DriftArg {
 /// Arguments of `hxai displacement`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Record file (CSV or Parquet, by extension) with columns `time_s` and `accel_ms2`.
-    #[arg(long)]
-    pub record: PathBuf,
-    /// Commanded frequency in Hz; must lie inside the pass band. The command's amplitude and
-    /// phase in the physics displacement are reported (least-squares sine fit).
-    #[arg(long)]
-    pub frequency_hz: f64,
+    /// The record and its commanded frequency, which must lie inside the pass band; the
+    /// command's amplitude and phase in the physics displacement are reported
+    /// (least-squares sine fit).
+    #[command(flatten)]
+    pub input: RecordArgs,
     /// Output table (CSV or Parquet, by extension) with columns `time_s,displacement_um`.
     #[arg(long)]
     pub out: PathBuf,
@@ -64,31 +63,25 @@ pub struct Args {
 pub fn run(args: Args, _g: &Global) -> Result<()> {
     let n = hxai_data::format_number;
     anyhow::ensure!(
-        args.frequency_hz.is_finite()
-            && args.frequency_hz >= args.low_hz
-            && args.frequency_hz <= args.high_hz,
+        args.input.frequency_hz.is_finite()
+            && args.input.frequency_hz >= args.low_hz
+            && args.input.frequency_hz <= args.high_hz,
         "--frequency-hz {} lies outside the pass band {}..{} Hz; give the commanded frequency or widen the band with --low-hz/--high-hz",
-        n(args.frequency_hz),
+        n(args.input.frequency_hz),
         n(args.low_hz),
         n(args.high_hz)
     );
     crate::safety::check_output(
         &args.out,
-        &[crate::safety::input(&args.record, "the record (--record)")],
+        &[crate::safety::input(
+            &args.input.record,
+            "the record (--record)",
+        )],
     )?;
     crate::safety::check_table_path(&args.out)?;
-    let rec = hxai_data::read_record(&args.record)
-        .with_context(|| format!("reading record {}", args.record.display()))?;
-    let warnings: Vec<String> = hxai_hybrid::record_warnings(
-        &args.record.display().to_string(),
-        rec.fs_hz(),
-        args.frequency_hz,
-        rec.len(),
-    )
-    .iter()
-    .map(ToString::to_string)
-    .collect();
-    crate::safety::warn(&warnings);
+    let rec = hxai_data::read_record(&args.input.record)
+        .with_context(|| format!("reading record {}", args.input.record.display()))?;
+    let warnings = args.input.warn(&rec);
     let fs = rec.fs_hz();
     let cfg = PhysicsConfig {
         low_hz: args.low_hz,
@@ -109,8 +102,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         ..PhysicsConfig::default()
     };
     let d_um = hxai_signal::displacement(&rec.accel_ms2, fs, &cfg)
-        .with_context(|| format!("physics model on {}", args.record.display()))?;
-    let fit = hxai_signal::fit_sine(&d_um, fs, args.frequency_hz)
+        .with_context(|| format!("physics model on {}", args.input.record.display()))?;
+    let fit = hxai_signal::fit_sine(&d_um, fs, args.input.frequency_hz)
         .context("fitting the commanded sine to the displacement")?;
     let table = hxai_data::Table::new(
         vec!["time_s".into(), "displacement_um".into()],
@@ -120,11 +113,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     hxai_data::write_table(&args.out, &table)
         .with_context(|| format!("writing {}", args.out.display()))?;
     let summary = serde_json::json!({
-        "record": args.record.display().to_string(),
+        "record": args.input.record.display().to_string(),
         "out": args.out.display().to_string(),
         "samples": rec.len(),
         "fs_hz": fs,
-        "frequency_hz": args.frequency_hz,
+        "frequency_hz": args.input.frequency_hz,
         "amplitude_um": fit.amplitude,
         "phase_rad": fit.phase,
         "offset_um": fit.offset,
@@ -139,7 +132,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             args.out.display(),
             rec.len(),
             fs,
-            args.frequency_hz,
+            args.input.frequency_hz,
             fit.amplitude
         ))?;
     }

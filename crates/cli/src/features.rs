@@ -1,10 +1,9 @@
 //! `hxai features`: the twelve acceleration features (paper Table 2) of one record.
-use std::path::PathBuf;
-
 use anyhow::{Context, Result};
 use hxai_features::{FeatureConfig, Features, PsdEstimator, Sigma};
 
 use crate::Global;
+use crate::one_record::RecordArgs;
 
 /// Sigma of kurtosis and skewness.
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
@@ -27,12 +26,9 @@ pub enum PsdArg {
 /// Arguments of `hxai features`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Record file (CSV or Parquet, by extension) with columns `time_s` and `accel_ms2`.
-    #[arg(long)]
-    pub record: PathBuf,
-    /// Commanded frequency in Hz (feature f1).
-    #[arg(long)]
-    pub frequency_hz: f64,
+    /// The record and its commanded frequency (feature f1).
+    #[command(flatten)]
+    pub input: RecordArgs,
     /// Sigma of kurtosis (f6) and skewness (f7).
     #[arg(long, value_enum, default_value = "biased")]
     pub sigma: SigmaArg,
@@ -46,25 +42,16 @@ pub struct Args {
 
 /// Runs `hxai features`.
 pub fn run(args: Args, _g: &Global) -> Result<()> {
-    let rec = hxai_data::read_record(&args.record)
-        .with_context(|| format!("reading record {}", args.record.display()))?;
+    let rec = hxai_data::read_record(&args.input.record)
+        .with_context(|| format!("reading record {}", args.input.record.display()))?;
     anyhow::ensure!(
-        args.frequency_hz.is_finite() && args.frequency_hz > 0.0,
+        args.input.frequency_hz.is_finite() && args.input.frequency_hz > 0.0,
         "--frequency-hz must be a positive number of Hz, got {}",
-        hxai_data::format_number(args.frequency_hz)
+        hxai_data::format_number(args.input.frequency_hz)
     );
-    hxai_features::check_covers_one_period(rec.len(), rec.fs_hz(), args.frequency_hz)
-        .with_context(|| args.record.display().to_string())?;
-    let warnings: Vec<String> = hxai_hybrid::record_warnings(
-        &args.record.display().to_string(),
-        rec.fs_hz(),
-        args.frequency_hz,
-        rec.len(),
-    )
-    .iter()
-    .map(ToString::to_string)
-    .collect();
-    crate::safety::warn(&warnings);
+    hxai_features::check_covers_one_period(rec.len(), rec.fs_hz(), args.input.frequency_hz)
+        .with_context(|| args.input.record.display().to_string())?;
+    let warnings = args.input.warn(&rec);
     let cfg = FeatureConfig {
         sigma: match args.sigma {
             SigmaArg::Biased => Sigma::Biased,
@@ -75,8 +62,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             PsdArg::Periodogram => PsdEstimator::Periodogram,
         },
     };
-    let f = hxai_features::extract_with(&rec.accel_ms2, rec.fs_hz(), args.frequency_hz, &cfg)
-        .with_context(|| format!("features of {}", args.record.display()))?;
+    let f = hxai_features::extract_with(&rec.accel_ms2, rec.fs_hz(), args.input.frequency_hz, &cfg)
+        .with_context(|| format!("features of {}", args.input.record.display()))?;
     if args.json {
         let mut doc = serde_json::to_value(f)?;
         if let Some(obj) = doc.as_object_mut() {

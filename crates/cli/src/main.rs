@@ -14,6 +14,7 @@ mod evaluate;
 mod features;
 mod fit;
 mod hybrid;
+mod one_record;
 mod predict;
 mod records;
 mod safety;
@@ -47,8 +48,13 @@ enum Command {
     /// Write a simulated data folder (manifest + records).
     Simulate(simulate::Args),
     /// Physics-model displacement of one record.
+    ///
+    /// --frequency-hz must lie inside the pass band; the command's amplitude and phase in the
+    /// physics displacement are reported (least-squares sine fit).
     Displacement(displacement::Args),
     /// The twelve features of one record.
+    ///
+    /// --frequency-hz is feature f1.
     Features(features::Args),
     /// Fit a hybrid model on a data folder.
     Fit(fit::Args),

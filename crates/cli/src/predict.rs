@@ -1,5 +1,6 @@
 //! `hxai predict`: apply a fitted hybrid model to one record.
 use crate::Global;
+use crate::one_record::RecordArgs;
 use anyhow::{Context, Result};
 use hxai_hybrid::{HybridModel, RecordInput};
 use std::path::PathBuf;
@@ -10,12 +11,9 @@ pub struct Args {
     /// Model written by `hxai fit`.
     #[arg(long)]
     pub model: PathBuf,
-    /// Record file (CSV or Parquet with `time_s`, `accel_ms2`; `probe_um` not needed).
-    #[arg(long)]
-    pub record: PathBuf,
-    /// Commanded frequency of the record, Hz.
-    #[arg(long)]
-    pub frequency_hz: f64,
+    /// The record and its commanded frequency.
+    #[command(flatten)]
+    pub input: RecordArgs,
     /// Output table (CSV or Parquet): `time_s,physics_um,hybrid_um`.
     #[arg(long)]
     pub out: PathBuf,
@@ -35,22 +33,23 @@ pub fn load_model(path: &std::path::Path) -> Result<HybridModel> {
 /// Runs `hxai predict`.
 pub fn run(args: Args, _g: &Global) -> Result<()> {
     anyhow::ensure!(
-        args.frequency_hz.is_finite() && args.frequency_hz > 0.0,
+        args.input.frequency_hz.is_finite() && args.input.frequency_hz > 0.0,
         "--frequency-hz must be a positive number of Hz, got {}",
-        hxai_data::format_number(args.frequency_hz)
+        hxai_data::format_number(args.input.frequency_hz)
     );
     crate::safety::check_output(
         &args.out,
         &[
-            crate::safety::input(&args.record, "the record (--record)"),
+            crate::safety::input(&args.input.record, "the record (--record)"),
             crate::safety::input(&args.model, "the model (--model)"),
         ],
     )?;
     crate::safety::check_table_path(&args.out)?;
     let model = load_model(&args.model)?;
-    let rec = hxai_data::read_record(&args.record)
-        .with_context(|| format!("cannot read the record {}", args.record.display()))?;
+    let rec = hxai_data::read_record(&args.input.record)
+        .with_context(|| format!("cannot read the record {}", args.input.record.display()))?;
     let id = args
+        .input
         .record
         .file_stem()
         .and_then(|s| s.to_str())
@@ -59,7 +58,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let input = RecordInput {
         id: &id,
         fs_hz: rec.fs_hz(),
-        frequency_hz: args.frequency_hz,
+        frequency_hz: args.input.frequency_hz,
         signal: &rec.accel_ms2,
         truth: None,
     };

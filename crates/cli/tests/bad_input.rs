@@ -6,6 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
+mod common;
+
 fn corpus(rel: &str) -> String {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../testdata/bad")
@@ -14,17 +16,31 @@ fn corpus(rel: &str) -> String {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("hxai-bad-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch("hxai-bad", name).unwrap()
+}
+
+/// The path of `file` in a fresh scratch folder for `name`, as text.
+fn scratch_path(name: &str, file: &str) -> String {
+    scratch(name).join(file).to_str().unwrap().to_owned()
 }
 
 fn hxai(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hxai"))
-        .args(args)
-        .output()
-        .unwrap()
+    common::hxai(args).unwrap()
+}
+
+/// The three commands that read one record at 20 Hz: features, displacement and predict
+/// (the last two writing to `out`).
+fn record_commands<'a>(rec: &'a str, model: &'a str, out: &'a str) -> [Vec<&'a str>; 3] {
+    let hz = ["--record", rec, "--frequency-hz", "20"];
+    let mut features = vec!["features"];
+    features.extend_from_slice(&hz);
+    let mut displacement = vec!["displacement"];
+    displacement.extend_from_slice(&hz);
+    displacement.extend_from_slice(&["--out", out]);
+    let mut predict = vec!["predict", "--model", model];
+    predict.extend_from_slice(&hz);
+    predict.extend_from_slice(&["--out", out]);
+    [features, displacement, predict]
 }
 
 /// Runs the command and requires exit code 1 with one stderr line containing `expect`.
@@ -108,76 +124,22 @@ const BAD_RECORDS: &[(&str, &str)] = &[
 
 #[test]
 fn bad_records_are_refused_by_every_command_that_reads_one() {
-    let dir = scratch("records");
-    let out = dir.join("out.csv");
-    let out = out.to_str().unwrap();
+    let out = scratch_path("records", "out.csv");
+    let out = out.as_str();
     let model = corpus("good/model.json");
     for (file, expect) in BAD_RECORDS {
         let rec = corpus(file);
-        refused(
-            &["features", "--record", &rec, "--frequency-hz", "20"],
-            expect,
-        );
-        refused(
-            &[
-                "displacement",
-                "--record",
-                &rec,
-                "--frequency-hz",
-                "20",
-                "--out",
-                out,
-            ],
-            expect,
-        );
-        refused(
-            &[
-                "predict",
-                "--model",
-                &model,
-                "--record",
-                &rec,
-                "--frequency-hz",
-                "20",
-                "--out",
-                out,
-            ],
-            expect,
-        );
+        for args in record_commands(&rec, &model, out) {
+            refused(&args, expect);
+        }
         assert!(!Path::new(out).exists(), "{file}: an output was written");
     }
     // Too short for what each command needs, with the minimum named.
     let two = corpus("records/two_samples.csv");
-    refused(
-        &["features", "--record", &two, "--frequency-hz", "20"],
-        "needs at least 51",
-    );
-    refused(
-        &[
-            "displacement",
-            "--record",
-            &two,
-            "--frequency-hz",
-            "20",
-            "--out",
-            out,
-        ],
-        "samples",
-    );
-    refused(
-        &[
-            "predict",
-            "--model",
-            &model,
-            "--record",
-            &two,
-            "--frequency-hz",
-            "20",
-            "--out",
-            out,
-        ],
-        "one window needs 1 s",
-    );
+    let expects = ["needs at least 51", "samples", "one window needs 1 s"];
+    for (args, expect) in record_commands(&two, &model, out).iter().zip(expects) {
+        refused(args, expect);
+    }
 }
 
 #[test]
@@ -291,9 +253,8 @@ const BAD_FOLDERS: &[(&str, &str)] = &[
 
 #[test]
 fn bad_folders_are_refused_by_fit_and_evaluate() {
-    let dir = scratch("folders");
-    let out = dir.join("m.json");
-    let out = out.to_str().unwrap();
+    let out = scratch_path("folders", "m.json");
+    let out = out.as_str();
     let model = corpus("good/model.json");
     for (folder, expect) in BAD_FOLDERS {
         let d = corpus(folder);
@@ -343,9 +304,8 @@ const BAD_MODELS: &[(&str, &str)] = &[
 
 #[test]
 fn bad_models_are_refused_by_predict_and_evaluate() {
-    let dir = scratch("models");
-    let out = dir.join("p.csv");
-    let out = out.to_str().unwrap();
+    let out = scratch_path("models", "p.csv");
+    let out = out.as_str();
     let rec = corpus("good/r1.parquet");
     for (file, expect) in BAD_MODELS {
         let m = corpus(file);

@@ -5,7 +5,8 @@
 #![allow(clippy::unwrap_used)]
 
 use proptest::prelude::*;
-use std::process::Command;
+
+mod common;
 
 fn cell() -> impl Strategy<Value = String> {
     prop_oneof![
@@ -53,10 +54,7 @@ fn csv_text() -> impl Strategy<Value = String> {
 }
 
 fn run(args: &[&str]) -> (Option<i32>, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_hxai"))
-        .args(args)
-        .output()
-        .unwrap();
+    let out = common::hxai(args).unwrap();
     (
         out.status.code(),
         String::from_utf8_lossy(&out.stderr).into_owned(),

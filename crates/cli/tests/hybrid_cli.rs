@@ -6,17 +6,14 @@ use hxai_data::{Format, ManifestEntry, Record, read_table, write_folder};
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+
+mod common;
+use common::{hxai, hxai_ok, s};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
 fn scratch(name: &str) -> Result<PathBuf, std::io::Error> {
-    let dir = std::env::temp_dir().join(format!("hxai-cli-hybrid-{}-{name}", std::process::id()));
-    if dir.exists() {
-        std::fs::remove_dir_all(&dir)?;
-    }
-    std::fs::create_dir_all(&dir)?;
-    Ok(dir)
+    common::scratch("hxai-cli-hybrid", name)
 }
 
 fn write_data(dir: &Path, format: Format) -> Result<(), Box<dyn std::error::Error>> {
@@ -63,14 +60,6 @@ fn write_data(dir: &Path, format: Format) -> Result<(), Box<dyn std::error::Erro
     Ok(())
 }
 
-fn hxai(args: &[&str]) -> Result<Output, std::io::Error> {
-    Command::new(env!("CARGO_BIN_EXE_hxai")).args(args).output()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap_or_default()
-}
-
 #[test]
 fn fit_evaluate_predict() -> TestResult {
     let dir = scratch("ok")?;
@@ -78,25 +67,23 @@ fn fit_evaluate_predict() -> TestResult {
     write_data(&data, Format::Parquet)?;
     let model = dir.join("model.json");
     let samples = dir.join("samples.csv");
-    let out = hxai(&[
-        "fit",
-        "--data",
-        s(&data),
-        "--out",
-        s(&model),
-        "--seed",
-        "3",
-        "--epochs",
-        "3",
-        "--samples",
-        s(&samples),
-        "--json",
-    ])?;
-    assert!(
-        out.status.success(),
-        "fit failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = hxai_ok(
+        &[
+            "fit",
+            "--data",
+            s(&data),
+            "--out",
+            s(&model),
+            "--seed",
+            "3",
+            "--epochs",
+            "3",
+            "--samples",
+            s(&samples),
+            "--json",
+        ],
+        "fit failed",
+    )?;
     let fit_json: serde_json::Value = serde_json::from_slice(&out.stdout)?;
     assert!(fit_json["correction"]["equation"].is_string());
 
@@ -121,19 +108,17 @@ fn fit_evaluate_predict() -> TestResult {
     }
     assert_eq!(st.columns[0].len(), 36);
 
-    let out = hxai(&[
-        "evaluate",
-        "--model",
-        s(&model),
-        "--data",
-        s(&data),
-        "--json",
-    ])?;
-    assert!(
-        out.status.success(),
-        "evaluate failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = hxai_ok(
+        &[
+            "evaluate",
+            "--model",
+            s(&model),
+            "--data",
+            s(&data),
+            "--json",
+        ],
+        "evaluate failed",
+    )?;
     let ev: serde_json::Value = serde_json::from_slice(&out.stdout)?;
     for path in [
         ["physics", "rmse_um"],
@@ -175,22 +160,20 @@ fn fit_evaluate_predict() -> TestResult {
 
     let pred = dir.join("pred.csv");
     let rec = data.join("a7_f20.parquet");
-    let out = hxai(&[
-        "predict",
-        "--model",
-        s(&model),
-        "--record",
-        s(&rec),
-        "--frequency-hz",
-        "20",
-        "--out",
-        s(&pred),
-    ])?;
-    assert!(
-        out.status.success(),
-        "predict failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    hxai_ok(
+        &[
+            "predict",
+            "--model",
+            s(&model),
+            "--record",
+            s(&rec),
+            "--frequency-hz",
+            "20",
+            "--out",
+            s(&pred),
+        ],
+        "predict failed",
+    )?;
     let t = read_table(&pred)?;
     assert_eq!(t.names(), ["time_s", "physics_um", "hybrid_um"]);
     assert_eq!(t.n_rows(), 2000);

@@ -2,28 +2,15 @@
 //! table with a known law, and one-line errors for bad input.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
+
+mod common;
+use common::{hxai, ok, s};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
 fn scratch(name: &str) -> Result<PathBuf, std::io::Error> {
-    let dir = std::env::temp_dir().join(format!(
-        "hxai-cli-hybrid-table-{}-{name}",
-        std::process::id()
-    ));
-    if dir.exists() {
-        std::fs::remove_dir_all(&dir)?;
-    }
-    std::fs::create_dir_all(&dir)?;
-    Ok(dir)
-}
-
-fn hxai(args: &[&str]) -> Result<Output, std::io::Error> {
-    Command::new(env!("CARGO_BIN_EXE_hxai")).args(args).output()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap_or_default()
+    common::scratch("hxai-cli-hybrid-table", name)
 }
 
 /// Turning-like table: Ra = 1.3 f^2/(32 r) + 2e-4 v, a distractor d, a text batch column.
@@ -38,14 +25,6 @@ fn roughness_csv(n: usize) -> String {
         out.push_str(&format!("b{},{f},{r},{v},{d},{ra}\n", i / 4));
     }
     out
-}
-
-fn ok(out: &Output, what: &str) {
-    assert!(
-        out.status.success(),
-        "{what}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
 }
 
 const QUICK: [&str; 4] = ["--epochs", "2", "--max-complexity", "8"];

@@ -3,29 +3,14 @@
 use hxai_data::read_table;
 use hxai_sim::cases::{RoughnessConfig, roughness};
 use std::path::PathBuf;
-use std::process::{Command, Output};
+
+mod common;
+use common::{hxai, text};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
 fn scratch(name: &str) -> Result<PathBuf, std::io::Error> {
-    let dir = std::env::temp_dir().join(format!("hxai-cli-case-{}-{name}", std::process::id()));
-    if dir.exists() {
-        std::fs::remove_dir_all(&dir)?;
-    }
-    std::fs::create_dir_all(&dir)?;
-    Ok(dir)
-}
-
-fn hxai(args: &[&str]) -> Result<Output, std::io::Error> {
-    Command::new(env!("CARGO_BIN_EXE_hxai")).args(args).output()
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
+    common::scratch("hxai-cli-case", name)
 }
 
 #[test]

@@ -2,7 +2,9 @@
 //! law, and clear errors (non-zero exit, a message naming the problem) for bad input.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+
+mod common;
+use common::hxai;
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
@@ -12,10 +14,6 @@ fn table(name: &str, text: &str) -> Result<PathBuf, std::io::Error> {
     let path = dir.join(name);
     std::fs::write(&path, text)?;
     Ok(path)
-}
-
-fn hxai(args: &[&str]) -> Result<Output, std::io::Error> {
-    Command::new(env!("CARGO_BIN_EXE_hxai")).args(args).output()
 }
 
 /// Runs `hxai sr --csv CSV --target y --json EXTRA...`, requires success, parses stdout.

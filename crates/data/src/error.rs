@@ -1,5 +1,6 @@
 //! The one error type of `hxai-data`.
 
+use hxai_table::format_number;
 use std::path::PathBuf;
 
 /// Everything that can go wrong while reading or writing recordings, manifests and tables.
@@ -307,40 +308,6 @@ impl DataError {
         DataError::Io {
             path: path.to_path_buf(),
             source,
-        }
-    }
-}
-
-/// A number for a message: at most 6 significant digits, exponent form outside 1e-4..1e6,
-/// so that a value such as `1e300` is not printed as 301 digits.
-///
-/// ```
-/// assert_eq!(hxai_data::format_number(1e300), "1e300");
-/// assert_eq!(hxai_data::format_number(0.000123456789), "0.000123457");
-/// assert_eq!(hxai_data::format_number(-2.5e-7), "-2.5e-7");
-/// assert_eq!(hxai_data::format_number(12.5), "12.5");
-/// assert_eq!(hxai_data::format_number(10000.0), "10000");
-/// ```
-pub fn format_number(v: f64) -> String {
-    fn trim(s: &str) -> &str {
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.')
-        } else {
-            s
-        }
-    }
-    if v == 0.0 || !v.is_finite() {
-        return v.to_string();
-    }
-    let a = v.abs();
-    if (1e-4..1e6).contains(&a) {
-        let d = (5 - a.log10().floor() as i32).clamp(0, 9) as usize;
-        trim(&format!("{v:.d$}")).to_owned()
-    } else {
-        let s = format!("{v:.5e}");
-        match s.split_once('e') {
-            Some((m, e)) => format!("{}e{e}", trim(m)),
-            None => s,
         }
     }
 }

@@ -78,11 +78,12 @@ mod table;
 mod text;
 
 pub use atomic::{check_output, write_atomic, write_bytes};
-pub use error::{DataError, format_number};
+pub use error::DataError;
 pub use folder::{
     DataFolder, MANIFEST_COLUMNS, MANIFEST_FILE, ManifestEntry, read_folder, write_folder,
     write_manifest,
 };
+pub use hxai_table::format_number;
 pub use hxai_table::{Table, TableError};
 pub use record::{RECORD_COLUMNS, Record, UNIFORM_TIME_TOLERANCE, read_record, write_record};
 pub use table::{Column, MixedTable, read_mixed_table, read_table, write_mixed_table, write_table};

@@ -200,30 +200,8 @@ pub enum HybridError {
     Baseline(#[from] hxai_baselines::BaselineError),
 }
 
-/// A number for a message: at most 6 significant digits, exponent form outside 1e-4..1e6.
-pub(crate) fn num(v: f64) -> String {
-    fn trim(s: &str) -> &str {
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.')
-        } else {
-            s
-        }
-    }
-    if v == 0.0 || !v.is_finite() {
-        return v.to_string();
-    }
-    let a = v.abs();
-    if (1e-4..1e6).contains(&a) {
-        let d = (5 - a.log10().floor() as i32).clamp(0, 9) as usize;
-        trim(&format!("{v:.d$}")).to_owned()
-    } else {
-        let s = format!("{v:.5e}");
-        match s.split_once('e') {
-            Some((m, e)) => format!("{}e{e}", trim(m)),
-            None => s,
-        }
-    }
-}
+// A number for a message: the one formatting of the workspace, `hxai_table::format_number`.
+pub(crate) use hxai_table::format_number as num;
 
 impl HybridError {
     /// Wraps the error with the record (and window) it happened in.

@@ -20,7 +20,10 @@
 //! `cutting_speed_m_min`, `cutting_time_min`, a distractor with no effect (`coolant_temp_C`),
 //! `tool` (insert number, 1-based, a group column) and the target `Fc_N`.
 
-use super::{non_negative, normal, positive, range, rng_for, rows, uniform};
+use super::{
+    noise_rel, non_negative, normal, positive, range, rng_for, rows_and_tools, table_of_rows,
+    uniform, wear,
+};
 use crate::SimError;
 use hxai_table::Table;
 use serde::{Deserialize, Serialize};
@@ -120,10 +123,7 @@ impl CuttingForceConfig {
     /// # Errors
     /// [`SimError::InvalidParameter`] naming the first bad setting.
     pub fn check(&self) -> Result<(), SimError> {
-        rows(self.n_rows)?;
-        if self.n_tools == 0 {
-            return Err(super::bad("n_tools", 0, "must be at least 1"));
-        }
+        rows_and_tools(self.n_rows, self.n_tools)?;
         positive("kc11_n_mm2", self.kc11_n_mm2)?;
         if !(self.mc.is_finite() && (0.0..1.0).contains(&self.mc)) {
             return Err(super::bad("mc", self.mc, "must be in [0, 1)"));
@@ -159,14 +159,13 @@ impl CuttingForceConfig {
         }
         non_negative("speed_exponent", self.speed_exponent)?;
         positive("speed_ref_m_min", self.speed_ref_m_min)?;
-        non_negative("wear_rate_mm", self.wear_rate_mm)?;
-        non_negative("wear_speed_exponent", self.wear_speed_exponent)?;
-        positive("wear_ref_speed_m_min", self.wear_ref_speed_m_min)?;
+        wear(
+            self.wear_rate_mm,
+            self.wear_speed_exponent,
+            self.wear_ref_speed_m_min,
+        )?;
         non_negative("wear_force_per_mm", self.wear_force_per_mm)?;
-        if !(self.noise_rel.is_finite() && (0.0..=1.0).contains(&self.noise_rel)) {
-            return Err(super::bad("noise_rel", self.noise_rel, "must be in [0, 1]"));
-        }
-        Ok(())
+        noise_rel(self.noise_rel)
     }
 
     /// The rake angle of insert `tool` (0-based): evenly spread over the range.
@@ -204,17 +203,15 @@ pub fn cutting_force(c: &CuttingForceConfig) -> Result<Table, SimError> {
     let mut tools_rng = rng_for(c.seed, None);
     let mut order: Vec<usize> = (0..c.n_tools).collect();
     rand::seq::SliceRandom::shuffle(order.as_mut_slice(), &mut tools_rng);
-    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(c.n_rows); COLUMNS.len()];
-    for i in 0..c.n_rows {
-        let mut rng = rng_for(c.seed, Some(i));
+    table_of_rows(&COLUMNS, c.seed, c.n_rows, |i, rng| {
         let tool = order[i % c.n_tools];
         let gamma = c.rake_of(tool);
-        let h = uniform(&mut rng, c.chip_thickness_mm);
-        let b = uniform(&mut rng, c.width_of_cut_mm);
-        let vc = uniform(&mut rng, c.cutting_speed_m_min);
-        let t = uniform(&mut rng, c.cutting_time_min);
-        let coolant = uniform(&mut rng, [18.0, 28.0]);
-        let scatter = (c.noise_rel * normal(&mut rng)).exp();
+        let h = uniform(rng, c.chip_thickness_mm);
+        let b = uniform(rng, c.width_of_cut_mm);
+        let vc = uniform(rng, c.cutting_speed_m_min);
+        let t = uniform(rng, c.cutting_time_min);
+        let coolant = uniform(rng, [18.0, 28.0]);
+        let scatter = (c.noise_rel * normal(rng)).exp();
         let kienzle = c.kc11_n_mm2 * b * h.powf(1.0 - c.mc);
         let k_gamma = 1.0 - c.rake_per_deg * (gamma - c.rake_ref_deg);
         let k_v = (vc / c.speed_ref_m_min).powf(-c.speed_exponent);
@@ -227,13 +224,6 @@ pub fn cutting_force(c: &CuttingForceConfig) -> Result<Table, SimError> {
         );
         let k_vb = 1.0 + c.wear_force_per_mm * vb;
         let fc = kienzle * k_gamma * k_v * k_vb * scatter;
-        let row = [h, b, gamma, vc, t, coolant, (tool + 1) as f64, fc];
-        for (col, v) in cols.iter_mut().zip(row) {
-            col.push(v);
-        }
-    }
-    Ok(Table::new(
-        COLUMNS.iter().map(|s| s.to_string()).collect(),
-        cols,
-    )?)
+        [h, b, gamma, vc, t, coolant, (tool + 1) as f64, fc]
+    })
 }

@@ -128,6 +128,56 @@ pub(crate) fn rows(n: usize) -> Result<(), SimError> {
     }
 }
 
+/// Row count in `1..=MAX_ROWS` and at least one tool.
+pub(crate) fn rows_and_tools(n_rows: usize, n_tools: usize) -> Result<(), SimError> {
+    rows(n_rows)?;
+    if n_tools == 0 {
+        return Err(bad("n_tools", 0, "must be at least 1"));
+    }
+    Ok(())
+}
+
+/// The settings of [`flank_wear_mm`]: rate and speed exponent `>= 0`, reference speed `> 0`.
+pub(crate) fn wear(
+    rate_mm: f64,
+    speed_exponent: f64,
+    ref_speed_m_min: f64,
+) -> Result<(), SimError> {
+    non_negative("wear_rate_mm", rate_mm)?;
+    non_negative("wear_speed_exponent", speed_exponent)?;
+    positive("wear_ref_speed_m_min", ref_speed_m_min)
+}
+
+/// The relative measurement scatter in `[0, 1]`.
+pub(crate) fn noise_rel(v: f64) -> Result<(), SimError> {
+    if v.is_finite() && (0.0..=1.0).contains(&v) {
+        Ok(())
+    } else {
+        Err(bad("noise_rel", v, "must be in [0, 1]"))
+    }
+}
+
+/// The table with columns `names` and `n_rows` rows, row `i` made by `row(i, rng)` from the
+/// random source of row `i` ([`rng_for`]).
+pub(crate) fn table_of_rows<const N: usize>(
+    names: &[&str; N],
+    seed: u64,
+    n_rows: usize,
+    mut row: impl FnMut(usize, &mut ChaCha8Rng) -> [f64; N],
+) -> Result<hxai_table::Table, SimError> {
+    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(n_rows); N];
+    for i in 0..n_rows {
+        let mut rng = rng_for(seed, Some(i));
+        for (col, v) in cols.iter_mut().zip(row(i, &mut rng)) {
+            col.push(v);
+        }
+    }
+    Ok(hxai_table::Table::new(
+        names.iter().map(|s| s.to_string()).collect(),
+        cols,
+    )?)
+}
+
 /// The random source of row `row` (stream `row + 1`) or of the tools (`None`, stream 0).
 pub(crate) fn rng_for(seed: u64, row: Option<usize>) -> ChaCha8Rng {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);

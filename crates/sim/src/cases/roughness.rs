@@ -20,7 +20,10 @@
 //! `workpiece_diameter_mm`), `tool` (insert number, 1-based: a group column for grouped
 //! splits; the nose radius and `h_min` belong to the insert), and the target `Ra_um`.
 
-use super::{non_negative, normal, positive, range, rng_for, rows, uniform};
+use super::{
+    noise_rel, non_negative, normal, positive, range, rng_for, rows_and_tools, table_of_rows,
+    uniform, wear,
+};
 use crate::SimError;
 use hxai_table::Table;
 use serde::{Deserialize, Serialize};
@@ -116,10 +119,7 @@ impl RoughnessConfig {
     /// [`SimError::InvalidParameter`] naming the first bad setting, [`SimError::EmptyList`]
     /// for an empty list of nose radii.
     pub fn check(&self) -> Result<(), SimError> {
-        rows(self.n_rows)?;
-        if self.n_tools == 0 {
-            return Err(super::bad("n_tools", 0, "must be at least 1"));
-        }
+        rows_and_tools(self.n_rows, self.n_tools)?;
         if self.nose_radii_mm.is_empty() {
             return Err(SimError::EmptyList {
                 name: "nose_radii_mm",
@@ -140,18 +140,17 @@ impl RoughnessConfig {
                 "must be in [0, 0.5) (a relative scatter)",
             ));
         }
-        non_negative("wear_rate_mm", self.wear_rate_mm)?;
-        non_negative("wear_speed_exponent", self.wear_speed_exponent)?;
-        positive("wear_ref_speed_m_min", self.wear_ref_speed_m_min)?;
+        wear(
+            self.wear_rate_mm,
+            self.wear_speed_exponent,
+            self.wear_ref_speed_m_min,
+        )?;
         non_negative("wear_ra_per_mm", self.wear_ra_per_mm)?;
         non_negative("bue_um", self.bue_um)?;
         positive("bue_speed_m_min", self.bue_speed_m_min)?;
         positive("bue_width_m_min", self.bue_width_m_min)?;
         non_negative("vibration_um_per_mm", self.vibration_um_per_mm)?;
-        if !(self.noise_rel.is_finite() && (0.0..=1.0).contains(&self.noise_rel)) {
-            return Err(super::bad("noise_rel", self.noise_rel, "must be in [0, 1]"));
-        }
-        Ok(())
+        noise_rel(self.noise_rel)
     }
 }
 
@@ -204,26 +203,17 @@ pub fn roughness(c: &RoughnessConfig) -> Result<Table, SimError> {
             (r, h)
         })
         .collect();
-    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(c.n_rows); COLUMNS.len()];
-    for i in 0..c.n_rows {
-        let mut rng = rng_for(c.seed, Some(i));
+    table_of_rows(&COLUMNS, c.seed, c.n_rows, |i, rng| {
         let tool = i % c.n_tools;
         let (r, h_min) = tools[tool];
-        let f = uniform(&mut rng, c.feed_mm);
-        let vc = uniform(&mut rng, c.cutting_speed_m_min);
-        let t = uniform(&mut rng, c.cutting_time_min);
-        let ap = uniform(&mut rng, c.depth_of_cut_mm);
-        let coolant = uniform(&mut rng, [18.0, 28.0]);
-        let diameter = uniform(&mut rng, [30.0, 120.0]);
-        let scatter = (c.noise_rel * normal(&mut rng)).exp();
+        let f = uniform(rng, c.feed_mm);
+        let vc = uniform(rng, c.cutting_speed_m_min);
+        let t = uniform(rng, c.cutting_time_min);
+        let ap = uniform(rng, c.depth_of_cut_mm);
+        let coolant = uniform(rng, [18.0, 28.0]);
+        let diameter = uniform(rng, [30.0, 120.0]);
+        let scatter = (c.noise_rel * normal(rng)).exp();
         let ra = true_ra_um(c, f, r, vc, t, ap, h_min) * scatter;
-        let row = [f, r, vc, t, ap, coolant, diameter, (tool + 1) as f64, ra];
-        for (col, v) in cols.iter_mut().zip(row) {
-            col.push(v);
-        }
-    }
-    Ok(Table::new(
-        COLUMNS.iter().map(|s| s.to_string()).collect(),
-        cols,
-    )?)
+        [f, r, vc, t, ap, coolant, diameter, (tool + 1) as f64, ra]
+    })
 }

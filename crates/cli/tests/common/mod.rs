@@ -1,0 +1,50 @@
+//! Helpers shared by the CLI integration tests: run the `hxai` binary, make a scratch
+//! folder, read its output, require success.
+//!
+//! Every test file compiles this module on its own and uses only part of it.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs the `hxai` binary built for these tests with `args`.
+pub fn hxai(args: &[&str]) -> Result<Output, std::io::Error> {
+    Command::new(env!("CARGO_BIN_EXE_hxai")).args(args).output()
+}
+
+/// Runs `hxai` and requires success; `what` names the step in the failure message.
+pub fn hxai_ok(args: &[&str], what: &str) -> Result<Output, std::io::Error> {
+    let out = hxai(args)?;
+    ok(&out, what);
+    Ok(out)
+}
+
+/// An empty folder `<temp>/<prefix>-<pid>-<name>` (removed first if a former run left it).
+pub fn scratch(prefix: &str, name: &str) -> Result<PathBuf, std::io::Error> {
+    let dir = std::env::temp_dir().join(format!("{prefix}-{}-{name}", std::process::id()));
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir)?;
+    }
+    std::fs::create_dir_all(&dir)?;
+    Ok(dir)
+}
+
+/// The path as a `&str` (empty if it is not UTF-8, which the tests' paths always are).
+pub fn s(p: &Path) -> &str {
+    p.to_str().unwrap_or_default()
+}
+
+/// The command's stderr, lossily decoded.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The command's stdout followed by its stderr, lossily decoded.
+pub fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), stderr(o))
+}
+
+/// Requires that the command succeeded; `what` and stderr make the failure message.
+pub fn ok(out: &Output, what: &str) {
+    assert!(out.status.success(), "{what}: {}", stderr(out));
+}
