@@ -172,7 +172,7 @@ pub struct TrainingInfo {
 }
 
 /// The serde form of [`TrainingInfo::strategy`]: [`Strategy`]'s own names, `null` for none;
-/// reads the names of files written before (`qlattice`, and `none`) too.
+/// reads `none`, written by files from before, too.
 mod strategy_name {
     use hxai_symreg::Strategy;
     use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -189,7 +189,6 @@ mod strategy_name {
         };
         match name.as_str() {
             "none" => Ok(None),
-            "qlattice" => Ok(Some(Strategy::QLattice)),
             other => {
                 Strategy::deserialize(serde::de::value::StrDeserializer::<D::Error>::new(other))
                     .map(Some)

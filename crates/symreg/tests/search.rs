@@ -328,3 +328,22 @@ fn search_on_noisy_data_picks_the_law() {
         res.best.sympy()
     );
 }
+
+#[test]
+fn strategy_serde_names_match_the_flag_values() {
+    use hxai_symreg::Strategy;
+    assert_eq!(
+        serde_json::to_string(&Strategy::QLattice).unwrap(),
+        "\"qlattice\""
+    );
+    for name in ["\"qlattice\"", "\"q_lattice\""] {
+        assert_eq!(
+            serde_json::from_str::<Strategy>(name).unwrap(),
+            Strategy::QLattice
+        );
+    }
+    assert_eq!(
+        serde_json::to_string(&Strategy::Genetic).unwrap(),
+        "\"genetic\""
+    );
+}

@@ -19,7 +19,9 @@ pub(crate) const MIN_ROWS: usize = 8;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Strategy {
-    /// QLattice-style path sampling over lineages (cells).
+    /// QLattice-style path sampling over lineages (cells). Serialised as `qlattice`, the
+    /// spelling of the `--strategy` flag (`q_lattice`, the derived snake-case name, is read).
+    #[serde(rename = "qlattice", alias = "q_lattice")]
     QLattice,
     /// Island genetic programming.
     Genetic,
