@@ -1,6 +1,6 @@
 //! `hxai fit`: fit the tool-position hybrid model on a data folder.
 use crate::Global;
-use crate::strategy::StrategyArg;
+use crate::strategy::{CriterionArg, StrategyArg};
 use anyhow::{Context, Result};
 use hxai_hybrid::{FitConfig, FitProgress, SplitKind, WindowConfig};
 use hxai_symreg::SearchConfig;
@@ -34,6 +34,13 @@ pub struct Args {
     /// Symbolic-regression search strategy (`--engine` is accepted as an alias).
     #[arg(long, alias = "engine", value_enum, default_value_t = StrategyArg::Combined)]
     pub strategy: StrategyArg,
+    /// How the correction's equation is chosen among the search's candidates (see
+    /// `hxai sr --help`).
+    #[arg(long, value_enum, default_value_t = CriterionArg::Bic)]
+    pub criterion: CriterionArg,
+    /// Folds of `--criterion cv`.
+    #[arg(long, default_value_t = 5)]
+    pub cv_folds: usize,
     /// Search epochs (default: the search's default, 10).
     #[arg(long)]
     pub epochs: Option<usize>,
@@ -93,6 +100,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let mut search = SearchConfig {
         seed: args.seed,
         strategy: args.strategy.into(),
+        criterion: args.criterion.into(),
+        cv_folds: args.cv_folds,
         ..SearchConfig::default()
     };
     if let Some(e) = args.epochs {

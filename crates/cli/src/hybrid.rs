@@ -91,6 +91,13 @@ struct Common {
     /// Largest complexity of the correction (input leaves + operators).
     #[arg(long, default_value_t = 10)]
     max_complexity: usize,
+    /// How the correction's equation is chosen among the search's candidates (see
+    /// `hxai sr --help`).
+    #[arg(long, value_enum, default_value_t = crate::strategy::CriterionArg::Bic)]
+    criterion: crate::strategy::CriterionArg,
+    /// Folds of `--criterion cv`.
+    #[arg(long, default_value_t = 5)]
+    cv_folds: usize,
     /// Refit physics parameters and correction constants together once the correction's
     /// structure is chosen (the two-stage values are reported too).
     #[arg(long)]
@@ -264,6 +271,8 @@ fn config(c: &Common) -> Result<ProcessConfig> {
     cfg.joint = c.joint;
     cfg.search.epochs = c.epochs;
     cfg.search.max_complexity = c.max_complexity;
+    cfg.search.criterion = c.criterion.into();
+    cfg.search.cv_folds = c.cv_folds;
     Ok(cfg)
 }
 

@@ -1,8 +1,8 @@
 //! `hxai sr`: symbolic regression of one column of a table on the others.
 use crate::Global;
-use crate::strategy::StrategyArg;
+use crate::strategy::{CriterionArg, StrategyArg};
 use anyhow::{Context, Result};
-use hxai_symreg::{Criterion, Model, SearchConfig, Table, search};
+use hxai_symreg::{Model, SearchConfig, Table, search};
 use serde_json::{Value, json};
 use std::path::PathBuf;
 
@@ -38,26 +38,19 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = StrategyArg::Combined)]
     pub strategy: StrategyArg,
     /// How the reported model is chosen: BIC or AIC (the simplest model within one
-    /// parameter's charge of the lowest), or PySR's score along the Pareto front.
+    /// parameter's charge of the lowest), PySR's score along the Pareto front, or k-fold
+    /// cross-validated loss (the simplest within one standard error of the lowest).
     #[arg(long, value_enum, default_value_t = CriterionArg::Bic)]
     pub criterion: CriterionArg,
+    /// Folds of `--criterion cv`.
+    #[arg(long, default_value_t = 5)]
+    pub cv_folds: usize,
     /// Multiplier lambda of the criterion's charge per fitted parameter.
     #[arg(long, default_value_t = 1.0)]
     pub complexity_penalty: f64,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     pub json: bool,
-}
-
-/// `--criterion` values.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum CriterionArg {
-    /// Bayesian information criterion.
-    Bic,
-    /// Akaike information criterion.
-    Aic,
-    /// PySR's score along the Pareto front.
-    Pareto,
 }
 
 /// A model's forms and its training scores (`null` when a score cannot be computed, e.g. a
@@ -101,11 +94,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         time_limit_s: args.time_limit_s,
         max_evaluations: args.max_evaluations,
         strategy: args.strategy.into(),
-        criterion: match args.criterion {
-            CriterionArg::Bic => Criterion::Bic,
-            CriterionArg::Aic => Criterion::Aic,
-            CriterionArg::Pareto => Criterion::ParetoScore,
-        },
+        criterion: args.criterion.into(),
+        cv_folds: args.cv_folds,
         complexity_penalty: args.complexity_penalty,
         ..SearchConfig::default()
     };

@@ -1,5 +1,6 @@
-//! The `--strategy` flag, shared by `hxai fit` and `hxai sr`.
-use hxai_symreg::Strategy;
+//! The search flags shared by `hxai sr`, `hxai fit` and `hxai hybrid fit`: `--strategy` and
+//! `--criterion`.
+use hxai_symreg::{Criterion, Strategy};
 
 /// `--strategy` values: which symbolic-regression search runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -18,6 +19,31 @@ impl From<StrategyArg> for Strategy {
             StrategyArg::Qlattice => Strategy::QLattice,
             StrategyArg::Genetic => Strategy::Genetic,
             StrategyArg::Combined => Strategy::Combined,
+        }
+    }
+}
+
+/// `--criterion` values: how the reported model is chosen among the search's candidates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum CriterionArg {
+    /// Bayesian information criterion (the simplest model within one parameter's charge of
+    /// the lowest).
+    Bic,
+    /// Akaike information criterion (likewise).
+    Aic,
+    /// PySR's score along the Pareto front.
+    Pareto,
+    /// K-fold cross-validated loss (`--cv-folds`), with the one-standard-error rule.
+    Cv,
+}
+
+impl From<CriterionArg> for Criterion {
+    fn from(c: CriterionArg) -> Self {
+        match c {
+            CriterionArg::Bic => Criterion::Bic,
+            CriterionArg::Aic => Criterion::Aic,
+            CriterionArg::Pareto => Criterion::ParetoScore,
+            CriterionArg::Cv => Criterion::CrossValidation,
         }
     }
 }

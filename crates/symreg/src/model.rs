@@ -23,7 +23,9 @@ pub struct Model {
     /// Mean squared error on the training rows (NaN when unknown; JSON `null`).
     #[serde(deserialize_with = "null_as_nan")]
     pub train_mse: f64,
-    /// Criterion value (lower is better) on the training rows (NaN when unknown).
+    /// Criterion value (lower is better) on the training rows (NaN when unknown); under
+    /// [`Criterion::CrossValidation`](crate::Criterion::CrossValidation), the mean held-out
+    /// squared error.
     #[serde(deserialize_with = "null_as_nan")]
     pub score: f64,
 }

@@ -48,6 +48,13 @@ pub enum Criterion {
     /// PySR's rule: on the Pareto front, among models with loss within 1.5x of the best,
     /// the largest drop of log-loss per unit of complexity.
     ParetoScore,
+    /// K-fold cross-validation (`cv_folds` folds, seeded by `seed`): each candidate's
+    /// structure is refitted on K-1 folds and scored by its mean squared error on the
+    /// held-out fold; the pick is the simplest model whose mean held-out error is within
+    /// one standard error of the lowest (the one-standard-error rule). Constants are still
+    /// snapped by BIC's charge. Serialised as `cv`.
+    #[serde(rename = "cv")]
+    CrossValidation,
 }
 
 /// Search settings. `Default` gives the paper's set-up: seed 42, 10 epochs, complexity
@@ -69,6 +76,8 @@ pub struct SearchConfig {
     pub criterion: Criterion,
     /// Weight lambda of the parameter penalty in BIC/AIC.
     pub complexity_penalty: f64,
+    /// Folds of [`Criterion::CrossValidation`] (2 or more; ignored by the other criteria).
+    pub cv_folds: usize,
     /// Stop after this many seconds (checked between batches of candidates; a run that hits
     /// it depends on timing).
     pub time_limit_s: Option<f64>,
@@ -117,6 +126,7 @@ impl Default for SearchConfig {
             strategy: Strategy::Combined,
             criterion: Criterion::Bic,
             complexity_penalty: 1.0,
+            cv_folds: 5,
             time_limit_s: None,
             max_evaluations: None,
             affine_inputs: true,
@@ -152,6 +162,12 @@ impl SearchConfig {
             return Err(SrError::InvalidConfig(
                 "complexity_penalty must be finite and >= 0".into(),
             ));
+        }
+        if self.criterion == Criterion::CrossValidation && self.cv_folds < 2 {
+            return Err(SrError::InvalidConfig(format!(
+                "cv_folds is {}: cross-validation needs at least 2 folds",
+                self.cv_folds
+            )));
         }
         if let Some(t) = self.time_limit_s
             && !(t.is_finite() && t > 0.0)

@@ -9,6 +9,9 @@ use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::model::{Model, snap_params};
 use crate::{SrError, Table};
+use rand::SeedableRng;
+use rand::seq::SliceRandom;
+use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -34,6 +37,10 @@ const PARETO_SCORE_LOSS_WINDOW: f64 = 1.5;
 /// Floor on the loss inside the log-loss slope of [`Criterion::ParetoScore`], so an exact
 /// fit (loss 0) gives a large finite slope instead of infinity.
 const LOG_LOSS_FLOOR: f64 = 1e-300;
+
+/// Mixed into the seed of [`Criterion::CrossValidation`]'s fold assignment, so the folds
+/// do not reuse the random stream of the search's own row subsample.
+const CV_SEED_SALT: u64 = 0x6376_5f66_6f6c_6473;
 
 /// What a search returns.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -77,10 +84,16 @@ pub(crate) fn finish(
             .cmp(&b.complexity)
             .then(a.train_mse.total_cmp(&b.train_mse))
     });
+    let cv_se = if problem.cfg.criterion == Criterion::CrossValidation {
+        cross_validate_scores(problem, &mut models, data)?
+    } else {
+        Vec::new()
+    };
     let pareto = pareto_front(&models);
     let best = match problem.cfg.criterion {
         Criterion::ParetoScore => pareto_score_pick(&pareto),
-        _ => simplest_within_one_charge(problem, &models),
+        Criterion::CrossValidation => one_standard_error_pick(&models, &cv_se),
+        Criterion::Bic | Criterion::Aic => simplest_within_one_charge(problem, &models),
     }
     .ok_or(SrError::NoModel)?;
     Ok(SearchResult {
@@ -179,6 +192,122 @@ fn simplest_within_one_charge(problem: &Problem, models: &[Model]) -> Option<Mod
     models
         .iter()
         .filter(|m| m.score <= best_score + margin)
+        .min_by(|a, b| {
+            a.complexity
+                .cmp(&b.complexity)
+                .then(a.score.total_cmp(&b.score))
+        })
+        .cloned()
+}
+
+/// Under [`Criterion::CrossValidation`]: replaces each model's `score` by its mean
+/// held-out squared error over `cv_folds` seeded folds of all rows, and returns each
+/// mean's standard error. Each fold refits every constant of the structure from the
+/// model's own (all-rows) values; a fold whose refit fails scores infinity.
+fn cross_validate_scores(
+    problem: &Problem,
+    models: &mut [Model],
+    data: &Table,
+) -> Result<Vec<f64>, SrError> {
+    let cfg = problem.cfg;
+    let n = problem.y.len();
+    let k = cfg.cv_folds.min(n);
+    let mut order: Vec<usize> = (0..n).collect();
+    order.shuffle(&mut ChaCha8Rng::seed_from_u64(cfg.seed ^ CV_SEED_SALT));
+    let mut fold_of = vec![0usize; n];
+    for (pos, &row) in order.iter().enumerate() {
+        fold_of[row] = pos * k / n;
+    }
+    let scored: Vec<(f64, f64)> = models
+        .par_iter()
+        .map(|m| cv_loss(m, data, &problem.y, &fold_of, k))
+        .collect::<Result<_, _>>()?;
+    let mut ses = Vec::with_capacity(models.len());
+    for (m, (mean, se)) in models.iter_mut().zip(scored) {
+        m.score = mean;
+        ses.push(se);
+    }
+    Ok(ses)
+}
+
+/// Mean and standard error of one model's held-out MSE over the folds.
+fn cv_loss(
+    m: &Model,
+    data: &Table,
+    y: &[f64],
+    fold_of: &[usize],
+    k: usize,
+) -> Result<(f64, f64), SrError> {
+    let cols: Vec<&[f64]> = m
+        .feature_names
+        .iter()
+        .map(|name| data.require(name).map_err(SrError::from))
+        .collect::<Result<_, _>>()?;
+    let prog = &m.program;
+    let mut ev = Evaluator::new(prog);
+    let free: Vec<usize> = (0..m.params.len()).collect();
+    let mut losses = Vec::with_capacity(k);
+    for fold in 0..k {
+        let pick = |inside: bool| -> (Vec<Vec<f64>>, Vec<f64>) {
+            let rows: Vec<usize> = (0..y.len())
+                .filter(|&i| (fold_of[i] == fold) == inside)
+                .collect();
+            let c = cols
+                .iter()
+                .map(|col| rows.iter().map(|&i| col[i]).collect())
+                .collect();
+            (c, rows.iter().map(|&i| y[i]).collect())
+        };
+        let (train_cols, train_y) = pick(false);
+        let (test_cols, test_y) = pick(true);
+        let train_refs: Vec<&[f64]> = train_cols.iter().map(Vec::as_slice).collect();
+        let test_refs: Vec<&[f64]> = test_cols.iter().map(Vec::as_slice).collect();
+        let mut params = m.params.clone();
+        let fit = levenberg_marquardt(
+            prog,
+            &mut params,
+            Unknowns::Free(&free),
+            &train_refs,
+            &train_y,
+            &LmSettings::new(REFIT_LM_ITERATIONS, REFIT_LM_TOLERANCE),
+            &mut ev,
+        );
+        let loss = if fit.is_finite() {
+            ev.mse(prog, &params, &test_refs, &test_y)
+        } else {
+            f64::INFINITY
+        };
+        losses.push(if loss.is_finite() {
+            loss
+        } else {
+            f64::INFINITY
+        });
+    }
+    let kf = k as f64;
+    let mean = losses.iter().sum::<f64>() / kf;
+    let var = losses.iter().map(|l| (l - mean).powi(2)).sum::<f64>() / (kf - 1.0);
+    let se = if mean.is_finite() {
+        (var / kf).sqrt()
+    } else {
+        f64::INFINITY
+    };
+    Ok((mean, se))
+}
+
+/// The one-standard-error rule (Hastie, Tibshirani and Friedman, *The Elements of
+/// Statistical Learning*, 7.10): the simplest model whose cross-validated error is within
+/// one standard error of the lowest.
+/// `se[i]` is the standard error of `models[i].score`.
+fn one_standard_error_pick(models: &[Model], se: &[f64]) -> Option<Model> {
+    let (best, best_se) = models
+        .iter()
+        .zip(se)
+        .filter(|(m, _)| m.score.is_finite())
+        .min_by(|a, b| a.0.score.total_cmp(&b.0.score))?;
+    let limit = best.score + best_se;
+    models
+        .iter()
+        .filter(|m| m.score <= limit)
         .min_by(|a, b| {
             a.complexity
                 .cmp(&b.complexity)
