@@ -1,0 +1,35 @@
+"""hxai from Python: symbolic regression and hybrid physics + symbolic models as
+scikit-learn estimators, the signal chain and features on NumPy arrays, and the simulators
+as pandas DataFrames, all computed by hxai's compiled Rust engine (``hxai._hxai``).
+
+- :class:`SymbolicRegressor`: symbolic regression (``hxai sr``) as a scikit-learn regressor.
+- :class:`HybridRegressor`: a physics equation over the columns, calibrated, plus a symbolic
+  correction (``hxai hybrid fit``, docs/hybrid-tables.md).
+- :class:`ToolModel` and :func:`predict_records`: the tool case's per-record pipeline with a
+  model written by ``hxai fit`` (features, physics, hybrid), a pure function of a pandas
+  DataFrame that Dask's ``map_partitions`` runs over a partitioned archive.
+- :mod:`hxai.signal`, :mod:`hxai.features`: the signal functions in scipy's shapes, the
+  twelve features.
+- :func:`simulate`: the machine simulator and the table cases as DataFrames.
+
+Every result equals the command line's for the same seed and data; errors are ValueErrors
+with the command line's one-line messages.
+"""
+
+from . import _hxai
+from . import features, signal
+from .estimators import HybridRegressor, SymbolicRegressor
+from .sim import simulate
+from .tool import ToolModel, predict_records
+
+__version__ = _hxai.__version__
+
+__all__ = [
+    "SymbolicRegressor",
+    "HybridRegressor",
+    "ToolModel",
+    "predict_records",
+    "simulate",
+    "signal",
+    "features",
+]

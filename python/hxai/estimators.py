@@ -1,0 +1,319 @@
+"""scikit-learn estimators over hxai's symbolic regression and hybrid table models.
+
+The estimators are plain Python classes: their constructor arguments are stored as given
+(scikit-learn's rule), checked and sent to the compiled engine as JSON at ``fit``, and the
+fitted model is kept as the JSON text the engine writes, so a fitted estimator pickles and
+clones like any other.
+"""
+
+import json
+
+import numpy as np
+import pandas as pd
+from sklearn.base import BaseEstimator, RegressorMixin
+from sklearn.utils.validation import check_is_fitted, validate_data
+
+from . import _hxai
+from ._arrays import columns_of, from_bytes, to_bytes
+
+# The Rust defaults (SearchConfig::default()); tests/test_estimators.py checks they agree
+# with the compiled engine's.
+DEFAULT_OPERATORS = (
+    "add",
+    "sub",
+    "mul",
+    "div",
+    "sin",
+    "cos",
+    "gaussian",
+    "gaussian2",
+    "log",
+    "abs",
+    "exp",
+)
+
+_SEARCH_KEYS = (
+    "seed",
+    "epochs",
+    "max_complexity",
+    "operators",
+    "strategy",
+    "criterion",
+    "complexity_penalty",
+    "time_limit_s",
+    "max_evaluations",
+    "affine_inputs",
+    "complexity_measure",
+    "candidates_per_epoch",
+    "max_fit_rows",
+    "lm_iterations",
+    "snap_constants",
+    "snap_tolerance",
+)
+
+_CRITERIA = {"bic": "bic", "aic": "aic", "pareto": "pareto_score", "pareto_score": "pareto_score"}
+_STRATEGIES = {"combined": "combined", "genetic": "genetic", "qlattice": "qlattice"}
+
+
+def _search_json(est):
+    """The search settings of an estimator as the engine's JSON object."""
+    s = {k: getattr(est, k) for k in _SEARCH_KEYS}
+    if s["operators"] is None:
+        s["operators"] = list(DEFAULT_OPERATORS)
+    elif isinstance(s["operators"], str):
+        s["operators"] = [o.strip() for o in s["operators"].split(",")]
+    else:
+        s["operators"] = list(s["operators"])
+    crit = str(s["criterion"]).lower()
+    if crit not in _CRITERIA:
+        raise ValueError(f"criterion `{s['criterion']}`: use bic, aic or pareto")
+    s["criterion"] = _CRITERIA[crit]
+    strat = str(s["strategy"]).lower()
+    if strat not in _STRATEGIES:
+        raise ValueError(f"strategy `{s['strategy']}`: use combined, genetic or qlattice")
+    s["strategy"] = _STRATEGIES[strat]
+    for k in ("seed", "epochs", "max_complexity", "candidates_per_epoch", "max_fit_rows",
+              "lm_iterations"):
+        v = s[k]
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
+            raise ValueError(f"{k} must be a non-negative integer, got {v!r}")
+        s[k] = int(v)
+    if s["max_evaluations"] is not None:
+        s["max_evaluations"] = int(s["max_evaluations"])
+    for k in ("complexity_penalty", "snap_tolerance"):
+        s[k] = float(s[k])
+    if s["time_limit_s"] is not None:
+        s["time_limit_s"] = float(s["time_limit_s"])
+    return json.dumps(s)
+
+
+def _names(est, n):
+    """Column names: the DataFrame's (``feature_names_in_``), else x0, x1, ..."""
+    names = getattr(est, "feature_names_in_", None)
+    if names is not None:
+        return [str(c) for c in names]
+    return [f"x{j}" for j in range(n)]
+
+
+def _pareto_frame(front):
+    return pd.DataFrame(
+        {
+            "complexity": [m["complexity"] for m in front],
+            "loss": [m["loss"] for m in front],
+            "equation": [m["equation"] for m in front],
+        }
+    )
+
+
+class _SearchParams:
+    """Search settings shared by both estimators (defaults: hxai's ``SearchConfig``)."""
+
+    def _set_search(self, loc):
+        for k in _SEARCH_KEYS:
+            setattr(self, k, loc[k])
+
+
+class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
+    """Symbolic regression (``hxai sr``) as a scikit-learn regressor.
+
+    Parameters are the engine's search settings with its defaults (the paper's set-up:
+    seed 42, 10 epochs of 1000 candidates, complexity at most 10, BIC). ``fit`` takes a
+    DataFrame (its column names become the equation's names) or an array (names x0, x1...).
+
+    Fitted attributes: ``equation_`` (4 significant digits, for reading), ``sympy_`` (full
+    precision, sympy-parseable), ``latex_``, ``complexity_``, ``features_`` (columns used),
+    ``pareto_`` (DataFrame: complexity, loss = training MSE, equation), ``model_json_`` (the
+    model as the engine serialises it), ``evaluations_``, ``n_features_in_`` and, from a
+    DataFrame, ``feature_names_in_``.
+
+    The result is identical to ``hxai sr --csv TABLE --target y`` for the same seed, settings
+    and data (the CLI's defaults are these).
+    """
+
+    def __init__(
+        self,
+        *,
+        seed=42,
+        epochs=10,
+        max_complexity=10,
+        operators=DEFAULT_OPERATORS,
+        strategy="combined",
+        criterion="bic",
+        complexity_penalty=1.0,
+        time_limit_s=None,
+        max_evaluations=None,
+        affine_inputs=True,
+        complexity_measure="features_plus_operators",
+        candidates_per_epoch=1000,
+        max_fit_rows=2000,
+        lm_iterations=25,
+        snap_constants=True,
+        snap_tolerance=1e-3,
+    ):
+        self._set_search(locals())
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = False
+        return tags
+
+    def fit(self, X, y):
+        """Searches for an equation of ``y`` over the columns of ``X``. Returns ``self``."""
+        settings = _search_json(self)
+        X, y = validate_data(
+            self, X, y, dtype=np.float64, y_numeric=True, ensure_all_finite=False
+        )
+        names = _names(self, X.shape[1])
+        doc = json.loads(_hxai.sr_fit(names, columns_of(X), to_bytes(y, "y"), settings))
+        best = doc["best"]
+        self.model_json_ = best["model"]
+        self.equation_ = best["equation"]
+        self.sympy_ = best["sympy"]
+        self.latex_ = best["latex"]
+        self.complexity_ = best["complexity"]
+        self.features_ = list(best["features"])
+        self.pareto_ = _pareto_frame(doc["pareto"])
+        self.evaluations_ = doc["evaluations"]
+        return self
+
+    def predict(self, X):
+        """The equation's values on the rows of ``X`` (same columns as in ``fit``)."""
+        check_is_fitted(self, "model_json_")
+        X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
+        names = _names(self, X.shape[1])
+        return from_bytes(_hxai.sr_predict(self.model_json_, names, columns_of(X)))
+
+
+class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
+    """A hybrid of a physics equation and a symbolic correction (``hxai hybrid fit``,
+    docs/hybrid-tables.md) as a scikit-learn regressor.
+
+    ``physics`` is infix text over the columns of ``X`` and named parameters: a name is a
+    column if ``X`` has it, else a parameter, which must be calibrated (``calibrate``,
+    starting values ``init``, default 1) or fixed (``set``). ``correction`` is ``additive``
+    (``y = f_p + delta``) or ``multiplicative`` (``y = f_p (1 + delta)``); ``delta`` is found
+    by symbolic regression on ``features`` (default: every column not in ``exclude``) with
+    the search settings. ``joint`` refits physics parameters and correction constants
+    together. ``fit`` uses every row it is given (split before, as with any estimator).
+
+    Fitted attributes: ``physics_parameters_`` {name: value}, ``physics_standard_errors_``,
+    ``hybrid_equation_`` (4 digits), ``hybrid_sympy_`` (full precision), ``hybrid_latex_``,
+    the correction's ``equation_``, ``sympy_``, ``latex_``, ``complexity_``, ``features_``,
+    and ``model_json_`` (the model file of ``hxai hybrid fit``, readable by
+    ``hxai hybrid predict``). ``predict_parts(X)`` returns physics, correction and hybrid.
+    """
+
+    def __init__(
+        self,
+        physics="",
+        *,
+        calibrate=(),
+        init=None,
+        set=None,
+        correction="additive",
+        features=None,
+        exclude=(),
+        joint=False,
+        seed=42,
+        epochs=10,
+        max_complexity=10,
+        operators=DEFAULT_OPERATORS,
+        strategy="combined",
+        criterion="bic",
+        complexity_penalty=1.0,
+        time_limit_s=None,
+        max_evaluations=None,
+        affine_inputs=True,
+        complexity_measure="features_plus_operators",
+        candidates_per_epoch=1000,
+        max_fit_rows=2000,
+        lm_iterations=25,
+        snap_constants=True,
+        snap_tolerance=1e-3,
+    ):
+        self.physics = physics
+        self.calibrate = calibrate
+        self.init = init
+        self.set = set
+        self.correction = correction
+        self.features = features
+        self.exclude = exclude
+        self.joint = joint
+        self._set_search(locals())
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = False
+        return tags
+
+    def _target_name(self, y, names):
+        name = getattr(y, "name", None)
+        name = name if isinstance(name, str) and name else "y"
+        if name in names:
+            raise ValueError(
+                f"the target `{name}` is also a column of X: drop it from X or rename it"
+            )
+        return name
+
+    def fit(self, X, y):
+        """Calibrates the physics on ``(X, y)`` and learns its correction. Returns ``self``."""
+        if not isinstance(self.physics, str) or not self.physics.strip():
+            raise ValueError("physics: give the physics equation as text, e.g. 'k*f^2/(32*r)'")
+        if self.correction not in ("additive", "multiplicative"):
+            raise ValueError(
+                f"correction `{self.correction}`: use additive or multiplicative"
+            )
+        search = json.loads(_search_json(self))
+        y_in = y
+        X, y = validate_data(
+            self, X, y, dtype=np.float64, y_numeric=True, ensure_all_finite=False
+        )
+        names = _names(self, X.shape[1])
+        target = self._target_name(y_in, names)
+        settings = {
+            "target": target,
+            "physics": self.physics,
+            "calibrate": [str(c) for c in self.calibrate],
+            "init": {str(k): float(v) for k, v in (self.init or {}).items()},
+            "set": {str(k): float(v) for k, v in (self.set or {}).items()},
+            "features": None if self.features is None else [str(c) for c in self.features],
+            "exclude": [str(c) for c in self.exclude],
+            "correction": self.correction,
+            "joint": bool(self.joint),
+            "search": search,
+        }
+        text = _hxai.process_fit(
+            names + [target], columns_of(X) + [to_bytes(y, "y")], json.dumps(settings)
+        )
+        doc = json.loads(text)
+        self.model_json_ = text
+        self.target_ = target
+        self.physics_parameters_ = dict(doc["physics"]["parameters"])
+        self.physics_standard_errors_ = dict(doc["physics"]["standard_errors"])
+        self.hybrid_equation_ = doc["hybrid"]["equation"]
+        self.hybrid_sympy_ = doc["hybrid"]["sympy"]
+        self.hybrid_latex_ = doc["hybrid"]["latex"]
+        corr = doc["correction"]
+        self.equation_ = corr["equation"]
+        self.sympy_ = corr["sympy"]
+        self.latex_ = corr["latex"]
+        self.complexity_ = corr["complexity"]
+        self.features_ = list(corr["features"])
+        return self
+
+    def _parts(self, X):
+        check_is_fitted(self, "model_json_")
+        X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
+        names = _names(self, X.shape[1])
+        return _hxai.process_predict(self.model_json_, names, columns_of(X))
+
+    def predict(self, X):
+        """The hybrid's values on the rows of ``X``."""
+        return from_bytes(self._parts(X)[2])
+
+    def predict_parts(self, X):
+        """A DataFrame with the columns physics, correction and hybrid."""
+        p, c, h = self._parts(X)
+        return pd.DataFrame(
+            {"physics": from_bytes(p), "correction": from_bytes(c), "hybrid": from_bytes(h)}
+        )

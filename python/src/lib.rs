@@ -1,0 +1,555 @@
+//! The compiled half of the `hxai` Python package: thin functions over the workspace's
+//! library crates, imported by the pure-Python half (`python/hxai/*.py`) as `hxai._hxai`.
+//!
+//! Users never call this module directly. The scikit-learn estimators, the DataFrame
+//! conversions and the argument checks that belong to Python conventions live in Python;
+//! every number is computed here, by the same functions the command line calls, so results
+//! equal the CLI's for the same seed and data.
+//!
+//! Design decisions:
+//! - **Arrays cross as bytes** (little-endian `float64`, `numpy.ndarray.tobytes()` and
+//!   `numpy.frombuffer`): one copy each way, no dependency on a NumPy C-API binding whose
+//!   version would have to track pyo3's, and it works under the stable ABI (abi3), where
+//!   the buffer protocol is unavailable before Python 3.11.
+//! - **Settings and models cross as JSON**, the serde forms the CLI already writes: a fitted
+//!   model is its JSON text, which is also what the Python estimators pickle.
+//! - **The GIL is released** (`Python::detach`) around every computation, so a search in
+//!   one thread does not stop the others.
+//! - **Errors are `ValueError`s** carrying the library error's one-line message (the text
+//!   the CLI prints after `Error:`); no function panics on user input.
+//!
+//! Entry points: `sr_fit`, `sr_predict`, `process_fit`, `process_predict`, `tool_predict`,
+//! `butter`, `sosfilt`, `sosfiltfilt`, `welch`, `fit_sine`, `displacement`,
+//! `features_extract`, `simulate_tool`, `simulate_case`, `defaults`.
+#![deny(missing_docs)]
+
+use hxai_hybrid::process::{CorrectionForm, ProcessConfig, ProcessModel, fit_process_split};
+use hxai_hybrid::{HybridModel, RecordInput};
+use hxai_signal::{Band, PhysicsConfig, Sos, WelchConfig};
+use hxai_symreg::{Model, SearchConfig, Table};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+use serde::Deserialize;
+use serde_json::{Value, json};
+use std::collections::BTreeMap;
+
+/// Any library error as a `ValueError` with the error's own message.
+fn err(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// Little-endian `float64` bytes to values.
+fn floats(b: &[u8], what: &str) -> PyResult<Vec<f64>> {
+    if !b.len().is_multiple_of(8) {
+        return Err(PyValueError::new_err(format!(
+            "{what}: {} bytes is not a whole number of float64 values",
+            b.len()
+        )));
+    }
+    Ok(b.chunks_exact(8)
+        .map(|c| {
+            let mut a = [0u8; 8];
+            a.copy_from_slice(c);
+            f64::from_le_bytes(a)
+        })
+        .collect())
+}
+
+/// Values to little-endian `float64` bytes.
+fn to_bytes<'py>(py: Python<'py>, v: &[f64]) -> Bound<'py, PyBytes> {
+    let mut out = Vec::with_capacity(v.len() * 8);
+    for x in v {
+        out.extend_from_slice(&x.to_le_bytes());
+    }
+    PyBytes::new(py, &out)
+}
+
+/// A table from column names and their `float64` bytes.
+fn table_of(names: Vec<String>, columns: &[Bound<'_, PyBytes>]) -> PyResult<Table> {
+    let cols = columns
+        .iter()
+        .zip(&names)
+        .map(|(c, n)| floats(c.as_bytes(), n))
+        .collect::<PyResult<Vec<_>>>()?;
+    if cols.len() != names.len() {
+        return Err(PyValueError::new_err(format!(
+            "{} column names for {} columns",
+            names.len(),
+            columns.len()
+        )));
+    }
+    Table::new(names, cols).map_err(err)
+}
+
+fn parse_json<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> PyResult<T> {
+    serde_json::from_str(text).map_err(|e| PyValueError::new_err(format!("{what}: {e}")))
+}
+
+/// `defaults(what)`: the Rust defaults as JSON, for `search` (symbolic regression),
+/// `tool` (the machine simulator), `roughness` and `cutting_force` (the table cases).
+#[pyfunction]
+fn defaults(what: &str) -> PyResult<String> {
+    let v = default_value(what)?;
+    serde_json::to_string(&v).map_err(err)
+}
+
+fn default_value(what: &str) -> PyResult<Value> {
+    let v = match what {
+        "search" => serde_json::to_value(SearchConfig::default()),
+        "tool" => serde_json::to_value(hxai_sim::SimConfig::default()),
+        "roughness" => serde_json::to_value(hxai_sim::cases::RoughnessConfig::default()),
+        "cutting_force" => serde_json::to_value(hxai_sim::cases::CuttingForceConfig::default()),
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "unknown case `{other}`: the cases are tool, {}",
+                hxai_sim::cases::CASE_NAMES.join(", ")
+            )));
+        }
+    };
+    v.map_err(err)
+}
+
+/// The defaults of `what` with `overrides` (a JSON object) applied; an unknown key is refused
+/// with the list of known ones (the case configurations would otherwise ignore it).
+fn with_overrides<T: serde::de::DeserializeOwned>(what: &str, overrides: &str) -> PyResult<T> {
+    let mut base = default_value(what)?;
+    let over: BTreeMap<String, Value> = parse_json(overrides, "settings")?;
+    if let Value::Object(map) = &mut base {
+        for (k, v) in over {
+            if !map.contains_key(&k) {
+                let known: Vec<&str> = map.keys().map(String::as_str).collect();
+                return Err(PyValueError::new_err(format!(
+                    "unknown setting `{k}` for {what}: the settings are {}",
+                    known.join(", ")
+                )));
+            }
+            map.insert(k, v);
+        }
+    }
+    serde_json::from_value(base).map_err(|e| PyValueError::new_err(format!("{what}: {e}")))
+}
+
+/// A model's forms, as the CLI's `hxai sr --json` reports them, plus the model itself.
+fn model_summary(m: &Model) -> Value {
+    json!({
+        "equation": m.equation(),
+        "sympy": m.sympy(),
+        "latex": m.latex(),
+        "complexity": m.complexity(),
+        "features": m.features(),
+        "loss": m.train_mse,
+        "model": m.to_json(),
+    })
+}
+
+/// `sr_fit(names, columns, y, search_json)`: symbolic regression of `y` on the columns with
+/// the search settings `search_json` (a JSON object over `SearchConfig`'s defaults). Returns
+/// JSON `{best, pareto: [...], evaluations, seconds}`, each model as [`model_summary`].
+#[pyfunction]
+fn sr_fit(
+    py: Python<'_>,
+    names: Vec<String>,
+    columns: Vec<Bound<'_, PyBytes>>,
+    y: &[u8],
+    search_json: &str,
+) -> PyResult<String> {
+    let data = table_of(names, &columns)?;
+    let y = floats(y, "y")?;
+    let cfg: SearchConfig = with_overrides("search", search_json)?;
+    let res = py
+        .detach(move || hxai_symreg::search(&data, &y, &cfg, &mut |_| {}))
+        .map_err(err)?;
+    let doc = json!({
+        "best": model_summary(&res.best),
+        "pareto": res.pareto.iter().map(model_summary).collect::<Vec<_>>(),
+        "evaluations": res.evaluations,
+        "seconds": res.seconds,
+    });
+    Ok(doc.to_string())
+}
+
+/// `sr_predict(model_json, names, columns)`: a symbolic model's prediction on a table
+/// (columns found by name).
+#[pyfunction]
+fn sr_predict<'py>(
+    py: Python<'py>,
+    model_json: &str,
+    names: Vec<String>,
+    columns: Vec<Bound<'py, PyBytes>>,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let model = Model::from_json(model_json).map_err(err)?;
+    let data = table_of(names, &columns)?;
+    let pred = py.detach(move || model.predict(&data)).map_err(err)?;
+    Ok(to_bytes(py, &pred))
+}
+
+/// Settings of [`process_fit`] as the Python estimator sends them.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ProcessSettings {
+    target: String,
+    physics: String,
+    #[serde(default)]
+    calibrate: Vec<String>,
+    #[serde(default)]
+    init: BTreeMap<String, f64>,
+    #[serde(default)]
+    set: BTreeMap<String, f64>,
+    #[serde(default)]
+    features: Option<Vec<String>>,
+    #[serde(default)]
+    exclude: Vec<String>,
+    #[serde(default)]
+    correction: CorrectionForm,
+    #[serde(default)]
+    joint: bool,
+    #[serde(default)]
+    search: Value,
+}
+
+/// `process_fit(names, columns, settings_json)`: the table workflow's `fit` (docs/hybrid-tables.md)
+/// on every row of the table (the caller splits, as scikit-learn does). The table holds the
+/// target column named in the settings. Returns the model file's JSON.
+#[pyfunction]
+fn process_fit(
+    py: Python<'_>,
+    names: Vec<String>,
+    columns: Vec<Bound<'_, PyBytes>>,
+    settings_json: &str,
+) -> PyResult<String> {
+    let table = table_of(names, &columns)?;
+    let s: ProcessSettings = parse_json(settings_json, "hybrid settings")?;
+    let search: SearchConfig = with_overrides("search", &s.search.to_string())?;
+    let mut cfg = ProcessConfig::new(&s.target, &s.physics);
+    cfg.calibrate = s.calibrate;
+    cfg.init = s.init;
+    cfg.set = s.set;
+    cfg.features = s.features;
+    cfg.exclude = s.exclude;
+    cfg.correction = s.correction;
+    cfg.joint = s.joint;
+    cfg.seed = search.seed;
+    cfg.search = search;
+    let split = hxai_eval::Split {
+        train: (0..table.n_rows()).collect(),
+        test: Vec::new(),
+    };
+    let model = py
+        .detach(move || fit_process_split(&table, &cfg, &split, &mut |_| {}))
+        .map_err(err)?;
+    Ok(model.to_json())
+}
+
+/// `process_predict(model_json, names, columns)` -> `(physics, correction, hybrid)`.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn process_predict<'py>(
+    py: Python<'py>,
+    model_json: &str,
+    names: Vec<String>,
+    columns: Vec<Bound<'py, PyBytes>>,
+) -> PyResult<(
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+)> {
+    let model = ProcessModel::from_json(model_json).map_err(err)?;
+    let table = table_of(names, &columns)?;
+    let p = py.detach(move || model.predict(&table)).map_err(err)?;
+    Ok((
+        to_bytes(py, &p.physics),
+        to_bytes(py, &p.correction),
+        to_bytes(py, &p.hybrid),
+    ))
+}
+
+/// `tool_predict(model_json, record_id, accel, fs_hz, frequency_hz)`: the tool case's
+/// per-record pipeline with a model written by `hxai fit` (features, physics, hybrid), as
+/// `hxai predict` runs it. Returns `(physics, hybrid, windows_json, warnings)`; each
+/// window is `{window, start, len, a_phys_um, phase_rad, delta_hat_um, a_corr_um,
+/// features: {name: value}}`.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn tool_predict<'py>(
+    py: Python<'py>,
+    model_json: &str,
+    record_id: &str,
+    accel: &[u8],
+    fs_hz: f64,
+    frequency_hz: f64,
+) -> PyResult<(
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    String,
+    Vec<String>,
+)> {
+    let model = HybridModel::from_json(model_json).map_err(err)?;
+    let accel = floats(accel, "accel")?;
+    let id = record_id.to_string();
+    let (pred, names) = py
+        .detach(move || {
+            let input = RecordInput {
+                id: &id,
+                fs_hz,
+                frequency_hz,
+                signal: &accel,
+                truth: None,
+            };
+            model
+                .predict(&input)
+                .map(|p| (p, model.features.names.clone()))
+        })
+        .map_err(err)?;
+    let windows: Vec<Value> = pred
+        .windows
+        .iter()
+        .zip(&pred.samples)
+        .map(|(w, s)| {
+            let feats: serde_json::Map<String, Value> = names
+                .iter()
+                .zip(&s.features)
+                .map(|(n, v)| (n.clone(), json!(v)))
+                .collect();
+            json!({
+                "window": w.window,
+                "start": w.start,
+                "len": w.len,
+                "a_phys_um": w.physics.amplitude,
+                "phase_rad": w.physics.phase,
+                "delta_hat_um": w.delta_hat,
+                "a_corr_um": w.corrected.amplitude,
+                "features": feats,
+            })
+        })
+        .collect();
+    let warnings = pred.warnings.iter().map(ToString::to_string).collect();
+    Ok((
+        to_bytes(py, &pred.physics),
+        to_bytes(py, &pred.hybrid),
+        Value::Array(windows).to_string(),
+        warnings,
+    ))
+}
+
+/// `butter(order, btype, cutoff, fs)`: Butterworth design as second-order sections, flat
+/// (`n x 6`, scipy's layout, row-major).
+#[pyfunction]
+fn butter<'py>(
+    py: Python<'py>,
+    order: usize,
+    btype: &str,
+    cutoff: Vec<f64>,
+    fs: f64,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let band = match (btype, cutoff.as_slice()) {
+        ("lowpass", [c]) => Band::Lowpass(*c),
+        ("highpass", [c]) => Band::Highpass(*c),
+        ("bandpass", [lo, hi]) => Band::Bandpass(*lo, *hi),
+        ("lowpass" | "highpass", _) => {
+            return Err(PyValueError::new_err(format!(
+                "a {btype} filter takes one cutoff frequency, got {}",
+                cutoff.len()
+            )));
+        }
+        ("bandpass", _) => {
+            return Err(PyValueError::new_err(format!(
+                "a bandpass filter takes two cutoff frequencies (low, high), got {}",
+                cutoff.len()
+            )));
+        }
+        (other, _) => {
+            return Err(PyValueError::new_err(format!(
+                "unknown btype `{other}`: use lowpass, highpass or bandpass"
+            )));
+        }
+    };
+    let sos = hxai_signal::butter(order, band, fs).map_err(err)?;
+    let flat: Vec<f64> = sos.sections().iter().flatten().copied().collect();
+    Ok(to_bytes(py, &flat))
+}
+
+fn sos_of(sos: &[u8]) -> PyResult<Sos> {
+    let v = floats(sos, "sos")?;
+    let sections: Vec<[f64; 6]> = v
+        .chunks(6)
+        .map(|c| {
+            let mut a = [0.0; 6];
+            if c.len() == 6 {
+                a.copy_from_slice(c);
+                Ok(a)
+            } else {
+                Err(PyValueError::new_err(
+                    "sos must have 6 values per section (shape n x 6)",
+                ))
+            }
+        })
+        .collect::<PyResult<_>>()?;
+    Sos::from_sections(sections).map_err(err)
+}
+
+/// `sosfilt(sos, x)`: causal filtering (scipy's `sosfilt` with zero initial state).
+#[pyfunction]
+fn sosfilt<'py>(py: Python<'py>, sos: &[u8], x: &[u8]) -> PyResult<Bound<'py, PyBytes>> {
+    let sos = sos_of(sos)?;
+    let x = floats(x, "x")?;
+    if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "x[{i}] = {} is not a finite number",
+            x[i]
+        )));
+    }
+    let y = py.detach(move || sos.filter(&x));
+    Ok(to_bytes(py, &y))
+}
+
+/// `sosfiltfilt(sos, x)`: zero-phase filtering (scipy's `sosfiltfilt`, odd padding).
+#[pyfunction]
+fn sosfiltfilt<'py>(py: Python<'py>, sos: &[u8], x: &[u8]) -> PyResult<Bound<'py, PyBytes>> {
+    let sos = sos_of(sos)?;
+    let x = floats(x, "x")?;
+    let y = py.detach(move || sos.filtfilt(&x)).map_err(err)?;
+    Ok(to_bytes(py, &y))
+}
+
+/// `welch(x, fs, nperseg)` -> `(freqs, density)`: Welch's PSD with scipy's defaults.
+#[pyfunction]
+#[pyo3(signature = (x, fs, nperseg=256))]
+fn welch<'py>(
+    py: Python<'py>,
+    x: &[u8],
+    fs: f64,
+    nperseg: usize,
+) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>)> {
+    let x = floats(x, "x")?;
+    let cfg = WelchConfig {
+        nperseg,
+        ..WelchConfig::default()
+    };
+    let psd = py
+        .detach(move || hxai_signal::welch(&x, fs, &cfg))
+        .map_err(err)?;
+    Ok((to_bytes(py, &psd.freqs), to_bytes(py, &psd.density)))
+}
+
+/// `fit_sine(x, fs, freq_hz)` -> `(amplitude, phase, offset)`.
+#[pyfunction]
+fn fit_sine(py: Python<'_>, x: &[u8], fs: f64, freq_hz: f64) -> PyResult<(f64, f64, f64)> {
+    let x = floats(x, "x")?;
+    let f = py
+        .detach(move || hxai_signal::fit_sine(&x, fs, freq_hz))
+        .map_err(err)?;
+    Ok((f.amplitude, f.phase, f.offset))
+}
+
+/// `displacement(accel, fs)`: the physics chain (band-pass, double integration, drift
+/// removal) with its defaults, in micrometres.
+#[pyfunction]
+fn displacement<'py>(py: Python<'py>, accel: &[u8], fs: f64) -> PyResult<Bound<'py, PyBytes>> {
+    let a = floats(accel, "accel")?;
+    let d = py
+        .detach(move || hxai_signal::displacement(&a, fs, &PhysicsConfig::default()))
+        .map_err(err)?;
+    Ok(to_bytes(py, &d))
+}
+
+/// `features_extract(accel, fs, command_hz)`: the twelve features f1..f12, in order.
+#[pyfunction]
+fn features_extract(py: Python<'_>, accel: &[u8], fs: f64, command_hz: f64) -> PyResult<Vec<f64>> {
+    let a = floats(accel, "accel")?;
+    let f = py
+        .detach(move || hxai_features::extract(&a, fs, command_hz))
+        .map_err(err)?;
+    Ok(f.to_vec())
+}
+
+/// One simulated record: `(id, amplitude_um, frequency_hz, repeat, fs_hz, time_s,
+/// accel_ms2, probe_um, command_um, encoder_um)`.
+type PyRecord<'py> = (
+    String,
+    f64,
+    f64,
+    usize,
+    f64,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+);
+
+/// `simulate_tool(overrides_json)`: the machine simulator (`hxai simulate`) with
+/// `SimConfig`'s defaults and the given overrides; one tuple per record.
+#[pyfunction]
+fn simulate_tool<'py>(py: Python<'py>, overrides_json: &str) -> PyResult<Vec<PyRecord<'py>>> {
+    let cfg: hxai_sim::SimConfig = with_overrides("tool", overrides_json)?;
+    let recs = py.detach(move || hxai_sim::simulate(&cfg)).map_err(err)?;
+    Ok(recs
+        .iter()
+        .map(|r| {
+            (
+                r.id.clone(),
+                r.amplitude_um,
+                r.frequency_hz,
+                r.repeat,
+                r.fs_hz,
+                to_bytes(py, &r.time_s),
+                to_bytes(py, &r.accel_ms2),
+                to_bytes(py, &r.probe_um),
+                to_bytes(py, &r.command_um),
+                to_bytes(py, &r.encoder_um),
+            )
+        })
+        .collect())
+}
+
+/// `simulate_case(name, overrides_json)` -> `(names, columns)`: a table case
+/// (`roughness`, `cutting_force`) with its defaults and the given overrides.
+#[pyfunction]
+fn simulate_case<'py>(
+    py: Python<'py>,
+    name: &str,
+    overrides_json: &str,
+) -> PyResult<(Vec<String>, Vec<Bound<'py, PyBytes>>)> {
+    let table = match name {
+        "roughness" => {
+            let c: hxai_sim::cases::RoughnessConfig = with_overrides(name, overrides_json)?;
+            py.detach(move || hxai_sim::cases::roughness(&c))
+        }
+        "cutting_force" => {
+            let c: hxai_sim::cases::CuttingForceConfig = with_overrides(name, overrides_json)?;
+            py.detach(move || hxai_sim::cases::cutting_force(&c))
+        }
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "unknown case `{other}`: the cases are tool, {}",
+                hxai_sim::cases::CASE_NAMES.join(", ")
+            )));
+        }
+    }
+    .map_err(err)?;
+    let (names, columns) = table.into_parts();
+    Ok((names, columns.iter().map(|c| to_bytes(py, c)).collect()))
+}
+
+/// The module `hxai._hxai`.
+#[pymodule]
+fn _hxai(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(sr_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(sr_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(process_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(process_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(tool_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(butter, m)?)?;
+    m.add_function(wrap_pyfunction!(sosfilt, m)?)?;
+    m.add_function(wrap_pyfunction!(sosfiltfilt, m)?)?;
+    m.add_function(wrap_pyfunction!(welch, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_sine, m)?)?;
+    m.add_function(wrap_pyfunction!(displacement, m)?)?;
+    m.add_function(wrap_pyfunction!(features_extract, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_tool, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_case, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
