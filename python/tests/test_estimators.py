@@ -189,3 +189,29 @@ def test_hybrid_errors_name_the_problem(roughness):
         HybridRegressor("feed_mm", **FAST).fit(X.assign(Ra_um=y), y)
     with pytest.raises(ValueError, match=r"\("):
         HybridRegressor("feed_mm*(", **FAST).fit(X, y)
+
+
+def test_gil_released_during_search(quadratic):
+    # While a search runs in another thread, this thread keeps running Python: with the
+    # GIL held for the whole search it would get no turn until the search ended (1-2 ticks).
+    import threading
+    import time
+
+    X, y = quadratic
+    done = threading.Event()
+
+    def work():
+        SymbolicRegressor(epochs=4, candidates_per_epoch=500).fit(X, y)
+        done.set()
+
+    t = threading.Thread(target=work)
+    t0 = time.perf_counter()
+    t.start()
+    ticks = 0
+    while not done.is_set():
+        ticks += 1
+        time.sleep(0.002)
+    t.join()
+    seconds = time.perf_counter() - t0
+    assert seconds > 0.05, "the search was too short to tell"
+    assert ticks >= 10, f"{ticks} ticks in {seconds:.2f} s: the GIL was held"
