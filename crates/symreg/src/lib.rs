@@ -50,6 +50,7 @@ pub mod ops;
 pub mod program;
 pub mod search;
 mod sympy_names;
+pub mod uncertainty;
 pub mod vmath;
 
 pub use error::SrError;
@@ -60,3 +61,4 @@ pub use program::{ComplexityMeasure, Node, Program};
 pub use search::{
     Criterion, Progress, SearchConfig, SearchResult, Strategy, fit_structure, search,
 };
+pub use uncertainty::{ParamEstimate, Uncertainty};
