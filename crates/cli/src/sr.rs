@@ -62,8 +62,13 @@ pub enum CriterionArg {
 
 /// A model's forms and its training scores (`null` when a score cannot be computed, e.g. a
 /// non-finite prediction).
+///
+/// With `template` and `params` (the constants with standard errors and 95 % intervals,
+/// see `hxai_symreg::uncertainty`), plus `dof`, `residual_variance` and, when standard
+/// errors are `null`, the `reason`.
 fn summary(m: &Model, data: &Table, y: &[f64]) -> Result<Value> {
     let scores = hxai_eval::score(y, &m.predict(data)?).ok();
+    let unc = m.uncertainty(data, y)?;
     Ok(json!({
         "equation": m.equation(),
         "sympy": m.sympy(),
@@ -72,6 +77,11 @@ fn summary(m: &Model, data: &Table, y: &[f64]) -> Result<Value> {
         "features": m.features(),
         "r2": scores.map(|s| s.r2),
         "rmse": scores.map(|s| s.rmse),
+        "template": unc.template,
+        "params": serde_json::to_value(&unc)?["params"].take(),
+        "dof": unc.dof,
+        "residual_variance": unc.residual_variance,
+        "reason": unc.reason,
     }))
 }
 
