@@ -107,6 +107,10 @@ struct FitArgs {
     /// Where to write the model file (JSON).
     #[arg(long)]
     out: PathBuf,
+    /// Also rerun the correction's search on N seeded bootstrap resamples of the training
+    /// rows; the model file gets `stability` (feature and structure shares, out-of-bag R^2).
+    #[arg(long)]
+    stability: Option<usize>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -408,8 +412,24 @@ fn fit(a: FitArgs) -> Result<()> {
     let loaded = read(&a.common.data, cfg.group.as_deref())?;
     loaded.check_numeric(&a.common)?;
     let b = bar(a.common.json, cfg.search.epochs);
-    let model = fit_process(&loaded.table, &cfg, &mut on_progress(&b))?;
+    let mut model = fit_process(&loaded.table, &cfg, &mut on_progress(&b))?;
     b.finish_and_clear();
+    if let Some(runs) = a.stability {
+        let sb = if a.common.json {
+            ProgressBar::hidden()
+        } else {
+            ProgressBar::new(runs as u64)
+        };
+        let sbb = sb.clone();
+        model.stability = Some(hxai_hybrid::process::process_stability(
+            &loaded.table,
+            &cfg,
+            &model,
+            runs,
+            &mut move |done, _| sbb.set_position(done as u64),
+        )?);
+        sb.finish_and_clear();
+    }
     let json = model.to_json();
     write_atomic(&a.out, &[&a.common.data], |tmp| {
         hxai_data::write_text(tmp, &json)
@@ -419,6 +439,9 @@ fn fit(a: FitArgs) -> Result<()> {
         println!("{json}");
     } else {
         print_model(&model);
+        if let Some(st) = &model.stability {
+            crate::sr::print_stability(st);
+        }
         println!("model written to {}", a.out.display());
     }
     Ok(())

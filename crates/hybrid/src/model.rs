@@ -394,6 +394,40 @@ pub fn samples_table(
 }
 
 impl FitOutput {
+    /// The stability of the correction's structure: the search of this fit (settings
+    /// `search`) rerun on `runs` bootstrap resamples of the training windows
+    /// ([`hxai_symreg::stability()`]; out-of-bag R^2 of `delta`). `progress` gets `(runs
+    /// done, runs)`.
+    ///
+    /// # Errors
+    /// A sample without truth, and the search's errors.
+    pub fn stability(
+        &self,
+        search: &hxai_symreg::SearchConfig,
+        runs: usize,
+        progress: &mut (dyn FnMut(usize, usize) + Send),
+    ) -> Result<hxai_symreg::Stability, HybridError> {
+        let train: Vec<&WindowSample> = self
+            .samples
+            .iter()
+            .zip(&self.is_test)
+            .filter(|(_, t)| !**t)
+            .map(|(s, _)| s)
+            .collect();
+        let table = self.model.hybrid().feature_table(train.iter().copied())?;
+        let delta = train
+            .iter()
+            .map(|s| {
+                s.delta().ok_or_else(|| HybridError::NoTruth {
+                    record: s.record.clone(),
+                })
+            })
+            .collect::<Result<Vec<f64>, HybridError>>()?;
+        Ok(hxai_symreg::stability(
+            &table, &delta, search, runs, progress,
+        )?)
+    }
+
     /// The samples of this fit as a [`SamplesTable`].
     ///
     /// # Errors

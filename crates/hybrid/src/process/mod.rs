@@ -523,6 +523,35 @@ fn named_values(phys: &Compiled) -> BTreeMap<String, f64> {
         .collect()
 }
 
+/// The stability of the correction's structure of `model` (fitted with `cfg` on `table`):
+/// the correction's search rerun on `runs` bootstrap resamples of the training rows, on
+/// `delta` of the model's calibrated physics ([`hxai_symreg::stability()`]). `progress`
+/// gets `(runs done, runs)`.
+///
+/// # Errors
+/// A missing column, a physics value that cannot be used, and the search's errors.
+pub fn process_stability(
+    table: &Table,
+    cfg: &ProcessConfig,
+    model: &ProcessModel,
+    runs: usize,
+    progress: &mut (dyn FnMut(usize, usize) + Send),
+) -> Result<hxai_symreg::Stability, HybridError> {
+    let physics = model.predict(table)?.physics;
+    let y = table.require(&model.target)?;
+    let delta = deltas(model.correction.kind, y, &physics, &model.split.train)?;
+    let ft = table
+        .select_columns(&model.correction.candidates)?
+        .select_rows(&model.split.train)?;
+    Ok(hxai_symreg::stability(
+        &ft,
+        &delta,
+        &cfg.search_config(),
+        runs,
+        progress,
+    )?)
+}
+
 /// Fits on the split [`process_split`] chooses.
 ///
 /// # Errors
@@ -746,6 +775,7 @@ pub(crate) fn fit_inner(
         },
         group: cfg.group.clone(),
         joint,
+        stability: None,
         scores: ScoresInfo {
             train: PairScores {
                 physics: zero_metrics(),

@@ -145,6 +145,10 @@ pub struct ProcessModel {
     pub joint: Option<JointInfo>,
     /// Physics vs hybrid on the fitting table.
     pub scores: ScoresInfo,
+    /// With `hxai hybrid fit --stability N`: the stability of the correction's structure
+    /// over bootstrap resamples of the training rows ([`super::process_stability`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stability: Option<hxai_symreg::Stability>,
 }
 
 /// Per-row predictions of a process hybrid.
