@@ -16,6 +16,10 @@ pub struct Args {
     /// Evaluate every record of the folder, not only the model's test records.
     #[arg(long)]
     pub all: bool,
+    /// Nominal level of the prediction intervals of the corrected amplitude whose
+    /// coverage is reported (JSON `interval`).
+    #[arg(long, default_value_t = hxai_hybrid::DEFAULT_INTERVAL)]
+    pub interval: f64,
     /// Print one JSON document on stdout.
     #[arg(long)]
     pub json: bool,
@@ -44,7 +48,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let recs = crate::records::read_with_truth(&folder, &wanted, "evaluating", &pb)?;
     let inputs = crate::records::inputs(&wanted, &recs);
     let mut ev = model
-        .evaluate(&inputs, args.all)
+        .evaluate_at(&inputs, args.all, args.interval)
         .context("evaluation failed")?;
     ev.warnings
         .extend(crate::records::amplitude_warnings(&wanted, &inputs));
@@ -82,6 +86,14 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             "improvement {:.2} % (vs physics sine {:.2} %)",
             ev.improvement_pct, ev.improvement_vs_sine_pct
         );
+        if let Some(iv) = ev.interval {
+            println!(
+                "prediction intervals of the amplitude at {:.1} %: coverage {:.1} % of {} windows",
+                100.0 * iv.nominal,
+                100.0 * iv.coverage,
+                iv.n
+            );
+        }
         match ev.t_test {
             Some(t) => println!(
                 "paired t-test on per-window MSE: t = {:.3}, df = {}, p = {:.3e}",

@@ -60,6 +60,10 @@ pub struct Args {
     /// this CSV or Parquet file.
     #[arg(long)]
     pub samples: Option<PathBuf>,
+    /// Also rerun the search on N seeded bootstrap resamples of the training windows and
+    /// report how often each feature and each structure is selected (JSON `stability`).
+    #[arg(long)]
+    pub stability: Option<usize>,
     /// Print a JSON summary on stdout instead of text.
     #[arg(long)]
     pub json: bool,
@@ -161,6 +165,20 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             .with_context(|| format!("cannot write the samples to {}", path.display()))?;
     }
 
+    let stability = match args.stability {
+        Some(runs) => {
+            let b = bar(runs as u64, "stability");
+            let bb = b.clone();
+            let s = out
+                .stability(&cfg.search, runs, &mut move |done, _| {
+                    bb.set_position(done as u64)
+                })
+                .context("the stability runs failed")?;
+            b.finish_and_clear();
+            Some(s)
+        }
+        None => None,
+    };
     let m = &out.model;
     if args.json {
         let doc = serde_json::json!({
@@ -171,7 +189,10 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
                 "latex": m.correction.latex,
                 "complexity": m.correction.complexity,
                 "features": m.correction.features,
+                "template": m.correction.uncertainty.as_ref().map(|u| &u.template),
+                "params": m.correction.uncertainty.as_ref().map(|u| serde_json::to_value(u).map(|mut v| v["params"].take())).transpose()?,
             },
+            "stability": stability,
             "split": { "kind": m.split.kind, "train": m.split.train, "test": m.split.test },
             "training": m.training,
             "warnings": warnings,
@@ -207,6 +228,9 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             );
             println!("delta on train: {}", fmt(&t.delta_train));
             println!("delta on test:  {}", fmt(&t.delta_test));
+            if let Some(st) = &stability {
+                crate::sr::print_stability(st);
+            }
         }
     }
     Ok(())

@@ -114,6 +114,10 @@ struct FitArgs {
     /// Where to write the model file (JSON).
     #[arg(long)]
     out: PathBuf,
+    /// Also rerun the correction's search on N seeded bootstrap resamples of the training
+    /// rows; the model file gets `stability` (feature and structure shares, out-of-bag R^2).
+    #[arg(long)]
+    stability: Option<usize>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -133,9 +137,14 @@ struct PredictArgs {
     /// Table (CSV or Parquet).
     #[arg(long)]
     data: PathBuf,
-    /// Output table (CSV or Parquet): columns physics, correction, hybrid.
+    /// Output table (CSV or Parquet): columns physics, correction, hybrid (and hybrid_lo,
+    /// hybrid_hi with --interval).
     #[arg(long)]
     out: PathBuf,
+    /// Add the hybrid's prediction interval at this level (e.g. 0.95) as the columns
+    /// hybrid_lo and hybrid_hi.
+    #[arg(long)]
+    interval: Option<f64>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -146,6 +155,9 @@ struct EvaluateArgs {
     /// Table (CSV or Parquet) with the target column.
     #[arg(long)]
     data: PathBuf,
+    /// Nominal level of the prediction intervals whose coverage is reported.
+    #[arg(long, default_value_t = hxai_hybrid::DEFAULT_INTERVAL)]
+    interval: f64,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     json: bool,
@@ -356,8 +368,15 @@ fn print_model(m: &ProcessModel) {
         } else {
             "set"
         };
+        let ci = m
+            .physics
+            .params
+            .get(name)
+            .and_then(|p| p.ci95)
+            .map(|[lo, hi]| format!(", 95 % CI [{lo:.6e}, {hi:.6e}]"))
+            .unwrap_or_default();
         println!(
-            "  {name} = {v:.6e}{} ({tag})",
+            "  {name} = {v:.6e}{}{ci} ({tag})",
             fmt_se(m.physics.standard_errors.get(name))
         );
     }
@@ -402,8 +421,24 @@ fn fit(a: FitArgs) -> Result<()> {
     let loaded = read(&a.common.data, cfg.group.as_deref())?;
     loaded.check_numeric(&a.common)?;
     let b = bar(a.common.json, cfg.search.epochs);
-    let model = fit_process(&loaded.table, &cfg, &mut on_progress(&b))?;
+    let mut model = fit_process(&loaded.table, &cfg, &mut on_progress(&b))?;
     b.finish_and_clear();
+    if let Some(runs) = a.stability {
+        let sb = if a.common.json {
+            ProgressBar::hidden()
+        } else {
+            ProgressBar::new(runs as u64)
+        };
+        let sbb = sb.clone();
+        model.stability = Some(hxai_hybrid::process::process_stability(
+            &loaded.table,
+            &cfg,
+            &model,
+            runs,
+            &mut move |done, _| sbb.set_position(done as u64),
+        )?);
+        sb.finish_and_clear();
+    }
     let json = model.to_json();
     write_atomic(&a.out, &[&a.common.data], |tmp| {
         hxai_data::write_text(tmp, &json)
@@ -413,6 +448,9 @@ fn fit(a: FitArgs) -> Result<()> {
         println!("{json}");
     } else {
         print_model(&model);
+        if let Some(st) = &model.stability {
+            crate::sr::print_stability(st);
+        }
         println!("model written to {}", a.out.display());
     }
     Ok(())
@@ -430,6 +468,10 @@ fn predict(a: PredictArgs) -> Result<()> {
     let model = load_model(&a.model)?;
     let loaded = read(&a.data, model.group.as_deref())?;
     let p = model.predict(&loaded.table)?;
+    let bounds = match a.interval {
+        Some(level) => Some(model.intervals(&loaded.table, level)?),
+        None => None,
+    };
     let mut t = hxai_data::MixedTable::default();
     if let (Some(g), Some(cells)) = (&model.group, loaded.group_cells) {
         t.names.push(g.clone());
@@ -442,6 +484,13 @@ fn predict(a: PredictArgs) -> Result<()> {
     ] {
         t.names.push(n.to_string());
         t.columns.push(hxai_data::Column::Number(v));
+    }
+    if let Some(b) = bounds {
+        let (lo, hi): (Vec<f64>, Vec<f64>) = b.into_iter().unzip();
+        for (n, v) in [("hybrid_lo", lo), ("hybrid_hi", hi)] {
+            t.names.push(n.to_string());
+            t.columns.push(hxai_data::Column::Number(v));
+        }
     }
     write_atomic(&a.out, &[&a.data, &a.model], |tmp| {
         hxai_data::write_mixed_table(tmp, &t)
@@ -459,7 +508,7 @@ fn predict(a: PredictArgs) -> Result<()> {
 fn evaluate(a: EvaluateArgs) -> Result<()> {
     let model = load_model(&a.model)?;
     let loaded = read(&a.data, model.group.as_deref())?;
-    let e = model.evaluate(&loaded.table)?;
+    let e = model.evaluate_at(&loaded.table, a.interval)?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&e)?);
     } else {
@@ -473,6 +522,14 @@ fn evaluate(a: EvaluateArgs) -> Result<()> {
             e.improvement_pct,
             e.t_test.p_value
         );
+        if let Some(iv) = e.interval {
+            println!(
+                "prediction intervals at {:.1} %: coverage {:.1} % of {} rows",
+                100.0 * iv.nominal,
+                100.0 * iv.coverage,
+                iv.n
+            );
+        }
     }
     Ok(())
 }

@@ -14,9 +14,14 @@ pub struct Args {
     /// The record and its commanded frequency.
     #[command(flatten)]
     pub input: RecordArgs,
-    /// Output table (CSV or Parquet): `time_s,physics_um,hybrid_um`.
+    /// Output table (CSV or Parquet): `time_s,physics_um,hybrid_um` (and
+    /// `hybrid_lo_um,hybrid_hi_um` with --interval).
     #[arg(long)]
     pub out: PathBuf,
+    /// Add bounds of the displacement from the prediction interval of each window's
+    /// corrected amplitude at this level (e.g. 0.95): columns hybrid_lo_um, hybrid_hi_um.
+    #[arg(long)]
+    pub interval: Option<f64>,
     /// Print the per-window corrections as JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -62,14 +67,29 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         signal: &rec.accel_ms2,
         truth: None,
     };
-    let pred = model.predict(&input).context("prediction failed")?;
+    let (pred, bounds) = match args.interval {
+        Some(level) => {
+            let (p, lo, hi) = model
+                .predict_with_intervals(&input, level)
+                .context("prediction failed")?;
+            (p, Some((lo, hi)))
+        }
+        None => (model.predict(&input).context("prediction failed")?, None),
+    };
     let warnings: Vec<String> = pred.warnings.iter().map(ToString::to_string).collect();
     crate::safety::warn(&warnings);
-    let table = hxai_data::Table::new(
-        vec!["time_s".into(), "physics_um".into(), "hybrid_um".into()],
-        vec![rec.time_s.clone(), pred.physics, pred.hybrid],
-    )
-    .context("the prediction is not a finite table")?;
+    let mut names: Vec<String> = vec!["time_s".into(), "physics_um".into(), "hybrid_um".into()];
+    let mut columns = vec![
+        rec.time_s.clone(),
+        pred.physics.clone(),
+        pred.hybrid.clone(),
+    ];
+    if let Some((lo, hi)) = bounds {
+        names.extend(["hybrid_lo_um".into(), "hybrid_hi_um".into()]);
+        columns.extend([lo, hi]);
+    }
+    let table =
+        hxai_data::Table::new(names, columns).context("the prediction is not a finite table")?;
     hxai_data::write_table(&args.out, &table)
         .with_context(|| format!("cannot write {}", args.out.display()))?;
     if args.json {

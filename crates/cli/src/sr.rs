@@ -48,6 +48,11 @@ pub struct Args {
     /// Multiplier lambda of the criterion's charge per fitted parameter.
     #[arg(long, default_value_t = 1.0)]
     pub complexity_penalty: f64,
+    /// Also rerun the search on N seeded bootstrap resamples of the rows and report how
+    /// often each feature and each structure (constants ignored) is selected, and the
+    /// spread of R^2 on the rows each resample left out (JSON `stability`).
+    #[arg(long)]
+    pub stability: Option<usize>,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     pub json: bool,
@@ -55,8 +60,13 @@ pub struct Args {
 
 /// A model's forms and its training scores (`null` when a score cannot be computed, e.g. a
 /// non-finite prediction).
+///
+/// With `template` and `params` (the constants with standard errors and 95 % intervals,
+/// see `hxai_symreg::uncertainty`), plus `dof`, `residual_variance` and, when standard
+/// errors are `null`, the `reason`.
 fn summary(m: &Model, data: &Table, y: &[f64]) -> Result<Value> {
     let scores = hxai_eval::score(y, &m.predict(data)?).ok();
+    let unc = m.uncertainty(data, y)?;
     Ok(json!({
         "equation": m.equation(),
         "sympy": m.sympy(),
@@ -65,7 +75,32 @@ fn summary(m: &Model, data: &Table, y: &[f64]) -> Result<Value> {
         "features": m.features(),
         "r2": scores.map(|s| s.r2),
         "rmse": scores.map(|s| s.rmse),
+        "template": unc.template,
+        "params": serde_json::to_value(&unc)?["params"].take(),
+        "dof": unc.dof,
+        "residual_variance": unc.residual_variance,
+        "reason": unc.reason,
     }))
+}
+
+/// Prints a stability report: the five most frequent structures, the features used, the
+/// out-of-bag R^2.
+#[allow(clippy::print_stdout)]
+pub fn print_stability(st: &hxai_symreg::Stability) {
+    println!("stability over {} bootstrap runs:", st.runs);
+    for s in st.structures.iter().take(5) {
+        println!("  {:>5.1} %  {}", 100.0 * s.share, s.template);
+    }
+    let used: Vec<String> = st
+        .features
+        .iter()
+        .filter(|(_, v)| **v > 0.0)
+        .map(|(k, v)| format!("{k} {:.0} %", 100.0 * v))
+        .collect();
+    println!("  features: {}", used.join(", "));
+    if let Some(r2) = st.r2 {
+        println!("  out-of-bag R^2 {:.4} +- {:.4}", r2.mean, r2.sd);
+    }
 }
 
 /// Runs `hxai sr`.
@@ -126,13 +161,33 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         .iter()
         .map(|m| summary(m, &data, &y))
         .collect::<Result<Vec<_>>>()?;
+    let stability = match args.stability {
+        Some(runs) => {
+            let b = if args.json {
+                indicatif::ProgressBar::hidden()
+            } else {
+                indicatif::ProgressBar::new(runs as u64)
+            };
+            b.set_message("stability runs");
+            let bb = b.clone();
+            let s = hxai_symreg::stability(&data, &y, &cfg, runs, &mut move |done, _| {
+                bb.set_position(done as u64);
+            })?;
+            b.finish_and_clear();
+            Some(s)
+        }
+        None => None,
+    };
     if args.json {
-        let doc = json!({
+        let mut doc = json!({
             "best": best,
             "pareto": pareto,
             "evaluations": res.evaluations,
             "seconds": res.seconds,
         });
+        if let (Some(s), Some(obj)) = (&stability, doc.as_object_mut()) {
+            obj.insert("stability".into(), serde_json::to_value(s)?);
+        }
         println!("{}", serde_json::to_string_pretty(&doc)?);
     } else {
         println!(
@@ -157,6 +212,9 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             );
         }
         println!("{} models in {:.2} s", res.evaluations, res.seconds);
+        if let Some(st) = &stability {
+            print_stability(st);
+        }
     }
     Ok(())
 }

@@ -177,6 +177,49 @@ fn fit_evaluate_predict() -> TestResult {
     let t = read_table(&pred)?;
     assert_eq!(t.names(), ["time_s", "physics_um", "hybrid_um"]);
     assert_eq!(t.n_rows(), 2000);
+
+    // issue 15: the interval of the corrected amplitude, and its coverage on test windows
+    let iv = &ev["interval"];
+    assert_eq!(iv["nominal"], 0.95, "{ev}");
+    let cov = iv["coverage"].as_f64().ok_or("coverage")?;
+    assert!((0.0..=1.0).contains(&cov), "{iv}");
+    assert_eq!(iv["n"], 9, "3 test records x 3 windows");
+    let pred_iv = dir.join("pred_iv.csv");
+    hxai_ok(
+        &[
+            "predict",
+            "--model",
+            s(&model),
+            "--record",
+            s(&rec),
+            "--frequency-hz",
+            "20",
+            "--interval",
+            "0.9",
+            "--out",
+            s(&pred_iv),
+        ],
+        "predict --interval failed",
+    )?;
+    let t = read_table(&pred_iv)?;
+    assert_eq!(
+        t.names(),
+        [
+            "time_s",
+            "physics_um",
+            "hybrid_um",
+            "hybrid_lo_um",
+            "hybrid_hi_um"
+        ]
+    );
+    let (h, lo, hi) = (
+        t.require("hybrid_um")?,
+        t.require("hybrid_lo_um")?,
+        t.require("hybrid_hi_um")?,
+    );
+    for i in 0..t.n_rows() {
+        assert!(lo[i] <= h[i] + 1e-12 && h[i] <= hi[i] + 1e-12, "row {i}");
+    }
     Ok(())
 }
 

@@ -145,6 +145,51 @@ fn fit_predict_evaluate_follow_the_contract() -> TestResult {
     assert_eq!(ev["n_samples"], 160);
     // the hybrid improves on the calibrated law, which misses the speed term
     assert!(ev["improvement_pct"].as_f64().ok_or("pct")? > 50.0, "{ev}");
+    // issue 15: calibrated parameters with intervals, templates, interval coverage
+    for key in [
+        "/physics/params/k/std_error",
+        "/physics/params/k/ci95",
+        "/correction/uncertainty/template",
+        "/correction/uncertainty/params",
+        "/hybrid/uncertainty/template",
+        "/hybrid/uncertainty/params/k",
+        "/hybrid/uncertainty/covariance",
+    ] {
+        assert!(doc.pointer(key).is_some(), "missing {key}");
+    }
+    assert_eq!(ev["interval"]["nominal"], 0.95, "{ev}");
+    assert!(
+        ev["interval"]["coverage"].as_f64().ok_or("coverage")? > 0.5,
+        "{ev}"
+    );
+    let pred_iv = dir.join("pred_iv.csv");
+    let out = hxai(&[
+        "hybrid",
+        "predict",
+        "--model",
+        s(&model),
+        "--data",
+        s(&no_target),
+        "--interval",
+        "0.95",
+        "--out",
+        s(&pred_iv),
+    ])?;
+    ok(&out, "predict --interval");
+    let written = std::fs::read_to_string(&pred_iv)?;
+    let mut lines = written.lines();
+    assert_eq!(
+        lines.next(),
+        Some("batch,physics,correction,hybrid,hybrid_lo,hybrid_hi")
+    );
+    for line in lines {
+        let v: Vec<f64> = line
+            .split(',')
+            .skip(1)
+            .filter_map(|x| x.parse().ok())
+            .collect();
+        assert!(v[3] <= v[2] && v[2] <= v[4], "{line}");
+    }
     // predict refuses to write over its input
     let out = hxai(&[
         "hybrid",

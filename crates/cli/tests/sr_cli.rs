@@ -86,6 +86,19 @@ fn json_document_follows_the_contract_and_finds_the_law() -> TestResult {
     feats.sort_unstable();
     assert_eq!(feats, ["x1", "x2"]);
     assert_eq!(best["complexity"].as_u64(), Some(3), "{best}");
+    // issue 15: every reported model has its constants as a template with named parameters
+    for m in front.iter().chain([best]) {
+        assert!(m["template"].is_string(), "template missing in {m}");
+        let params = m["params"].as_object().ok_or("params")?;
+        for (name, p) in params {
+            assert!(name.starts_with('p'), "{name}");
+            assert!(p["value"].is_number(), "{m}");
+            assert!(
+                p.get("std_error").is_some() && p.get("ci95").is_some(),
+                "{m}"
+            );
+        }
+    }
     Ok(())
 }
 

@@ -51,5 +51,5 @@ pub use split::{
 };
 pub use stats::{
     Extent, Interval, Summary, TTest, extent, means_by_key, paired_t_test, summarize, summarize_at,
-    t_two_tailed_p,
+    t_two_tailed_p, t_upper_quantile,
 };

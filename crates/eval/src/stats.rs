@@ -84,11 +84,15 @@ pub fn t_two_tailed_p(t: f64, df: f64) -> f64 {
     beta_reg(df / 2.0, 0.5, x.clamp(0.0, 1.0))
 }
 
-/// Upper quantile of Student's t: the `t` with `P(T > t) = q`, for `0 < q < 0.5`.
+/// Upper quantile of Student's t: the `t` with `P(T > t) = q`, for `0 < q < 0.5` and
+/// `df > 0` (NaN otherwise). A two-sided interval at level `P` uses `q = (1 - P) / 2`.
 ///
 /// statrs' `inverse_cdf` (an inverse incomplete beta) gives the start; Newton steps on the
 /// survival function polish it, so the quantile is as accurate as the p-value function.
-fn t_upper_quantile(q: f64, df: f64) -> f64 {
+pub fn t_upper_quantile(q: f64, df: f64) -> f64 {
+    if q.is_nan() || q <= 0.0 || q >= 0.5 || df.is_nan() || df <= 0.0 {
+        return f64::NAN;
+    }
     let dist = match StudentsT::new(0.0, 1.0, df) {
         Ok(d) => d,
         Err(_) => return f64::NAN,

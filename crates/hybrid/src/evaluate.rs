@@ -129,6 +129,42 @@ pub struct Evaluation {
     /// when empty, so stored results do not change; `hxai evaluate --json` always has it.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// Coverage of the prediction intervals of the corrected amplitude (filled by
+    /// [`crate::HybridModel::evaluate`] when the model stores the uncertainty of its
+    /// correction; absent otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interval: Option<IntervalReport>,
+}
+
+/// The nominal level of prediction intervals when none is given: 95 %.
+pub const DEFAULT_INTERVAL: f64 = 0.95;
+
+/// How often the truth falls inside prediction intervals (JSON `interval`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct IntervalReport {
+    /// The nominal level `P` of the intervals.
+    pub nominal: f64,
+    /// The share of points whose truth lies inside (closed interval).
+    pub coverage: f64,
+    /// How many points were checked.
+    pub n: usize,
+}
+
+impl IntervalReport {
+    /// The report of `intervals` against `truth` at level `nominal`.
+    pub fn of(nominal: f64, truth: &[f64], intervals: &[(f64, f64)]) -> Self {
+        let inside = truth
+            .iter()
+            .zip(intervals)
+            .filter(|(t, (lo, hi))| lo <= *t && *t <= hi)
+            .count();
+        let n = truth.len().min(intervals.len());
+        IntervalReport {
+            nominal,
+            coverage: if n > 0 { inside as f64 / n as f64 } else { 0.0 },
+            n,
+        }
+    }
 }
 
 /// Which windows of a record to evaluate.
@@ -247,5 +283,6 @@ where
         t_test,
         delta: hxai_eval::score(&delta, &delta_hat).ok(),
         warnings: Vec::new(),
+        interval: None,
     })
 }

@@ -76,7 +76,9 @@ pub use composer::{
     corrected_latent,
 };
 pub use error::HybridError;
-pub use evaluate::{EvalInput, Evaluation, TTestReport, evaluate};
+pub use evaluate::{
+    DEFAULT_INTERVAL, EvalInput, Evaluation, IntervalReport, TTestReport, evaluate,
+};
 pub use model::{
     CorrectionInfo, CorrectionKind, FeatureInfo, FitConfig, FitOutput, FitProgress, HybridModel,
     LoadedCorrection, SCHEMA_VERSION, SamplesTable, SplitInfo, SplitKind, ToolHybrid, TrainingInfo,

@@ -2,7 +2,9 @@
 
 use crate::HybridError;
 use crate::composer::{Hybrid, RecordInput, RecordPrediction, WindowSample};
-use crate::evaluate::{EvalInput, Evaluation, evaluate, metrics_um};
+use crate::evaluate::{
+    DEFAULT_INTERVAL, EvalInput, Evaluation, IntervalReport, evaluate, metrics_um,
+};
 use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
 use crate::traits::{Correction, FeatureMap, SymbolicCorrection, ZeroCorrection};
 use crate::warnings::{Warning, input_warnings, units_warning};
@@ -88,6 +90,12 @@ pub struct CorrectionInfo {
     pub features: Vec<String>,
     /// The serialised symbolic model (absent for the zero correction).
     pub model: Option<hxai_symreg::Model>,
+    /// The model's constants as a template with named parameters, their standard errors
+    /// and 95 % intervals, and the covariance prediction intervals use, on the training
+    /// windows (`hxai_symreg::uncertainty`). Absent for the zero correction and in files
+    /// written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<hxai_symreg::Uncertainty>,
 }
 
 impl CorrectionInfo {
@@ -101,6 +109,7 @@ impl CorrectionInfo {
             complexity: model.complexity(),
             features: model.features(),
             model: Some(model),
+            uncertainty: None,
         }
     }
 
@@ -114,6 +123,7 @@ impl CorrectionInfo {
             complexity: 0,
             features: Vec::new(),
             model: None,
+            uncertainty: None,
         }
     }
 }
@@ -384,6 +394,40 @@ pub fn samples_table(
 }
 
 impl FitOutput {
+    /// The stability of the correction's structure: the search of this fit (settings
+    /// `search`) rerun on `runs` bootstrap resamples of the training windows
+    /// ([`hxai_symreg::stability()`]; out-of-bag R^2 of `delta`). `progress` gets `(runs
+    /// done, runs)`.
+    ///
+    /// # Errors
+    /// A sample without truth, and the search's errors.
+    pub fn stability(
+        &self,
+        search: &hxai_symreg::SearchConfig,
+        runs: usize,
+        progress: &mut (dyn FnMut(usize, usize) + Send),
+    ) -> Result<hxai_symreg::Stability, HybridError> {
+        let train: Vec<&WindowSample> = self
+            .samples
+            .iter()
+            .zip(&self.is_test)
+            .filter(|(_, t)| !**t)
+            .map(|(s, _)| s)
+            .collect();
+        let table = self.model.hybrid().feature_table(train.iter().copied())?;
+        let delta = train
+            .iter()
+            .map(|s| {
+                s.delta().ok_or_else(|| HybridError::NoTruth {
+                    record: s.record.clone(),
+                })
+            })
+            .collect::<Result<Vec<f64>, HybridError>>()?;
+        Ok(hxai_symreg::stability(
+            &table, &delta, search, runs, progress,
+        )?)
+    }
+
     /// The samples of this fit as a [`SamplesTable`].
     ///
     /// # Errors
@@ -544,7 +588,10 @@ pub fn fit(
             ..FeatureInfo::default()
         },
         window: cfg.window,
-        correction: CorrectionInfo::symbolic(result.best.clone()),
+        correction: CorrectionInfo {
+            uncertainty: Some(result.best.uncertainty(&train_table, &train_delta)?),
+            ..CorrectionInfo::symbolic(result.best.clone())
+        },
         split: SplitInfo {
             kind: cfg.split,
             seed: cfg.seed,
@@ -718,6 +765,80 @@ impl HybridModel {
         Ok(p)
     }
 
+    /// Prediction intervals at `level` of the corrected amplitude `A_corr = A_phys +
+    /// delta_hat` of each sample: `A_phys` plus the interval of `delta_hat` (delta method
+    /// through the correction with the covariance of its constants, plus the residual
+    /// variance of `delta` on the training windows; see `hxai_symreg::uncertainty` for the
+    /// assumptions). The zero correction has none.
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] when the model stores no uncertainty (the zero
+    /// correction, or a file from before it existed: refit), and the correction's errors.
+    pub fn amplitude_intervals(
+        &self,
+        samples: &[WindowSample],
+        level: f64,
+    ) -> Result<Vec<(f64, f64)>, HybridError> {
+        let (Some(model), Some(unc)) = (&self.correction.model, &self.correction.uncertainty)
+        else {
+            return Err(HybridError::InvalidConfig(
+                "this model stores no uncertainty of its correction (a zero correction, or a \
+                 file written before prediction intervals existed): refit it with `hxai fit`"
+                    .into(),
+            ));
+        };
+        let table = self.hybrid().feature_table(samples)?;
+        let iv = model.prediction_intervals(unc, &table, level)?;
+        Ok(samples
+            .iter()
+            .zip(iv)
+            .map(|(s, (lo, hi))| (s.a_phys() + lo, s.a_phys() + hi))
+            .collect())
+    }
+
+    /// [`HybridModel::predict`] with pointwise bounds of the displacement: each window's
+    /// sine reconstructed with the lower and the upper corrected amplitude of
+    /// [`HybridModel::amplitude_intervals`] (the smaller and larger value at each sample).
+    /// The band carries the amplitude's uncertainty only, not the phase's or the noise of
+    /// the probe.
+    ///
+    /// # Errors
+    /// As [`HybridModel::predict`] and [`HybridModel::amplitude_intervals`].
+    pub fn predict_with_intervals(
+        &self,
+        record: &RecordInput<'_>,
+        level: f64,
+    ) -> Result<(RecordPrediction, Vec<f64>, Vec<f64>), HybridError> {
+        let p = self.predict(record)?;
+        let iv = self.amplitude_intervals(&p.samples, level)?;
+        let hybrid = self.hybrid();
+        let with = |pick: fn(&(f64, f64)) -> f64| -> Vec<f64> {
+            let windows: Vec<_> = p
+                .windows
+                .iter()
+                .zip(&iv)
+                .map(|(w, b)| crate::composer::WindowPrediction {
+                    corrected: crate::composer::corrected_latent(
+                        &w.physics,
+                        pick(b) - w.physics.amplitude,
+                    ),
+                    ..*w
+                })
+                .collect();
+            hybrid.reconstruct_record(
+                &windows,
+                record.signal.len(),
+                record.fs_hz,
+                record.frequency_hz,
+            )
+        };
+        let a = with(|b| b.0);
+        let b = with(|b| b.1);
+        let lo = a.iter().zip(&b).map(|(x, y)| x.min(*y)).collect();
+        let hi = a.iter().zip(&b).map(|(x, y)| x.max(*y)).collect();
+        Ok((p, lo, hi))
+    }
+
     /// Evaluates the model on records. With `all` false, only this model's test data is
     /// used: the test records (record split) or the test windows (window split) among
     /// `records`; records not in the test set are skipped. With `all` true, every window
@@ -729,6 +850,22 @@ impl HybridModel {
         &self,
         records: &[RecordInput<'_>],
         all: bool,
+    ) -> Result<Evaluation, HybridError> {
+        self.evaluate_at(records, all, DEFAULT_INTERVAL)
+    }
+
+    /// [`HybridModel::evaluate`] with the coverage of prediction intervals at `level`
+    /// ([`Evaluation::interval`]: the share of evaluated windows whose true amplitude lies
+    /// inside the interval of the corrected amplitude), when the model stores the
+    /// uncertainty of its correction.
+    ///
+    /// # Errors
+    /// As [`HybridModel::evaluate`], and a `level` outside (0, 1).
+    pub fn evaluate_at(
+        &self,
+        records: &[RecordInput<'_>],
+        all: bool,
+        level: f64,
     ) -> Result<Evaluation, HybridError> {
         let mut by_record: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
         for w in &self.split.test_windows {
@@ -777,6 +914,24 @@ impl HybridModel {
             self.check_band(&i.record)?;
         }
         let mut ev = evaluate(&self.hybrid(), &self.correction()?, &inputs)?;
+        if self.correction.uncertainty.is_some() {
+            let hybrid = self.hybrid();
+            let mut samples = Vec::new();
+            for i in &inputs {
+                let rs = hybrid.samples(&i.record)?;
+                samples.extend(
+                    rs.windows
+                        .into_iter()
+                        .filter(|s| i.windows.is_none_or(|w| w.contains(&s.window))),
+                );
+            }
+            let iv = self.amplitude_intervals(&samples, level)?;
+            let truth: Vec<f64> = samples
+                .iter()
+                .map(|s| s.a_true().unwrap_or(f64::NAN))
+                .collect();
+            ev.interval = Some(IntervalReport::of(level, &truth, &iv));
+        }
         ev.warnings = inputs
             .iter()
             .flat_map(|i| input_warnings(&i.record, &self.window))

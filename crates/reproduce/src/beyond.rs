@@ -108,6 +108,9 @@ pub struct SplitResult {
     pub correction: EquationRow,
     /// The whole hybrid as one equation.
     pub hybrid: EquationRow,
+    /// Coverage of the hybrid's 95 % prediction intervals on the test rows (`None` when
+    /// they cannot be computed).
+    pub interval: Option<hxai_hybrid::IntervalReport>,
 }
 
 /// Cross-validated R² of one model.
@@ -306,7 +309,13 @@ fn split_result(c: &Comparison, table: &Table, extrapolate: Option<&str>) -> Spl
         };
         Some([pick(&m.split.train)?, pick(&m.split.test)?])
     });
+    let interval = table
+        .select_rows(&m.split.test)
+        .ok()
+        .and_then(|test| m.evaluate_at(&test, hxai_hybrid::DEFAULT_INTERVAL).ok())
+        .and_then(|e| e.interval);
     SplitResult {
+        interval,
         split: c.split.clone(),
         n_train: c.n_train,
         n_test: c.n_test,
@@ -683,6 +692,16 @@ fn split_section(
     }
     model_table(out, s, &case.unit);
     out.push('\n');
+    if let Some(iv) = &s.interval {
+        out.push_str(&format!(
+            "Prediction intervals of the hybrid at {:.0} % (delta method through the whole \
+             equation plus the residual variance, `hxai hybrid evaluate --json`): coverage \
+             {:.1} % of the {} test rows.\n\n",
+            100.0 * iv.nominal,
+            100.0 * iv.coverage,
+            iv.n
+        ));
+    }
     if !s.cv.is_empty() {
         out.push_str(&format!(
             "Cross-validation over {folds} random folds of all rows:\n\n| model | R² mean ± sd | 95 % CI (Student t) |\n|---|---|---|\n"

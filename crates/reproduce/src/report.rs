@@ -304,12 +304,32 @@ pub fn markdown(r: &Results) -> String {
         "| samples (time points) / windows / records | {} / {} / {} | – |",
         h.n_samples, h.n_windows, h.n_records
     );
+    if let Some(iv) = &h.interval {
+        let _ = writeln!(
+            s,
+            "| coverage of {:.0} % prediction intervals of the amplitude (test windows) | {:.1} % of {} | – |",
+            100.0 * iv.nominal,
+            100.0 * iv.coverage,
+            iv.n
+        );
+    }
     let _ = writeln!(
         s,
         "\nDefinition: per test window the truth is the probe minus its window mean; the physics \
          prediction is the double-integrated signal; the hybrid is (A_phys + δ̂) sin(ωt + φ_phys). \
          RMSE and R² pool every time point of every test window."
     );
+    if h.interval.is_some() {
+        let _ = writeln!(
+            s,
+            "\nPrediction intervals: `A_phys + δ̂ ± t_{{n-k}} sqrt(s² + gᵀCg)`, the delta method \
+             through the correction (g its gradient in the fitted constants, C their covariance \
+             s² (JᵀJ)⁻¹ on the training windows) plus the residual variance s² of δ; assumes \
+             independent residuals of constant variance and the selected structure fixed. The \
+             coverage is the share of test windows whose true amplitude lies inside \
+             (`hxai evaluate --json`, key `interval`)."
+        );
+    }
 
     // Figures.
     let _ = writeln!(s, "\n## Figures\n");

@@ -349,96 +349,7 @@ impl Evaluator {
                 }
                 sse += dot(&self.res[..len], &self.res[..len]);
             }
-            // adjoints
-            self.adj[root * BATCH..root * BATCH + len].fill(scale);
-            for k in (0..n).rev() {
-                let node = prog.nodes[k];
-                let (before, rest) = self.adj.split_at_mut(k * BATCH);
-                let ak = &rest[..len];
-                match node {
-                    Node::Op(op) => {
-                        let [c0, c1] = self.children[k];
-                        let out = &self.vals[k * BATCH..k * BATCH + len];
-                        let va = &self.vals[c0 * BATCH..c0 * BATCH + len];
-                        if op.arity() == 1 {
-                            let da = &mut before[c0 * BATCH..c0 * BATCH + len];
-                            match op {
-                                Op::Exp => adjoint1(da, ak, va, out, |_, o| o),
-                                Op::Square => adjoint1(da, ak, va, out, |a, _| 2.0 * a),
-                                Op::Gaussian => adjoint1(da, ak, va, out, |a, o| -2.0 * a * o),
-                                Op::Sin => {
-                                    adjoint1(da, ak, va, out, |a, _| vmath::cos_kernel(a));
-                                    vmath::trig_fixup(da, va, |i, v| ak[i] * vmath::cos(v));
-                                }
-                                Op::Cos => {
-                                    adjoint1(da, ak, va, out, |a, _| -vmath::sin_kernel(a));
-                                    vmath::trig_fixup(da, va, |i, v| ak[i] * -vmath::sin(v));
-                                }
-                                Op::Tanh => adjoint1(da, ak, va, out, |_, o| 1.0 - o * o),
-                                Op::Inverse => adjoint1(da, ak, va, out, |_, o| -o * o),
-                                Op::Log => adjoint1(da, ak, va, out, |a, _| 1.0 / a),
-                                Op::Sqrt => adjoint1(da, ak, va, out, |_, o| 0.5 / o),
-                                _ => adjoint1(da, ak, va, out, |a, o| op.d1(a, o)),
-                            }
-                        } else {
-                            let vb = &self.vals[c1 * BATCH..c1 * BATCH + len];
-                            let (lo, hi) = before.split_at_mut(c1 * BATCH);
-                            let da = &mut lo[c0 * BATCH..c0 * BATCH + len];
-                            let db = &mut hi[..len];
-                            match op {
-                                Op::Add => {
-                                    da.copy_from_slice(ak);
-                                    db.copy_from_slice(ak);
-                                }
-                                Op::Sub => {
-                                    da.copy_from_slice(ak);
-                                    unary(db, ak, |g| -g);
-                                }
-                                Op::Mul => {
-                                    binary(da, ak, vb, |g, b| g * b);
-                                    binary(db, ak, va, |g, a| g * a);
-                                }
-                                Op::Div => {
-                                    binary(da, ak, vb, |g, b| g / b);
-                                    for (((d, &g), &b), &o) in
-                                        db.iter_mut().zip(ak).zip(vb).zip(out)
-                                    {
-                                        *d = -g * o / b;
-                                    }
-                                }
-                                _ => {
-                                    for i in 0..len {
-                                        let (ga, gb) = op.d2(va[i], vb[i], out[i]);
-                                        da[i] = ak[i] * ga;
-                                        db[i] = ak[i] * gb;
-                                    }
-                                }
-                            }
-                        }
-                    }
-                    Node::Var(j) => {
-                        if prog.affine {
-                            let p = self.offsets[k];
-                            let x = &cols[j as usize][start..start + len];
-                            let (jw, jb) = self.jac[p * BATCH..(p + 2) * BATCH].split_at_mut(BATCH);
-                            for i in 0..len {
-                                jw[i] = ak[i] * x[i];
-                                jb[i] = ak[i];
-                            }
-                        }
-                    }
-                    Node::Const => {
-                        let p = self.offsets[k];
-                        self.jac[p * BATCH..p * BATCH + len].copy_from_slice(ak);
-                    }
-                }
-            }
-            {
-                let (j01, _) = self.jac.split_at_mut(2 * BATCH);
-                let (js, jo) = j01.split_at_mut(BATCH);
-                js[..len].copy_from_slice(&self.vals[root * BATCH..root * BATCH + len]);
-                jo[..len].fill(1.0);
-            }
+            self.backward(prog, params, cols, start, len);
             for (a, &p) in free.iter().enumerate() {
                 let jp = &self.jac[p * BATCH..p * BATCH + len];
                 jtr[a] += dot(jp, &self.res[..len]);
@@ -454,6 +365,144 @@ impl Evaluator {
             mse
         } else {
             f64::INFINITY
+        }
+    }
+
+    /// The adjoint sweep after [`Self::forward`] on rows `start..start + len`: fills
+    /// `self.jac` (`n_params` rows of `BATCH`) with the derivative of the prediction with
+    /// respect to every parameter. Inlined into both code paths of the normal equations.
+    #[inline(always)]
+    fn backward(
+        &mut self,
+        prog: &Program,
+        params: &[f64],
+        cols: &[&[f64]],
+        start: usize,
+        len: usize,
+    ) {
+        let n = prog.nodes.len();
+        let root = n - 1;
+        let scale = params[0];
+        // adjoints
+        self.adj[root * BATCH..root * BATCH + len].fill(scale);
+        for k in (0..n).rev() {
+            let node = prog.nodes[k];
+            let (before, rest) = self.adj.split_at_mut(k * BATCH);
+            let ak = &rest[..len];
+            match node {
+                Node::Op(op) => {
+                    let [c0, c1] = self.children[k];
+                    let out = &self.vals[k * BATCH..k * BATCH + len];
+                    let va = &self.vals[c0 * BATCH..c0 * BATCH + len];
+                    if op.arity() == 1 {
+                        let da = &mut before[c0 * BATCH..c0 * BATCH + len];
+                        match op {
+                            Op::Exp => adjoint1(da, ak, va, out, |_, o| o),
+                            Op::Square => adjoint1(da, ak, va, out, |a, _| 2.0 * a),
+                            Op::Gaussian => adjoint1(da, ak, va, out, |a, o| -2.0 * a * o),
+                            Op::Sin => {
+                                adjoint1(da, ak, va, out, |a, _| vmath::cos_kernel(a));
+                                vmath::trig_fixup(da, va, |i, v| ak[i] * vmath::cos(v));
+                            }
+                            Op::Cos => {
+                                adjoint1(da, ak, va, out, |a, _| -vmath::sin_kernel(a));
+                                vmath::trig_fixup(da, va, |i, v| ak[i] * -vmath::sin(v));
+                            }
+                            Op::Tanh => adjoint1(da, ak, va, out, |_, o| 1.0 - o * o),
+                            Op::Inverse => adjoint1(da, ak, va, out, |_, o| -o * o),
+                            Op::Log => adjoint1(da, ak, va, out, |a, _| 1.0 / a),
+                            Op::Sqrt => adjoint1(da, ak, va, out, |_, o| 0.5 / o),
+                            _ => adjoint1(da, ak, va, out, |a, o| op.d1(a, o)),
+                        }
+                    } else {
+                        let vb = &self.vals[c1 * BATCH..c1 * BATCH + len];
+                        let (lo, hi) = before.split_at_mut(c1 * BATCH);
+                        let da = &mut lo[c0 * BATCH..c0 * BATCH + len];
+                        let db = &mut hi[..len];
+                        match op {
+                            Op::Add => {
+                                da.copy_from_slice(ak);
+                                db.copy_from_slice(ak);
+                            }
+                            Op::Sub => {
+                                da.copy_from_slice(ak);
+                                unary(db, ak, |g| -g);
+                            }
+                            Op::Mul => {
+                                binary(da, ak, vb, |g, b| g * b);
+                                binary(db, ak, va, |g, a| g * a);
+                            }
+                            Op::Div => {
+                                binary(da, ak, vb, |g, b| g / b);
+                                for (((d, &g), &b), &o) in db.iter_mut().zip(ak).zip(vb).zip(out) {
+                                    *d = -g * o / b;
+                                }
+                            }
+                            _ => {
+                                for i in 0..len {
+                                    let (ga, gb) = op.d2(va[i], vb[i], out[i]);
+                                    da[i] = ak[i] * ga;
+                                    db[i] = ak[i] * gb;
+                                }
+                            }
+                        }
+                    }
+                }
+                Node::Var(j) => {
+                    if prog.affine {
+                        let p = self.offsets[k];
+                        let x = &cols[j as usize][start..start + len];
+                        let (jw, jb) = self.jac[p * BATCH..(p + 2) * BATCH].split_at_mut(BATCH);
+                        for i in 0..len {
+                            jw[i] = ak[i] * x[i];
+                            jb[i] = ak[i];
+                        }
+                    }
+                }
+                Node::Const => {
+                    let p = self.offsets[k];
+                    self.jac[p * BATCH..p * BATCH + len].copy_from_slice(ak);
+                }
+            }
+        }
+        {
+            let (j01, _) = self.jac.split_at_mut(2 * BATCH);
+            let (js, jo) = j01.split_at_mut(BATCH);
+            js[..len].copy_from_slice(&self.vals[root * BATCH..root * BATCH + len]);
+            jo[..len].fill(1.0);
+        }
+    }
+
+    /// The Jacobian of the prediction with respect to the parameters listed in `free`, on
+    /// all `n_rows` rows, row-major (`n_rows x free.len()`) into `out`: the same adjoint
+    /// sweep as [`Self::normal_equations`], row by row instead of summed. Used for the
+    /// uncertainty of a prediction (the delta method).
+    pub fn jacobian(
+        &mut self,
+        prog: &Program,
+        params: &[f64],
+        free: &[usize],
+        cols: &[&[f64]],
+        n_rows: usize,
+        out: &mut Vec<f64>,
+    ) {
+        let n = prog.nodes.len();
+        let m = free.len();
+        out.clear();
+        out.resize(n_rows * m, 0.0);
+        self.adj.resize(n * BATCH, 0.0);
+        self.jac.resize(params.len() * BATCH, 0.0);
+        let mut start = 0;
+        while start < n_rows {
+            let len = BATCH.min(n_rows - start);
+            self.forward(prog, params, cols, start, len);
+            self.backward(prog, params, cols, start, len);
+            for (a, &p) in free.iter().enumerate() {
+                for i in 0..len {
+                    out[(start + i) * m + a] = self.jac[p * BATCH + i];
+                }
+            }
+            start += len;
         }
     }
 }

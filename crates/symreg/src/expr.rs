@@ -27,13 +27,28 @@ fn add_num(e: Expr, x: f64) -> Expr {
     }
 }
 
-fn num(v: f64) -> Expr {
-    Expr::Num(v)
-}
-
 impl Expr {
     /// Builds the full expression `scale * root + offset` of a program.
     pub fn from_program(prog: &Program, params: &[f64], names: &[String]) -> Expr {
+        Self::from_program_with_symbols(prog, params, names, &[])
+    }
+
+    /// [`Expr::from_program`] with some parameters written as named symbols instead of
+    /// numbers: parameter `i` becomes [`Expr::Var`]`(symbols[i])` where that is `Some`
+    /// (indices past the end of `symbols` stay numbers). The template of a model's
+    /// constants ([`crate::uncertainty`]) is built this way, so substituting the values
+    /// gives back the expression of [`Expr::from_program`] (up to the folding of numbers,
+    /// which only the numeric form can do).
+    pub fn from_program_with_symbols(
+        prog: &Program,
+        params: &[f64],
+        names: &[String],
+        symbols: &[Option<String>],
+    ) -> Expr {
+        let num = |i: usize| match symbols.get(i) {
+            Some(Some(name)) => Expr::Var(name.clone()),
+            _ => Expr::Num(params[i]),
+        };
         let offs = prog.param_offsets();
         let mut stack: Vec<Expr> = Vec::new();
         for (k, n) in prog.nodes.iter().enumerate() {
@@ -44,40 +59,36 @@ impl Expr {
                         .cloned()
                         .unwrap_or_else(|| format!("x{j}"));
                     if prog.affine {
-                        let w = params[offs[k]];
-                        let b = params[offs[k] + 1];
+                        let w = num(offs[k]);
+                        let b = num(offs[k] + 1);
                         Expr::Bin(
                             Op::Add,
-                            Box::new(Expr::Bin(
-                                Op::Mul,
-                                Box::new(num(w)),
-                                Box::new(Expr::Var(name)),
-                            )),
-                            Box::new(num(b)),
+                            Box::new(Expr::Bin(Op::Mul, Box::new(w), Box::new(Expr::Var(name)))),
+                            Box::new(b),
                         )
                     } else {
                         Expr::Var(name)
                     }
                 }
-                Node::Const => num(params[offs[k]]),
+                Node::Const => num(offs[k]),
                 Node::Op(op) => {
                     if op.arity() == 2 {
-                        let b = stack.pop().unwrap_or(num(f64::NAN));
-                        let a = stack.pop().unwrap_or(num(f64::NAN));
+                        let b = stack.pop().unwrap_or(Expr::Num(f64::NAN));
+                        let a = stack.pop().unwrap_or(Expr::Num(f64::NAN));
                         Expr::Bin(*op, Box::new(a), Box::new(b))
                     } else {
-                        let a = stack.pop().unwrap_or(num(f64::NAN));
+                        let a = stack.pop().unwrap_or(Expr::Num(f64::NAN));
                         Expr::Un(*op, Box::new(a))
                     }
                 }
             };
             stack.push(e);
         }
-        let root = stack.pop().unwrap_or(num(f64::NAN));
+        let root = stack.pop().unwrap_or(Expr::Num(f64::NAN));
         Expr::Bin(
             Op::Add,
-            Box::new(Expr::Bin(Op::Mul, Box::new(num(params[0])), Box::new(root))),
-            Box::new(num(params[1])),
+            Box::new(Expr::Bin(Op::Mul, Box::new(num(0)), Box::new(root))),
+            Box::new(num(1)),
         )
         .simplify()
     }

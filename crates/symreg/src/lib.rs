@@ -13,6 +13,13 @@
 //! internal trait: [`Strategy`] chooses between them, and the [`search` module](mod@search)
 //! maps the engine file by file.
 //!
+//! Trust in the numbers: [`Model::uncertainty`] gives a model's constants as a template with
+//! named parameters (`p0`, `p1`, ...), their covariance `s^2 (J^T J)^-1`, standard errors and
+//! 95 % intervals, and [`Model::prediction_intervals`] the delta-method intervals of its
+//! predictions ([`uncertainty`] says what is assumed and how snapped constants are treated).
+//! [`stability()`] reruns the search on bootstrap resamples and reports how often each
+//! feature and each structure is selected.
+//!
 //! Design decision: parameters live at the leaves and at the output only. Every input enters
 //! as `w * x + b` and every model as `scale * root + offset` (QLattice's parameterisation), so
 //! the paper's `29.4 exp(-(a^2 + b^2)) - 9.71` with `a = w1 (f1 - c1)(f6 - c6)` is
@@ -49,7 +56,9 @@ mod model;
 pub mod ops;
 pub mod program;
 pub mod search;
+pub mod stability;
 mod sympy_names;
+pub mod uncertainty;
 pub mod vmath;
 
 pub use error::SrError;
@@ -60,3 +69,5 @@ pub use program::{ComplexityMeasure, Node, Program};
 pub use search::{
     Criterion, Progress, SearchConfig, SearchResult, Strategy, fit_structure, search,
 };
+pub use stability::{Stability, stability};
+pub use uncertainty::{ParamEstimate, Uncertainty};

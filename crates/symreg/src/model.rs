@@ -82,7 +82,7 @@ impl Model {
         Ok(())
     }
 
-    fn check(&self) -> Result<(), SrError> {
+    pub(crate) fn check(&self) -> Result<(), SrError> {
         if self.program.nodes.is_empty() || !self.program.is_valid() {
             return Err(SrError::MalformedModel(
                 "the program is not a single well-formed expression".into(),
@@ -116,13 +116,7 @@ impl Model {
     /// corrupt (e.g. hand-edited) model.
     pub fn predict(&self, data: &Table) -> Result<Vec<f64>, SrError> {
         self.check()?;
-        let mut cols: Vec<&[f64]> = Vec::with_capacity(self.feature_names.len());
-        for name in &self.feature_names {
-            cols.push(
-                data.column(name)
-                    .ok_or_else(|| SrError::UnknownColumn(name.clone()))?,
-            );
-        }
+        let cols = self.columns(data)?;
         let mut out = Vec::new();
         Evaluator::new(&self.program).predict(
             &self.program,
@@ -132,6 +126,17 @@ impl Model {
             &mut out,
         );
         Ok(out)
+    }
+
+    /// The columns of `data` the model reads, in feature order.
+    pub(crate) fn columns<'a>(&self, data: &'a Table) -> Result<Vec<&'a [f64]>, SrError> {
+        self.feature_names
+            .iter()
+            .map(|name| {
+                data.column(name)
+                    .ok_or_else(|| SrError::UnknownColumn(name.clone()))
+            })
+            .collect()
     }
 
     /// The simplified reporting expression.

@@ -53,7 +53,7 @@ pub use model::{
 use crate::HybridError;
 use hxai_eval::Split;
 use hxai_symreg::infix::{Compiled, Parsed, parse};
-use hxai_symreg::{SearchConfig, Table};
+use hxai_symreg::{ParamEstimate, SearchConfig, Table, Uncertainty};
 use model::{columns_of, combine, combine_values, compile_physics, forms};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -523,6 +523,35 @@ fn named_values(phys: &Compiled) -> BTreeMap<String, f64> {
         .collect()
 }
 
+/// The stability of the correction's structure of `model` (fitted with `cfg` on `table`):
+/// the correction's search rerun on `runs` bootstrap resamples of the training rows, on
+/// `delta` of the model's calibrated physics ([`hxai_symreg::stability()`]). `progress`
+/// gets `(runs done, runs)`.
+///
+/// # Errors
+/// A missing column, a physics value that cannot be used, and the search's errors.
+pub fn process_stability(
+    table: &Table,
+    cfg: &ProcessConfig,
+    model: &ProcessModel,
+    runs: usize,
+    progress: &mut (dyn FnMut(usize, usize) + Send),
+) -> Result<hxai_symreg::Stability, HybridError> {
+    let physics = model.predict(table)?.physics;
+    let y = table.require(&model.target)?;
+    let delta = deltas(model.correction.kind, y, &physics, &model.split.train)?;
+    let ft = table
+        .select_columns(&model.correction.candidates)?
+        .select_rows(&model.split.train)?;
+    Ok(hxai_symreg::stability(
+        &ft,
+        &delta,
+        &cfg.search_config(),
+        runs,
+        progress,
+    )?)
+}
+
 /// Fits on the split [`process_split`] chooses.
 ///
 /// # Errors
@@ -677,6 +706,34 @@ pub(crate) fn fit_inner(
     }
 
     let parameters = named_values(&phys);
+    let correction_uncertainty = correction.uncertainty(
+        &ft,
+        &delta_train(cfg, y_all, &physics_values(table, &res, &phys)?, split)?,
+    )?;
+    let hybrid_uncertainty =
+        hybrid_uncertainty(table, &res, &phys, &correction, cfg, split, &y_train)?;
+    let n_cal = res.calibrate.len();
+    let t = hxai_eval::t_upper_quantile(0.025, split.train.len().saturating_sub(n_cal) as f64);
+    let physics_params: BTreeMap<String, ParamEstimate> = res
+        .calibrate
+        .iter()
+        .map(|n| {
+            let value = parameters.get(n).copied().unwrap_or(f64::NAN);
+            let std_error = ses.get(n).copied().flatten();
+            let ci95 = std_error
+                .map(|se| [value - t * se, value + t * se])
+                .filter(|c| c.iter().all(|v| v.is_finite()));
+            (
+                n.clone(),
+                ParamEstimate {
+                    value,
+                    fitted: value,
+                    std_error,
+                    ci95,
+                },
+            )
+        })
+        .collect();
     let phys_expr = phys.expr();
     let phys_forms = forms(&phys_expr);
     let combined = combine(&phys, &correction, cfg.correction);
@@ -694,6 +751,7 @@ pub(crate) fn fit_inner(
             initial: res.initial.clone(),
             sympy: phys_forms.sympy,
             latex: phys_forms.latex,
+            params: physics_params,
         },
         correction: CorrectionInfo {
             kind: cfg.correction,
@@ -704,8 +762,12 @@ pub(crate) fn fit_inner(
             features: correction.features(),
             candidates: res.features.clone(),
             model: correction,
+            uncertainty: Some(correction_uncertainty),
         },
-        hybrid: forms(&hybrid_expr),
+        hybrid: EquationInfo {
+            uncertainty: Some(hybrid_uncertainty),
+            ..forms(&hybrid_expr)
+        },
         split: SplitInfo {
             kind: kind.to_string(),
             train: split.train.clone(),
@@ -713,6 +775,7 @@ pub(crate) fn fit_inner(
         },
         group: cfg.group.clone(),
         joint,
+        stability: None,
         scores: ScoresInfo {
             train: PairScores {
                 physics: zero_metrics(),
@@ -736,6 +799,75 @@ pub(crate) fn fit_inner(
         Some(pair(&split.test)?)
     };
     Ok(model)
+}
+
+/// `delta` on the training rows with the final physics parameters (those of the joint refit
+/// when there was one), the target of the correction's uncertainty.
+fn delta_train(
+    cfg: &ProcessConfig,
+    y_all: &[f64],
+    physics: &[f64],
+    split: &Split,
+) -> Result<Vec<f64>, HybridError> {
+    deltas(cfg.correction, y_all, physics, &split.train)
+}
+
+/// The hybrid as one template over the columns, the calibrated parameters (by name) and
+/// the correction's free constants (those that are not whole or half numbers, named `p0`,
+/// `p1`, ... past the names already taken), with their covariance at the model's values on
+/// the training rows.
+fn hybrid_uncertainty(
+    table: &Table,
+    res: &Resolved,
+    phys: &Compiled,
+    correction: &hxai_symreg::Model,
+    cfg: &ProcessConfig,
+    split: &Split,
+    y_train: &[f64],
+) -> Result<Uncertainty, HybridError> {
+    let c = combine(phys, correction, cfg.correction);
+    let mut slots: Vec<Vec<usize>> = res
+        .calibrate
+        .iter()
+        .map(|n| {
+            phys.slots
+                .get(n)
+                .map(|s| {
+                    s.iter()
+                        .filter_map(|i| c.phys_map.get(i).copied())
+                        .collect()
+                })
+                .unwrap_or_default()
+        })
+        .collect();
+    let mut names: Vec<String> = res.calibrate.clone();
+    let mut taken: Vec<String> = c.names.clone();
+    taken.extend(phys.slots.keys().cloned());
+    let free: Vec<usize> = c
+        .corr_map
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !hxai_symreg::uncertainty::is_exact(correction.params[*i]))
+        .map(|(_, &ci)| ci)
+        .collect();
+    names.extend(hxai_symreg::uncertainty::parameter_names(
+        free.len(),
+        &taken,
+    ));
+    slots.extend(free.iter().map(|&i| vec![i]));
+    let all = columns_of(table, &c.names, "column")?;
+    let cols: Vec<Vec<f64>> = all.iter().map(|col| gather(col, &split.train)).collect();
+    let cols: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
+    let cov = hxai_symreg::uncertainty::covariance(
+        &c.program,
+        &c.params,
+        hxai_symreg::fit::Unknowns::Tied(&slots),
+        &cols,
+        y_train,
+    );
+    Ok(Uncertainty::build(
+        &c.program, &c.params, &c.params, &c.names, names, slots, &cov,
+    ))
 }
 
 fn zero_metrics() -> hxai_eval::Metrics {

@@ -2,9 +2,10 @@
 //! whole hybrid as one equation; prediction and evaluation on new tables.
 use super::CorrectionForm;
 use crate::HybridError;
+use crate::evaluate::{DEFAULT_INTERVAL, IntervalReport};
 use hxai_eval::Metrics;
 use hxai_symreg::infix::{Compiled, compile, parse};
-use hxai_symreg::{Model, Node, Op, Program, Table, expr::Expr};
+use hxai_symreg::{Model, Node, Op, ParamEstimate, Program, Table, Uncertainty, expr::Expr};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -30,6 +31,11 @@ pub struct PhysicsInfo {
     pub sympy: String,
     /// The same in LaTeX (4 significant digits).
     pub latex: String,
+    /// Each calibrated parameter with its standard error and 95 % interval
+    /// (`value +- t_{n-k, 0.975} std_error`, `n` training rows, `k` calibrated parameters;
+    /// `null` where undefined). Empty in files written before it existed.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub params: BTreeMap<String, ParamEstimate>,
 }
 
 /// The correction part of the model file.
@@ -51,6 +57,10 @@ pub struct CorrectionInfo {
     pub candidates: Vec<String>,
     /// The fitted symbolic model (what `predict` evaluates).
     pub model: Model,
+    /// The correction's constants as a template with named parameters and their
+    /// uncertainty, fitted to `delta` on the training rows (`hxai_symreg::uncertainty`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<Uncertainty>,
 }
 
 /// An equation in three forms.
@@ -63,6 +73,11 @@ pub struct EquationInfo {
     pub sympy: String,
     /// LaTeX, 4 significant digits.
     pub latex: String,
+    /// For the hybrid: the whole equation as a template over the columns, the calibrated
+    /// parameters (by name) and the correction's free constants (`p0`, `p1`, ...), with
+    /// their covariance on the training rows, which prediction intervals use.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<Uncertainty>,
 }
 
 /// Which rows were used for fitting and which were held out.
@@ -130,6 +145,10 @@ pub struct ProcessModel {
     pub joint: Option<JointInfo>,
     /// Physics vs hybrid on the fitting table.
     pub scores: ScoresInfo,
+    /// With `hxai hybrid fit --stability N`: the stability of the correction's structure
+    /// over bootstrap resamples of the training rows ([`super::process_stability`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stability: Option<hxai_symreg::Stability>,
 }
 
 /// Per-row predictions of a process hybrid.
@@ -156,6 +175,10 @@ pub struct ProcessEvaluation {
     pub t_test: hxai_eval::TTest,
     /// Rows evaluated.
     pub n_samples: usize,
+    /// Coverage of the hybrid's prediction intervals (when the model stores the
+    /// uncertainty of the hybrid).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interval: Option<IntervalReport>,
 }
 
 pub(crate) fn columns_of<'a>(
@@ -313,6 +336,7 @@ pub(crate) fn forms(e: &Expr) -> EquationInfo {
         equation: e.to_text(Some(4), false),
         sympy: e.to_text(None, true),
         latex: e.to_latex(4),
+        uncertainty: None,
     }
 }
 
@@ -381,9 +405,49 @@ impl ProcessModel {
     /// A missing column (the target included), a bad physics value, or fewer than two rows
     /// or non-finite predictions (from the statistics).
     pub fn evaluate(&self, table: &Table) -> Result<ProcessEvaluation, HybridError> {
+        self.evaluate_at(table, DEFAULT_INTERVAL)
+    }
+
+    /// [`ProcessModel::evaluate`] with the coverage of the hybrid's prediction intervals at
+    /// `level` ([`ProcessEvaluation::interval`]), when the model stores the hybrid's
+    /// uncertainty.
+    ///
+    /// # Errors
+    /// As [`ProcessModel::evaluate`], and a `level` outside (0, 1).
+    pub fn evaluate_at(&self, table: &Table, level: f64) -> Result<ProcessEvaluation, HybridError> {
         let y = columns_of(table, std::slice::from_ref(&self.target), "target")?[0];
         let p = self.predict(table)?;
-        evaluation(y, &p.physics, &p.hybrid)
+        let mut ev = evaluation(y, &p.physics, &p.hybrid)?;
+        if self.hybrid.uncertainty.is_some() {
+            let iv = self.intervals(table, level)?;
+            ev.interval = Some(IntervalReport::of(level, y, &iv));
+        }
+        Ok(ev)
+    }
+
+    /// Prediction intervals `(lo, hi)` of the hybrid at `level` for every row of `table`:
+    /// the delta method through the whole hybrid equation (calibrated physics parameters
+    /// and the correction's free constants, with their covariance on the training rows)
+    /// plus the residual variance of the hybrid on the training rows. Assumes independent
+    /// residuals of constant variance and the structure fixed; the physics parameters and
+    /// the correction were fitted one after the other, and their covariance is taken as if
+    /// they had been fitted together (the joint fit's; see `hxai_symreg::uncertainty`).
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] when the model stores no uncertainty (a file written
+    /// before it existed: refit), a missing column, a non-finite value.
+    pub fn intervals(&self, table: &Table, level: f64) -> Result<Vec<(f64, f64)>, HybridError> {
+        let Some(unc) = &self.hybrid.uncertainty else {
+            return Err(HybridError::InvalidConfig(
+                "this model file stores no uncertainty (written before prediction intervals \
+                 existed): refit it with `hxai hybrid fit`"
+                    .into(),
+            ));
+        };
+        let phys = self.physics_program()?;
+        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        let cols = columns_of(table, &c.names, "column")?;
+        Ok(unc.intervals(&c.program, &c.params, &cols, table.n_rows(), level)?)
     }
 
     /// The whole hybrid as one expression over the columns.
@@ -443,5 +507,6 @@ pub(crate) fn evaluation(
         physics: ps,
         hybrid: hs,
         n_samples: y.len(),
+        interval: None,
     })
 }

@@ -1,0 +1,213 @@
+//! Stability of the selected structure: the search rerun on bootstrap resamples.
+//!
+//! One search gives one equation; whether its structure is more than one draw shows when the
+//! search is rerun on resamples of the rows. [`stability`] runs it on `runs` bootstrap
+//! resamples (rows drawn with replacement, each resample from its own generator seeded by
+//! `(seed, run)`) and reports how often each feature is used, how often each structure is
+//! selected, and the spread of R^2 on the rows each resample left out (out-of-bag).
+//!
+//! Structures are compared with constants ignored: every parameter of the program is
+//! written as `c`, and the operands of `+` and `*` are put in a canonical order, so
+//! `c*x1*x2 + c` and `c + c*x2*x1` are one structure. Structures that differ only in
+//! algebra beyond that (`x*(y + z)` against `x*y + x*z`) count as different.
+//!
+//! Runs are searched in parallel and collected in run order; each search is itself
+//! independent of the thread count, so the result depends only on the seed and the data.
+use crate::expr::Expr;
+use crate::ops::Op;
+use crate::search::SearchConfig;
+use crate::{Model, SrError, Table, search};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::sync::Mutex;
+
+/// Mixing constant of the seeds of the runs (SplitMix64's increment): run `r` of seed `s`
+/// draws its resample from `s ^ (r + 1) * RUN_MIX`, and searches with seed `s + r + 1`.
+const RUN_MIX: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// One structure and the share of runs that selected it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StructureShare {
+    /// The structure, every constant written `c`.
+    pub template: String,
+    /// Share of runs (0 to 1).
+    pub share: f64,
+}
+
+/// Mean and sample standard deviation of R^2 over the runs.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct R2Spread {
+    /// Mean R^2 on the out-of-bag rows.
+    pub mean: f64,
+    /// Sample standard deviation (0 for a single run).
+    pub sd: f64,
+}
+
+/// What [`stability`] reports (JSON `stability`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Stability {
+    /// Number of runs.
+    pub runs: usize,
+    /// Each feature offered, with the share of runs whose selected model uses it.
+    pub features: BTreeMap<String, f64>,
+    /// Structures selected, most frequent first (ties by text).
+    pub structures: Vec<StructureShare>,
+    /// R^2 of each run's model on the rows its resample left out (runs whose out-of-bag
+    /// rows are fewer than two, or whose prediction is not finite there, are left out;
+    /// `null` when no run is left).
+    pub r2: Option<R2Spread>,
+}
+
+/// The structure of a model with its constants ignored (see the module docs).
+pub fn structure_of(model: &Model) -> String {
+    let symbols: Vec<Option<String>> = vec![Some("c".to_string()); model.params.len()];
+    let e = Expr::from_program_with_symbols(
+        &model.program,
+        &model.params,
+        &model.feature_names,
+        &symbols,
+    );
+    canonical(e).to_text(None, true)
+}
+
+/// Sorts the operands of `+` and `*` chains by their text.
+fn canonical(e: Expr) -> Expr {
+    match e {
+        Expr::Bin(op @ (Op::Add | Op::Mul), a, b) => {
+            let mut terms = Vec::new();
+            flatten(op, Expr::Bin(op, a, b), &mut terms);
+            let mut terms: Vec<(String, Expr)> = terms
+                .into_iter()
+                .map(canonical)
+                .map(|t| (t.to_text(None, true), t))
+                .collect();
+            terms.sort_by(|x, y| x.0.cmp(&y.0));
+            let mut it = terms.into_iter().map(|(_, t)| t);
+            let first = it.next().unwrap_or(Expr::Num(0.0));
+            it.fold(first, |acc, t| Expr::Bin(op, Box::new(acc), Box::new(t)))
+        }
+        Expr::Bin(op, a, b) => Expr::Bin(op, Box::new(canonical(*a)), Box::new(canonical(*b))),
+        Expr::Un(op, a) => Expr::Un(op, Box::new(canonical(*a))),
+        Expr::Neg(a) => Expr::Neg(Box::new(canonical(*a))),
+        other => other,
+    }
+}
+
+fn flatten(op: Op, e: Expr, out: &mut Vec<Expr>) {
+    match e {
+        Expr::Bin(o, a, b) if o == op => {
+            flatten(op, *a, out);
+            flatten(op, *b, out);
+        }
+        other => out.push(other),
+    }
+}
+
+/// Reruns the search on `runs` bootstrap resamples of the rows of `data` (see the module
+/// docs). `progress` is called with `(runs done, runs)` as runs finish (from worker threads,
+/// one call at a time).
+///
+/// # Errors
+/// `runs` of 0 ([`SrError::InvalidConfig`]), and the errors of [`search()`] (a resample
+/// whose target is constant, say).
+pub fn stability(
+    data: &Table,
+    target: &[f64],
+    cfg: &SearchConfig,
+    runs: usize,
+    progress: &mut (dyn FnMut(usize, usize) + Send),
+) -> Result<Stability, SrError> {
+    if runs == 0 {
+        return Err(SrError::InvalidConfig(
+            "--stability needs at least one run".into(),
+        ));
+    }
+    if target.len() != data.n_rows() {
+        return Err(SrError::TargetLength {
+            target: target.len(),
+            data: data.n_rows(),
+        });
+    }
+    let n = data.n_rows();
+    let done = Mutex::new((0usize, progress));
+    let results: Vec<Result<(Model, Option<f64>), SrError>> = (0..runs)
+        .into_par_iter()
+        .map(|r| {
+            let mut rng =
+                ChaCha8Rng::seed_from_u64(cfg.seed ^ (r as u64 + 1).wrapping_mul(RUN_MIX));
+            let rows: Vec<usize> = (0..n).map(|_| rng.gen_range(0..n)).collect();
+            let mut drawn = vec![false; n];
+            for &i in &rows {
+                drawn[i] = true;
+            }
+            let oob: Vec<usize> = (0..n).filter(|&i| !drawn[i]).collect();
+            let train = data.select_rows(&rows)?;
+            let y: Vec<f64> = rows.iter().map(|&i| target[i]).collect();
+            let run_cfg = SearchConfig {
+                seed: cfg.seed.wrapping_add(r as u64 + 1),
+                ..cfg.clone()
+            };
+            let res = search(&train, &y, &run_cfg, &mut |_| {})?;
+            let r2 = if oob.len() >= 2 {
+                let test = data.select_rows(&oob)?;
+                let yt: Vec<f64> = oob.iter().map(|&i| target[i]).collect();
+                res.best
+                    .predict(&test)
+                    .ok()
+                    .and_then(|p| hxai_eval::r2(&yt, &p).ok())
+                    .filter(|v| v.is_finite())
+            } else {
+                None
+            };
+            if let Ok(mut g) = done.lock() {
+                g.0 += 1;
+                let k = g.0;
+                (g.1)(k, runs);
+            }
+            Ok((res.best, r2))
+        })
+        .collect();
+    let mut features: BTreeMap<String, f64> =
+        data.names().iter().map(|n| (n.clone(), 0.0)).collect();
+    let mut counts: BTreeMap<String, usize> = BTreeMap::new();
+    let mut r2s = Vec::new();
+    for r in results {
+        let (model, r2) = r?;
+        for f in model.features() {
+            *features.entry(f).or_insert(0.0) += 1.0 / runs as f64;
+        }
+        *counts.entry(structure_of(&model)).or_insert(0) += 1;
+        r2s.extend(r2);
+    }
+    let mut structures: Vec<StructureShare> = counts
+        .into_iter()
+        .map(|(template, c)| StructureShare {
+            template,
+            share: c as f64 / runs as f64,
+        })
+        .collect();
+    structures.sort_by(|a, b| {
+        b.share
+            .total_cmp(&a.share)
+            .then(a.template.cmp(&b.template))
+    });
+    let r2 = (!r2s.is_empty()).then(|| {
+        let m = r2s.len() as f64;
+        let mean = r2s.iter().sum::<f64>() / m;
+        let sd = if r2s.len() > 1 {
+            (r2s.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (m - 1.0)).sqrt()
+        } else {
+            0.0
+        };
+        R2Spread { mean, sd }
+    });
+    Ok(Stability {
+        runs,
+        features,
+        structures,
+        r2,
+    })
+}
