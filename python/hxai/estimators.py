@@ -40,6 +40,7 @@ _SEARCH_KEYS = (
     "strategy",
     "criterion",
     "complexity_penalty",
+    "cv_folds",
     "time_limit_s",
     "max_evaluations",
     "affine_inputs",
@@ -51,7 +52,13 @@ _SEARCH_KEYS = (
     "snap_tolerance",
 )
 
-_CRITERIA = {"bic": "bic", "aic": "aic", "pareto": "pareto_score", "pareto_score": "pareto_score"}
+_CRITERIA = {
+    "bic": "bic",
+    "aic": "aic",
+    "pareto": "pareto_score",
+    "pareto_score": "pareto_score",
+    "cv": "cv",
+}
 _STRATEGIES = {"combined": "combined", "genetic": "genetic", "qlattice": "qlattice"}
 
 
@@ -66,14 +73,14 @@ def _search_json(est):
         s["operators"] = list(s["operators"])
     crit = str(s["criterion"]).lower()
     if crit not in _CRITERIA:
-        raise ValueError(f"criterion `{s['criterion']}`: use bic, aic or pareto")
+        raise ValueError(f"criterion `{s['criterion']}`: use bic, aic, pareto or cv")
     s["criterion"] = _CRITERIA[crit]
     strat = str(s["strategy"]).lower()
     if strat not in _STRATEGIES:
         raise ValueError(f"strategy `{s['strategy']}`: use combined, genetic or qlattice")
     s["strategy"] = _STRATEGIES[strat]
     for k in ("seed", "epochs", "max_complexity", "candidates_per_epoch", "max_fit_rows",
-              "lm_iterations"):
+              "lm_iterations", "cv_folds"):
         v = s[k]
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
             raise ValueError(f"{k} must be a non-negative integer, got {v!r}")
@@ -140,6 +147,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         strategy="combined",
         criterion="bic",
         complexity_penalty=1.0,
+        cv_folds=5,
         time_limit_s=None,
         max_evaluations=None,
         affine_inputs=True,
@@ -221,6 +229,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         strategy="combined",
         criterion="bic",
         complexity_penalty=1.0,
+        cv_folds=5,
         time_limit_s=None,
         max_evaluations=None,
         affine_inputs=True,
