@@ -102,6 +102,21 @@ def _names(est, n):
     return [f"x{j}" for j in range(n)]
 
 
+def _params_frame(params):
+    """The constants of ``template_``: one row per name, with ``value`` (as printed),
+    ``fitted``, ``std_error`` and the 95 % interval ``ci95_lo``/``ci95_hi`` (NaN where the data
+    do not determine them)."""
+    rows = []
+    for name, p in params.items():
+        ci = p.get("ci95") or [float("nan"), float("nan")]
+        se = p.get("std_error")
+        rows.append((name, p["value"], p["fitted"], float("nan") if se is None else se, ci[0], ci[1]))
+    frame = pd.DataFrame(rows, columns=["name", "value", "fitted", "std_error", "ci95_lo", "ci95_hi"])
+    # p2 before p10: the engine's order, not the JSON map's
+    key = frame["name"].str.extract(r"(\d+)$")[0].astype(float)
+    return frame.assign(_k=key).sort_values(["_k", "name"]).drop(columns="_k").reset_index(drop=True)
+
+
 def _pareto_frame(front):
     return pd.DataFrame(
         {
@@ -129,7 +144,9 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
 
     Fitted attributes: ``equation_`` (4 significant digits, for reading), ``sympy_`` (full
     precision, sympy-parseable), ``latex_``, ``complexity_``, ``features_`` (columns used),
-    ``pareto_`` (DataFrame: complexity, loss = training MSE, equation), ``model_json_`` (the
+    ``pareto_`` (DataFrame: complexity, loss = training MSE, equation), ``template_`` (the
+    equation with its fitted constants named ``p0``, ``p1``, ...) and ``params_`` (DataFrame:
+    name, value, fitted, std_error, ci95_lo, ci95_hi), ``model_json_`` (the
     model as the engine serialises it), ``evaluations_``, ``n_features_in_`` and, from a
     DataFrame, ``feature_names_in_``.
 
@@ -181,6 +198,8 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.complexity_ = best["complexity"]
         self.features_ = list(best["features"])
         self.pareto_ = _pareto_frame(doc["pareto"])
+        self.template_ = best["template"]
+        self.params_ = _params_frame(best["params"])
         self.evaluations_ = doc["evaluations"]
         return self
 

@@ -145,7 +145,8 @@ fn model_summary(m: &Model) -> Value {
 
 /// `sr_fit(names, columns, y, search_json)`: symbolic regression of `y` on the columns with
 /// the search settings `search_json` (a JSON object over `SearchConfig`'s defaults). Returns
-/// JSON `{best, pareto: [...], evaluations, seconds}`, each model as [`model_summary`].
+/// JSON `{best, pareto: [...], evaluations, seconds}`, each model as [`model_summary`];
+/// `best` also has `template`, `params` and `reason` (`hxai_symreg::uncertainty`).
 #[pyfunction]
 fn sr_fit(
     py: Python<'_>,
@@ -157,11 +158,19 @@ fn sr_fit(
     let data = table_of(names, &columns)?;
     let y = floats(y, "y")?;
     let cfg: SearchConfig = with_overrides("search", search_json)?;
-    let res = py
-        .detach(move || hxai_symreg::search(&data, &y, &cfg, &mut |_| {}))
+    let (res, unc) = py
+        .detach(|| -> Result<_, hxai_symreg::SrError> {
+            let res = hxai_symreg::search(&data, &y, &cfg, &mut |_| {})?;
+            let unc = res.best.uncertainty(&data, &y)?;
+            Ok((res, unc))
+        })
         .map_err(err)?;
+    let mut best = model_summary(&res.best);
+    best["template"] = json!(unc.template);
+    best["params"] = serde_json::to_value(&unc).map_err(err)?["params"].take();
+    best["reason"] = json!(unc.reason);
     let doc = json!({
-        "best": model_summary(&res.best),
+        "best": best,
         "pareto": res.pareto.iter().map(model_summary).collect::<Vec<_>>(),
         "evaluations": res.evaluations,
         "seconds": res.seconds,

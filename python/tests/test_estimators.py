@@ -215,3 +215,23 @@ def test_gil_released_during_search(quadratic):
     seconds = time.perf_counter() - t0
     assert seconds > 0.05, "the search was too short to tell"
     assert ticks >= 10, f"{ticks} ticks in {seconds:.2f} s: the GIL was held"
+
+
+def test_template_and_parameter_uncertainty():
+    # y = 2.37 a - 0.81 + noise: neither constant is a whole or half number, so both stay
+    # named parameters of the template, with finite standard errors and intervals around
+    # the fitted values
+    rng = np.random.default_rng(11)
+    a = rng.uniform(0.0, 4.0, 300)
+    y = 2.37 * a - 0.81 + rng.normal(0.0, 0.05, 300)
+    m = SymbolicRegressor(**FAST).fit(pd.DataFrame({"a": a}), y)
+    assert "p0" in m.template_, m.template_
+    p = m.params_
+    assert list(p.columns) == ["name", "value", "fitted", "std_error", "ci95_lo", "ci95_hi"]
+    assert len(p) >= 1 and p["name"].iloc[0] == "p0"
+    assert (p["std_error"] > 0).all() and np.isfinite(p["std_error"]).all(), p
+    assert ((p["ci95_lo"] < p["fitted"]) & (p["fitted"] < p["ci95_hi"])).all(), p
+    # the slope is one of the parameters, close to the truth (20 standard errors is far
+    # more than chance: this checks the value is the slope, not its precision)
+    slope = p.loc[(p["fitted"] - 2.37).abs().idxmin()]
+    assert abs(slope["fitted"] - 2.37) < 20 * slope["std_error"], p
