@@ -278,6 +278,35 @@ fn snapped_constants_are_simple() {
     assert!(!m.latex().is_empty());
 }
 
+// A weight snapped to 0 kills its input's term: the reported model no longer lists that
+// feature nor counts it (or the operator that joined it) in its complexity, and still
+// predicts the law (issue 14's snapping fix).
+#[test]
+fn a_weight_snapped_to_zero_drops_its_feature_and_complexity() {
+    let x0 = uniform(200, 1.0, 3.0, 31);
+    let x1 = uniform(200, -2.0, 2.0, 32);
+    let y: Vec<f64> = x0.iter().map(|v| 3.0 * v + 2.0).collect();
+    let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+    // add(x0, x1): x1's weight fits to 0 and is snapped there
+    let prog = Program {
+        nodes: vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)],
+        affine: true,
+    };
+    let m = fit_structure(&data, &y, &prog, &SearchConfig::default()).unwrap();
+    assert_eq!(m.features(), vec!["x0".to_string()], "{}", m.equation());
+    assert_eq!(m.complexity(), 1, "{}", m.equation());
+    assert_eq!(
+        m.program
+            .complexity(hxai_symreg::ComplexityMeasure::default()),
+        1
+    );
+    // still the law: exact to 1e-9 relative on the training rows
+    let pred = m.predict(&data).unwrap();
+    for (p, t) in pred.iter().zip(&y) {
+        assert!((p - t).abs() <= 1e-9 * t.abs(), "{p} vs {t}");
+    }
+}
+
 /// `1.5 x0 x1` plus Gaussian noise of 1 % of the target's standard deviation, 1,000 rows.
 fn noisy_product() -> (Table, Vec<f64>) {
     let x0 = uniform(1000, 1.0, 5.0, 21);
