@@ -376,3 +376,39 @@ fn strategy_serde_names_match_the_flag_values() {
         "\"genetic\""
     );
 }
+
+// Operator complexities set in the configuration are what the reported complexities count,
+// and no reported model exceeds the cap for its number of inputs.
+#[test]
+fn operator_complexity_is_counted_and_capped() {
+    use hxai_symreg::ComplexityMeasure;
+    use hxai_symreg::ops::OpCosts;
+    let mut cfg = quick();
+    cfg.operator_complexity = [("mul".to_string(), 3), ("square".to_string(), 2)]
+        .into_iter()
+        .collect();
+    let costs = cfg.op_costs().unwrap();
+    assert_eq!(costs.of(Op::Mul), 3);
+    assert_eq!(costs.of(Op::Add), 1);
+    let (res, score) = run_law(|x| x[0] * x[1] + x[2], 3, &cfg);
+    assert!(score > 0.99, "{score}: {}", res.best.equation());
+    for m in res.pareto.iter().chain([&res.best]) {
+        let c = m
+            .program
+            .complexity_with(ComplexityMeasure::FeaturesPlusOperators, &costs);
+        assert_eq!(m.complexity, c, "{}", m.equation());
+        assert!(c <= cfg.complexity_cap(3), "{}", m.equation());
+    }
+    // the cap: 10 for one input, 2 more per further input, at most 60
+    assert_eq!(cfg.complexity_cap(1), 10);
+    assert_eq!(cfg.complexity_cap(9), 26);
+    assert_eq!(cfg.complexity_cap(100), 60);
+    // a bad entry is a typed error
+    let mut bad = SearchConfig::default();
+    bad.operator_complexity.insert("cube".into(), 2);
+    assert!(matches!(bad.check(), Err(SrError::UnknownOperator(_))));
+    bad.operator_complexity.clear();
+    bad.operator_complexity.insert("sqrt".into(), 0);
+    assert!(matches!(bad.check(), Err(SrError::InvalidConfig(_))));
+    let _ = OpCosts::default();
+}

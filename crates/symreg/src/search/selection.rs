@@ -160,7 +160,7 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
     // parameters fixed at exact values are no longer fitted: the criterion does not charge
     // for them
     let n_fitted = exact.iter().filter(|&&e| !e).count();
-    let complexity = prog.complexity(cfg.complexity_measure);
+    let complexity = prog.complexity_with(cfg.complexity_measure, &problem.op_costs);
     to_model(
         &prog,
         params,
