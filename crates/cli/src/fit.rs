@@ -44,8 +44,8 @@ pub struct Args {
     /// operators not named count 1.
     #[arg(long, value_delimiter = ',')]
     pub operator_complexity: Vec<String>,
-    /// Complexity the cap grows by with each input beyond the first (default: the
-    /// search's default).
+    /// Complexity the cap grows by with each input beyond the first (default 0: the
+    /// paper's fixed cap).
     #[arg(long)]
     pub complexity_per_input: Option<usize>,
     /// Window length in seconds (each window is one sample).

@@ -18,7 +18,8 @@ pub struct Args {
     /// Seed of every random choice.
     #[arg(long, default_value_t = 42)]
     pub seed: u64,
-    /// Largest complexity (input leaves + operators).
+    /// Largest complexity (input leaves + operators) of a model over one input (see
+    /// `--complexity-per-input`).
     #[arg(long, default_value_t = 10)]
     pub max_complexity: usize,
     /// Number of epochs.
@@ -35,10 +36,11 @@ pub struct Args {
     /// operators not named count 1.
     #[arg(long, value_delimiter = ',')]
     pub operator_complexity: Vec<String>,
-    /// Complexity the cap grows by with each input beyond the first (default: the
-    /// search's default).
-    #[arg(long)]
-    pub complexity_per_input: Option<usize>,
+    /// Complexity the cap grows by with each input beyond the first: the cap is
+    /// `max_complexity + complexity_per_input * (inputs - 1)`, so a law using every input
+    /// once fits (0 keeps the cap fixed).
+    #[arg(long, default_value_t = 2)]
+    pub complexity_per_input: usize,
     /// Stop after this many fitted models.
     #[arg(long)]
     pub max_evaluations: Option<u64>,
@@ -121,9 +123,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         cfg.operators = ops;
     }
     cfg.operator_complexity = crate::strategy::operator_complexity(&args.operator_complexity)?;
-    if let Some(c) = args.complexity_per_input {
-        cfg.complexity_per_input = c;
-    }
+    cfg.complexity_per_input = args.complexity_per_input;
     let bar = if args.json {
         indicatif::ProgressBar::hidden()
     } else {

@@ -384,6 +384,7 @@ fn operator_complexity_is_counted_and_capped() {
     use hxai_symreg::ComplexityMeasure;
     use hxai_symreg::ops::OpCosts;
     let mut cfg = quick();
+    cfg.complexity_per_input = 2;
     cfg.operator_complexity = [("mul".to_string(), 3), ("square".to_string(), 2)]
         .into_iter()
         .collect();

@@ -75,9 +75,10 @@ pub enum Criterion {
 }
 
 /// Search settings. `Default` gives the paper's set-up (seed 42, 10 epochs, complexity at
-/// most 10 for one input, BIC with lambda 1) with the paper's and feyn's operators
-/// ([`DEFAULT_OPERATORS`]) and a cap that grows by 2 with each further input
-/// ([`SearchConfig::complexity_cap`]).
+/// most 10 whatever the number of inputs, BIC with lambda 1) with the paper's and feyn's
+/// operators ([`DEFAULT_OPERATORS`]). `hxai sr` lets the cap grow by 2 with each input
+/// beyond the first (`complexity_per_input = 2`, see [`SearchConfig::complexity_cap`]):
+/// a hybrid model's correction keeps the paper's fixed cap, which keeps it readable.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(default)]
 pub struct SearchConfig {
@@ -89,7 +90,7 @@ pub struct SearchConfig {
     /// for more inputs.
     pub max_complexity: usize,
     /// Complexity the cap grows by with each input beyond the first (see
-    /// [`SearchConfig::complexity_cap`]).
+    /// [`SearchConfig::complexity_cap`]); 0 (the paper's fixed cap) by default.
     pub complexity_per_input: usize,
     /// Complexity of operators by name (`{"sqrt": 2, "exp": 2}`); operators not listed
     /// count 1, the paper's count. Names as in `operators`; each value 1 to
@@ -132,7 +133,7 @@ impl Default for SearchConfig {
             seed: 42,
             epochs: 10,
             max_complexity: 10,
-            complexity_per_input: 2,
+            complexity_per_input: 0,
             operator_complexity: BTreeMap::new(),
             operators: DEFAULT_OPERATORS.iter().map(|s| s.to_string()).collect(),
             strategy: Strategy::Combined,
