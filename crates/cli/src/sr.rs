@@ -18,7 +18,8 @@ pub struct Args {
     /// Seed of every random choice.
     #[arg(long, default_value_t = 42)]
     pub seed: u64,
-    /// Largest complexity (input leaves + operators).
+    /// Largest complexity (input leaves + operators) of a model over one input (see
+    /// `--complexity-per-input`).
     #[arg(long, default_value_t = 10)]
     pub max_complexity: usize,
     /// Number of epochs.
@@ -28,9 +29,18 @@ pub struct Args {
     #[arg(long)]
     pub time_limit_s: Option<f64>,
     /// Comma-separated operators, from: add sub mul div exp log sqrt square inverse sin cos
-    /// tanh abs gaussian gaussian2 (default: the paper's set plus exp).
+    /// tanh abs gaussian gaussian2 (default: all of them, the paper's and feyn's sets).
     #[arg(long, value_delimiter = ',')]
     pub operators: Option<Vec<String>>,
+    /// Complexity of operators, as comma-separated NAME=INTEGER (e.g. `sqrt=2,exp=2`);
+    /// operators not named count 1.
+    #[arg(long, value_delimiter = ',')]
+    pub operator_complexity: Vec<String>,
+    /// Complexity the cap grows by with each input beyond the first: the cap is
+    /// `max_complexity + complexity_per_input * (inputs - 1)`, so a law using every input
+    /// once fits (0 keeps the cap fixed).
+    #[arg(long, default_value_t = 2)]
+    pub complexity_per_input: usize,
     /// Stop after this many fitted models.
     #[arg(long)]
     pub max_evaluations: Option<u64>,
@@ -137,6 +147,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     if let Some(ops) = args.operators {
         cfg.operators = ops;
     }
+    cfg.operator_complexity = crate::strategy::operator_complexity(&args.operator_complexity)?;
+    cfg.complexity_per_input = args.complexity_per_input;
     let bar = if args.json {
         indicatif::ProgressBar::hidden()
     } else {
