@@ -30,12 +30,23 @@ DEFAULT_OPERATORS = (
     "log",
     "abs",
     "exp",
+    "sqrt",
+    "square",
+    "inverse",
+    "tanh",
 )
+
+# `hxai sr` lets the complexity cap grow by this much per input beyond the first; the engine's
+# own default (and `hxai hybrid fit`'s) is 0, the paper's fixed cap. SymbolicRegressor takes
+# the CLI's value so that it gives `hxai sr`'s result; HybridRegressor the engine's.
+SR_COMPLEXITY_PER_INPUT = 2
 
 _SEARCH_KEYS = (
     "seed",
     "epochs",
     "max_complexity",
+    "complexity_per_input",
+    "operator_complexity",
     "operators",
     "strategy",
     "criterion",
@@ -59,7 +70,12 @@ _CRITERIA = {
     "pareto_score": "pareto_score",
     "cv": "cv",
 }
-_STRATEGIES = {"combined": "combined", "genetic": "genetic", "qlattice": "qlattice"}
+_STRATEGIES = {
+    "combined": "combined",
+    "genetic": "genetic",
+    "qlattice": "qlattice",
+    "random": "random",
+}
 
 
 def _search_json(est):
@@ -77,10 +93,16 @@ def _search_json(est):
     s["criterion"] = _CRITERIA[crit]
     strat = str(s["strategy"]).lower()
     if strat not in _STRATEGIES:
-        raise ValueError(f"strategy `{s['strategy']}`: use combined, genetic or qlattice")
+        raise ValueError(f"strategy `{s['strategy']}`: use combined, genetic, qlattice or random")
     s["strategy"] = _STRATEGIES[strat]
+    oc = s["operator_complexity"]
+    if oc is None:
+        oc = {}
+    if not isinstance(oc, dict):
+        raise ValueError(f"operator_complexity must be a dict like {{'sqrt': 2}}, got {oc!r}")
+    s["operator_complexity"] = {str(k): int(v) for k, v in oc.items()}
     for k in ("seed", "epochs", "max_complexity", "candidates_per_epoch", "max_fit_rows",
-              "lm_iterations", "cv_folds"):
+              "lm_iterations", "cv_folds", "complexity_per_input"):
         v = s[k]
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
             raise ValueError(f"{k} must be a non-negative integer, got {v!r}")
@@ -160,6 +182,8 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         seed=42,
         epochs=10,
         max_complexity=10,
+        complexity_per_input=SR_COMPLEXITY_PER_INPUT,
+        operator_complexity=None,
         operators=DEFAULT_OPERATORS,
         strategy="combined",
         criterion="bic",
@@ -244,6 +268,8 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         seed=42,
         epochs=10,
         max_complexity=10,
+        complexity_per_input=0,
+        operator_complexity=None,
         operators=DEFAULT_OPERATORS,
         strategy="combined",
         criterion="bic",

@@ -13,7 +13,7 @@ from sklearn.utils.estimator_checks import parametrize_with_checks
 
 import hxai
 from hxai import HybridRegressor, SymbolicRegressor, _hxai
-from hxai.estimators import _SEARCH_KEYS
+from hxai.estimators import _SEARCH_KEYS, SR_COMPLEXITY_PER_INPUT
 
 from conftest import FAST, hxai_binary
 
@@ -63,6 +63,11 @@ def test_defaults_are_the_engines():
             got = params[k]
             if k == "operators":
                 got = list(got)
+            if k == "operator_complexity" and got is None:
+                got = {}
+            if k == "complexity_per_input" and isinstance(est, SymbolicRegressor):
+                # `hxai sr`'s value, not the engine's: the estimator gives `hxai sr`'s result
+                want = SR_COMPLEXITY_PER_INPUT
             assert got == want, f"{type(est).__name__}.{k}: {got!r} != engine's {want!r}"
     assert set(_SEARCH_KEYS) == set(rust), "a search setting is missing from the estimators"
 
