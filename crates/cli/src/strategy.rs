@@ -5,9 +5,9 @@ use hxai_symreg::{Criterion, Strategy};
 /// `--strategy` values: which symbolic-regression search runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum StrategyArg {
-    /// QLattice-style path sampling over lineages.
+    /// Path sampling from a learned field, with QLattice-style lineages.
     Qlattice,
-    /// Island genetic programming.
+    /// Island genetic programming with age-regularised evolution.
     Genetic,
     /// Both, sharing one Pareto archive.
     Combined,

@@ -40,11 +40,13 @@ pub const DEFAULT_OPERATORS: [&str; 15] = [
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Strategy {
-    /// QLattice-style path sampling over lineages (cells). Serialised as `qlattice`, the
-    /// spelling of the `--strategy` flag (`q_lattice`, the derived snake-case name, is read).
+    /// Path sampling: structures sampled from a learned probability field over (tree
+    /// position, operator or input), alongside QLattice-style cells of lineages. Serialised
+    /// as `qlattice`, the spelling of the `--strategy` flag (`q_lattice`, the derived
+    /// snake-case name, is read).
     #[serde(rename = "qlattice", alias = "q_lattice")]
     QLattice,
-    /// Island genetic programming.
+    /// Island genetic programming with age-regularised evolution (the oldest leave).
     Genetic,
     /// Both, sharing a Pareto archive (default).
     #[default]
