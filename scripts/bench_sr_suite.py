@@ -223,17 +223,27 @@ def gplearn_locals():
 
 def run_subprocess(cmd, limit):
     """Runs cmd in its own process group; kills the group after `limit` seconds. Returns
-    (stdout, stderr, returncode, wall seconds, timed_out)."""
+    (stdout, stderr, returncode, wall seconds, timed_out); the child's CPU seconds (user +
+    system, all threads) go to CPU[0], a fairer measure than wall time on a shared machine."""
+    import resource
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t = time.time()
     p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                          start_new_session=True)
     try:
         out, err = p.communicate(timeout=limit)
-        return out, err, p.returncode, time.time() - t, False
+        timed_out = False
     except subprocess.TimeoutExpired:
         os.killpg(p.pid, signal.SIGKILL)
         out, err = p.communicate()
-        return out, err, p.returncode, time.time() - t, True
+        timed_out = True
+    wall = time.time() - t
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    CPU[0] = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return out, err, p.returncode, wall, timed_out
+
+
+CPU = [0.0]
 
 
 # ---------------------------------------------------------------- the run
@@ -286,7 +296,7 @@ def run_engine(a, engine, label, hxai_extra, train_csv, syms):
             return {"error": err.strip()[-300:], "seconds": wall}
         doc = json.loads(out)
         expr = sp.sympify(doc["best"]["sympy"], locals=local)
-        return {"seconds": wall, "complexity": doc["best"].get("complexity"),
+        return {"seconds": wall, "fit_seconds": doc.get("seconds"), "complexity": doc["best"].get("complexity"),
                 "evaluations": doc.get("evaluations"), "_expr": expr}
     settings = engine_settings(a)[engine]
     cmd = [sys.executable, os.path.abspath(__file__), "--worker", engine,
@@ -335,6 +345,15 @@ def run(a):
     extra = a.hxai_args.split()
     if a.max_evaluations:
         extra += ["--max-evaluations", str(a.max_evaluations), "--epochs", str(a.epochs_cap)]
+    if a.strategies and "hxai" in a.engines.split(","):
+        # a strategy this binary does not have fails here, clearly, not as 200 error rows
+        helptext = subprocess.run([a.hxai, "sr", "--help"], capture_output=True, text=True).stdout
+        section = helptext.split("--strategy <", 1)[-1].split("\n      --", 1)[0]
+        known = re.findall(r"^\s*- ([a-z_0-9]+):", section, flags=re.M)
+        missing = [s for s in a.strategies.split(",") if s not in known]
+        if missing:
+            raise SystemExit(f"{a.hxai} has no --strategy {','.join(missing)} "
+                             f"(it offers: {', '.join(known)})")
     for eng in a.engines.split(","):
         if eng == "hxai" and a.strategies:
             for s in a.strategies.split(","):
@@ -377,6 +396,7 @@ def run(a):
                     continue
                 row = {**base, "engine": label, "noise": z, "load1": round(os.getloadavg()[0], 2)}
                 res = run_engine(a, eng, label, x, train_csv, syms)
+                res["cpu_seconds"] = round(CPU[0], 3)
                 expr = res.pop("_expr", None)
                 row.update(res)
                 if expr is not None:
@@ -402,8 +422,9 @@ def table(paths):
     for path in paths:
         with open(path) as fh:
             rows += [json.loads(l) for l in fh if l.strip()]
-    print("| engine | noise | half | problems | failed | exact | exact % | sympy timeouts | R^2 > 0.999 | R^2 > 0.99 | median s | total s | load |")
-    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+    print("| engine | noise | half | problems | failed | exact | exact % | sympy timeouts | "
+          "R^2 > 0.999 | R^2 > 0.99 | median s | total s | median CPU s | total CPU s | load |")
+    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
     engines = list(dict.fromkeys(r["engine"] for r in rows))
     for eng in engines:
         for z in sorted({r["noise"] for r in rows if r["engine"] == eng}):
@@ -419,10 +440,12 @@ def table(paths):
                 r3 = sum(1 for r in rs if (r.get("r2_test") or -1) > 0.999)
                 r2_ = sum(1 for r in rs if (r.get("r2_test") or -1) > 0.99)
                 secs = [r["seconds"] for r in rs if "seconds" in r]
+                cpus = [r["cpu_seconds"] for r in rs if "cpu_seconds" in r]
+                cpu = f"{np.median(cpus):.1f} | {sum(cpus):.0f}" if cpus else "- | -"
                 loads = [r["load1"] for r in rs if "load1" in r]
                 load = f"{min(loads):.1f}-{max(loads):.1f}" if loads else ""
                 print(f"| {eng} | {z:g} | {half} | {n} | {fail} | {ex} | {100 * ex / n:.0f} | {to} | "
-                      f"{r3} | {r2_} | {np.median(secs):.1f} | {sum(secs):.0f} | {load} |")
+                      f"{r3} | {r2_} | {np.median(secs):.1f} | {sum(secs):.0f} | {cpu} | {load} |")
 
 
 def main():
@@ -476,7 +499,7 @@ def main():
 
 
 def git_commit():
-    here = os.path.dirname(os.path.abspath(__file__))
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     try:
         # the engine's commit: the last one that changed the crates (not this harness)
         paths = ["--", "crates", "Cargo.toml", "Cargo.lock"]
