@@ -418,10 +418,18 @@ def run(a):
 # ---------------------------------------------------------------- tables
 
 def table(paths):
-    rows = []
+    rows, seen, dup = [], set(), 0
     for path in paths:
         with open(path) as fh:
-            rows += [json.loads(l) for l in fh if l.strip()]
+            for r in (json.loads(l) for l in fh if l.strip()):
+                key = (r["engine"], r["number"], r["noise"])
+                if key in seen:  # a problem run again in another file: the first row counts
+                    dup += 1
+                    continue
+                seen.add(key)
+                rows.append(r)
+    if dup:
+        print(f"({dup} repeated rows ignored: the first of each counts)")
     print("| engine | noise | half | problems | failed | exact | exact % | sympy timeouts | "
           "R^2 > 0.999 | R^2 > 0.99 | median s | total s | median CPU s | total CPU s | load |")
     print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
