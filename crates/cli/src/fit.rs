@@ -40,6 +40,14 @@ pub struct Args {
     /// Largest equation complexity (default: the search's default).
     #[arg(long)]
     pub max_complexity: Option<usize>,
+    /// Complexity of operators, as comma-separated NAME=INTEGER (e.g. `sqrt=2,exp=2`);
+    /// operators not named count 1.
+    #[arg(long, value_delimiter = ',')]
+    pub operator_complexity: Vec<String>,
+    /// Complexity the cap grows by with each input beyond the first (default: the
+    /// search's default).
+    #[arg(long)]
+    pub complexity_per_input: Option<usize>,
     /// Window length in seconds (each window is one sample).
     #[arg(long, default_value_t = 0.5)]
     pub window_s: f64,
@@ -101,6 +109,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     if let Some(c) = args.max_complexity {
         search.max_complexity = c;
     }
+    search.operator_complexity = crate::strategy::operator_complexity(&args.operator_complexity)?;
+    if let Some(c) = args.complexity_per_input {
+        search.complexity_per_input = c;
+    }
+    search.check()?;
     let cfg = FitConfig {
         window: WindowConfig {
             length_s: args.window_s,

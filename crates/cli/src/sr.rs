@@ -28,9 +28,17 @@ pub struct Args {
     #[arg(long)]
     pub time_limit_s: Option<f64>,
     /// Comma-separated operators, from: add sub mul div exp log sqrt square inverse sin cos
-    /// tanh abs gaussian gaussian2 (default: the paper's set plus exp).
+    /// tanh abs gaussian gaussian2 (default: all of them, the paper's and feyn's sets).
     #[arg(long, value_delimiter = ',')]
     pub operators: Option<Vec<String>>,
+    /// Complexity of operators, as comma-separated NAME=INTEGER (e.g. `sqrt=2,exp=2`);
+    /// operators not named count 1.
+    #[arg(long, value_delimiter = ',')]
+    pub operator_complexity: Vec<String>,
+    /// Complexity the cap grows by with each input beyond the first (default: the
+    /// search's default).
+    #[arg(long)]
+    pub complexity_per_input: Option<usize>,
     /// Stop after this many fitted models.
     #[arg(long)]
     pub max_evaluations: Option<u64>,
@@ -111,6 +119,10 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     };
     if let Some(ops) = args.operators {
         cfg.operators = ops;
+    }
+    cfg.operator_complexity = crate::strategy::operator_complexity(&args.operator_complexity)?;
+    if let Some(c) = args.complexity_per_input {
+        cfg.complexity_per_input = c;
     }
     let bar = if args.json {
         indicatif::ProgressBar::hidden()

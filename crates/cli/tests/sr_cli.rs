@@ -203,3 +203,45 @@ fn strategy_criterion_and_budget_options() -> TestResult {
     }
     Ok(())
 }
+
+// `--operator-complexity` sets what each operator counts; malformed entries, unknown
+// operators and out-of-range values are refused with a message naming the entry.
+#[test]
+fn operator_complexity_option() -> TestResult {
+    let csv = table("law_opc.csv", &law_csv())?;
+    let doc = sr_json(
+        &csv,
+        &[
+            "--operator-complexity",
+            "mul=3,div=3",
+            "--max-evaluations",
+            "300",
+        ],
+    )?;
+    assert!(doc["best"]["complexity"].as_u64().is_some(), "{doc}");
+    let path = csv.to_str().ok_or("path")?;
+    for (value, needle) in [
+        ("sqrt", "not NAME=INTEGER"),
+        ("sqrt=two", "not a whole number"),
+        ("cube=2", "unknown operator `cube`"),
+        ("sqrt=0", "choose 1 to 20"),
+        ("sqrt=2,sqrt=3", "twice"),
+    ] {
+        let out = hxai(&[
+            "sr",
+            "--csv",
+            path,
+            "--target",
+            "y",
+            "--operator-complexity",
+            value,
+        ])?;
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{value} should fail");
+        assert!(
+            err.contains(needle) && !err.contains("panicked"),
+            "{value}: {err}"
+        );
+    }
+    Ok(())
+}

@@ -33,6 +33,7 @@ pub fn programs(count: usize, seed: u64) -> Vec<(Program, Vec<f64>)> {
         affine: false,
         measure: ComplexityMeasure::Edges,
         max_complexity: 25,
+        op_costs: crate::ops::OpCosts::default(),
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut out = Vec::new();

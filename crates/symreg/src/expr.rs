@@ -168,6 +168,13 @@ impl Expr {
                             }
                         }
                     }
+                    // pull signs out of products and quotients: -a * b is -(a * b)
+                    (Op::Mul | Op::Div, Neg(x), y) => {
+                        Neg(Box::new(Bin(op, x, Box::new(y)).simplify())).simplify()
+                    }
+                    (Op::Mul | Op::Div, x, Neg(y)) => {
+                        Neg(Box::new(Bin(op, Box::new(x), y).simplify())).simplify()
+                    }
                     // pull numeric factors out of products and quotients
                     (Op::Mul, Bin(Op::Mul, pa, x), y) if matches!(*pa, Num(_)) => Bin(
                         Op::Mul,

@@ -8,10 +8,14 @@
 //! LaTeX, serialise to JSON, and predict on new rows by column name.
 //!
 //! Main types: [`Table`] (from `hxai-table`), [`SearchConfig`] (with [`Strategy`] and [`Criterion`]),
-//! [`search()`], [`SearchResult`], [`Model`], [`Progress`], [`fit_structure`]. The two
-//! strategies (QLattice-style path sampling and island genetic programming) sit behind an
-//! internal trait: [`Strategy`] chooses between them, and the [`search` module](mod@search)
-//! maps the engine file by file.
+//! [`search()`], [`SearchResult`], [`Model`], [`Progress`], [`fit_structure`]. The
+//! strategies (QLattice-style path sampling from a learned field, island genetic programming
+//! with age-regularised evolution, both sharing one archive, and random search as the
+//! baseline) sit behind an internal trait: [`Strategy`] chooses between them, and the
+//! [`search` module](mod@search) maps the engine file by file. Complexity counts input
+//! leaves and operators (each operator 1 unless [`SearchConfig::operator_complexity`] says
+//! otherwise), capped by [`SearchConfig::complexity_cap`], which grows with the number of
+//! inputs.
 //!
 //! Design decision: parameters live at the leaves and at the output only. Every input enters
 //! as `w * x + b` and every model as `scale * root + offset` (QLattice's parameterisation), so
@@ -22,7 +26,7 @@
 //! the many epochs of gradient descent QLattice needs.
 //!
 //! Determinism: candidates are fitted in parallel with rayon, each with its own generator
-//! seeded from `(seed, epoch, index)`, and results are collected in proposal order, so the
+//! seeded from `(seed, round, index)`, and results are collected in proposal order, so the
 //! outcome is bit-identical for any thread count.
 //!
 //! ```
@@ -58,5 +62,6 @@ pub use model::Model;
 pub use ops::Op;
 pub use program::{ComplexityMeasure, Node, Program};
 pub use search::{
-    Criterion, Progress, SearchConfig, SearchResult, Strategy, fit_structure, search,
+    Criterion, DEFAULT_OPERATORS, Progress, SearchConfig, SearchResult, Strategy, fit_structure,
+    search,
 };

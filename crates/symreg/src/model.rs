@@ -2,6 +2,7 @@
 use crate::eval::Evaluator;
 use crate::expr::Expr;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
+use crate::ops::Op;
 use crate::program::{ComplexityMeasure, Node, Program};
 use crate::{SrError, Table};
 use serde::{Deserialize, Serialize};
@@ -219,7 +220,8 @@ fn snap_candidates(v: f64, weight: bool) -> Vec<(f64, bool)> {
 }
 
 /// Replaces parameters by simple nearby values one at a time, refitting the others, and
-/// returns the final mean squared error and how many parameters were fixed at exact values.
+/// returns the final mean squared error and which parameters were fixed at exact values
+/// (`true` at their index: no longer fitted).
 ///
 /// Two kinds of snap, tried in that order for each parameter (biases first, then weights and
 /// constants, then the output map):
@@ -241,11 +243,12 @@ pub(crate) fn snap_params(
     rel_tol: f64,
     abs_tol: f64,
     penalty: f64,
-) -> (f64, usize) {
+) -> (f64, Vec<bool>) {
     let mut ev = Evaluator::new(prog);
     let base = ev.mse(prog, params, cols, y);
+    let mut exact_fixed = vec![false; params.len()];
     if !base.is_finite() {
-        return (base, 0);
+        return (base, exact_fixed);
     }
     let per_param = (penalty / y.len() as f64).exp();
     let mut limit = base * (1.0 + rel_tol) + abs_tol;
@@ -267,7 +270,6 @@ pub(crate) fn snap_params(
     }
     order.push(0);
     let mut fixed = vec![false; params.len()];
-    let mut n_exact = 0;
     let mut current = base;
     for (&i, weight) in order.iter().zip((0..).map(|k| k >= n_bias)) {
         for (cand, exact) in snap_candidates(params[i], weight) {
@@ -301,11 +303,121 @@ pub(crate) fn snap_params(
                 current = mse;
                 if exact {
                     limit = allowed;
-                    n_exact += 1;
+                    exact_fixed[i] = true;
                 }
                 break;
             }
         }
     }
-    (current, n_exact)
+    (current, exact_fixed)
+}
+
+/// A subtree while [`prune_snapped`] rebuilds a program: a known number (folded), or codes
+/// with their parameters and fixed flags.
+enum Part {
+    /// A constant value and whether it is fixed (made only of exact, unfitted values).
+    Num(f64, bool),
+    /// Postfix codes with their own parameters and fixed flags, in node order.
+    Codes(Vec<Node>, Vec<f64>, Vec<bool>),
+}
+
+impl Part {
+    fn into_codes(self) -> (Vec<Node>, Vec<f64>, Vec<bool>) {
+        match self {
+            Part::Num(v, f) => (vec![Node::Const], vec![v], vec![f]),
+            Part::Codes(n, p, f) => (n, p, f),
+        }
+    }
+
+    fn join(parts: Vec<Part>, op: Op) -> Part {
+        let (mut nodes, mut params, mut fixed) = (Vec::new(), Vec::new(), Vec::new());
+        for part in parts {
+            let (n, p, f) = part.into_codes();
+            nodes.extend(n);
+            params.extend(p);
+            fixed.extend(f);
+        }
+        nodes.push(Node::Op(op));
+        Part::Codes(nodes, params, fixed)
+    }
+}
+
+/// The program left when snapping killed terms, with its parameters and fixed flags.
+///
+/// Value-preserving rewrites (where the model is finite): an affine input whose weight is
+/// exactly 0 becomes the constant of its bias; an operator over constants is folded into one
+/// constant (fixed when all its constants were); `0 * a` becomes 0, `a + 0`, `a - 0`,
+/// `1 * a` and `a / 1` become `a`. So a snapped model lists only the features it still uses,
+/// and its complexity counts only the operators that still act. `fixed` marks the
+/// parameters not fitted (the output map's included), as [`snap_params`] returns them.
+pub(crate) fn prune_snapped(
+    prog: &Program,
+    params: &[f64],
+    fixed: &[bool],
+) -> (Program, Vec<f64>, Vec<bool>) {
+    let offs = prog.param_offsets();
+    let mut stack: Vec<Part> = Vec::with_capacity(prog.nodes.len());
+    for (k, n) in prog.nodes.iter().enumerate() {
+        let o = offs[k];
+        let part = match *n {
+            Node::Var(_) if prog.affine => {
+                if params[o] == 0.0 {
+                    Part::Num(params[o + 1], fixed[o + 1])
+                } else {
+                    Part::Codes(
+                        vec![*n],
+                        params[o..o + 2].to_vec(),
+                        fixed[o..o + 2].to_vec(),
+                    )
+                }
+            }
+            Node::Var(_) => Part::Codes(vec![*n], Vec::new(), Vec::new()),
+            Node::Const => Part::Num(params[o], fixed[o]),
+            Node::Op(op) if op.arity() == 1 => {
+                let a = stack.pop().unwrap_or(Part::Num(f64::NAN, false));
+                match a {
+                    Part::Num(v, f) if op.apply1(v).is_finite() => Part::Num(op.apply1(v), f),
+                    a => Part::join(vec![a], op),
+                }
+            }
+            Node::Op(op) => {
+                let b = stack.pop().unwrap_or(Part::Num(f64::NAN, false));
+                let a = stack.pop().unwrap_or(Part::Num(f64::NAN, false));
+                match (op, a, b) {
+                    (_, Part::Num(x, fx), Part::Num(y, fy)) if op.apply2(x, y).is_finite() => {
+                        Part::Num(op.apply2(x, y), fx && fy)
+                    }
+                    (Op::Mul, Part::Num(z, fz), _) | (Op::Mul, _, Part::Num(z, fz)) if z == 0.0 => {
+                        Part::Num(0.0, fz)
+                    }
+                    (Op::Add, Part::Num(z, _), e) | (Op::Add | Op::Sub, e, Part::Num(z, _))
+                        if z == 0.0 =>
+                    {
+                        e
+                    }
+                    (Op::Mul, Part::Num(u, _), e) | (Op::Mul | Op::Div, e, Part::Num(u, _))
+                        if u == 1.0 =>
+                    {
+                        e
+                    }
+                    (_, a, b) => Part::join(vec![a, b], op),
+                }
+            }
+        };
+        stack.push(part);
+    }
+    let root = stack.pop().unwrap_or(Part::Num(f64::NAN, false));
+    let (nodes, own, own_fixed) = root.into_codes();
+    let mut out_params = vec![params[0], params[1]];
+    out_params.extend(own);
+    let mut out_fixed = vec![fixed[0], fixed[1]];
+    out_fixed.extend(own_fixed);
+    (
+        Program {
+            nodes,
+            affine: prog.affine,
+        },
+        out_params,
+        out_fixed,
+    )
 }

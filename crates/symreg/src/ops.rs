@@ -230,6 +230,50 @@ impl Op {
     }
 }
 
+/// Largest complexity one operator may be given: a single operator worth more than this
+/// would not fit in a model under [`crate::SearchConfig::max_complexity`]'s own limit.
+pub const MAX_OPERATOR_COMPLEXITY: usize = 20;
+
+/// The complexity each operator adds to a model (1 each by default, the paper's count).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OpCosts([usize; 17]);
+
+impl Default for OpCosts {
+    fn default() -> Self {
+        OpCosts([1; 17])
+    }
+}
+
+impl OpCosts {
+    /// The costs of `overrides` (operator name, complexity); operators not named cost 1.
+    ///
+    /// # Errors
+    /// [`SrError::UnknownOperator`] for a name [`Op::parse`] does not know,
+    /// [`SrError::InvalidConfig`] for a complexity of 0 or above
+    /// [`MAX_OPERATOR_COMPLEXITY`].
+    pub fn parse<'a>(
+        overrides: impl IntoIterator<Item = (&'a String, &'a usize)>,
+    ) -> Result<OpCosts, SrError> {
+        let mut costs = OpCosts::default();
+        for (name, &c) in overrides {
+            let op = Op::parse(name)?;
+            if c == 0 || c > MAX_OPERATOR_COMPLEXITY {
+                return Err(SrError::InvalidConfig(format!(
+                    "operator_complexity of `{name}` is {c}: choose 1 to {MAX_OPERATOR_COMPLEXITY}"
+                )));
+            }
+            costs.0[op as usize] = c;
+        }
+        Ok(costs)
+    }
+
+    /// The complexity `op` adds.
+    #[inline]
+    pub fn of(&self, op: Op) -> usize {
+        self.0[op as usize]
+    }
+}
+
 /// Parses a list of operator names.
 ///
 /// # Errors

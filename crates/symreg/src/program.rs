@@ -6,7 +6,7 @@
 //! an input under affine scaling owns `(w, b)` (it enters as `w * x + b`), a constant owns one
 //! value, operators own none. The output of every program is `scale * root + offset`, as in
 //! QLattice, so a model never needs a separate constant for its scale.
-use crate::ops::Op;
+use crate::ops::{Op, OpCosts};
 use serde::{Deserialize, Serialize};
 
 /// One postfix code.
@@ -96,16 +96,22 @@ impl Program {
         depth == 1
     }
 
-    /// Complexity under the given measure.
+    /// Complexity under the given measure, every operator counting 1.
     pub fn complexity(&self, measure: ComplexityMeasure) -> usize {
-        match measure {
-            ComplexityMeasure::FeaturesPlusOperators => self
-                .nodes
-                .iter()
-                .filter(|n| !matches!(n, Node::Const))
-                .count(),
-            ComplexityMeasure::Edges => self.nodes.len(),
-        }
+        self.complexity_with(measure, &OpCosts::default())
+    }
+
+    /// Complexity under the given measure with each operator counting its cost in `costs`
+    /// (inputs count 1, constants 1 under [`ComplexityMeasure::Edges`] and 0 otherwise).
+    pub fn complexity_with(&self, measure: ComplexityMeasure, costs: &OpCosts) -> usize {
+        self.nodes
+            .iter()
+            .map(|n| match n {
+                Node::Var(_) => 1,
+                Node::Const => usize::from(measure == ComplexityMeasure::Edges),
+                Node::Op(op) => costs.of(*op),
+            })
+            .sum()
     }
 
     /// For each node the indices of its children (`usize::MAX` where absent).

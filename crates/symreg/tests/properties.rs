@@ -18,6 +18,7 @@ fn tables(affine: bool) -> Tables {
         affine,
         measure: ComplexityMeasure::FeaturesPlusOperators,
         max_complexity: 12,
+        op_costs: hxai_symreg::ops::OpCosts::default(),
     }
 }
 

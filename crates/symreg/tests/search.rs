@@ -278,6 +278,35 @@ fn snapped_constants_are_simple() {
     assert!(!m.latex().is_empty());
 }
 
+// A weight snapped to 0 kills its input's term: the reported model no longer lists that
+// feature nor counts it (or the operator that joined it) in its complexity, and still
+// predicts the law (issue 14's snapping fix).
+#[test]
+fn a_weight_snapped_to_zero_drops_its_feature_and_complexity() {
+    let x0 = uniform(200, 1.0, 3.0, 31);
+    let x1 = uniform(200, -2.0, 2.0, 32);
+    let y: Vec<f64> = x0.iter().map(|v| 3.0 * v + 2.0).collect();
+    let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+    // add(x0, x1): x1's weight fits to 0 and is snapped there
+    let prog = Program {
+        nodes: vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)],
+        affine: true,
+    };
+    let m = fit_structure(&data, &y, &prog, &SearchConfig::default()).unwrap();
+    assert_eq!(m.features(), vec!["x0".to_string()], "{}", m.equation());
+    assert_eq!(m.complexity(), 1, "{}", m.equation());
+    assert_eq!(
+        m.program
+            .complexity(hxai_symreg::ComplexityMeasure::default()),
+        1
+    );
+    // still the law: exact to 1e-9 relative on the training rows
+    let pred = m.predict(&data).unwrap();
+    for (p, t) in pred.iter().zip(&y) {
+        assert!((p - t).abs() <= 1e-9 * t.abs(), "{p} vs {t}");
+    }
+}
+
 /// `1.5 x0 x1` plus Gaussian noise of 1 % of the target's standard deviation, 1,000 rows.
 fn noisy_product() -> (Table, Vec<f64>) {
     let x0 = uniform(1000, 1.0, 5.0, 21);
@@ -346,4 +375,40 @@ fn strategy_serde_names_match_the_flag_values() {
         serde_json::to_string(&Strategy::Genetic).unwrap(),
         "\"genetic\""
     );
+}
+
+// Operator complexities set in the configuration are what the reported complexities count,
+// and no reported model exceeds the cap for its number of inputs.
+#[test]
+fn operator_complexity_is_counted_and_capped() {
+    use hxai_symreg::ComplexityMeasure;
+    use hxai_symreg::ops::OpCosts;
+    let mut cfg = quick();
+    cfg.operator_complexity = [("mul".to_string(), 3), ("square".to_string(), 2)]
+        .into_iter()
+        .collect();
+    let costs = cfg.op_costs().unwrap();
+    assert_eq!(costs.of(Op::Mul), 3);
+    assert_eq!(costs.of(Op::Add), 1);
+    let (res, score) = run_law(|x| x[0] * x[1] + x[2], 3, &cfg);
+    assert!(score > 0.99, "{score}: {}", res.best.equation());
+    for m in res.pareto.iter().chain([&res.best]) {
+        let c = m
+            .program
+            .complexity_with(ComplexityMeasure::FeaturesPlusOperators, &costs);
+        assert_eq!(m.complexity, c, "{}", m.equation());
+        assert!(c <= cfg.complexity_cap(3), "{}", m.equation());
+    }
+    // the cap: 10 for one input, 2 more per further input, at most 60
+    assert_eq!(cfg.complexity_cap(1), 10);
+    assert_eq!(cfg.complexity_cap(9), 26);
+    assert_eq!(cfg.complexity_cap(100), 60);
+    // a bad entry is a typed error
+    let mut bad = SearchConfig::default();
+    bad.operator_complexity.insert("cube".into(), 2);
+    assert!(matches!(bad.check(), Err(SrError::UnknownOperator(_))));
+    bad.operator_complexity.clear();
+    bad.operator_complexity.insert("sqrt".into(), 0);
+    assert!(matches!(bad.check(), Err(SrError::InvalidConfig(_))));
+    let _ = OpCosts::default();
 }

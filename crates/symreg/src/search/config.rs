@@ -1,9 +1,10 @@
 //! Search settings: which strategy, which selection criterion, and every knob with its
 //! default and its check.
 use crate::SrError;
-use crate::ops::{Op, parse_operators};
+use crate::ops::{Op, OpCosts, parse_operators};
 use crate::program::ComplexityMeasure;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 
 /// Largest `max_complexity` accepted. The paper searches up to 10; 60 leaves room for
 /// larger laws while keeping every candidate's Levenberg-Marquardt system (about two
@@ -14,6 +15,26 @@ pub(crate) const MAX_COMPLEXITY_LIMIT: usize = 60;
 /// four parameters (output scale and offset, one input's weight and bias); twice that many
 /// rows leaves the fit residual degrees of freedom, so a criterion can tell models apart.
 pub(crate) const MIN_ROWS: usize = 8;
+
+/// The default operators: the paper's (arithmetic, `sin`, `cos`, the one- and two-input
+/// gaussians, `log`, `abs`) and feyn's (`exp`, `sqrt`, `square`, `inverse`, `tanh`).
+pub const DEFAULT_OPERATORS: [&str; 15] = [
+    "add",
+    "sub",
+    "mul",
+    "div",
+    "sin",
+    "cos",
+    "gaussian",
+    "gaussian2",
+    "log",
+    "abs",
+    "exp",
+    "sqrt",
+    "square",
+    "inverse",
+    "tanh",
+];
 
 /// Which search strategy runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -28,6 +49,9 @@ pub enum Strategy {
     /// Both, sharing a Pareto archive (default).
     #[default]
     Combined,
+    /// Random programs from the generator, without learning: the baseline of the ablation
+    /// (same evaluation budget as the others).
+    Random,
 }
 
 /// How the selected model is chosen.
@@ -50,8 +74,10 @@ pub enum Criterion {
     ParetoScore,
 }
 
-/// Search settings. `Default` gives the paper's set-up: seed 42, 10 epochs, complexity
-/// at most 10, BIC with lambda 1, the paper's operators plus `exp`.
+/// Search settings. `Default` gives the paper's set-up (seed 42, 10 epochs, complexity at
+/// most 10 for one input, BIC with lambda 1) with the paper's and feyn's operators
+/// ([`DEFAULT_OPERATORS`]) and a cap that grows by 2 with each further input
+/// ([`SearchConfig::complexity_cap`]).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(default)]
 pub struct SearchConfig {
@@ -59,8 +85,16 @@ pub struct SearchConfig {
     pub seed: u64,
     /// Number of epochs (each proposes `candidates_per_epoch` models).
     pub epochs: usize,
-    /// Largest complexity.
+    /// Largest complexity of a model over one input; see [`SearchConfig::complexity_cap`]
+    /// for more inputs.
     pub max_complexity: usize,
+    /// Complexity the cap grows by with each input beyond the first (see
+    /// [`SearchConfig::complexity_cap`]).
+    pub complexity_per_input: usize,
+    /// Complexity of operators by name (`{"sqrt": 2, "exp": 2}`); operators not listed
+    /// count 1, the paper's count. Names as in `operators`; each value 1 to
+    /// [`crate::ops::MAX_OPERATOR_COMPLEXITY`].
+    pub operator_complexity: BTreeMap<String, usize>,
     /// Allowed operator names (see [`Op::parse`]).
     pub operators: Vec<String>,
     /// Search strategy.
@@ -98,22 +132,9 @@ impl Default for SearchConfig {
             seed: 42,
             epochs: 10,
             max_complexity: 10,
-            operators: [
-                "add",
-                "sub",
-                "mul",
-                "div",
-                "sin",
-                "cos",
-                "gaussian",
-                "gaussian2",
-                "log",
-                "abs",
-                "exp",
-            ]
-            .iter()
-            .map(|s| s.to_string())
-            .collect(),
+            complexity_per_input: 2,
+            operator_complexity: BTreeMap::new(),
+            operators: DEFAULT_OPERATORS.iter().map(|s| s.to_string()).collect(),
             strategy: Strategy::Combined,
             criterion: Criterion::Bic,
             complexity_penalty: 1.0,
@@ -131,12 +152,37 @@ impl Default for SearchConfig {
 }
 
 impl SearchConfig {
+    /// The largest complexity of a search over `n_inputs` inputs:
+    /// `max_complexity + complexity_per_input * (n_inputs - 1)`, at most
+    /// 60, the largest `max_complexity` accepted (and never below `max_complexity`).
+    ///
+    /// A law over `n` inputs that uses each once needs `n` leaves and `n - 1` binary
+    /// operators to join them, `2n - 1` in all: with `complexity_per_input = 2` every
+    /// further input brings the room to place it and join it, and the room `max_complexity`
+    /// leaves for other operators stays the same however many inputs there are.
+    pub fn complexity_cap(&self, n_inputs: usize) -> usize {
+        let grown = self.max_complexity.saturating_add(
+            self.complexity_per_input
+                .saturating_mul(n_inputs.saturating_sub(1)),
+        );
+        grown.min(MAX_COMPLEXITY_LIMIT.max(self.max_complexity))
+    }
+
+    /// The complexity of each operator ([`SearchConfig::operator_complexity`] checked).
+    ///
+    /// # Errors
+    /// [`SrError::UnknownOperator`] or [`SrError::InvalidConfig`] for a bad entry.
+    pub fn op_costs(&self) -> Result<OpCosts, SrError> {
+        OpCosts::parse(&self.operator_complexity)
+    }
+
     /// Checks the settings and parses the operators.
     ///
     /// # Errors
     /// [`SrError::UnknownOperator`] or [`SrError::InvalidConfig`].
     pub fn check(&self) -> Result<Vec<Op>, SrError> {
         let ops = parse_operators(&self.operators)?;
+        self.op_costs()?;
         if self.max_complexity == 0 || self.max_complexity > MAX_COMPLEXITY_LIMIT {
             return Err(SrError::InvalidConfig(format!(
                 "max_complexity is {}: choose 1 to {MAX_COMPLEXITY_LIMIT}",

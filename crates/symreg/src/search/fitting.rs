@@ -4,6 +4,7 @@ use super::archive::{Candidate, Fitted};
 use super::config::{Criterion, MIN_ROWS, SearchConfig};
 use crate::eval::Evaluator;
 use crate::fit::{InputScales, LmSettings, Unknowns, initial_params, levenberg_marquardt};
+use crate::ops::OpCosts;
 use crate::{SrError, Table};
 use rand::SeedableRng;
 use rand::seq::index::sample;
@@ -44,6 +45,8 @@ pub(crate) struct Problem<'a> {
     pub y_var: f64,
     /// Input scales for the canonical starting point.
     pub scales: InputScales,
+    /// The complexity of each operator (from the settings).
+    pub op_costs: OpCosts,
     /// The settings.
     pub cfg: &'a SearchConfig,
 }
@@ -81,6 +84,7 @@ impl<'a> Problem<'a> {
             fit_cols,
             fit_y,
             y_var: if fit_var > 0.0 { fit_var } else { y_var },
+            op_costs: cfg.op_costs().unwrap_or_default(),
             cfg,
         }
     }
@@ -100,6 +104,7 @@ impl<'a> Problem<'a> {
             cols,
             y: target.to_vec(),
             y_var,
+            op_costs: cfg.op_costs().unwrap_or_default(),
             cfg,
         }
     }
@@ -141,7 +146,7 @@ impl<'a> Problem<'a> {
         let y = &self.fit_y;
         let prog = &c.program;
         let n_params = prog.n_params();
-        let complexity = prog.complexity(self.cfg.complexity_measure);
+        let complexity = prog.complexity_with(self.cfg.complexity_measure, &self.op_costs);
         let reject = |params: Vec<f64>| Fitted {
             program: prog.clone(),
             params,

@@ -3,7 +3,7 @@
 //! Internal to the search; public (and hidden from the docs) only so that the property tests
 //! and [`crate::bench_programs`] can draw programs the way the search does.
 use super::config::SearchConfig;
-use crate::ops::Op;
+use crate::ops::{Op, OpCosts};
 use crate::program::{ComplexityMeasure, Node, Program};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -55,6 +55,8 @@ pub struct Tables {
     pub measure: ComplexityMeasure,
     /// Largest complexity allowed.
     pub max_complexity: usize,
+    /// Complexity of each operator.
+    pub op_costs: OpCosts,
 }
 
 fn pick(rng: &mut ChaCha8Rng, w: &[f64]) -> usize {
@@ -74,8 +76,14 @@ fn pick(rng: &mut ChaCha8Rng, w: &[f64]) -> usize {
 
 impl Tables {
     /// The tables of a search: the allowed operators weighted by arity
-    /// ([`BINARY_OP_WEIGHT`], [`UNARY_OP_WEIGHT`]) and the inputs by their prior `in_w`.
-    pub(crate) fn for_search(ops: Vec<Op>, in_w: Vec<f64>, cfg: &SearchConfig) -> Self {
+    /// ([`BINARY_OP_WEIGHT`], [`UNARY_OP_WEIGHT`]) and the inputs by their prior `in_w`,
+    /// the complexity capped by [`SearchConfig::complexity_cap`] for as many inputs.
+    pub(crate) fn for_search(
+        ops: Vec<Op>,
+        in_w: Vec<f64>,
+        cfg: &SearchConfig,
+        op_costs: OpCosts,
+    ) -> Self {
         Tables {
             op_w: ops
                 .iter()
@@ -88,10 +96,11 @@ impl Tables {
                 })
                 .collect(),
             ops,
+            max_complexity: cfg.complexity_cap(in_w.len()),
             in_w,
             affine: cfg.affine_inputs,
             measure: cfg.complexity_measure,
-            max_complexity: cfg.max_complexity,
+            op_costs,
         }
     }
 
@@ -127,29 +136,43 @@ impl Tables {
         Some(self.ops[pick(rng, &w)])
     }
 
-    /// A random expression of at most `budget` nodes, appended to `out`.
+    /// A random expression of at most `budget` complexity (every node counting at least 1,
+    /// an operator its cost), appended to `out`.
     pub fn grow(&self, rng: &mut ChaCha8Rng, budget: usize, out: &mut Vec<Node>) {
         if budget <= 1 || rng.gen_bool(EARLY_LEAF_P) {
             out.push(self.leaf(rng));
             return;
         }
         let arity = if budget >= 3 { None } else { Some(1) };
-        match self.op_of_arity(rng, arity) {
-            None => out.push(self.leaf(rng)),
-            Some(op) if op.arity() == 1 => {
-                self.grow(rng, budget - 1, out);
+        let op = self.op_of_arity(rng, arity);
+        // an operator whose cost leaves no room for its arguments becomes a leaf
+        let rest = op.map_or(0, |o| budget.saturating_sub(self.op_costs.of(o)));
+        match op {
+            Some(op) if op.arity() == 1 && rest >= 1 => {
+                self.grow(rng, rest, out);
                 out.push(Node::Op(op));
             }
-            Some(op) => {
-                let rest = budget - 1;
+            Some(op) if op.arity() == 2 && rest >= 2 => {
                 let left = rng.gen_range(1..rest);
                 let before = out.len();
                 self.grow(rng, left, out);
-                let used = out.len() - before;
+                let used = self.size(&out[before..]);
                 self.grow(rng, rest - used, out);
                 out.push(Node::Op(op));
             }
+            _ => out.push(self.leaf(rng)),
         }
+    }
+
+    /// The budget `nodes` used in [`Tables::grow`]: 1 per leaf, each operator's cost.
+    fn size(&self, nodes: &[Node]) -> usize {
+        nodes
+            .iter()
+            .map(|n| match n {
+                Node::Op(op) => self.op_costs.of(*op),
+                _ => 1,
+            })
+            .sum()
     }
 
     /// A random program within the complexity limit.
@@ -165,7 +188,9 @@ impl Tables {
 
     /// Whether `p` respects the limits.
     pub fn fits(&self, p: &Program) -> bool {
-        p.is_valid() && p.complexity(self.measure) <= self.max_complexity && !p.nodes.is_empty()
+        p.is_valid()
+            && p.complexity_with(self.measure, &self.op_costs) <= self.max_complexity
+            && !p.nodes.is_empty()
     }
 
     /// One random mutation: change, insert or delete at one position, or replace a subtree.

@@ -6,10 +6,12 @@
 //! - `run`: [`search()`], the main loop, and [`Progress`];
 //! - `fitting`: the rows a search fits on, one candidate's fit, the criterion, the seeds;
 //! - `mutual_information`: the inputs' prior weights;
-//! - `generate`, `qlattice`, `genetic`, `strategy`: proposing candidates (the two
-//!   strategies behind one internal trait, and their combination);
+//! - `generate`, `field`, `qlattice`, `genetic`, `strategy`: proposing candidates (path
+//!   sampling from a learned field with QLattice-style cells, age-regularised genetic
+//!   programming, their combination and random search, behind one internal trait);
 //! - `archive`: candidates, fits, and the best fit per complexity;
-//! - `selection`: refit on all rows, snap, Pareto front, the criterion's pick
+//! - `selection`: refit on all rows, snap, prune the terms snapping killed, Pareto front,
+//!   the criterion's pick
 //!   ([`SearchResult`]);
 //! - `export`: a fit becomes a [`Model`](crate::Model) naming only the features it uses;
 //! - `structure`: [`fit_structure`], one given structure without a search.
@@ -18,6 +20,7 @@
 mod archive;
 mod config;
 mod export;
+mod field;
 mod fitting;
 #[doc(hidden)]
 pub mod generate;
@@ -29,7 +32,7 @@ mod selection;
 mod strategy;
 mod structure;
 
-pub use config::{Criterion, SearchConfig, Strategy};
+pub use config::{Criterion, DEFAULT_OPERATORS, SearchConfig, Strategy};
 pub use run::{Progress, search};
 pub use selection::SearchResult;
 pub use structure::fit_structure;

@@ -1,8 +1,12 @@
-//! QLattice-style path sampling: cells of lineages, decaying distributions over operators
-//! and inputs, mutual-information priors, age-based retirement.
+//! QLattice-style path sampling: new structures sampled from a learned probability field over
+//! (tree position, operator or input) seeded by the mutual-information priors, alongside
+//! cells of lineages that mutate their kept models with decaying operator and input boosts
+//! and retire them by age. Both learn from the shared archive too, so what genetic
+//! programming finds in the combined strategy feeds the field and the cells.
 use super::archive::{Archive, Candidate, Fitted};
+use super::field::Field;
 use super::generate::Tables;
-use super::strategy::SearchStrategy;
+use super::strategy::{SearchStrategy, Step};
 use crate::program::{Node, Program};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -47,6 +51,8 @@ pub struct QLattice {
     op_boost: Vec<f64>,
     in_boost: Vec<f64>,
     ops: Vec<crate::ops::Op>,
+    field: Field,
+    updates: usize,
 }
 
 impl QLattice {
@@ -58,6 +64,8 @@ impl QLattice {
             op_boost: vec![1.0; tables.ops.len()],
             in_boost: vec![1.0; tables.in_w.len()],
             ops: tables.ops.clone(),
+            field: Field::new(tables),
+            updates: 0,
         }
     }
 
@@ -78,11 +86,15 @@ impl QLattice {
 impl SearchStrategy for QLattice {
     fn propose(
         &mut self,
-        _epoch: usize,
+        step: Step,
         rng: &mut ChaCha8Rng,
         _archive: &Archive,
         tables: &Tables,
     ) -> Vec<Candidate> {
+        // a whole epoch at once, learning once an epoch (as QLattice)
+        if step.round != 0 {
+            return Vec::new();
+        }
         let t = self.local_tables(tables);
         let per_cell = (self.per_epoch / N_CELLS).max(1);
         let mut out = Vec::with_capacity(self.per_epoch);
@@ -107,9 +119,10 @@ impl SearchStrategy for QLattice {
                     }
                 }
             }
+            // the rest of the cell's share: new structures sampled from the field
             while made < per_cell {
                 out.push(Candidate {
-                    program: t.random_program(rng),
+                    program: self.field.sample(tables, rng),
                     params: None,
                     source: 0,
                     tag: c as u32,
@@ -120,7 +133,11 @@ impl SearchStrategy for QLattice {
         out
     }
 
-    fn update(&mut self, fitted: &[Fitted], _archive: &Archive, rng: &mut ChaCha8Rng) {
+    fn update(&mut self, fitted: &[Fitted], archive: &Archive, rng: &mut ChaCha8Rng) {
+        if fitted.is_empty() {
+            return;
+        }
+        self.updates += 1;
         for (c, kept) in self.cells.iter_mut().enumerate() {
             let mut pool: Vec<Kept> = kept
                 .drain(..)
@@ -159,6 +176,23 @@ impl SearchStrategy for QLattice {
             }
             *kept = next;
         }
+        // the shared archive's best (whichever strategy found it) becomes a lineage of one
+        // cell in turn
+        if let Some(b) = &archive.best {
+            let cell = &mut self.cells[self.updates % N_CELLS];
+            if !cell.iter().any(|k| k.program == b.program) {
+                if cell.len() >= KEEP {
+                    cell.pop();
+                }
+                cell.push(Kept {
+                    program: b.program.clone(),
+                    params: b.params.clone(),
+                    score: b.score,
+                    age: 0,
+                });
+            }
+        }
+        self.field.update(fitted, &archive.front());
         // decaying distributions over operators and inputs, credited by the best tenth
         let mut ranked: Vec<&Fitted> = fitted.iter().filter(|f| f.score.is_finite()).collect();
         ranked.sort_by(|a, b| a.score.total_cmp(&b.score));

@@ -6,7 +6,7 @@ use super::fitting::{Problem, check_target, derive_seed, search_target_variance}
 use super::generate::Tables;
 use super::mutual_information::input_priors;
 use super::selection::{SearchResult, finish};
-use super::strategy;
+use super::strategy::{self, ROUNDS_PER_EPOCH, Step};
 use crate::program::Program;
 use crate::{SrError, Table};
 use rand::SeedableRng;
@@ -36,7 +36,7 @@ pub struct Progress {
 /// Runs symbolic regression of `target` on the columns of `data`.
 ///
 /// Candidates are fitted in parallel on the current rayon thread pool; every random choice
-/// comes from generators seeded by `(cfg.seed, epoch, candidate index)` and results are
+/// comes from generators seeded by `(cfg.seed, round of the run, candidate index)` and results are
 /// collected in proposal order, so the result is bit-identical for any number of threads
 /// (unless `time_limit_s` stops the run).
 ///
@@ -57,26 +57,40 @@ pub fn search(
     let mut master = ChaCha8Rng::seed_from_u64(cfg.seed);
     let problem = Problem::sampled(data, target, y_var, cfg, &mut master);
     let in_w = input_priors(&problem.fit_cols(), &problem.fit_y);
-    let tables = Tables::for_search(ops, in_w, cfg);
+    let tables = Tables::for_search(ops, in_w, cfg, problem.op_costs.clone());
     let mut strategy = strategy::build(cfg.strategy, cfg.candidates_per_epoch, &tables);
     let mut state = LoopState::default();
-    for epoch in 0..cfg.epochs {
-        let mut cands = strategy.propose(epoch, &mut master, &state.archive, &tables);
-        let budget_spent = state.cut_to_budget(&mut cands, cfg.max_evaluations);
-        let (fitted, timed_out) = state.fit_epoch(&problem, &cands, epoch, t0);
-        for f in &fitted {
-            state.archive.offer(f);
+    'epochs: for epoch in 0..cfg.epochs {
+        for round in 0..ROUNDS_PER_EPOCH {
+            let step = Step { round };
+            let mut cands = strategy.propose(step, &mut master, &state.archive, &tables);
+            let budget_spent = state.cut_to_budget(&mut cands, cfg.max_evaluations);
+            let (fitted, timed_out) = state.fit_epoch(
+                &problem,
+                &cands,
+                (epoch * ROUNDS_PER_EPOCH + round) as u64,
+                t0,
+            );
+            for f in &fitted {
+                state.archive.offer(f);
+            }
+            strategy.update(&fitted, &state.archive, &mut master);
+            if budget_spent || timed_out || time_is_up(cfg, t0) {
+                progress(&Progress {
+                    epoch: epoch + 1,
+                    epochs: cfg.epochs,
+                    evaluations: state.evaluations,
+                    best_loss: state.archive.best_loss(),
+                });
+                break 'epochs;
+            }
         }
-        strategy.update(&fitted, &state.archive, &mut master);
         progress(&Progress {
             epoch: epoch + 1,
             epochs: cfg.epochs,
             evaluations: state.evaluations,
             best_loss: state.archive.best_loss(),
         });
-        if budget_spent || timed_out || time_is_up(cfg, t0) {
-            break;
-        }
     }
     finish(&problem, data, &state.archive, state.evaluations, t0)
 }
@@ -111,7 +125,8 @@ impl LoopState {
         false
     }
 
-    /// The fits of this epoch's candidates, in proposal order: cached structures reused,
+    /// The fits of this round's candidates (`step` numbers the round in the run), in
+    /// proposal order: cached structures reused,
     /// the first occurrence of each new structure fitted (in parallel, seeded by its
     /// index), later duplicates given that fit. Also returns whether the time limit cut the
     /// epoch short (the unfitted candidates are then left out).
@@ -119,7 +134,7 @@ impl LoopState {
         &mut self,
         problem: &Problem,
         cands: &[Candidate],
-        epoch: usize,
+        step: u64,
         t0: Instant,
     ) -> (Vec<Fitted>, bool) {
         let cfg = problem.cfg;
@@ -143,7 +158,7 @@ impl LoopState {
             }
             let res: Vec<Fitted> = chunk
                 .par_iter()
-                .map(|&i| problem.fit(&cands[i], derive_seed(cfg.seed, epoch as u64, i as u64)))
+                .map(|&i| problem.fit(&cands[i], derive_seed(cfg.seed, step, i as u64)))
                 .collect();
             for (&i, f) in chunk.iter().zip(res) {
                 self.evaluations += 1;

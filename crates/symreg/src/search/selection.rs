@@ -7,7 +7,7 @@ use super::export::to_model;
 use super::fitting::Problem;
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
-use crate::model::{Model, snap_params};
+use crate::model::{Model, prune_snapped, snap_params};
 use crate::{SrError, Table};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -26,6 +26,11 @@ const REFIT_LM_TOLERANCE: f64 = 1e-12;
 /// (even to the true constant); `1e-14 var` is a relative RMSE of `1e-7`, far below any
 /// noise a model could be fitting.
 const SNAP_LOSS_SLACK: f64 = 1e-14;
+
+/// Relative change of the loss allowed when terms a snapped weight killed are pruned: the
+/// rewrites preserve values, so only rounding (the order of `f64`'s 1e-16, amplified by a
+/// few operations) may change it.
+const PRUNE_TOLERANCE: f64 = 1e-9;
 
 /// Under [`Criterion::ParetoScore`], candidates are the front's models with a loss within
 /// this factor of the lowest (PySR's rule).
@@ -126,9 +131,9 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
         params = f.params.clone();
         mse = ev.mse(prog, &params, full_cols, y);
     }
-    let mut n_exact = 0;
+    let mut exact = vec![false; params.len()];
     if cfg.snap_constants && mse.is_finite() {
-        (mse, n_exact) = snap_params(
+        (mse, exact) = snap_params(
             prog,
             &mut params,
             full_cols,
@@ -138,14 +143,30 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
             problem.param_penalty(n),
         );
     }
+    // terms a snapped weight killed are removed, so the model's features and complexity
+    // (which the selection below ranks by) are those of the equation it reports
+    let (mut prog, mut params, mut exact) = (prog.clone(), params, exact);
+    if exact.iter().any(|&e| e) {
+        let (pruned, pruned_params, pruned_exact) = prune_snapped(&prog, &params, &exact);
+        let pruned_mse = Evaluator::new(&pruned).mse(&pruned, &pruned_params, full_cols, y);
+        // the rewrites preserve values wherever the model is finite; a pruned model that
+        // fits worse than rounding would allow is not the same model, so it is not used
+        if pruned_mse.is_finite()
+            && pruned_mse <= mse * (1.0 + PRUNE_TOLERANCE) + SNAP_LOSS_SLACK * problem.y_var
+        {
+            (prog, params, exact, mse) = (pruned, pruned_params, pruned_exact, pruned_mse);
+        }
+    }
     // parameters fixed at exact values are no longer fitted: the criterion does not charge
     // for them
+    let n_fitted = exact.iter().filter(|&&e| !e).count();
+    let complexity = prog.complexity_with(cfg.complexity_measure, &problem.op_costs);
     to_model(
-        prog,
+        &prog,
         params,
         mse,
-        problem.score(mse, prog.n_params() - n_exact, n),
-        f.complexity,
+        problem.score(mse, n_fitted, n),
+        complexity,
         data,
     )
 }
@@ -210,4 +231,49 @@ fn pareto_score_pick(pareto: &[Model]) -> Option<Model> {
         prev = Some(m);
     }
     best.map(|(_, m)| m.clone())
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use crate::Op;
+    use crate::program::{Node, Program};
+    use crate::search::archive::Candidate;
+    use crate::search::config::SearchConfig;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    // The pick ranks models by their complexity after snapping: `add(x0, x1)`, whose x1
+    // weight snaps to 0, is the law `x0` (complexity 1) and beats `abs(x0)` (complexity 2),
+    // which fits as well. With the count taken before snapping (3) `abs(x0)` won.
+    #[test]
+    fn the_pick_ranks_by_the_complexity_after_snapping() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let x0: Vec<f64> = (0..200).map(|_| rng.gen_range(1.0..3.0)).collect();
+        let x1: Vec<f64> = (0..200).map(|_| rng.gen_range(-2.0..2.0)).collect();
+        let y: Vec<f64> = x0.iter().map(|v| 3.0 * v + 2.0).collect();
+        let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+        let cfg = SearchConfig::default();
+        let problem = Problem::all_rows(&data, &y, super::super::fitting::variance(&y), &cfg);
+        let mut archive = Archive::default();
+        for nodes in [
+            vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)],
+            vec![Node::Var(0), Node::Op(Op::Abs)],
+        ] {
+            let c = Candidate {
+                program: Program {
+                    nodes,
+                    affine: true,
+                },
+                params: None,
+                source: 0,
+                tag: 0,
+            };
+            archive.offer(&problem.fit(&c, 1));
+        }
+        let res = finish(&problem, &data, &archive, 2, Instant::now()).unwrap();
+        assert_eq!(res.best.complexity, 1, "{}", res.best.equation());
+        assert_eq!(res.best.features(), vec!["x0".to_string()]);
+    }
 }
