@@ -1,9 +1,16 @@
 //! `cargo xtask bench-sr`: symbolic-regression benchmark of hxai against feyn (QLattice),
 //! pyoperon and gplearn on AI-Feynman equations (or on one `--csv FILE --target COL` table).
 //!
-//! Makes the Python venv `.venv-sr` if it is missing (pip: pyoperon feyn gplearn sympy pandas),
-//! builds the `hxai` binary, and hands over to `scripts/bench_sr_run.py`, which generates the
-//! seeded data, runs every engine, checks exact recovery with sympy, and prints the tables.
+//! Makes the Python venv `.venv-sr` if it is missing (pip, pinned in
+//! `scripts/bench_sr_requirements.txt`: pyoperon feyn gplearn sympy pandas numpy), builds the
+//! `hxai` binary, and hands over to `scripts/bench_sr_run.py` (the 16 hand-copied equations),
+//! which generates the seeded data, runs every engine, checks exact recovery with sympy, and
+//! prints the tables.
+//!
+//! `--suite feynman` runs `scripts/bench_sr_suite.py` instead: all 100 equations of the AI
+//! Feynman database (`--db`, default `../shared/data/feynman100.csv` beside the repository),
+//! each engine a subprocess with a time limit, results written row by row (`--resume`); see
+//! that script's `--help` and docs/benchmarks.md.
 //!
 //! Options (all forwarded to the script): `--engines hxai,feyn,pyoperon,gplearn`,
 //! `--problems N` (first N of 16 equations), `--only I.6.2,I.10.7`, `--noise 0,0.01`,
@@ -32,14 +39,13 @@ fn ensure_venv(root: &Path) -> Result<PathBuf> {
         }
     }
     let check = Command::new(&py)
-        .args(["-c", "import sympy, pandas, numpy"])
+        .args(["-c", "import sympy, pandas, numpy, pyoperon, gplearn, feyn"])
         .status()?;
     if !check.success() {
+        let requirements = root.join("scripts").join("bench_sr_requirements.txt");
         let ok = Command::new(&py)
-            .args([
-                "-m", "pip", "install", "-q", "pyoperon", "feyn", "gplearn", "sympy", "pandas",
-                "numpy",
-            ])
+            .args(["-m", "pip", "install", "-q", "-r"])
+            .arg(&requirements)
             .status()
             .context("running pip install")?;
         if !ok.success() {
@@ -66,14 +72,31 @@ pub fn run(args: &[String]) -> Result<()> {
         .map(PathBuf::from)
         .unwrap_or_else(|_| root.join("target"));
     let hxai = target.join("debug").join("hxai");
-    let status = Command::new(&py)
-        .current_dir(&root)
-        .arg(root.join("scripts").join("bench_sr_run.py"))
+    let suite = args
+        .iter()
+        .any(|a| a == "--suite" || a.starts_with("--suite="));
+    let script = if suite {
+        "bench_sr_suite.py"
+    } else {
+        "bench_sr_run.py"
+    };
+    let mut cmd = Command::new(&py);
+    cmd.current_dir(&root)
+        .arg(root.join("scripts").join(script))
         .arg("--hxai")
-        .arg(&hxai)
+        .arg(&hxai);
+    if suite && !args.iter().any(|a| a == "--db" || a.starts_with("--db=")) {
+        let db = root
+            .join("..")
+            .join("shared")
+            .join("data")
+            .join("feynman100.csv");
+        cmd.arg("--db").arg(db);
+    }
+    let status = cmd
         .args(args)
         .status()
-        .context("running scripts/bench_sr_run.py")?;
+        .with_context(|| format!("running scripts/{script}"))?;
     if !status.success() {
         bail!("the benchmark script failed");
     }

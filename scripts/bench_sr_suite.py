@@ -1,0 +1,561 @@
+#!/usr/bin/env python3
+"""The AI Feynman suite of `cargo xtask bench-sr --suite feynman` (issue 14).
+
+Reads every equation of the AI Feynman database CSV (file name, number, formula, variables
+and their sampling ranges) and, for each equation and noise level:
+- draws n training rows (default 1,000) and 1,000 noise-free test rows uniformly from the
+  published ranges, seeded by (seed, Number), the same inputs at every noise level;
+- adds Gaussian noise of sd `noise * sqrt(mean(y**2))` (SRBench's rule: the target's RMS)
+  to the training target;
+- runs each engine as a subprocess with a per-problem time limit (hxai's binary; pyoperon,
+  gplearn and feyn through this script's `--worker` mode);
+- scores the returned equation: test R^2, and SRBench's exact rule (constants rounded to 3
+  decimals; the difference of model and truth simplifies to a finite constant, or their
+  ratio to a non-zero finite constant), under a sympy time limit; a check that runs out of
+  time counts as not exact and is flagged `exact_timeout`.
+
+Every row is written as soon as its problem finishes (the results file is rewritten
+atomically), and `--resume` skips the (engine, problem, noise) rows already in the file, so
+an interrupted run continues where it stopped. Nothing depends on a problem's name or form:
+the harness only reads the CSV, and every engine sees inputs named x1..xk and a target y.
+
+`--table FILE...` prints the markdown summary of results files: per engine, noise and half
+of the database (odd Number = development set, even = held out, and all).
+"""
+import argparse, csv, json, math, os, re, signal, subprocess, sys, tempfile, time
+
+import numpy as np
+
+TEST_ROWS = 1000
+FUNCTIONS = {"ln": "log", "arcsin": "asin", "arccos": "acos", "arctan": "atan"}
+KNOWN = {"exp", "sqrt", "log", "sin", "cos", "tan", "tanh", "asin", "acos", "atan", "pi"}
+
+
+# ---------------------------------------------------------------- the database
+
+def load_db(path):
+    """Rows of the database: dicts with name, number, formula and vars [(name, lo, hi)]."""
+    problems = []
+    with open(path, newline="") as fh:
+        for row in csv.DictReader(fh):
+            if not row.get("Formula"):
+                continue
+            k = int(row["# variables"])
+            variables = []
+            for i in range(1, k + 1):
+                variables.append((row[f"v{i}_name"], float(row[f"v{i}_low"]), float(row[f"v{i}_high"])))
+            problems.append({"name": row["Filename"], "number": int(row["Number"]),
+                             "formula": row["Formula"], "vars": variables})
+    problems.sort(key=lambda p: p["number"])
+    return problems
+
+
+def symbols_for(k):
+    import sympy as sp
+    return [sp.Symbol(f"x{i + 1}", positive=True) for i in range(k)]
+
+
+def parse_truth(problem):
+    """The formula as a sympy expression over x1..xk (the i-th listed variable is x{i+1}),
+    so that names such as `lambda`, `I`, `E` or `gamma` never meet sympy's own."""
+    import sympy as sp
+    names = {v[0]: f"x{i + 1}" for i, v in enumerate(problem["vars"])}
+
+    def rename(m):
+        word = m.group(0)
+        if word in names:
+            return names[word]
+        word = FUNCTIONS.get(word, word)
+        if word not in KNOWN:
+            raise ValueError(f"{problem['name']}: unknown name {word!r} in {problem['formula']!r}")
+        return word
+
+    text = re.sub(r"[A-Za-z_][A-Za-z_0-9]*", rename, problem["formula"])
+    syms = symbols_for(len(problem["vars"]))
+    local = {s.name: s for s in syms}
+    local.update({"pi": sp.pi, "exp": sp.exp, "sqrt": sp.sqrt, "log": sp.log, "sin": sp.sin,
+                  "cos": sp.cos, "tan": sp.tan, "tanh": sp.tanh, "asin": sp.asin, "acos": sp.acos,
+                  "atan": sp.atan})
+    return sp.sympify(text, locals=local), syms
+
+
+def make_data(problem, truth, syms, rows, noise, seed):
+    """Training inputs and target (with noise), test inputs and target (noise-free). The
+    inputs depend only on (seed, Number); rows whose truth is not finite are redrawn."""
+    import sympy as sp
+    f = sp.lambdify(syms, truth, "numpy")
+    rng = np.random.default_rng([seed, problem["number"]])
+    lo = np.array([v[1] for v in problem["vars"]])
+    hi = np.array([v[2] for v in problem["vars"]])
+
+    def draw(n):
+        parts, got = [], 0
+        for _ in range(100):
+            X = rng.uniform(lo, hi, size=(n, len(lo)))
+            with np.errstate(all="ignore"):
+                y = np.broadcast_to(np.asarray(f(*X.T), dtype=float), (n,))
+            ok = np.isfinite(y)
+            parts.append((X[ok], y[ok]))
+            got += int(ok.sum())
+            if got >= n:
+                break
+        X = np.concatenate([p[0] for p in parts])[:n]
+        y = np.concatenate([p[1] for p in parts])[:n]
+        if len(y) < n:
+            raise ValueError(f"{problem['name']}: the truth is not finite on most of its ranges")
+        return X, y
+
+    Xtr, ytr = draw(rows)
+    Xte, yte = draw(TEST_ROWS)
+    if noise > 0:
+        nrng = np.random.default_rng([seed, problem["number"], int(round(noise * 1e6))])
+        ytr = ytr + nrng.normal(0.0, noise * math.sqrt(float(np.mean(ytr ** 2))), rows)
+    return Xtr, ytr, Xte, yte
+
+
+# ---------------------------------------------------------------- scoring
+
+class Timeout(Exception):
+    pass
+
+
+def _alarm(signum, frame):
+    raise Timeout()
+
+
+def round_floats(expr, digits=3):
+    import sympy as sp
+    return expr.xreplace({f: sp.Float(round(float(f), digits)) if abs(float(f)) >= 10 ** -digits
+                          else sp.Integer(0) for f in expr.atoms(sp.Float)})
+
+
+def exact(model, truth, seconds):
+    """SRBench's symbolic-solution rule. Returns (exact, timed_out)."""
+    import sympy as sp
+
+    def finite_constant(e):
+        return not e.free_symbols and e.is_finite is True
+
+    signal.signal(signal.SIGALRM, _alarm)
+    signal.alarm(seconds)
+    try:
+        m = round_floats(model)
+        if finite_constant(sp.simplify(truth - m)):
+            return True, False
+        r = sp.simplify(m / truth)
+        return bool(finite_constant(r) and r != 0), False
+    except Timeout:
+        return False, True
+    except Exception:
+        return False, False
+    finally:
+        signal.alarm(0)
+
+
+def r2(pred, y):
+    pred = np.asarray(pred, dtype=float)
+    if pred.shape != y.shape or not np.all(np.isfinite(pred)):
+        return float("nan")
+    return float(1.0 - np.sum((y - pred) ** 2) / np.sum((y - y.mean()) ** 2))
+
+
+def tree_size(expr):
+    import sympy as sp
+    return sum(1 for _ in sp.preorder_traversal(expr))
+
+
+# ---------------------------------------------------------------- engines (worker mode)
+
+def worker(a):
+    """Runs one Python engine on one training file; prints one JSON line: the equation as
+    sympy text over x1..xk, the fit's wall seconds, and what the engine reports."""
+    data = np.loadtxt(a.train, delimiter=",", skiprows=1, ndmin=2)
+    X, y = data[:, :-1], data[:, -1]
+    k = X.shape[1]
+    names = [f"x{i + 1}" for i in range(k)]
+    opts = json.loads(a.settings)
+    info = {}
+    t = time.time()
+    if a.worker == "pyoperon":
+        from pyoperon.sklearn import SymbolicRegressor
+        reg = SymbolicRegressor(random_state=a.seed, **opts)
+        reg.fit(X.astype(np.float32), y.astype(np.float32))
+        sec = time.time() - t
+        text = reg.get_model_string(reg.model_, precision=15, names=names).replace("^", "**")
+        try:
+            info = {"complexity": int(reg.stats_["model_length"])}
+        except Exception:
+            info = {}
+    elif a.worker == "gplearn":
+        from gplearn.genetic import SymbolicRegressor
+        opts = dict(opts)
+        opts["init_depth"] = tuple(opts.get("init_depth", (2, 6)))
+        opts["function_set"] = tuple(opts["function_set"])
+        reg = SymbolicRegressor(random_state=a.seed, **opts)
+        reg.fit(X, y)
+        sec = time.time() - t
+        text = str(reg._program)
+        for i in range(k):
+            text = re.sub(rf"\bX{i}\b", names[i], text)
+        info = {"complexity": int(reg._program.length_)}
+    elif a.worker == "feyn":
+        import feyn, pandas as pd
+        df = pd.DataFrame(X, columns=names)
+        df["y"] = y
+        ql = feyn.QLattice(random_seed=a.seed)
+        models = ql.auto_run(df, output_name="y", **opts)
+        sec = time.time() - t
+        text = str(models[0].sympify(signif=15))
+        info = {"complexity": len(models[0])}
+    else:
+        raise SystemExit(f"unknown engine {a.worker}")
+    print(json.dumps({"expr": text, "seconds": sec, **info}))
+
+
+def gplearn_locals():
+    import sympy as sp
+    return {"add": lambda a, b: a + b, "sub": lambda a, b: a - b, "mul": lambda a, b: a * b,
+            # gplearn's protected operators, as it evaluates them on the data
+            "div": lambda a, b: a / b, "sqrt": lambda a: sp.sqrt(sp.Abs(a)),
+            "log": lambda a: sp.log(sp.Abs(a)), "neg": lambda a: -a, "inv": lambda a: 1 / a,
+            "sin": sp.sin, "cos": sp.cos}
+
+
+def run_subprocess(cmd, limit):
+    """Runs cmd in its own process group; kills the group after `limit` seconds. Returns
+    (stdout, stderr, returncode, wall seconds, timed_out); the child's CPU seconds (user +
+    system, all threads) go to CPU[0], a fairer measure than wall time on a shared machine."""
+    import resource
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t = time.time()
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         start_new_session=True)
+    try:
+        out, err = p.communicate(timeout=limit)
+        timed_out = False
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        out, err = p.communicate()
+        timed_out = True
+    wall = time.time() - t
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    CPU[0] = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return out, err, p.returncode, wall, timed_out
+
+
+CPU = [0.0]
+
+
+# ---------------------------------------------------------------- the run
+
+def atomic_write(path, rows):
+    d = os.path.dirname(os.path.abspath(path))
+    os.makedirs(d, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=d, prefix=".tmp-", suffix=".json")
+    with os.fdopen(fd, "w") as fh:
+        for r in rows:
+            fh.write(json.dumps(r) + "\n")
+    os.replace(tmp, path)
+
+
+def engine_settings(a):
+    """Each peer's settings: SRBench's for the method, with the budget stated."""
+    return {
+        # SRBench's Operon: local search on (5 LM iterations; pyoperon 0.6 names it
+        # optimizer_iterations, SRBench's older binding local_iterations), population 1000, tournament 5,
+        # length <= 50, its operator set; the evaluation budget scaled (SRBench: 500,000)
+        "pyoperon": {"optimizer_iterations": 5, "population_size": 1000, "tournament_size": 5,
+                     "max_length": 50, "generations": 100000,
+                     "max_evaluations": a.pyoperon_evaluations, "n_threads": 2,
+                     "max_time": max(1, a.time_limit - 10),
+                     "allowed_symbols": "add,sub,mul,div,exp,log,sin,cos,sqrt,square,constant,variable"},
+        # SRBench's gplearn: tournament 20, depth 2-6 half and half, MAE, parsimony 0.001,
+        # crossover 0.9, mutations 0.01, its larger function set; generations scaled
+        # (SRBench: population 1,000 x 500 generations)
+        "gplearn": {"population_size": 1000, "generations": a.gplearn_generations,
+                    "tournament_size": 20, "init_depth": [2, 6], "init_method": "half and half",
+                    "metric": "mean absolute error", "parsimony_coefficient": 0.001,
+                    "p_crossover": 0.9, "p_subtree_mutation": 0.01, "p_hoist_mutation": 0.01,
+                    "p_point_mutation": 0.01, "p_point_replace": 0.05, "max_samples": 1.0,
+                    "function_set": ["add", "sub", "mul", "div", "log", "sqrt", "sin", "cos"]},
+        # feyn's own recommended call: auto_run with its defaults (10 epochs)
+        "feyn": {"n_epochs": 10},
+    }
+
+
+def run_engine(a, engine, label, hxai_extra, train_csv, syms):
+    import sympy as sp
+    local = {s.name: s for s in syms}
+    if engine == "hxai":
+        cmd = [a.hxai, "sr", "--csv", train_csv, "--target", "y", "--json", "--seed", str(a.seed),
+               "--threads", str(a.threads)] + hxai_extra
+        out, err, rc, wall, timed_out = run_subprocess(cmd, a.time_limit)
+        if timed_out:
+            return {"error": "time limit", "timeout": True, "seconds": wall}
+        if rc != 0:
+            return {"error": err.strip()[-300:], "seconds": wall}
+        doc = json.loads(out)
+        expr = sp.sympify(doc["best"]["sympy"], locals=local)
+        return {"seconds": wall, "fit_seconds": doc.get("seconds"), "complexity": doc["best"].get("complexity"),
+                "evaluations": doc.get("evaluations"), "_expr": expr}
+    settings = engine_settings(a)[engine]
+    cmd = [sys.executable, os.path.abspath(__file__), "--worker", engine,
+           "--train", train_csv, "--seed", str(a.seed), "--settings", json.dumps(settings)]
+    out, err, rc, wall, timed_out = run_subprocess(cmd, a.time_limit)
+    if timed_out:
+        return {"error": "time limit", "timeout": True, "seconds": wall}
+    lines = [l for l in out.splitlines() if l.startswith("{")]
+    if rc != 0 or not lines:
+        return {"error": (err.strip() or out.strip())[-300:], "seconds": wall}
+    doc = json.loads(lines[-1])
+    if engine == "gplearn":
+        loc = dict(local)
+        loc.update(gplearn_locals())
+        expr = sp.sympify(doc["expr"], locals=loc)
+    else:
+        expr = sp.sympify(doc["expr"], locals=local)
+        if engine == "feyn":  # feyn's symbols carry no assumptions: use ours, by name
+            expr = expr.subs({s: local[s.name] for s in expr.free_symbols if s.name in local})
+    stray = [s.name for s in expr.free_symbols if s.name not in local or s != local[s.name]]
+    if stray:
+        return {"error": f"equation has symbols that are not inputs: {stray}", "seconds": wall}
+    return {"seconds": wall, "fit_seconds": doc["seconds"], "complexity": doc.get("complexity"),
+            "_expr": expr}
+
+
+def selected(a, problems):
+    out = []
+    only = set(a.only.split(",")) if a.only else None
+    for p in problems:
+        n = p["number"]
+        if a.half == "odd" and n % 2 == 0 or a.half == "even" and n % 2 == 1:
+            continue
+        if a.every > 1 and n % a.every != 1 % a.every:
+            continue
+        if only and str(n) not in only:
+            continue
+        out.append(p)
+    return out
+
+
+def run(a):
+    problems = selected(a, load_db(a.db))
+    noises = [float(x) for x in a.noise.split(",")]
+    runs = []  # (engine, label, extra hxai args)
+    extra = a.hxai_args.split()
+    if a.max_evaluations:
+        extra += ["--max-evaluations", str(a.max_evaluations), "--epochs", str(a.epochs_cap)]
+    if a.strategies and "hxai" in a.engines.split(","):
+        # a strategy this binary does not have fails here, clearly, not as 200 error rows
+        helptext = subprocess.run([a.hxai, "sr", "--help"], capture_output=True, text=True).stdout
+        section = helptext.split("--strategy <", 1)[-1].split("\n      --", 1)[0]
+        known = re.findall(r"^\s*- ([a-z_0-9]+):", section, flags=re.M)
+        missing = [s for s in a.strategies.split(",") if s not in known]
+        if missing:
+            raise SystemExit(f"{a.hxai} has no --strategy {','.join(missing)} "
+                             f"(it offers: {', '.join(known)})")
+    for eng in a.engines.split(","):
+        if eng == "hxai" and a.strategies:
+            for s in a.strategies.split(","):
+                runs.append(("hxai", f"{a.hxai_label} {s}", extra + ["--strategy", s]))
+        elif eng == "hxai":
+            runs.append(("hxai", a.hxai_label, extra))
+        else:
+            runs.append((eng, eng, []))
+    rows = []
+    if os.path.exists(a.results):
+        if not a.resume:
+            raise SystemExit(f"{a.results} exists: pass --resume to continue it, or another --results")
+        with open(a.results) as fh:
+            rows = [json.loads(l) for l in fh if l.strip()]
+    done = {(r["engine"], r["number"], r["noise"]) for r in rows}
+    data_dir = os.path.join(a.out, "data")
+    os.makedirs(data_dir, exist_ok=True)
+    for p in problems:
+        todo = [(e, l, x, z) for z in noises for (e, l, x) in runs if (l, p["number"], z) not in done]
+        if not todo:
+            continue
+        base = {"suite": "feynman", "problem": p["name"], "number": p["number"],
+                "half": "odd" if p["number"] % 2 else "even", "inputs": len(p["vars"]),
+                "rows": a.rows, "seed": a.seed}
+        try:
+            truth, syms = parse_truth(p)
+        except Exception as e:  # a formula the harness cannot read is a result, reported
+            for e_, l, x, z in todo:
+                rows.append({**base, "engine": l, "noise": z, "error": f"harness: {e}"[:300]})
+            atomic_write(a.results, rows)
+            continue
+        for z in noises:
+            Xtr, ytr, Xte, yte = make_data(p, truth, syms, a.rows, z, a.seed)
+            train_csv = os.path.join(data_dir, f"{p['number']}_{z}_train.csv")
+            header = ",".join([s.name for s in syms] + ["y"])
+            np.savetxt(train_csv, np.column_stack([Xtr, ytr]), delimiter=",", header=header,
+                       comments="", fmt="%.17g")
+            for eng, label, x, zz in todo:
+                if zz != z:
+                    continue
+                row = {**base, "engine": label, "noise": z, "load1": round(os.getloadavg()[0], 2)}
+                res = run_engine(a, eng, label, x, train_csv, syms)
+                res["cpu_seconds"] = round(CPU[0], 3)
+                expr = res.pop("_expr", None)
+                row.update(res)
+                if expr is not None:
+                    import sympy as sp
+                    fn = sp.lambdify(syms, expr, "numpy")
+                    with np.errstate(all="ignore"):
+                        try:
+                            pred = np.broadcast_to(np.asarray(fn(*Xte.T), dtype=float), yte.shape)
+                        except Exception:
+                            pred = np.full(yte.shape, np.nan)
+                    ex, to = exact(expr, truth, a.sympy_timeout)
+                    row.update({"r2_test": r2(pred, yte), "size": tree_size(expr), "exact": ex,
+                                "exact_timeout": to, "expr": str(expr)[:400]})
+                rows.append(row)
+                atomic_write(a.results, rows)
+                print(json.dumps(row), flush=True)
+
+
+def rescore(a):
+    """Checks again, with --sympy-timeout seconds, the rows whose exact check ran out of time
+    (on a loaded machine the 20 s of a run can be too few); an equation stored cut at 400
+    characters cannot be checked again and keeps its verdict. Rewrites each file atomically:
+    run it only on files no run is writing."""
+    import sympy as sp
+    truths = {}
+    for p in load_db(a.db):
+        try:
+            truths[p["number"]] = parse_truth(p)
+        except Exception:
+            pass
+    for path in a.rescore:
+        with open(path) as fh:
+            rows = [json.loads(l) for l in fh if l.strip()]
+        changed = still = cut = 0
+        for r in rows:
+            if not r.get("exact_timeout") or r["number"] not in truths:
+                continue
+            if len(r.get("expr", "")) >= 400:
+                cut += 1
+                continue
+            truth, syms = truths[r["number"]]
+            expr = sp.sympify(r["expr"], locals={s.name: s for s in syms})
+            ex, to = exact(expr, truth, a.sympy_timeout)
+            r["exact"], r["exact_timeout"] = ex, to
+            r["exact_check_seconds"] = a.sympy_timeout
+            changed += ex
+            still += to
+        atomic_write(path, rows)
+        print(f"{path}: {changed} now exact, {still} still out of time, {cut} cut at 400 characters")
+
+
+# ---------------------------------------------------------------- tables
+
+def table(paths):
+    rows, seen, dup = [], set(), 0
+    for path in paths:
+        with open(path) as fh:
+            for r in (json.loads(l) for l in fh if l.strip()):
+                key = (r["engine"], r["number"], r["noise"])
+                if key in seen:  # a problem run again in another file: the first row counts
+                    dup += 1
+                    continue
+                seen.add(key)
+                rows.append(r)
+    if dup:
+        print(f"({dup} repeated rows ignored: the first of each counts)")
+    print("| engine | noise | half | problems | failed | exact | exact % | sympy timeouts | "
+          "R^2 > 0.999 | R^2 > 0.99 | median s | total s | median CPU s | total CPU s | load |")
+    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+    engines = list(dict.fromkeys(r["engine"] for r in rows))
+    for eng in engines:
+        for z in sorted({r["noise"] for r in rows if r["engine"] == eng}):
+            for half in ("odd", "even", "all"):
+                rs = [r for r in rows if r["engine"] == eng and r["noise"] == z
+                      and (half == "all" or r["half"] == half)]
+                if not rs:
+                    continue
+                n = len(rs)
+                fail = sum(1 for r in rs if "error" in r)
+                ex = sum(1 for r in rs if r.get("exact"))
+                to = sum(1 for r in rs if r.get("exact_timeout"))
+                r3 = sum(1 for r in rs if (r.get("r2_test") or -1) > 0.999)
+                r2_ = sum(1 for r in rs if (r.get("r2_test") or -1) > 0.99)
+                secs = [r["seconds"] for r in rs if "seconds" in r]
+                cpus = [r["cpu_seconds"] for r in rs if "cpu_seconds" in r]
+                cpu = f"{np.median(cpus):.1f} | {sum(cpus):.0f}" if cpus else "- | -"
+                loads = [r["load1"] for r in rs if "load1" in r]
+                load = f"{min(loads):.1f}-{max(loads):.1f}" if loads else ""
+                print(f"| {eng} | {z:g} | {half} | {n} | {fail} | {ex} | {100 * ex / n:.0f} | {to} | "
+                      f"{r3} | {r2_} | {np.median(secs):.1f} | {sum(secs):.0f} | {cpu} | {load} |")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--suite", default="feynman", choices=["feynman"])
+    ap.add_argument("--hxai", help="the hxai binary")
+    ap.add_argument("--db", default="../shared/data/feynman100.csv",
+                    help="the AI Feynman database CSV (default: beside the repository)")
+    ap.add_argument("--engines", default="hxai", help="comma list of hxai,pyoperon,gplearn,feyn")
+    ap.add_argument("--noise", default="0,0.01")
+    ap.add_argument("--rows", type=int, default=1000)
+    ap.add_argument("--seed", type=int, default=42)
+    ap.add_argument("--half", choices=["odd", "even", "all"], default="all",
+                    help="odd Numbers are the development set, even ones held out")
+    ap.add_argument("--every", type=int, default=1,
+                    help="a fixed subset: Numbers 1, 1+K, 1+2K, ... (K=5: 20 problems, 10 odd)")
+    ap.add_argument("--only", help="comma list of Numbers")
+    ap.add_argument("--out", default="target/bench-sr/feynman", help="directory of the data files")
+    ap.add_argument("--results", default="target/bench-sr/feynman/results.jsonl",
+                    help="results file, one JSON row per (engine, problem, noise)")
+    ap.add_argument("--resume", action="store_true", help="continue an existing results file")
+    ap.add_argument("--jobs", type=int, default=1, help="problems at once (only 1 is supported)")
+    ap.add_argument("--threads", type=int, default=2, help="hxai's --threads")
+    ap.add_argument("--time-limit", type=int, default=300, help="seconds per engine and problem")
+    ap.add_argument("--sympy-timeout", type=int, default=20, help="seconds for the exact check")
+    ap.add_argument("--hxai-args", default="")
+    ap.add_argument("--hxai-label", help="hxai's engine name in the rows (default: 'hxai COMMIT', "
+                    "the last commit that changed crates/, '+' if they have changes)")
+    ap.add_argument("--strategies", help="comma list: one hxai run per --strategy value")
+    ap.add_argument("--max-evaluations", type=int,
+                    help="hxai's evaluation budget (adds --max-evaluations N --epochs EPOCHS_CAP)")
+    ap.add_argument("--epochs-cap", type=int, default=100000)
+    ap.add_argument("--pyoperon-evaluations", type=int, default=100000)
+    ap.add_argument("--gplearn-generations", type=int, default=20)
+    ap.add_argument("--table", nargs="+", metavar="RESULTS", help="print the summary of results files")
+    ap.add_argument("--rescore", nargs="+", metavar="RESULTS",
+                    help="check again, with --sympy-timeout seconds, the rows whose check ran out of time")
+    ap.add_argument("--worker", help=argparse.SUPPRESS)
+    ap.add_argument("--train", help=argparse.SUPPRESS)
+    ap.add_argument("--settings", help=argparse.SUPPRESS)
+    a = ap.parse_args()
+    if a.worker:
+        return worker(a)
+    if a.table:
+        return table(a.table)
+    if a.rescore:
+        return rescore(a)
+    if a.jobs != 1:
+        raise SystemExit("--jobs: only 1 is supported (hxai itself uses 2 threads)")
+    if "hxai" in a.engines.split(",") and not a.hxai:
+        raise SystemExit("--hxai BINARY is needed to run hxai")
+    if not a.hxai_label:
+        a.hxai_label = "hxai " + git_commit()
+    run(a)
+
+
+def git_commit():
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    try:
+        # the engine's commit: the last one that changed the crates (not this harness)
+        paths = ["--", "crates", "Cargo.toml", "Cargo.lock"]
+        c = subprocess.run(["git", "log", "-1", "--format=%h"] + paths, cwd=here,
+                           capture_output=True, text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"] + paths,
+                               cwd=here, capture_output=True, text=True).stdout.strip()
+        return c + ("+" if dirty else "")
+    except Exception:
+        return "unknown"
+
+
+if __name__ == "__main__":
+    main()
