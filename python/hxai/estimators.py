@@ -36,6 +36,10 @@ DEFAULT_OPERATORS = (
     "tanh",
 )
 
+# The paper's operators plus exp (PAPER_OPERATORS): what hybrid corrections search by default
+# (`hxai hybrid fit`, SearchConfig::paper()).
+PAPER_OPERATORS = DEFAULT_OPERATORS[:11]
+
 # `hxai sr` lets the complexity cap grow by this much per input beyond the first; the engine's
 # own default (and `hxai hybrid fit`'s) is 0, the paper's fixed cap. SymbolicRegressor takes
 # the CLI's value so that it gives `hxai sr`'s result; HybridRegressor the engine's.
@@ -270,7 +274,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         max_complexity=10,
         complexity_per_input=0,
         operator_complexity=None,
-        operators=DEFAULT_OPERATORS,
+        operators=PAPER_OPERATORS,
         strategy="combined",
         criterion="bic",
         complexity_penalty=1.0,

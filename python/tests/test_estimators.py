@@ -13,7 +13,7 @@ from sklearn.utils.estimator_checks import parametrize_with_checks
 
 import hxai
 from hxai import HybridRegressor, SymbolicRegressor, _hxai
-from hxai.estimators import _SEARCH_KEYS, SR_COMPLEXITY_PER_INPUT
+from hxai.estimators import _SEARCH_KEYS, PAPER_OPERATORS, SR_COMPLEXITY_PER_INPUT
 
 from conftest import FAST, hxai_binary
 
@@ -65,6 +65,9 @@ def test_defaults_are_the_engines():
                 got = list(got)
             if k == "operator_complexity" and got is None:
                 got = {}
+            if k == "operators" and isinstance(est, HybridRegressor):
+                # a correction searches the paper's operators (SearchConfig::paper())
+                want = list(PAPER_OPERATORS)
             if k == "complexity_per_input" and isinstance(est, SymbolicRegressor):
                 # `hxai sr`'s value, not the engine's: the estimator gives `hxai sr`'s result
                 want = SR_COMPLEXITY_PER_INPUT

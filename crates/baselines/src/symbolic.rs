@@ -19,7 +19,7 @@ pub struct SymbolicRegressor {
 
 impl Default for SymbolicRegressor {
     fn default() -> Self {
-        Self::new(SearchConfig::default())
+        Self::new(SearchConfig::paper())
     }
 }
 

@@ -54,7 +54,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let mut models = table3_models(args.seed);
     let cfg = SearchConfig {
         seed: args.seed,
-        ..SearchConfig::default()
+        ..SearchConfig::paper()
     };
     models.push(Box::new(SymbolicRegressor::new(cfg)));
     let rows = hxai_baselines::compare(models, &x_train, &y_train, &x_test, y_test, &mut |_| {})

@@ -114,7 +114,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         strategy: args.strategy.into(),
         criterion: args.criterion.into(),
         cv_folds: args.cv_folds,
-        ..SearchConfig::default()
+        ..SearchConfig::paper()
     };
     if let Some(e) = args.epochs {
         search.epochs = e;

@@ -255,7 +255,7 @@ impl Default for FitConfig {
             split: SplitKind::Record,
             test_fraction: 0.2,
             seed: 42,
-            search: hxai_symreg::SearchConfig::default(),
+            search: hxai_symreg::SearchConfig::paper(),
         }
     }
 }

@@ -36,7 +36,7 @@ pub fn search_config(cfg: &ReproduceConfig) -> SearchConfig {
     SearchConfig {
         seed: cfg.seed,
         epochs: cfg.epochs(),
-        ..SearchConfig::default()
+        ..SearchConfig::paper()
     }
 }
 

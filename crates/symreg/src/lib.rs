@@ -71,8 +71,8 @@ pub use model::Model;
 pub use ops::Op;
 pub use program::{ComplexityMeasure, Node, Program};
 pub use search::{
-    Criterion, DEFAULT_OPERATORS, Progress, SearchConfig, SearchResult, Strategy, fit_structure,
-    search,
+    Criterion, DEFAULT_OPERATORS, PAPER_OPERATORS, Progress, SearchConfig, SearchResult, Strategy,
+    fit_structure, search,
 };
 pub use stability::{Stability, stability};
 pub use uncertainty::{ParamEstimate, Uncertainty};

@@ -133,7 +133,7 @@ impl ProcessConfig {
             extrapolate: None,
             seed: 42,
             joint: false,
-            search: SearchConfig::default(),
+            search: SearchConfig::paper(),
         }
     }
 

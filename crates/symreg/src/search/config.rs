@@ -36,6 +36,25 @@ pub const DEFAULT_OPERATORS: [&str; 15] = [
     "tanh",
 ];
 
+/// The paper's operators (arithmetic, `sin`, `cos`, the one- and two-input gaussians, `log`,
+/// `abs`) plus `exp`: the set hybrid corrections search by default ([`SearchConfig::paper`]).
+/// A correction is a small term over many features; the wider [`DEFAULT_OPERATORS`] serve
+/// laws such as AI Feynman's, but on the hybrid cases they cost accuracy (measured with
+/// `cargo xtask reproduce`, see docs/benchmarks.md).
+pub const PAPER_OPERATORS: [&str; 11] = [
+    "add",
+    "sub",
+    "mul",
+    "div",
+    "sin",
+    "cos",
+    "gaussian",
+    "gaussian2",
+    "log",
+    "abs",
+    "exp",
+];
+
 /// Which search strategy runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -165,6 +184,15 @@ impl Default for SearchConfig {
 }
 
 impl SearchConfig {
+    /// The defaults with the paper's operators ([`PAPER_OPERATORS`]): what hybrid
+    /// corrections (`hxai fit`, `hxai hybrid`, `hxai compare`, the reproduction) search with.
+    pub fn paper() -> Self {
+        Self {
+            operators: PAPER_OPERATORS.iter().map(|s| s.to_string()).collect(),
+            ..Self::default()
+        }
+    }
+
     /// The largest complexity of a search over `n_inputs` inputs:
     /// `max_complexity + complexity_per_input * (n_inputs - 1)`, at most
     /// 60, the largest `max_complexity` accepted (and never below `max_complexity`).

@@ -32,7 +32,7 @@ mod selection;
 mod strategy;
 mod structure;
 
-pub use config::{Criterion, DEFAULT_OPERATORS, SearchConfig, Strategy};
+pub use config::{Criterion, DEFAULT_OPERATORS, PAPER_OPERATORS, SearchConfig, Strategy};
 pub use run::{Progress, search};
 pub use selection::SearchResult;
 pub use structure::fit_structure;
