@@ -81,6 +81,11 @@ impl ReproduceConfig {
         if self.quick { 2 } else { 10 }
     }
 
+    /// Bootstrap runs of the stability table: 20, or 3 when quick.
+    pub fn stability_runs(&self) -> usize {
+        if self.quick { 3 } else { 20 }
+    }
+
     /// The simulator settings: the default data set, or a reduced one when quick.
     pub fn sim_config(&self) -> SimConfig {
         let mut c = SimConfig {

@@ -147,6 +147,17 @@ pub fn compute(
     ];
     timings.push(("cross-validation", t.elapsed().as_secs_f64()));
 
+    // 5b. Structure stability of the selected equation: the search rerun on seeded
+    // bootstrap resamples of the training windows (issue 15).
+    let t = Instant::now();
+    let runs = cfg.stability_runs();
+    progress(Progress::start("stability", runs as u64));
+    // (the library's callback runs on worker threads; this one is not Send, so the stage
+    // reports its start and end only)
+    let stability = fit.stability(&search, runs, &mut |_, _| {})?;
+    progress(Progress::done("stability", runs as u64));
+    timings.push(("stability", t.elapsed().as_secs_f64()));
+
     // 6. Hybrid vs physics on the test records.
     let t = Instant::now();
     progress(Progress::start("evaluate", 1));
@@ -202,6 +213,7 @@ pub fn compute(
         test: sym_score,
     };
     let results = Results {
+        stability,
         settings: Settings {
             quick: cfg.quick,
             seed: cfg.seed,

@@ -193,6 +193,7 @@ pub fn markdown(r: &Results) -> String {
     for (c, e) in &sym.pareto {
         let _ = writeln!(s, "- {c}: `{e}`");
     }
+    stability_section(&mut s, &r.stability);
 
     // CV.
     let _ = writeln!(
@@ -354,4 +355,41 @@ pub fn samples_csv(c: &Computed) -> Result<String, crate::ReproduceError> {
         s.push('\n');
     }
     Ok(s)
+}
+
+/// How much of the selected equation is more than one draw: the search rerun on bootstrap
+/// resamples of the training windows.
+fn stability_section(s: &mut String, st: &hxai_symreg::Stability) {
+    let _ = writeln!(
+        s,
+        "\nStability over {} bootstrap resamples of the training windows (`hxai fit \
+         --stability {}`; each run is the whole search with its own seed; structures compared \
+         with every constant written `c`):\n",
+        st.runs, st.runs
+    );
+    let mut features: Vec<(&String, &f64)> = st.features.iter().collect();
+    features.sort_by(|a, b| b.1.total_cmp(a.1).then(a.0.cmp(b.0)));
+    let _ = writeln!(s, "| feature | share of runs using it |\n|---|---|");
+    for (name, share) in features.iter().filter(|(_, v)| **v > 0.0) {
+        let _ = writeln!(s, "| {name} | {:.0} % |", 100.0 * **share);
+    }
+    let _ = writeln!(s, "\n| structure | share of runs |\n|---|---|");
+    for x in st.structures.iter().take(5) {
+        let _ = writeln!(s, "| `{}` | {:.0} % |", x.template, 100.0 * x.share);
+    }
+    if st.structures.len() > 5 {
+        let _ = writeln!(
+            s,
+            "| {} other structures | {:.0} % |",
+            st.structures.len() - 5,
+            100.0 * st.structures.iter().skip(5).map(|x| x.share).sum::<f64>()
+        );
+    }
+    if let Some(r2) = &st.r2 {
+        let _ = writeln!(
+            s,
+            "\nOut-of-bag R² of δ over the runs: {:.3} ± {:.3} (sd).",
+            r2.mean, r2.sd
+        );
+    }
 }

@@ -29,6 +29,9 @@ pub struct Results {
     pub cv: Vec<CvRow>,
     /// Physics vs hybrid displacement on the test records.
     pub hybrid: Evaluation,
+    /// Stability of the selected structure over bootstrap resamples of the training
+    /// windows (`hxai fit --stability N`).
+    pub stability: hxai_symreg::Stability,
 }
 
 /// Run settings.
