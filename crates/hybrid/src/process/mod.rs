@@ -54,7 +54,7 @@ use crate::HybridError;
 use hxai_eval::Split;
 use hxai_symreg::infix::{Compiled, Parsed, parse};
 use hxai_symreg::{ParamEstimate, SearchConfig, Table, Uncertainty};
-use model::{columns_of, combine, combine_values, compile_physics, forms};
+use model::{Combined, columns_of, combine, combine_values, compile_physics, forms};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -552,6 +552,24 @@ pub fn process_stability(
     )?)
 }
 
+/// For each calibrated physics parameter, the indices of its leaves among the parameters
+/// of the combined hybrid program `c` (one unknown tied over every leaf that uses it).
+fn calibrated_slots(res: &Resolved, phys: &Compiled, c: &Combined) -> Vec<Vec<usize>> {
+    res.calibrate
+        .iter()
+        .map(|n| {
+            phys.slots
+                .get(n)
+                .map(|s| {
+                    s.iter()
+                        .filter_map(|i| c.phys_map.get(i).copied())
+                        .collect()
+                })
+                .unwrap_or_default()
+        })
+        .collect()
+}
+
 /// Fits on the split [`process_split`] chooses.
 ///
 /// # Errors
@@ -643,20 +661,7 @@ pub(crate) fn fit_inner(
         let mut c = combine(&phys, &correction, cfg.correction);
         // physics unknowns (tied leaves), then each fitted correction constant; constants
         // the search snapped to exact values (integers, halves) stay fixed
-        let mut groups: Vec<Vec<usize>> = res
-            .calibrate
-            .iter()
-            .map(|n| {
-                phys.slots
-                    .get(n)
-                    .map(|s| {
-                        s.iter()
-                            .filter_map(|i| c.phys_map.get(i).copied())
-                            .collect()
-                    })
-                    .unwrap_or_default()
-            })
-            .collect();
+        let mut groups = calibrated_slots(&res, &phys, &c);
         let n_phys = groups.len();
         for (i, &ci) in c.corr_map.iter().enumerate() {
             let v = correction.params[i];
@@ -826,20 +831,7 @@ fn hybrid_uncertainty(
     y_train: &[f64],
 ) -> Result<Uncertainty, HybridError> {
     let c = combine(phys, correction, cfg.correction);
-    let mut slots: Vec<Vec<usize>> = res
-        .calibrate
-        .iter()
-        .map(|n| {
-            phys.slots
-                .get(n)
-                .map(|s| {
-                    s.iter()
-                        .filter_map(|i| c.phys_map.get(i).copied())
-                        .collect()
-                })
-                .unwrap_or_default()
-        })
-        .collect();
+    let mut slots = calibrated_slots(res, phys, &c);
     let mut names: Vec<String> = res.calibrate.clone();
     let mut taken: Vec<String> = c.names.clone();
     taken.extend(phys.slots.keys().cloned());
