@@ -27,6 +27,58 @@ fn add_num(e: Expr, x: f64) -> Expr {
     }
 }
 
+/// The largest multiple of pi/2 (in absolute value) that is recognised as one: phases up to
+/// four half-turns either way.
+pub(crate) const MAX_HALF_PI_MULTIPLE: f64 = 8.0;
+
+/// `k` when `v` is exactly (to the last bit) `k * pi/2` for a whole `k` with
+/// `0 < |k| <= 8`. Such values come from snapping (see `snap_candidates`) or from a fit
+/// that converged to the double nearest a phase; any other value is `None`.
+pub(crate) fn half_pi_multiple(v: f64) -> Option<i64> {
+    let k = (v / std::f64::consts::FRAC_PI_2).round();
+    (k != 0.0 && k.abs() <= MAX_HALF_PI_MULTIPLE && k * std::f64::consts::FRAC_PI_2 == v)
+        .then_some(k as i64)
+}
+
+/// `(u, k)` when `e` is `u + k pi/2` (or `u - k pi/2`, or `k pi/2 + u`) for a whole `k`,
+/// with the phase a number within a few units in the last place of the multiple.
+fn split_phase(e: &Expr) -> Option<(&Expr, i64)> {
+    let (u, c) = match e {
+        Expr::Bin(Op::Add, u, c) | Expr::Bin(Op::Add, c, u) if matches!(**c, Expr::Num(_)) => {
+            (&**u, &**c)
+        }
+        Expr::Bin(Op::Sub, u, c) => match **c {
+            Expr::Num(v) => return near_half_pi(-v).map(|k| (&**u, k)),
+            _ => return None,
+        },
+        _ => return None,
+    };
+    match c {
+        Expr::Num(v) => near_half_pi(*v).map(|k| (u, k)),
+        _ => None,
+    }
+}
+
+/// `k` when `v` is `k pi/2` within 4 units in the last place (`0 < |k| <= 8`).
+fn near_half_pi(v: f64) -> Option<i64> {
+    let k = (v / std::f64::consts::FRAC_PI_2).round();
+    let exact = k * std::f64::consts::FRAC_PI_2;
+    (k != 0.0
+        && k.abs() <= MAX_HALF_PI_MULTIPLE
+        && (exact - v).abs() <= 4.0 * f64::EPSILON * v.abs())
+    .then_some(k as i64)
+}
+
+/// `sin(u + k pi/2)` or `cos(u + k pi/2)` written without the phase: `cos(u)`, `-sin(u)`, ...
+fn shift_trig(op: Op, u: Expr, k: i64) -> Expr {
+    // sin(u + q pi/2) for q = 0..3 is sin, cos, -sin, -cos of u; cos(u + q pi/2) is
+    // sin(u + (q + 1) pi/2)
+    let q = (k + i64::from(op == Op::Cos)).rem_euclid(4);
+    let f = if q % 2 == 0 { Op::Sin } else { Op::Cos };
+    let e = Expr::Un(f, Box::new(u));
+    if q >= 2 { Expr::Neg(Box::new(e)) } else { e }
+}
+
 impl Expr {
     /// Builds the full expression `scale * root + offset` of a program.
     pub fn from_program(prog: &Program, params: &[f64], names: &[String]) -> Expr {
@@ -119,6 +171,12 @@ impl Expr {
                 // log undoes exp wherever exp is finite (where it is not, neither is the model)
                 (Op::Log, Un(Op::Exp, x)) => *x,
                 (Op::Log, Un(Op::Gaussian, x)) => Neg(Box::new(Un(Op::Square, x))),
+                // a phase of a whole number of quarter turns is a shift between sin and cos:
+                // sin(u - pi/2) is -cos(u)
+                (Op::Sin | Op::Cos, x) if split_phase(&x).is_some() => match split_phase(&x) {
+                    Some((u, k)) => shift_trig(op, u.clone(), k).simplify(),
+                    None => Un(op, Box::new(x)),
+                },
                 // even functions drop a sign
                 (Op::Square | Op::Abs | Op::Cos | Op::Gaussian, Neg(x)) => Un(op, x),
                 (_, x) => Un(op, Box::new(x)),
@@ -233,6 +291,8 @@ impl Expr {
     fn prec(&self) -> u8 {
         match self {
             Expr::Num(v) if *v < 0.0 => 2,
+            // pi is an atom; 3*pi/2 is a product
+            Expr::Num(v) if half_pi_multiple(*v).is_some_and(|k| k != 2) => 2,
             // a power binds less tightly than an atom: (x**2)**2, not x**2**2 (which Python
             // reads as x**(2**2))
             Expr::Un(Op::Square, _) | Expr::Bin(Op::Pow, ..) => 8,
@@ -250,6 +310,20 @@ impl Expr {
         matches!(self, Expr::Neg(_)) || matches!(self, Expr::Num(v) if *v < 0.0)
     }
 
+    /// The expression with its leading minus sign taken off (`-0.5*x` gives `0.5*x`), or
+    /// `None` if its printed form does not start with one. The printers use it to write
+    /// `a - 0.5*x` for `a + (-0.5*x)`, and `a + 0.5*x` for `a - (-0.5*x)`.
+    fn without_minus(&self) -> Option<Expr> {
+        match self {
+            Expr::Num(v) if *v < 0.0 => Some(Expr::Num(-v)),
+            Expr::Neg(a) => Some((**a).clone()),
+            Expr::Bin(op @ (Op::Mul | Op::Div), a, b) => a
+                .without_minus()
+                .map(|a| Expr::Bin(*op, Box::new(a), b.clone())),
+            _ => None,
+        }
+    }
+
     /// Plain-text form with `digits` significant digits (`None` for full precision).
     pub fn to_text(&self, digits: Option<usize>, sympy: bool) -> String {
         let fmt_num = |v: f64| fmt_number(v, digits);
@@ -265,7 +339,7 @@ impl Expr {
             }
         };
         match self {
-            Expr::Num(v) => fmt_num(*v),
+            Expr::Num(v) => half_pi_multiple(*v).map_or_else(|| fmt_num(*v), pi_text),
             Expr::Var(n) => {
                 if sympy {
                     sympy_symbol(n)
@@ -291,8 +365,12 @@ impl Expr {
                 }
             }
             Expr::Bin(op, a, b) => match op {
-                Op::Add => format!("{} + {}", wrap(a, 1), wrap_right(b, 1)),
-                Op::Sub => format!("{} - {}", wrap(a, 1), wrap_right(b, 2)),
+                Op::Add | Op::Sub => match b.without_minus() {
+                    Some(p) if *op == Op::Add => format!("{} - {}", wrap(a, 1), wrap_right(&p, 2)),
+                    Some(p) => format!("{} + {}", wrap(a, 1), wrap_right(&p, 1)),
+                    None if *op == Op::Add => format!("{} + {}", wrap(a, 1), wrap_right(b, 1)),
+                    None => format!("{} - {}", wrap(a, 1), wrap_right(b, 2)),
+                },
                 Op::Mul => format!("{}*{}", wrap(a, 2), wrap_right(b, 2)),
                 Op::Div => format!("{}/{}", wrap(a, 2), wrap_right(b, 3)),
                 Op::Gaussian2 => format!("exp(-({}**2 + {}**2))", wrap(a, 9), wrap(b, 9)),
@@ -325,6 +403,9 @@ impl Expr {
             }
         };
         match self {
+            Expr::Num(v) if half_pi_multiple(*v).is_some() => {
+                half_pi_multiple(*v).map_or_else(String::new, pi_latex)
+            }
             Expr::Num(v) => {
                 let s = fmt_number(*v, Some(digits));
                 match s.split_once('e') {
@@ -352,8 +433,12 @@ impl Expr {
                 }
             }
             Expr::Bin(op, a, b) => match op {
-                Op::Add => format!("{} + {}", wrap(a, 1), wrap_right(b, 1)),
-                Op::Sub => format!("{} - {}", wrap(a, 1), wrap_right(b, 2)),
+                Op::Add | Op::Sub => match b.without_minus() {
+                    Some(p) if *op == Op::Add => format!("{} - {}", wrap(a, 1), wrap_right(&p, 2)),
+                    Some(p) => format!("{} + {}", wrap(a, 1), wrap_right(&p, 1)),
+                    None if *op == Op::Add => format!("{} + {}", wrap(a, 1), wrap_right(b, 1)),
+                    None => format!("{} - {}", wrap(a, 1), wrap_right(b, 2)),
+                },
                 Op::Mul => {
                     let (l, r) = (wrap(a, 2), wrap_right(b, 2));
                     // Juxtaposed digits would read as one number: "2 3" -> "2 \cdot 3".
@@ -378,6 +463,30 @@ impl Expr {
                 ),
             },
         }
+    }
+}
+
+/// `k pi/2` in plain or sympy text: `pi`, `-pi`, `2*pi`, `pi/2`, `-pi/2`, `3*pi/2`, ...
+fn pi_text(k: i64) -> String {
+    match (k % 2 == 0, k) {
+        (true, 2) => "pi".into(),
+        (true, -2) => "-pi".into(),
+        (true, _) => format!("{}*pi", k / 2),
+        (false, 1) => "pi/2".into(),
+        (false, -1) => "-pi/2".into(),
+        (false, _) => format!("{k}*pi/2"),
+    }
+}
+
+/// `k pi/2` in LaTeX: `\pi`, `-\pi`, `2 \pi`, `\frac{\pi}{2}`, `-\frac{3\pi}{2}`, ...
+fn pi_latex(k: i64) -> String {
+    let sign = if k < 0 { "-" } else { "" };
+    let a = k.abs();
+    match (a % 2 == 0, a) {
+        (true, 2) => format!("{sign}\\pi"),
+        (true, _) => format!("{sign}{} \\pi", a / 2),
+        (false, 1) => format!("{sign}\\frac{{\\pi}}{{2}}"),
+        (false, _) => format!("{sign}\\frac{{{a}\\pi}}{{2}}"),
     }
 }
 
@@ -505,8 +614,112 @@ mod tests {
         let e = Expr::Bin(Op::Mul, var("x"), Box::new(Expr::Neg(var("y"))));
         assert_eq!(e.to_text(None, true), "x*(-y)");
         assert_eq!(e.to_latex(3), "x \\left(-y\\right)");
+        // a - (-3) prints as the sum it is
         let e = Expr::Bin(Op::Sub, var("x"), Box::new(Expr::Num(-3.0)));
-        assert_eq!(e.to_text(None, false), "x - (-3)");
+        assert_eq!(e.to_text(None, false), "x + 3");
+        assert_eq!(e.to_latex(3), "x + 3");
+    }
+
+    /// A sum whose right term leads with a minus prints as a difference (`a - 0.5*y`, not
+    /// `a + -0.5*y`), and a difference of such a term as a sum; the printed text means the
+    /// same number as the tree.
+    #[test]
+    fn leading_minus_of_a_right_term_turns_the_sign() {
+        let term = |c: f64| Box::new(Expr::Bin(Op::Mul, Box::new(Expr::Num(c)), var("y")));
+        let e = Expr::Bin(Op::Add, var("x"), term(-0.5));
+        assert_eq!(e.to_text(Some(3), true), "x - 0.5*y");
+        assert_eq!(e.to_latex(3), "x - 0.5 y");
+        let e = Expr::Bin(Op::Sub, var("x"), term(-0.5));
+        assert_eq!(e.to_text(Some(3), true), "x + 0.5*y");
+        // a quotient led by a negated sum keeps the sum in parentheses
+        let sum = Expr::Bin(Op::Add, var("y"), Box::new(Expr::Num(1.0)));
+        let q = Expr::Bin(Op::Div, Box::new(Expr::Neg(Box::new(sum))), var("z"));
+        let e = Expr::Bin(Op::Add, var("x"), Box::new(q));
+        assert_eq!(e.to_text(None, false), "x - (y + 1)/z");
+        // positive terms print as before
+        let e = Expr::Bin(Op::Add, var("x"), term(0.5));
+        assert_eq!(e.to_text(Some(3), true), "x + 0.5*y");
+        // the printed text parses back to the same value
+        for e in [
+            Expr::Bin(Op::Add, var("x"), term(-0.5)),
+            Expr::Bin(Op::Sub, var("x"), term(-0.5)),
+        ] {
+            let back = crate::infix::parse(&e.to_text(None, false))
+                .expect("parses")
+                .expr;
+            let at = |e: &Expr| e.eval(&|n: &str| if n == "x" { 0.7 } else { 1.9 });
+            assert_eq!(at(&back), at(&e));
+        }
+    }
+
+    /// A phase of a whole number of quarter turns turns sin into cos and back, and values
+    /// that are exactly k pi/2 print with the symbol pi, so a recovered law reads as one
+    /// (and survives rounding its printed constants).
+    #[test]
+    fn quarter_turn_phases_and_pi() {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        let trig = |op: Op, u: Box<Expr>, c: f64| {
+            Expr::Un(op, Box::new(Expr::Bin(Op::Add, u, Box::new(Expr::Num(c))))).simplify()
+        };
+        let xy = || Box::new(Expr::Bin(Op::Mul, var("x"), var("y")));
+        let two_x = || Box::new(Expr::Bin(Op::Mul, Box::new(Expr::Num(2.0)), var("x")));
+        let cases = [
+            (trig(Op::Sin, var("x"), -FRAC_PI_2), "-cos(x)"),
+            (trig(Op::Cos, var("x"), -FRAC_PI_2), "sin(x)"),
+            (trig(Op::Cos, xy(), -PI), "-cos(x*y)"),
+            (trig(Op::Sin, two_x(), -PI), "-sin(2*x)"),
+            (trig(Op::Sin, var("x"), 7.0 * FRAC_PI_2), "-cos(x)"),
+            (trig(Op::Cos, var("x"), 2.0 * PI), "cos(x)"),
+            // one unit in the last place off a fitted phase is still the phase
+            (
+                trig(Op::Sin, var("x"), f64::from_bits(FRAC_PI_2.to_bits() + 1)),
+                "cos(x)",
+            ),
+            // a phase that is not a quarter turn stays
+            (trig(Op::Sin, var("x"), 1.5708), "sin(x + 1.571)"),
+        ];
+        for (e, text) in &cases {
+            assert_eq!(e.to_text(Some(4), true), *text);
+        }
+        // the rewrite keeps the value (to rounding)
+        let x: f64 = 0.37;
+        for (c, want) in [(-FRAC_PI_2, -(x.cos())), (7.0 * FRAC_PI_2, -(x.cos()))] {
+            let e = trig(Op::Sin, var("x"), c);
+            assert!((e.eval(&|_| x) - want).abs() < 1e-15);
+            assert!(((x + c).sin() - want).abs() < 1e-14);
+        }
+        // exact multiples print as pi, everything else as numbers
+        let num = |v: f64| Expr::Num(v).to_text(Some(4), true);
+        assert_eq!(num(PI), "pi");
+        assert_eq!(num(-PI), "-pi");
+        assert_eq!(num(FRAC_PI_2), "pi/2");
+        assert_eq!(num(-FRAC_PI_2), "-pi/2");
+        assert_eq!(num(3.0 * FRAC_PI_2), "3*pi/2");
+        assert_eq!(num(2.0 * PI), "2*pi");
+        assert_eq!(num(3.1416), "3.142");
+        assert_eq!(Expr::Num(-3.0 * FRAC_PI_2).to_latex(4), "-\\frac{3\\pi}{2}");
+        assert_eq!(Expr::Num(PI).to_latex(4), "\\pi");
+        // as an exponent or a right operand the product keeps its parentheses
+        let pow = Expr::Bin(Op::Pow, var("x"), Box::new(Expr::Num(3.0 * FRAC_PI_2)));
+        assert_eq!(pow.to_text(None, true), "x**(3*pi/2)");
+        let sum = Expr::Bin(Op::Sub, var("x"), Box::new(Expr::Num(-FRAC_PI_2)));
+        assert_eq!(sum.to_text(None, true), "x + pi/2");
+        // and the text parses back to the same value
+        for e in [
+            pow,
+            sum,
+            Expr::Bin(Op::Mul, var("x"), Box::new(Expr::Num(PI))),
+        ] {
+            let back = crate::infix::parse(&e.to_text(None, false))
+                .expect("parses")
+                .expr;
+            assert_eq!(
+                back.eval(&|_| 1.3),
+                e.eval(&|_| 1.3),
+                "{}",
+                e.to_text(None, false)
+            );
+        }
     }
 
     /// Two juxtaposed numbers would read as one: the product of 2 and 3 prints with `\cdot`.

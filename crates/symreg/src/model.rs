@@ -201,7 +201,8 @@ impl Model {
 }
 
 /// Candidate simple values near `v`, simplest first, each marked `true` when it is an exact
-/// value (0, +-1, an integer or a half) rather than `v` rounded to 1-3 significant digits.
+/// value (0, +-1, an integer, a half or a multiple of pi/2) rather than `v` rounded to 1-3
+/// significant digits.
 fn snap_candidates(v: f64, weight: bool) -> Vec<(f64, bool)> {
     let mut c: Vec<(f64, bool)> = if weight {
         vec![(1.0, true), (-1.0, true), (0.0, true)]
@@ -209,6 +210,11 @@ fn snap_candidates(v: f64, weight: bool) -> Vec<(f64, bool)> {
         vec![(0.0, true)]
     };
     c.extend([(v.round(), true), ((v * 2.0).round() / 2.0, true)]);
+    // a whole number of quarter turns (a phase: sin(u - pi/2) is -cos(u)), printed as pi
+    let k = (v / std::f64::consts::FRAC_PI_2).round();
+    if k != 0.0 && k.abs() <= crate::expr::MAX_HALF_PI_MULTIPLE {
+        c.push((k * std::f64::consts::FRAC_PI_2, true));
+    }
     let a = v.abs();
     if a > 0.0 && a.is_finite() {
         for digits in [1i32, 2, 3] {
@@ -232,7 +238,7 @@ fn snap_candidates(v: f64, weight: bool) -> Vec<(f64, bool)> {
 ///
 /// Two kinds of snap, tried in that order for each parameter (biases first, then weights and
 /// constants, then the output map):
-/// - to an exact value (0, +-1, an integer, a half): the parameter is then no longer fitted,
+/// - to an exact value (0, +-1, an integer, a half, a multiple of pi/2): the parameter is then no longer fitted,
 ///   so the snap is accepted when the information criterion does not get worse, that is when
 ///   `n ln(mse' / mse)` stays within `penalty` (what the criterion charges for one
 ///   parameter: `ln n` for BIC, 2 for AIC);

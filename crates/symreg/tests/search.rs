@@ -413,3 +413,21 @@ fn operator_complexity_is_counted_and_capped() {
     assert!(matches!(bad.check(), Err(SrError::InvalidConfig(_))));
     let _ = OpCosts::default();
 }
+
+// A phase of a quarter turn, fitted on noisy data, snaps to pi/2 and the reported equation
+// is the shifted function: 3 x1 sin(x0 - pi/2) reads as -3 x1 cos(x0), with no 1.571 left.
+#[test]
+fn quarter_turn_phase_snaps_and_reads_as_cos() {
+    let n = 300;
+    let x0 = uniform(n, -3.0, 3.0, 7);
+    let x1 = uniform(n, 1.0, 5.0, 8);
+    let noise = uniform(n, -0.01, 0.01, 9);
+    let y: Vec<f64> = (0..n)
+        .map(|r| 3.0 * x1[r] * (x0[r] - std::f64::consts::FRAC_PI_2).sin() + noise[r])
+        .collect();
+    let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+    let res = search(&data, &y, &quick(), &mut |_| {}).unwrap();
+    let text = res.best.sympy();
+    assert!(text.contains("cos(x0)"), "{text}");
+    assert!(!text.contains("1.57") && !text.contains("pi"), "{text}");
+}
