@@ -26,31 +26,13 @@ fn root() -> PathBuf {
 
 fn ensure_venv(root: &Path) -> Result<PathBuf> {
     let venv = root.join(".venv-sr");
-    let py = venv.join("bin").join("python");
-    if !py.exists() {
-        let ok = Command::new("python3")
-            .arg("-m")
-            .arg("venv")
-            .arg(&venv)
-            .status()
-            .context("running python3 -m venv")?;
-        if !ok.success() {
-            bail!("python3 -m venv {} failed", venv.display());
-        }
-    }
+    let py = crate::venv::create(&venv, "python3")?;
     let check = Command::new(&py)
         .args(["-c", "import sympy, pandas, numpy, pyoperon, gplearn, feyn"])
         .status()?;
     if !check.success() {
         let requirements = root.join("scripts").join("bench_sr_requirements.txt");
-        let ok = Command::new(&py)
-            .args(["-m", "pip", "install", "-q", "-r"])
-            .arg(&requirements)
-            .status()
-            .context("running pip install")?;
-        if !ok.success() {
-            bail!("pip install into {} failed", venv.display());
-        }
+        crate::venv::pip_install(&py, &requirements, &venv)?;
     }
     Ok(py)
 }

@@ -17,6 +17,7 @@ mod bench_sr;
 mod check_docs;
 mod refs;
 mod reproduce;
+mod venv;
 
 const USAGE: &str = "usage: cargo xtask <command>
 

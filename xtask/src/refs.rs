@@ -55,30 +55,8 @@ pub fn run(args: &[String]) -> Result<()> {
 /// `target/refs-venv` with the pinned requirements installed; returns its interpreter.
 fn ensure_venv(root: &Path, python: &str) -> Result<PathBuf> {
     let venv = root.join("target").join("refs-venv");
-    let py = venv.join("bin").join("python");
-    if !py.exists() {
-        let ok = Command::new(python)
-            .args(["-m", "venv"])
-            .arg(&venv)
-            .status()
-            .with_context(|| format!("running {python} -m venv"))?;
-        if !ok.success() {
-            bail!("{python} -m venv {} failed", venv.display());
-        }
-    }
-    let requirements = root.join("scripts").join("requirements.txt");
-    let ok = Command::new(&py)
-        .args(["-m", "pip", "install", "-q", "-r"])
-        .arg(&requirements)
-        .status()
-        .context("running pip install")?;
-    if !ok.success() {
-        bail!(
-            "pip install -r {} into {} failed",
-            requirements.display(),
-            venv.display()
-        );
-    }
+    let py = crate::venv::create(&venv, python)?;
+    crate::venv::pip_install(&py, &root.join("scripts").join("requirements.txt"), &venv)?;
     Ok(py)
 }
 

@@ -352,8 +352,7 @@ impl Regressor for Lasso {
         }
         let n = x.n_rows();
         let (x_mean, cols) = centre(x);
-        let y_mean = y.iter().sum::<f64>() / n as f64;
-        let yc: Vec<f64> = y.iter().map(|v| v - y_mean).collect();
+        let (y_mean, yc) = centre_target(y);
         let mut w = vec![0.0; x.n_cols()];
         self.converged = cd_plain(
             &mut w,
@@ -447,6 +446,12 @@ impl LassoCv {
     }
 }
 
+/// The mean of `y` and `y` centred on it.
+fn centre_target(y: &[f64]) -> (f64, Vec<f64>) {
+    let mean = y.iter().sum::<f64>() / y.len() as f64;
+    (mean, y.iter().map(|v| v - mean).collect())
+}
+
 /// numpy's `geomspace(start, stop, num)`.
 fn geomspace(start: f64, stop: f64, num: usize) -> Vec<f64> {
     let (a, b) = (start.log10(), stop.log10());
@@ -480,8 +485,7 @@ fn fold_mse(
     let n = xt.n_rows();
     let p = xt.n_cols();
     let (x_mean, cols) = centre(&xt);
-    let y_mean = yt.iter().sum::<f64>() / n as f64;
-    let yc: Vec<f64> = yt.iter().map(|v| v - y_mean).collect();
+    let (y_mean, yc) = centre_target(&yt);
     let mut gram = vec![0.0; p * p];
     for a in 0..p {
         for b in 0..p {
@@ -542,8 +546,7 @@ impl Regressor for LassoCv {
         }
         let n = x.n_rows() as f64;
         let (_, cols) = centre(x);
-        let y_mean = y.iter().sum::<f64>() / n;
-        let yc: Vec<f64> = y.iter().map(|v| v - y_mean).collect();
+        let (_, yc) = centre_target(y);
         let alpha_max = cols.iter().map(|c| dot(c, &yc).abs()).fold(0.0, f64::max) / n;
         let resolution = 1e-15;
         self.alphas = if alpha_max <= resolution {

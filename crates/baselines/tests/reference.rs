@@ -65,6 +65,13 @@ fn table(rows: &[Vec<f64>]) -> Result<Table, TableError> {
     Table::from_rows((0..p).map(|j| format!("x{j}")).collect(), rows)
 }
 
+/// Each value of `got` equals the one of `want` at its place to `max_relative`.
+fn assert_all_close(got: &[f64], want: &[f64], max_relative: f64) {
+    for (a, b) in got.iter().zip(want) {
+        assert_relative_eq!(*a, *b, max_relative = max_relative);
+    }
+}
+
 fn load() -> Result<Reference, Box<dyn std::error::Error>> {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -78,9 +85,7 @@ fn linear_regression_matches_sklearn_to_1e9() -> R {
     let r = load()?.linear;
     let mut m = LinearRegression::new();
     m.fit(&table(&r.x)?, &r.y)?;
-    for (a, b) in m.coef().iter().zip(&r.coef) {
-        assert_relative_eq!(*a, *b, max_relative = 1e-9);
-    }
+    assert_all_close(m.coef(), &r.coef, 1e-9);
     assert_relative_eq!(m.intercept(), r.intercept, max_relative = 1e-9);
     Ok(())
 }
@@ -91,13 +96,9 @@ fn lasso_cv_matches_sklearn_alpha_path_and_coefficients_to_1e6() -> R {
     let mut m = LassoCv::new();
     m.fit(&table(&r.x)?, &r.y)?;
     assert_eq!(m.alphas().len(), r.alphas.len());
-    for (a, b) in m.alphas().iter().zip(&r.alphas) {
-        assert_relative_eq!(*a, *b, max_relative = 1e-6);
-    }
+    assert_all_close(m.alphas(), &r.alphas, 1e-6);
     for (row, want) in m.mse_path().iter().zip(&r.mse_path) {
-        for (a, b) in row.iter().zip(want) {
-            assert_relative_eq!(*a, *b, max_relative = 1e-6);
-        }
+        assert_all_close(row, want, 1e-6);
     }
     assert_relative_eq!(m.alpha(), r.alpha, max_relative = 1e-6);
     for (a, b) in m.coef().iter().zip(&r.coef) {
@@ -120,12 +121,8 @@ fn best_first_trees_match_sklearn_predictions() -> R {
         assert_eq!(t.n_leaves(), want.n_leaves);
         // Same leaves and thresholds; a leaf value may differ from scikit-learn's in the last
         // bits because the mean is summed in another order: 1e-12 relative.
-        for (a, b) in t.predict(&xtr)?.iter().zip(&want.train_pred) {
-            assert_relative_eq!(*a, *b, max_relative = 1e-12);
-        }
-        for (a, b) in t.predict(&xte)?.iter().zip(&want.test_pred) {
-            assert_relative_eq!(*a, *b, max_relative = 1e-12);
-        }
+        assert_all_close(&t.predict(&xtr)?, &want.train_pred, 1e-12);
+        assert_all_close(&t.predict(&xte)?, &want.test_pred, 1e-12);
     }
     Ok(())
 }

@@ -288,6 +288,16 @@ fn config(c: &Common) -> Result<ProcessConfig> {
     Ok(cfg)
 }
 
+/// What `fit` and `compare` start from: the configuration, the table (checked for text
+/// where numbers are needed) and the progress bar of the search.
+fn prepare(c: &Common) -> Result<(ProcessConfig, Loaded, ProgressBar)> {
+    let cfg = config(c)?;
+    let loaded = read(&c.data, cfg.group.as_deref())?;
+    loaded.check_numeric(c)?;
+    let b = bar(c.json, cfg.search.epochs);
+    Ok((cfg, loaded, b))
+}
+
 fn bar(hidden: bool, epochs: usize) -> ProgressBar {
     if hidden {
         return ProgressBar::hidden();
@@ -417,10 +427,7 @@ fn print_model(m: &ProcessModel) {
 
 #[allow(clippy::print_stdout)]
 fn fit(a: FitArgs) -> Result<()> {
-    let cfg = config(&a.common)?;
-    let loaded = read(&a.common.data, cfg.group.as_deref())?;
-    loaded.check_numeric(&a.common)?;
-    let b = bar(a.common.json, cfg.search.epochs);
+    let (cfg, loaded, b) = prepare(&a.common)?;
     let mut model = fit_process(&loaded.table, &cfg, &mut on_progress(&b))?;
     b.finish_and_clear();
     if let Some(runs) = a.stability {
@@ -570,10 +577,7 @@ fn print_comparison(c: &Comparison) {
 
 #[allow(clippy::print_stdout)]
 fn compare(a: CompareArgs) -> Result<()> {
-    let cfg = config(&a.common)?;
-    let loaded = read(&a.common.data, cfg.group.as_deref())?;
-    loaded.check_numeric(&a.common)?;
-    let b = bar(a.common.json, cfg.search.epochs);
+    let (cfg, loaded, b) = prepare(&a.common)?;
     let c = compare_process(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
     b.finish_and_clear();
     if a.common.json {

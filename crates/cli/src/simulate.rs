@@ -130,26 +130,32 @@ fn run_case(case: CaseArg, args: &Args) -> Result<()> {
     }
     hxai_data::write_table(&args.out, &table)
         .with_context(|| format!("cannot write {}", args.out.display()))?;
-    #[allow(clippy::print_stdout)]
-    if args.json {
-        let doc = serde_json::json!({
-            "out": args.out.display().to_string(),
-            "case": case.name(),
-            "rows": rows,
-            "columns": names,
-            "seed": seed,
-        });
+    let doc = serde_json::json!({
+        "out": args.out.display().to_string(),
+        "case": case.name(),
+        "rows": rows,
+        "columns": names,
+        "seed": seed,
+    });
+    let line = format!(
+        "wrote the {} table ({rows} rows x {cols} columns, seed {}) to {}",
+        case.name(),
+        seed,
+        args.out.display()
+    );
+    print_summary(args.json, &doc, &line)
+}
+
+/// Prints what was written: `doc` as pretty JSON with `--json`, else the one `line`.
+#[allow(clippy::print_stdout)]
+fn print_summary(json: bool, doc: &serde_json::Value, line: &str) -> Result<()> {
+    if json {
         println!(
             "{}",
-            serde_json::to_string_pretty(&doc).context("cannot format JSON")?
+            serde_json::to_string_pretty(doc).context("cannot format JSON")?
         );
     } else {
-        println!(
-            "wrote the {} table ({rows} rows x {cols} columns, seed {}) to {}",
-            case.name(),
-            seed,
-            args.out.display()
-        );
+        println!("{line}");
     }
     Ok(())
 }
@@ -173,24 +179,13 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         }
         None => SimConfig::default(),
     };
-    if let Some(s) = args.seed {
-        cfg.seed = s;
-    }
-    if let Some(r) = args.repeats {
-        cfg.repeats = r;
-    }
-    if let Some(d) = args.duration_s {
-        cfg.duration_s = d;
-    }
-    if let Some(fs) = args.fs_hz {
-        cfg.fs_hz = fs;
-    }
-    if let Some(a) = args.amplitudes {
-        cfg.amplitudes_um = a;
-    }
-    if let Some(f) = args.frequencies {
-        cfg.frequencies_hz = f;
-    }
+    // Each flag given replaces the configuration's value.
+    cfg.seed = args.seed.unwrap_or(cfg.seed);
+    cfg.repeats = args.repeats.unwrap_or(cfg.repeats);
+    cfg.duration_s = args.duration_s.unwrap_or(cfg.duration_s);
+    cfg.fs_hz = args.fs_hz.unwrap_or(cfg.fs_hz);
+    cfg.amplitudes_um = args.amplitudes.unwrap_or(cfg.amplitudes_um);
+    cfg.frequencies_hz = args.frequencies.unwrap_or(cfg.frequencies_hz);
     cfg.check().context("invalid simulation settings")?;
 
     let n = cfg.n_records();
@@ -214,27 +209,19 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         .with_context(|| format!("cannot write the data folder {}", args.out.display()))?;
     bar.finish_and_clear();
 
-    #[allow(clippy::print_stdout)]
-    if args.json {
-        let doc = serde_json::json!({
-            "out": args.out.display().to_string(),
-            "records": n,
-            "samples_per_record": samples,
-            "fs_hz": cfg.fs_hz,
-            "seed": cfg.seed,
-            "format": format.extension(),
-        });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&doc).context("cannot format JSON")?
-        );
-    } else {
-        println!(
-            "wrote {n} records ({samples} samples each at {} Hz, seed {}) to {}",
-            cfg.fs_hz,
-            cfg.seed,
-            args.out.display()
-        );
-    }
-    Ok(())
+    let doc = serde_json::json!({
+        "out": args.out.display().to_string(),
+        "records": n,
+        "samples_per_record": samples,
+        "fs_hz": cfg.fs_hz,
+        "seed": cfg.seed,
+        "format": format.extension(),
+    });
+    let line = format!(
+        "wrote {n} records ({samples} samples each at {} Hz, seed {}) to {}",
+        cfg.fs_hz,
+        cfg.seed,
+        args.out.display()
+    );
+    print_summary(args.json, &doc, &line)
 }

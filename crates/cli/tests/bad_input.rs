@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
 mod common;
+use common::{predict_args, s};
 
 fn corpus(rel: &str) -> String {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -37,10 +38,7 @@ fn record_commands<'a>(rec: &'a str, model: &'a str, out: &'a str) -> [Vec<&'a s
     let mut displacement = vec!["displacement"];
     displacement.extend_from_slice(&hz);
     displacement.extend_from_slice(&["--out", out]);
-    let mut predict = vec!["predict", "--model", model];
-    predict.extend_from_slice(&hz);
-    predict.extend_from_slice(&["--out", out]);
-    [features, displacement, predict]
+    [features, displacement, predict_args(model, rec, "20", out)]
 }
 
 /// Runs the command and requires exit code 1 with one stderr line containing `expect`.
@@ -72,6 +70,16 @@ fn refused(args: &[&str], expect: &str) {
         !stderr.contains("polars"),
         "{args:?}: library internals: {stderr}"
     );
+}
+
+/// Runs the command and requires success with a warning on stderr containing `expect`;
+/// returns the JSON document it printed.
+fn warned(args: &[&str], expect: &str) -> serde_json::Value {
+    let out = hxai(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains(expect), "{stderr}");
+    serde_json::from_slice(&out.stdout).unwrap()
 }
 
 const BAD_RECORDS: &[(&str, &str)] = &[
@@ -122,18 +130,34 @@ const BAD_RECORDS: &[(&str, &str)] = &[
     ("records/nowhere.csv", "No such file"),
 ];
 
+/// For each (corpus file, expected message) of `cases`, every command line that
+/// `commands(path of the file)` gives is refused with that message, and none writes `out`.
+fn each_refused(cases: &[(&str, &str)], out: &str, commands: impl Fn(&str) -> Vec<Vec<String>>) {
+    for (file, expect) in cases {
+        for args in commands(&corpus(file)) {
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            refused(&args, expect);
+        }
+        assert!(!Path::new(out).exists(), "{file}: an output was written");
+    }
+}
+
+/// The command line as owned strings.
+fn owned(args: &[&str]) -> Vec<String> {
+    args.iter().map(|a| a.to_string()).collect()
+}
+
 #[test]
 fn bad_records_are_refused_by_every_command_that_reads_one() {
     let out = scratch_path("records", "out.csv");
     let out = out.as_str();
     let model = corpus("good/model.json");
-    for (file, expect) in BAD_RECORDS {
-        let rec = corpus(file);
-        for args in record_commands(&rec, &model, out) {
-            refused(&args, expect);
-        }
-        assert!(!Path::new(out).exists(), "{file}: an output was written");
-    }
+    each_refused(BAD_RECORDS, out, |rec| {
+        record_commands(rec, &model, out)
+            .iter()
+            .map(|a| owned(a))
+            .collect()
+    });
     // Too short for what each command needs, with the minimum named.
     let two = corpus("records/two_samples.csv");
     let expects = ["needs at least 51", "samples", "one window needs 1 s"];
@@ -256,18 +280,12 @@ fn bad_folders_are_refused_by_fit_and_evaluate() {
     let out = scratch_path("folders", "m.json");
     let out = out.as_str();
     let model = corpus("good/model.json");
-    for (folder, expect) in BAD_FOLDERS {
-        let d = corpus(folder);
-        refused(
-            &["fit", "--data", &d, "--out", out, "--epochs", "1"],
-            expect,
-        );
-        assert!(!Path::new(out).exists(), "{folder}: a model was written");
-        refused(
-            &["evaluate", "--model", &model, "--data", &d, "--all"],
-            expect,
-        );
-    }
+    each_refused(BAD_FOLDERS, out, |d| {
+        vec![
+            owned(&["fit", "--data", d, "--out", out, "--epochs", "1"]),
+            owned(&["evaluate", "--model", &model, "--data", d, "--all"]),
+        ]
+    });
 }
 
 const BAD_MODELS: &[(&str, &str)] = &[
@@ -306,36 +324,13 @@ const BAD_MODELS: &[(&str, &str)] = &[
 fn bad_models_are_refused_by_predict_and_evaluate() {
     let out = scratch_path("models", "p.csv");
     let out = out.as_str();
-    let rec = corpus("good/r1.parquet");
-    for (file, expect) in BAD_MODELS {
-        let m = corpus(file);
-        refused(
-            &[
-                "predict",
-                "--model",
-                &m,
-                "--record",
-                &rec,
-                "--frequency-hz",
-                "20",
-                "--out",
-                out,
-            ],
-            expect,
-        );
-        refused(
-            &[
-                "evaluate",
-                "--model",
-                &m,
-                "--data",
-                &corpus("good"),
-                "--all",
-            ],
-            expect,
-        );
-        assert!(!Path::new(out).exists());
-    }
+    let (rec, good) = (corpus("good/r1.parquet"), corpus("good"));
+    each_refused(BAD_MODELS, out, |m| {
+        vec![
+            owned(&predict_args(m, &rec, "20", out)),
+            owned(&["evaluate", "--model", m, "--data", &good, "--all"]),
+        ]
+    });
 }
 
 #[test]
@@ -387,17 +382,7 @@ fn bad_flags_are_refused_at_once() {
         "--frequency-hz 1e300 lies outside the pass band 5..200 Hz",
     );
     refused(
-        &[
-            "predict",
-            "--model",
-            &model,
-            "--record",
-            &rec,
-            "--frequency-hz",
-            "300",
-            "--out",
-            out,
-        ],
+        &predict_args(&model, &rec, "300", out),
         "commanded frequency 300 Hz lies outside the physics model's pass band 5..200 Hz",
     );
     refused(
@@ -489,85 +474,33 @@ fn inputs_are_never_written_over() {
         .iter()
         .map(|p| (p.to_path_buf(), bytes(p)))
         .collect();
-    let s = |p: &Path| p.to_str().unwrap().to_owned();
     let dotted = format!("{}/./r1.parquet", data.display());
-    let cases: Vec<Vec<String>> = vec![
+    let (m_json, m_csv) = (dir.join("m.json"), dir.join("m.csv"));
+    let (rec, manifest, model, data) = (s(&rec), s(&manifest), s(&model), s(&data));
+    let displacement = |out| {
         vec![
-            "displacement".into(),
-            "--record".into(),
-            s(&rec),
-            "--frequency-hz".into(),
-            "20".into(),
-            "--out".into(),
-            s(&rec),
-        ],
-        vec![
-            "displacement".into(),
-            "--record".into(),
-            s(&rec),
-            "--frequency-hz".into(),
-            "20".into(),
-            "--out".into(),
-            dotted.clone(),
-        ],
-        vec![
-            "predict".into(),
-            "--model".into(),
-            s(&model),
-            "--record".into(),
-            s(&rec),
-            "--frequency-hz".into(),
-            "20".into(),
-            "--out".into(),
-            s(&rec),
-        ],
-        vec![
-            "predict".into(),
-            "--model".into(),
-            s(&model),
-            "--record".into(),
-            s(&rec),
-            "--frequency-hz".into(),
-            "20".into(),
-            "--out".into(),
-            format!("{}", model.display()),
-        ],
-        vec![
-            "fit".into(),
-            "--data".into(),
-            s(&data),
-            "--out".into(),
-            s(&manifest),
-        ],
-        vec![
-            "fit".into(),
-            "--data".into(),
-            s(&data),
-            "--out".into(),
-            s(&rec),
-        ],
-        vec![
-            "fit".into(),
-            "--data".into(),
-            s(&data),
-            "--out".into(),
-            s(&dir.join("m.json")),
-            "--samples".into(),
-            s(&manifest),
-        ],
-        vec![
-            "fit".into(),
-            "--data".into(),
-            s(&data),
-            "--out".into(),
-            s(&dir.join("m.csv")),
-            "--samples".into(),
-            s(&dir.join("m.csv")),
-        ],
+            "displacement",
+            "--record",
+            rec,
+            "--frequency-hz",
+            "20",
+            "--out",
+            out,
+        ]
+    };
+    let fit = |out| vec!["fit", "--data", data, "--out", out];
+    let cases: Vec<Vec<&str>> = vec![
+        displacement(rec),
+        displacement(&dotted),
+        predict_args(model, rec, "20", rec),
+        predict_args(model, rec, "20", model),
+        fit(manifest),
+        fit(rec),
+        [fit(s(&m_json)), vec!["--samples", manifest]].concat(),
+        [fit(s(&m_csv)), vec!["--samples", s(&m_csv)]].concat(),
     ];
     for args in &cases {
-        let a: Vec<&str> = args.iter().map(String::as_str).collect();
-        refused(&a, "refusing to write over an input");
+        refused(args, "refusing to write over an input");
         for (p, b) in &before {
             assert_eq!(&bytes(p), b, "{args:?} changed {}", p.display());
         }
@@ -618,22 +551,18 @@ fn closed_stdout_is_a_normal_exit() {
 #[test]
 fn implausible_input_gives_warnings_not_errors() {
     // The probe is about 6 um where the manifest commands 4000-10000 um: a unit slip.
-    let out = hxai(&[
-        "evaluate",
-        "--model",
-        &corpus("good/model.json"),
-        "--data",
-        &corpus("folders/probe_in_mm"),
-        "--all",
-        "--json",
-    ]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
-    assert!(
-        stderr.contains("warning: record `r1`: the probe amplitude"),
-        "{stderr}"
+    let doc = warned(
+        &[
+            "evaluate",
+            "--model",
+            &corpus("good/model.json"),
+            "--data",
+            &corpus("folders/probe_in_mm"),
+            "--all",
+            "--json",
+        ],
+        "warning: record `r1`: the probe amplitude",
     );
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let w = doc["warnings"].as_array().unwrap();
     assert_eq!(w.len(), 4, "{w:?}");
     // A 10 Hz sampling rate is legal but implausible.
@@ -648,20 +577,16 @@ fn implausible_input_gives_warnings_not_errors() {
         ));
     }
     std::fs::write(&rec, text).unwrap();
-    let out = hxai(&[
-        "features",
-        "--record",
-        rec.to_str().unwrap(),
-        "--frequency-hz",
-        "0.5",
-        "--json",
-    ]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
-    assert!(
-        stderr.contains("sampling rate 10 Hz is outside"),
-        "{stderr}"
+    let doc = warned(
+        &[
+            "features",
+            "--record",
+            rec.to_str().unwrap(),
+            "--frequency-hz",
+            "0.5",
+            "--json",
+        ],
+        "sampling rate 10 Hz is outside",
     );
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(doc["warnings"].as_array().map(Vec::len), Some(1));
 }

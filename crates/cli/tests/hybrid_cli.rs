@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
 mod common;
-use common::{hxai, hxai_ok, s};
+use common::{hxai, hxai_ok, predict_args, s};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
@@ -161,17 +161,7 @@ fn fit_evaluate_predict() -> TestResult {
     let pred = dir.join("pred.csv");
     let rec = data.join("a7_f20.parquet");
     hxai_ok(
-        &[
-            "predict",
-            "--model",
-            s(&model),
-            "--record",
-            s(&rec),
-            "--frequency-hz",
-            "20",
-            "--out",
-            s(&pred),
-        ],
+        &predict_args(s(&model), s(&rec), "20", s(&pred)),
         "predict failed",
     )?;
     let t = read_table(&pred)?;
@@ -185,22 +175,9 @@ fn fit_evaluate_predict() -> TestResult {
     assert!((0.0..=1.0).contains(&cov), "{iv}");
     assert_eq!(iv["n"], 9, "3 test records x 3 windows");
     let pred_iv = dir.join("pred_iv.csv");
-    hxai_ok(
-        &[
-            "predict",
-            "--model",
-            s(&model),
-            "--record",
-            s(&rec),
-            "--frequency-hz",
-            "20",
-            "--interval",
-            "0.9",
-            "--out",
-            s(&pred_iv),
-        ],
-        "predict --interval failed",
-    )?;
+    let mut args = predict_args(s(&model), s(&rec), "20", s(&pred_iv));
+    args.extend_from_slice(&["--interval", "0.9"]);
+    hxai_ok(&args, "predict --interval failed")?;
     let t = read_table(&pred_iv)?;
     assert_eq!(
         t.names(),
@@ -246,17 +223,8 @@ fn bad_inputs_fail_with_one_line() -> TestResult {
 
     let model = dir.join("m.json");
     std::fs::write(&model, "{\"schema_version\": 99}")?;
-    let out = hxai(&[
-        "predict",
-        "--model",
-        s(&model),
-        "--record",
-        s(&dir.join("r.csv")),
-        "--frequency-hz",
-        "10",
-        "--out",
-        s(&dir.join("o.csv")),
-    ])?;
+    let (rec, pred) = (dir.join("r.csv"), dir.join("o.csv"));
+    let out = hxai(&predict_args(s(&model), s(&rec), "10", s(&pred)))?;
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("schema_version"), "{err}");

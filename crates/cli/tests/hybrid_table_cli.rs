@@ -9,8 +9,13 @@ use common::{hxai, ok, s};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
-fn scratch(name: &str) -> Result<PathBuf, std::io::Error> {
-    common::scratch("hxai-cli-hybrid-table", name)
+/// A fresh scratch folder `name` holding `ra.csv`, a [`roughness_csv`] table of `n`
+/// rows: the folder and the table's path.
+fn scratch_table(name: &str, n: usize) -> Result<(PathBuf, PathBuf), std::io::Error> {
+    let dir = common::scratch("hxai-cli-hybrid-table", name)?;
+    let csv = dir.join("ra.csv");
+    std::fs::write(&csv, roughness_csv(n))?;
+    Ok((dir, csv))
 }
 
 /// Turning-like table: Ra = 1.3 f^2/(32 r) + 2e-4 v, a distractor d, a text batch column.
@@ -29,30 +34,50 @@ fn roughness_csv(n: usize) -> String {
 
 const QUICK: [&str; 4] = ["--epochs", "2", "--max-complexity", "8"];
 
-fn fit_args<'a>(data: &'a str, out: &'a str) -> Vec<&'a str> {
-    let mut a = vec![
+/// `hxai hybrid CMD` on `data` (target `Ra`) with the physics `physics`.
+fn hybrid_args<'a>(cmd: &'a str, data: &'a str, physics: &'a str) -> Vec<&'a str> {
+    vec![
         "hybrid",
-        "fit",
+        cmd,
         "--data",
         data,
         "--target",
         "Ra",
         "--physics",
-        "k*f^2/(32*r)",
-        "--calibrate",
-        "k",
-        "--out",
-        out,
-    ];
+        physics,
+    ]
+}
+
+/// The kinematic roughness law, its factor `k` to calibrate ([`CALIBRATE_K`]).
+const LAW: &str = "k*f^2/(32*r)";
+const CALIBRATE_K: [&str; 2] = ["--calibrate", "k"];
+
+/// `hxai hybrid fit` of [`LAW`] on `data`, quick, writing the model to `out`.
+fn fit_args<'a>(data: &'a str, out: &'a str) -> Vec<&'a str> {
+    let mut a = hybrid_args("fit", data, LAW);
+    a.extend_from_slice(&CALIBRATE_K);
+    a.extend_from_slice(&["--out", out]);
     a.extend_from_slice(&QUICK);
     a
 }
 
+/// `hxai hybrid predict` with `model` on `data`, writing `out`; callers append flags.
+fn predict_args<'a>(model: &'a Path, data: &'a Path, out: &'a Path) -> Vec<&'a str> {
+    vec![
+        "hybrid",
+        "predict",
+        "--model",
+        s(model),
+        "--data",
+        s(data),
+        "--out",
+        s(out),
+    ]
+}
+
 #[test]
 fn fit_predict_evaluate_follow_the_contract() -> TestResult {
-    let dir = scratch("contract")?;
-    let data = dir.join("ra.csv");
-    std::fs::write(&data, roughness_csv(160))?;
+    let (dir, data) = scratch_table("contract", 160)?;
     let model = dir.join("model.json");
     let mut args = fit_args(s(&data), s(&model));
     args.extend_from_slice(&["--group", "batch", "--json"]);
@@ -103,16 +128,7 @@ fn fit_predict_evaluate_follow_the_contract() -> TestResult {
         .collect();
     std::fs::write(&no_target, text)?;
     let pred = dir.join("pred.csv");
-    let out = hxai(&[
-        "hybrid",
-        "predict",
-        "--model",
-        s(&model),
-        "--data",
-        s(&no_target),
-        "--out",
-        s(&pred),
-    ])?;
+    let out = hxai(&predict_args(&model, &no_target, &pred))?;
     ok(&out, "predict");
     let written = std::fs::read_to_string(&pred)?;
     let mut lines = written.lines();
@@ -163,18 +179,9 @@ fn fit_predict_evaluate_follow_the_contract() -> TestResult {
         "{ev}"
     );
     let pred_iv = dir.join("pred_iv.csv");
-    let out = hxai(&[
-        "hybrid",
-        "predict",
-        "--model",
-        s(&model),
-        "--data",
-        s(&no_target),
-        "--interval",
-        "0.95",
-        "--out",
-        s(&pred_iv),
-    ])?;
+    let mut args = predict_args(&model, &no_target, &pred_iv);
+    args.extend_from_slice(&["--interval", "0.95"]);
+    let out = hxai(&args)?;
     ok(&out, "predict --interval");
     let written = std::fs::read_to_string(&pred_iv)?;
     let mut lines = written.lines();
@@ -191,16 +198,7 @@ fn fit_predict_evaluate_follow_the_contract() -> TestResult {
         assert!(v[3] <= v[2] && v[2] <= v[4], "{line}");
     }
     // predict refuses to write over its input
-    let out = hxai(&[
-        "hybrid",
-        "predict",
-        "--model",
-        s(&model),
-        "--data",
-        s(&data),
-        "--out",
-        s(&data),
-    ])?;
+    let out = hxai(&predict_args(&model, &data, &data))?;
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("input"));
     Ok(())
@@ -208,9 +206,7 @@ fn fit_predict_evaluate_follow_the_contract() -> TestResult {
 
 #[test]
 fn parquet_tables_and_compare_work() -> TestResult {
-    let dir = scratch("parquet")?;
-    let csv = dir.join("ra.csv");
-    std::fs::write(&csv, roughness_csv(120))?;
+    let (dir, csv) = scratch_table("parquet", 120)?;
     // convert with hxai itself: predict writes Parquet; here write the input via hxai-data
     let table = hxai_data::read_mixed_table(&csv)?;
     let pq = dir.join("ra.parquet");
@@ -219,31 +215,14 @@ fn parquet_tables_and_compare_work() -> TestResult {
     let out = hxai(&fit_args(s(&pq), s(&model)))?;
     ok(&out, "fit parquet");
     let pred = dir.join("p.parquet");
-    let out = hxai(&[
-        "hybrid",
-        "predict",
-        "--model",
-        s(&model),
-        "--data",
-        s(&pq),
-        "--out",
-        s(&pred),
-    ])?;
+    let out = hxai(&predict_args(&model, &pq, &pred))?;
     ok(&out, "predict parquet");
     let back = hxai_data::read_mixed_table(&pred)?;
     assert_eq!(back.names, ["physics", "correction", "hybrid"]);
 
-    let mut args = vec![
-        "hybrid",
-        "compare",
-        "--data",
-        s(&csv),
-        "--target",
-        "Ra",
-        "--physics",
-        "k*f^2/(32*r)",
-        "--calibrate",
-        "k",
+    let mut args = hybrid_args("compare", s(&csv), LAW);
+    args.extend_from_slice(&CALIBRATE_K);
+    args.extend_from_slice(&[
         "--init",
         "k=1.1",
         "--extrapolate",
@@ -251,7 +230,7 @@ fn parquet_tables_and_compare_work() -> TestResult {
         "--folds",
         "3",
         "--json",
-    ];
+    ]);
     args.extend_from_slice(&QUICK);
     let out = hxai(&args)?;
     ok(&out, "compare");
@@ -294,18 +273,8 @@ fn parquet_tables_and_compare_work() -> TestResult {
 fn refused(data: &Path, physics: &str, extra: &[&str], needles: &[&str]) -> TestResult {
     let dir = data.parent().ok_or("dir")?;
     let model = dir.join("never.json");
-    let mut args = vec![
-        "hybrid",
-        "fit",
-        "--data",
-        s(data),
-        "--target",
-        "Ra",
-        "--physics",
-        physics,
-        "--out",
-        s(&model),
-    ];
+    let mut args = hybrid_args("fit", s(data), physics);
+    args.extend_from_slice(&["--out", s(&model)]);
     args.extend_from_slice(extra);
     args.extend_from_slice(&QUICK);
     let out = hxai(&args)?;
@@ -321,9 +290,7 @@ fn refused(data: &Path, physics: &str, extra: &[&str], needles: &[&str]) -> Test
 
 #[test]
 fn bad_input_gives_one_line_naming_it() -> TestResult {
-    let dir = scratch("bad")?;
-    let data = dir.join("ra.csv");
-    std::fs::write(&data, roughness_csv(60))?;
+    let (_, data) = scratch_table("bad", 60)?;
     let cal = ["--calibrate", "k"];
     // neither a column nor a parameter
     refused(&data, "k*f^2/(32*rr)", &cal, &["`rr`", "character 11"])?;
@@ -386,9 +353,7 @@ fn sympy_reproduces_predict() -> TestResult {
         }
         return Ok(());
     }
-    let dir = scratch("sympy")?;
-    let data = dir.join("ra.csv");
-    std::fs::write(&data, roughness_csv(120))?;
+    let (dir, data) = scratch_table("sympy", 120)?;
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/check_hybrid_sympy.py");
     for form in ["additive", "multiplicative"] {
         let model = dir.join(format!("{form}.json"));
@@ -396,19 +361,7 @@ fn sympy_reproduces_predict() -> TestResult {
         args.extend_from_slice(&["--correction", form, "--joint"]);
         ok(&hxai(&args)?, "fit");
         let pred = dir.join(format!("{form}.csv"));
-        ok(
-            &hxai(&[
-                "hybrid",
-                "predict",
-                "--model",
-                s(&model),
-                "--data",
-                s(&data),
-                "--out",
-                s(&pred),
-            ])?,
-            "predict",
-        );
+        ok(&hxai(&predict_args(&model, &data, &pred))?, "predict");
         let out = Command::new(&python)
             .arg(&script)
             .args([

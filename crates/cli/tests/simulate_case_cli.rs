@@ -3,6 +3,7 @@
 use hxai_data::read_table;
 use hxai_sim::cases::{RoughnessConfig, roughness};
 use std::path::PathBuf;
+use std::process::Output;
 
 mod common;
 use common::{hxai, text};
@@ -11,6 +12,13 @@ type TestResult = Result<(), Box<dyn std::error::Error>>;
 
 fn scratch(name: &str) -> Result<PathBuf, std::io::Error> {
     common::scratch("hxai-cli-case", name)
+}
+
+/// Runs `hxai simulate --case CASE --out OUT` with the `extra` flags.
+fn simulate(case: &str, out: &str, extra: &[&str]) -> Result<Output, std::io::Error> {
+    let mut args = vec!["simulate", "--case", case, "--out", out];
+    args.extend_from_slice(extra);
+    hxai(&args)
 }
 
 #[test]
@@ -23,17 +31,11 @@ fn writes_the_roughness_table_as_csv_and_parquet() -> TestResult {
     })?;
     for ext in ["csv", "parquet"] {
         let out = dir.join(format!("sub/roughness.{ext}"));
-        let o = hxai(&[
-            "simulate",
-            "--case",
+        let o = simulate(
             "roughness",
-            "--out",
             out.to_str().ok_or("path")?,
-            "--rows",
-            "25",
-            "--seed",
-            "7",
-        ])?;
+            &["--rows", "25", "--seed", "7"],
+        )?;
         assert!(o.status.success(), "{}", text(&o));
         let t = read_table(&out)?;
         assert_eq!(t.names(), expected.names());
@@ -65,29 +67,15 @@ fn refuses_to_overwrite_without_force() -> TestResult {
     let out = dir.join("force.csv");
     let path = out.to_str().ok_or("path")?;
     std::fs::write(&out, "keep me\n")?;
-    let o = hxai(&[
-        "simulate",
-        "--case",
-        "cutting_force",
-        "--out",
-        path,
-        "--rows",
-        "10",
-    ])?;
+    let o = simulate("cutting_force", path, &["--rows", "10"])?;
     assert!(!o.status.success());
     assert!(text(&o).contains("--force"), "{}", text(&o));
     assert_eq!(std::fs::read_to_string(&out)?, "keep me\n");
-    let o = hxai(&[
-        "simulate",
-        "--case",
+    let o = simulate(
         "cutting_force",
-        "--out",
         path,
-        "--rows",
-        "10",
-        "--force",
-        "--json",
-    ])?;
+        &["--rows", "10", "--force", "--json"],
+    )?;
     assert!(o.status.success(), "{}", text(&o));
     let doc: serde_json::Value = serde_json::from_slice(&o.stdout)?;
     assert_eq!(doc["rows"], 10);
@@ -105,41 +93,19 @@ fn bad_case_options_are_refused() -> TestResult {
     let csv = dir.join("t.csv");
     let csv = csv.to_str().ok_or("path")?;
     // Unknown case name: clap lists the known ones.
-    let o = hxai(&["simulate", "--case", "milling", "--out", csv])?;
+    let o = simulate("milling", csv, &[])?;
     assert!(!o.status.success());
     assert!(text(&o).contains("roughness"), "{}", text(&o));
     // Folder-mode options do not mix with --case.
-    let o = hxai(&[
-        "simulate",
-        "--case",
-        "roughness",
-        "--out",
-        csv,
-        "--repeats",
-        "2",
-    ])?;
+    let o = simulate("roughness", csv, &["--repeats", "2"])?;
     assert!(!o.status.success());
     // An output that is not a table file.
     let txt = dir.join("t.txt");
-    let o = hxai(&[
-        "simulate",
-        "--case",
-        "roughness",
-        "--out",
-        txt.to_str().ok_or("path")?,
-    ])?;
+    let o = simulate("roughness", txt.to_str().ok_or("path")?, &[])?;
     assert!(!o.status.success());
     assert!(text(&o).contains(".csv or .parquet"), "{}", text(&o));
     // Zero rows is a bad setting, named.
-    let o = hxai(&[
-        "simulate",
-        "--case",
-        "roughness",
-        "--out",
-        csv,
-        "--rows",
-        "0",
-    ])?;
+    let o = simulate("roughness", csv, &["--rows", "0"])?;
     assert!(!o.status.success());
     assert!(text(&o).contains("n_rows"), "{}", text(&o));
     assert!(!dir.join("t.csv").exists());

@@ -125,18 +125,20 @@ mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
 
-    fn dir(tag: &str) -> PathBuf {
+    /// A fresh scratch folder for `tag` holding one file `name` with `text`: the folder and
+    /// the file's path.
+    fn dir_with_file(tag: &str, name: &str, text: &str) -> (PathBuf, PathBuf) {
         let d = std::env::temp_dir().join(format!("hxai-atomic-{tag}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&d);
         std::fs::create_dir_all(&d).unwrap();
-        d
+        let p = d.join(name);
+        std::fs::write(&p, text).unwrap();
+        (d, p)
     }
 
     #[test]
     fn failed_write_leaves_old_file_and_no_temp() {
-        let d = dir("fail");
-        let p = d.join("m.json");
-        std::fs::write(&p, "old").unwrap();
+        let (d, p) = dir_with_file("fail", "m.json", "old");
         let r = write_atomic(&p, |f| {
             f.write_all(b"half").unwrap();
             Err(DataError::IsADirectory { path: p.clone() })
@@ -152,9 +154,7 @@ mod tests {
 
     #[test]
     fn output_equal_to_an_input_is_refused_in_any_spelling() {
-        let d = dir("guard");
-        let input = d.join("r.csv");
-        std::fs::write(&input, "x").unwrap();
+        let (d, input) = dir_with_file("guard", "r.csv", "x");
         let inputs = vec![(input.clone(), "the record".to_string())];
         let other = d.join("sub").join("..").join("r.csv");
         std::fs::create_dir_all(d.join("sub")).unwrap();

@@ -119,16 +119,21 @@ pub fn read_folder(dir: &Path) -> Result<DataFolder, DataError> {
     let mut seen: HashMap<String, usize> = HashMap::new();
     let mut seen_files: HashMap<PathBuf, usize> = HashMap::new();
     let mut entries = Vec::with_capacity(records.len());
-    for i in 0..records.len() {
-        let row = i + 1;
-        let record = records[i].trim().to_owned();
-        if record.is_empty() {
+    // A cell of a required text column, trimmed; empty is a missing value.
+    let required = |cell: &str, row: usize, column: &str| -> Result<String, DataError> {
+        let text = cell.trim();
+        if text.is_empty() {
             return Err(DataError::MissingValue {
                 path: manifest.clone(),
                 row,
-                column: "record".into(),
+                column: column.into(),
             });
         }
+        Ok(text.to_owned())
+    };
+    for i in 0..records.len() {
+        let row = i + 1;
+        let record = required(&records[i], row, "record")?;
         if let Some(&first_row) = seen.get(&record) {
             return Err(DataError::DuplicateRecord {
                 manifest: manifest.clone(),
@@ -138,14 +143,7 @@ pub fn read_folder(dir: &Path) -> Result<DataFolder, DataError> {
             });
         }
         seen.insert(record.clone(), row);
-        let file = files[i].trim().to_owned();
-        if file.is_empty() {
-            return Err(DataError::MissingValue {
-                path: manifest.clone(),
-                row,
-                column: "file".into(),
-            });
-        }
+        let file = required(&files[i], row, "file")?;
         if frequencies[i] <= 0.0 {
             return Err(DataError::InvalidValue {
                 path: manifest.clone(),

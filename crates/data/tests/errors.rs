@@ -24,6 +24,25 @@ fn write_text(path: &Path, text: &str) -> TestResult {
     Ok(())
 }
 
+/// Writes `text` to the file `name` in `dir` and returns the error that reading it as a
+/// record gives (an error itself when the read succeeds).
+fn record_error(
+    dir: &Path,
+    name: &str,
+    text: &str,
+) -> Result<DataError, Box<dyn std::error::Error>> {
+    let p = dir.join(name);
+    write_text(&p, text)?;
+    Ok(read_record(&p).err().ok_or("expected an error")?)
+}
+
+/// Writes `text` as the manifest of `dir` and returns the error that reading the folder
+/// gives (an error itself when the read succeeds).
+fn manifest_error(dir: &Path, text: &str) -> Result<DataError, Box<dyn std::error::Error>> {
+    write_text(&dir.join("manifest.csv"), text)?;
+    Ok(read_folder(dir).err().ok_or("expected an error")?)
+}
+
 fn good_record(n: usize) -> Record {
     let time_s: Vec<f64> = (0..n).map(|i| i as f64 / 1000.0).collect();
     let accel_ms2 = time_s.iter().map(|t| (60.0 * t).sin()).collect();
@@ -51,9 +70,7 @@ fn entry(id: &str, file: &str) -> ManifestEntry {
 #[test]
 fn missing_column_names_file_and_column() -> TestResult {
     let dir = scratch("missing-col")?;
-    let p = dir.join("r.csv");
-    write_text(&p, "time_s,probe_um\n0,1\n0.001,2\n")?;
-    let err = read_record(&p).err().ok_or("expected an error")?;
+    let err = record_error(&dir, "r.csv", "time_s,probe_um\n0,1\n0.001,2\n")?;
     assert!(
         matches!(&err, DataError::MissingColumn { column, .. } if column == "accel_ms2"),
         "{err:?}"
@@ -66,21 +83,18 @@ fn missing_column_names_file_and_column() -> TestResult {
 #[test]
 fn nan_and_inf_name_row_and_column() -> TestResult {
     let dir = scratch("nonfinite")?;
-    let p = dir.join("r.csv");
-    write_text(&p, "time_s,accel_ms2\n0,1\n0.001,NaN\n0.002,3\n")?;
-    let err = read_record(&p).err().ok_or("expected an error")?;
+    let err = record_error(&dir, "r.csv", "time_s,accel_ms2\n0,1\n0.001,NaN\n0.002,3\n")?;
     assert!(
         matches!(&err, DataError::NonFinite { row: 2, column, .. } if column == "accel_ms2"),
         "{err:?}"
     );
     assert!(err.to_string().contains("row 2"), "{err}");
 
-    let p = dir.join("inf.csv");
-    write_text(
-        &p,
+    let err = record_error(
+        &dir,
+        "inf.csv",
         "time_s,accel_ms2,probe_um\n0,1,0\n0.001,2,0\n0.002,3,-inf\n",
     )?;
-    let err = read_record(&p).err().ok_or("expected an error")?;
     assert!(
         matches!(&err, DataError::NonFinite { row: 3, column, value, .. }
             if column == "probe_um" && value.is_infinite()),
@@ -92,9 +106,11 @@ fn nan_and_inf_name_row_and_column() -> TestResult {
 #[test]
 fn non_increasing_time_names_row() -> TestResult {
     let dir = scratch("nonincreasing")?;
-    let p = dir.join("r.csv");
-    write_text(&p, "time_s,accel_ms2\n0,1\n0.001,1\n0.001,1\n0.003,1\n")?;
-    let err = read_record(&p).err().ok_or("expected an error")?;
+    let err = record_error(
+        &dir,
+        "r.csv",
+        "time_s,accel_ms2\n0,1\n0.001,1\n0.001,1\n0.003,1\n",
+    )?;
     assert!(
         matches!(err, DataError::TimeNotIncreasing { row: 3, .. }),
         "{err:?}"
@@ -105,13 +121,12 @@ fn non_increasing_time_names_row() -> TestResult {
 #[test]
 fn non_uniform_time_names_row_and_tolerance() -> TestResult {
     let dir = scratch("nonuniform")?;
-    let p = dir.join("r.csv");
     // A dropped sample between rows 3 and 4: that step is twice the others.
-    write_text(
-        &p,
+    let err = record_error(
+        &dir,
+        "r.csv",
         "time_s,accel_ms2\n0,1\n0.001,1\n0.002,1\n0.004,1\n0.005,1\n0.006,1\n",
     )?;
-    let err = read_record(&p).err().ok_or("expected an error")?;
     assert!(
         matches!(err, DataError::TimeNotUniform { row: 4, tolerance, .. } if tolerance == 0.01),
         "{err:?}"
@@ -166,9 +181,7 @@ fn mismatched_lengths_are_refused_before_writing() -> TestResult {
 #[test]
 fn ragged_csv_row_is_an_error() -> TestResult {
     let dir = scratch("ragged")?;
-    let p = dir.join("r.csv");
-    write_text(&p, "time_s,accel_ms2\n0,1\n0.001\n0.002,3\n")?;
-    let err = read_record(&p).err().ok_or("expected an error")?;
+    let err = record_error(&dir, "r.csv", "time_s,accel_ms2\n0,1\n0.001\n0.002,3\n")?;
     // polars either refuses the line or leaves the cell empty; both must be an error.
     assert!(
         matches!(
@@ -190,35 +203,17 @@ fn ragged_csv_row_is_an_error() -> TestResult {
 #[test]
 fn empty_file_and_header_only() -> TestResult {
     let dir = scratch("empty")?;
-    let p = dir.join("empty.csv");
-    write_text(&p, "")?;
-    let err = read_record(&p).err().ok_or("expected an error")?;
-    assert!(
-        matches!(
-            err,
-            DataError::Empty {
-                header_only: false,
-                ..
-            }
-        ),
-        "{err:?}"
-    );
-    let p = dir.join("header.csv");
-    write_text(&p, "time_s,accel_ms2\n")?;
-    let err = read_record(&p).err().ok_or("expected an error")?;
-    assert!(
-        matches!(
-            err,
-            DataError::Empty {
-                header_only: true,
-                ..
-            }
-        ),
-        "{err:?}"
-    );
-    let p = dir.join("one.csv");
-    write_text(&p, "time_s,accel_ms2\n0,1\n")?;
-    let err = read_record(&p).err().ok_or("expected an error")?;
+    for (name, text, header_only) in [
+        ("empty.csv", "", false),
+        ("header.csv", "time_s,accel_ms2\n", true),
+    ] {
+        let err = record_error(&dir, name, text)?;
+        assert!(
+            matches!(err, DataError::Empty { header_only: h, .. } if h == header_only),
+            "{name}: {err:?}"
+        );
+    }
+    let err = record_error(&dir, "one.csv", "time_s,accel_ms2\n0,1\n")?;
     assert!(
         matches!(err, DataError::TooShort { rows: 1, .. }),
         "{err:?}"
@@ -229,9 +224,7 @@ fn empty_file_and_header_only() -> TestResult {
 #[test]
 fn unknown_extension() -> TestResult {
     let dir = scratch("ext")?;
-    let p = dir.join("r.txt");
-    write_text(&p, "time_s,accel_ms2\n0,1\n0.001,1\n")?;
-    let err = read_record(&p).err().ok_or("expected an error")?;
+    let err = record_error(&dir, "r.txt", "time_s,accel_ms2\n0,1\n0.001,1\n")?;
     assert!(matches!(err, DataError::UnknownExtension { .. }), "{err:?}");
     assert!(err.to_string().contains(".parquet"), "{err}");
     let err = write_record(&dir.join("x.xlsx"), &good_record(4))
@@ -245,9 +238,7 @@ fn unknown_extension() -> TestResult {
 #[test]
 fn non_numeric_cell_names_row_column_and_text() -> TestResult {
     let dir = scratch("nonnumeric")?;
-    let p = dir.join("r.csv");
-    write_text(&p, "time_s,accel_ms2\n0,1\n0.001,1\n0.002,n/a\n")?;
-    let err = read_record(&p).err().ok_or("expected an error")?;
+    let err = record_error(&dir, "r.csv", "time_s,accel_ms2\n0,1\n0.001,1\n0.002,n/a\n")?;
     assert!(
         matches!(&err, DataError::NonNumeric { row: 3, column, value, .. }
             if column == "accel_ms2" && value == "n/a"),
@@ -272,11 +263,10 @@ fn non_numeric_cell_names_row_column_and_text() -> TestResult {
 fn manifest_pointing_at_missing_file() -> TestResult {
     let dir = scratch("missing-file")?;
     write_record(&dir.join("a.csv"), &good_record(10))?;
-    write_text(
-        &dir.join("manifest.csv"),
+    let err = manifest_error(
+        &dir,
         "record,file,amplitude_um,frequency_hz\na,a.csv,5,10\nb,b.csv,5,20\n",
     )?;
-    let err = read_folder(&dir).err().ok_or("expected an error")?;
     assert!(
         matches!(&err, DataError::MissingRecordFile { row: 2, record, file, .. }
             if record == "b" && file == "b.csv"),
@@ -291,22 +281,20 @@ fn duplicate_record_id() -> TestResult {
     let dir = scratch("dup")?;
     write_record(&dir.join("a.csv"), &good_record(10))?;
     write_record(&dir.join("c.csv"), &good_record(10))?;
-    write_text(
-        &dir.join("manifest.csv"),
+    let err = manifest_error(
+        &dir,
         "record,file,amplitude_um,frequency_hz\na,a.csv,5,10\nc,c.csv,5,10\na,d.csv,6,10\n",
     )?;
-    let err = read_folder(&dir).err().ok_or("expected an error")?;
     assert!(
         matches!(&err, DataError::DuplicateRecord { first_row: 1, row: 3, record, .. } if record == "a"),
         "{err:?}"
     );
     // Two rows naming one file (in any spelling) are refused too: they would share data
     // between train and test.
-    write_text(
-        &dir.join("manifest.csv"),
+    let err = manifest_error(
+        &dir,
         "record,file,amplitude_um,frequency_hz\na,a.csv,5,10\nc,./a.csv,5,10\n",
     )?;
-    let err = read_folder(&dir).err().ok_or("expected an error")?;
     assert!(
         matches!(&err, DataError::SharedRecordFile { first_row: 1, row: 2, record, .. } if record == "c"),
         "{err:?}"
@@ -328,29 +316,23 @@ fn manifest_checks_numbers_and_folder() -> TestResult {
     let err = read_folder(&dir).err().ok_or("expected an error")?;
     assert!(matches!(err, DataError::MissingManifest { .. }), "{err:?}");
     write_record(&dir.join("a.csv"), &good_record(10))?;
-    write_text(
-        &dir.join("manifest.csv"),
+    let err = manifest_error(
+        &dir,
         "record,file,amplitude_um,frequency_hz\na,a.csv,5,-10\n",
     )?;
-    let err = read_folder(&dir).err().ok_or("expected an error")?;
     assert!(
         matches!(&err, DataError::InvalidValue { row: 1, column, .. } if column == "frequency_hz"),
         "{err:?}"
     );
-    write_text(
-        &dir.join("manifest.csv"),
-        "record,file,amplitude_um\na,a.csv,5\n",
-    )?;
-    let err = read_folder(&dir).err().ok_or("expected an error")?;
+    let err = manifest_error(&dir, "record,file,amplitude_um\na,a.csv,5\n")?;
     assert!(
         matches!(&err, DataError::MissingColumn { column, .. } if column == "frequency_hz"),
         "{err:?}"
     );
-    write_text(
-        &dir.join("manifest.csv"),
+    let err = manifest_error(
+        &dir,
         "record,file,amplitude_um,frequency_hz,repeat\na,a.csv,5,10,-1\n",
     )?;
-    let err = read_folder(&dir).err().ok_or("expected an error")?;
     assert!(
         matches!(&err, DataError::InvalidValue { column, .. } if column == "repeat"),
         "{err:?}"

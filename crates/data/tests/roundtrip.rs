@@ -1,12 +1,13 @@
 //! Round-trip properties: what this crate writes, it reads back unchanged.
 
 use hxai_data::{
-    Column, Format, ManifestEntry, MixedTable, Record, Table, read_folder, read_mixed_table,
-    read_record, read_table, write_folder, write_mixed_table, write_record, write_table,
+    Column, DataError, Format, ManifestEntry, MixedTable, Record, Table, read_folder,
+    read_mixed_table, read_record, read_table, write_folder, write_mixed_table, write_record,
+    write_table,
 };
 use proptest::prelude::*;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 static COUNTER: AtomicUsize = AtomicUsize::new(0);
@@ -17,6 +18,26 @@ fn scratch() -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     let _ = std::fs::create_dir_all(&dir);
     dir
+}
+
+/// Writes `value` with `write` as CSV and as Parquet (`stem.csv`, `stem.parquet`) in a
+/// fresh scratch folder and returns what `read` gives back from each, for the caller to
+/// compare with `value`.
+fn round_trip<T>(
+    stem: &str,
+    value: &T,
+    write: impl Fn(&Path, &T) -> Result<(), DataError>,
+    read: impl Fn(&Path) -> Result<T, DataError>,
+) -> Result<Vec<T>, DataError> {
+    let dir = scratch();
+    let mut back = Vec::new();
+    for ext in ["csv", "parquet"] {
+        let p = dir.join(format!("{stem}.{ext}"));
+        write(&p, value)?;
+        back.push(read(&p)?);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    Ok(back)
 }
 
 /// Any finite f64 (normal, subnormal or zero, either sign).
@@ -54,14 +75,11 @@ proptest! {
     // value (CSV numbers are written in shortest round-trip form, so no precision is lost).
     #[test]
     fn record_round_trips_csv_and_parquet(rec in record_strategy()) {
-        let dir = scratch();
-        for ext in ["csv", "parquet"] {
-            let p = dir.join(format!("r.{ext}"));
-            write_record(&p, &rec).map_err(|e| TestCaseError::fail(e.to_string()))?;
-            let back = read_record(&p).map_err(|e| TestCaseError::fail(e.to_string()))?;
-            prop_assert_eq!(&back, &rec);
+        let backs = round_trip("r", &rec, write_record, read_record)
+            .map_err(|e| TestCaseError::fail(e.to_string()))?;
+        for back in &backs {
+            prop_assert_eq!(back, &rec);
         }
-        let _ = std::fs::remove_dir_all(&dir);
     }
 
     // Invariant: a numeric table round-trips exactly through CSV and Parquet.
@@ -70,14 +88,11 @@ proptest! {
         let n = cols[0].len();
         let columns: Vec<Vec<f64>> = cols.into_iter().map(|mut c| { c.resize(n, 0.5); c }).collect();
         let table = Table::new((0..columns.len()).map(|i| format!("c{i}")).collect(), columns).map_err(|e| TestCaseError::fail(e.to_string()))?;
-        let dir = scratch();
-        for ext in ["csv", "parquet"] {
-            let p = dir.join(format!("t.{ext}"));
-            write_table(&p, &table).map_err(|e| TestCaseError::fail(e.to_string()))?;
-            let back = read_table(&p).map_err(|e| TestCaseError::fail(e.to_string()))?;
-            prop_assert_eq!(&back, &table);
+        let backs = round_trip("t", &table, write_table, read_table)
+            .map_err(|e| TestCaseError::fail(e.to_string()))?;
+        for back in &backs {
+            prop_assert_eq!(back, &table);
         }
-        let _ = std::fs::remove_dir_all(&dir);
     }
 
     // Invariant: a folder written in either format reads back with the same manifest
@@ -124,15 +139,11 @@ fn mixed_table_round_trips() -> Result<(), Box<dyn std::error::Error>> {
             Column::Number(vec![10.0, 0.1]),
         ],
     };
-    let dir = scratch();
-    for ext in ["csv", "parquet"] {
-        let p = dir.join(format!("m.{ext}"));
-        write_mixed_table(&p, &t)?;
-        assert_eq!(read_mixed_table(&p)?, t);
+    for back in round_trip("m", &t, write_mixed_table, read_mixed_table)? {
+        assert_eq!(back, t);
     }
     let (num, skipped) = t.numeric()?;
     assert_eq!(num.names(), ["f1".to_string()]);
     assert_eq!(skipped, vec!["record".to_string(), "split".to_string()]);
-    std::fs::remove_dir_all(&dir)?;
     Ok(())
 }

@@ -39,6 +39,7 @@
 //! ```
 #![deny(missing_docs)]
 
+mod check;
 mod error;
 pub mod metrics;
 pub mod split;

@@ -1,40 +1,17 @@
 //! Regression metrics with scikit-learn's definitions.
 
 use crate::EvalError;
+use crate::check::{check_finite, check_paired};
 use serde::{Deserialize, Serialize};
 
-/// Checks that `values` is non-empty and finite.
-pub(crate) fn check_finite(
-    what: &'static str,
-    values: &[f64],
-    need: usize,
-) -> Result<(), EvalError> {
-    if values.len() < need.max(1) {
-        return Err(EvalError::Empty {
-            what,
-            need: need.max(1),
-        });
-    }
-    match values.iter().position(|v| !v.is_finite()) {
-        Some(index) => Err(EvalError::NonFinite {
-            what,
-            index,
-            value: values[index],
-        }),
-        None => Ok(()),
-    }
-}
-
+/// Checks a truth and a prediction: equal lengths, non-empty, finite.
 fn check_pair(y_true: &[f64], y_pred: &[f64]) -> Result<(), EvalError> {
-    if y_true.len() != y_pred.len() {
-        return Err(EvalError::LengthMismatch {
-            what: "y_true vs y_pred",
-            left: y_true.len(),
-            right: y_pred.len(),
-        });
-    }
-    check_finite("y_true", y_true, 1)?;
-    check_finite("y_pred", y_pred, 1)
+    check_paired(
+        "y_true vs y_pred",
+        ("y_true", y_true),
+        ("y_pred", y_pred),
+        1,
+    )
 }
 
 /// Coefficient of determination `1 - SS_res / SS_tot`, like `sklearn.metrics.r2_score`.

@@ -4,6 +4,7 @@
 //! the `seed` argument, so a split depends on `(n or groups, parameters, seed)` only.
 
 use crate::EvalError;
+use crate::check::check_open_fraction;
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
@@ -21,14 +22,7 @@ pub struct Split {
 }
 
 fn check_fraction(test_fraction: f64) -> Result<(), EvalError> {
-    if test_fraction.is_finite() && test_fraction > 0.0 && test_fraction < 1.0 {
-        Ok(())
-    } else {
-        Err(EvalError::FractionOutOfRange {
-            what: "test_fraction",
-            value: test_fraction,
-        })
-    }
+    check_open_fraction("test_fraction", test_fraction)
 }
 
 /// Number of test items for `n` items, scikit-learn's rule `ceil(test_fraction * n)`.

@@ -2,7 +2,7 @@
 //! paired two-tailed t-test.
 
 use crate::EvalError;
-use crate::metrics::check_finite;
+use crate::check::{check_finite, check_open_fraction, check_paired};
 use serde::{Deserialize, Serialize};
 use statrs::distribution::{Continuous, ContinuousCDF, Normal, StudentsT};
 use statrs::function::beta::beta_reg;
@@ -48,14 +48,7 @@ pub struct TTest {
 }
 
 fn check_level(level: f64) -> Result<(), EvalError> {
-    if level.is_finite() && level > 0.0 && level < 1.0 {
-        Ok(())
-    } else {
-        Err(EvalError::FractionOutOfRange {
-            what: "confidence level",
-            value: level,
-        })
-    }
+    check_open_fraction("confidence level", level)
 }
 
 fn mean_and_sd(values: &[f64]) -> (f64, f64) {
@@ -97,29 +90,30 @@ pub fn t_upper_quantile(q: f64, df: f64) -> f64 {
         Ok(d) => d,
         Err(_) => return f64::NAN,
     };
-    let mut t = dist.inverse_cdf(1.0 - q);
-    for _ in 0..20 {
-        let step = (dist.sf(t) - q) / dist.pdf(t);
-        t += step;
-        if step.abs() <= 1e-16 * t.abs() {
-            break;
-        }
-    }
-    t
+    polished_upper_quantile(&dist, q)
 }
 
 /// Upper standard-normal quantile `z` with `P(Z > z) = q`, polished like [`t_upper_quantile`].
 fn z_upper_quantile(q: f64) -> f64 {
-    let dist = Normal::standard();
-    let mut z = dist.inverse_cdf(1.0 - q);
+    polished_upper_quantile(&Normal::standard(), q)
+}
+
+/// The upper quantile `x` with `P(X > x) = q` of `dist`: statrs' `inverse_cdf` for the
+/// start, then up to 20 Newton steps on the survival function, stopping when a step is
+/// below 1e-16 relative.
+fn polished_upper_quantile<D>(dist: &D, q: f64) -> f64
+where
+    D: ContinuousCDF<f64, f64> + Continuous<f64, f64>,
+{
+    let mut x = dist.inverse_cdf(1.0 - q);
     for _ in 0..20 {
-        let step = (dist.sf(z) - q) / dist.pdf(z);
-        z += step;
-        if step.abs() <= 1e-16 * z.abs() {
+        let step = (dist.sf(x) - q) / dist.pdf(x);
+        x += step;
+        if step.abs() <= 1e-16 * x.abs() {
             break;
         }
     }
-    z
+    x
 }
 
 /// [`summarize_at`] with a 95 % confidence level.
@@ -170,15 +164,7 @@ pub fn summarize_at(values: &[f64], level: f64) -> Result<Summary, EvalError> {
 /// Fewer than two pairs, different lengths, a non-finite value, or `a == b` exactly
 /// (the statistic would be 0/0).
 pub fn paired_t_test(a: &[f64], b: &[f64]) -> Result<TTest, EvalError> {
-    if a.len() != b.len() {
-        return Err(EvalError::LengthMismatch {
-            what: "a vs b",
-            left: a.len(),
-            right: b.len(),
-        });
-    }
-    check_finite("a", a, 2)?;
-    check_finite("b", b, 2)?;
+    check_paired("a vs b", ("a", a), ("b", b), 2)?;
     let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
     let n = d.len() as f64;
     let (mean, sd) = mean_and_sd(&d);

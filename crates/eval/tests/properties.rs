@@ -159,26 +159,24 @@ fn bad_input_gives_typed_errors() {
         mae(&[1.0, f64::NAN], &[1.0, 2.0]),
         Err(EvalError::NonFinite { index: 1, .. })
     ));
-    assert!(matches!(
-        train_test_split(10, 0.0, 1),
-        Err(EvalError::FractionOutOfRange { .. })
-    ));
-    assert!(matches!(
-        train_test_split(10, 1.0, 1),
-        Err(EvalError::FractionOutOfRange { .. })
-    ));
-    assert!(matches!(
-        train_test_split(10, f64::NAN, 1),
-        Err(EvalError::FractionOutOfRange { .. })
-    ));
-    assert!(matches!(
-        train_test_split(1, 0.5, 1),
-        Err(EvalError::EmptySide { .. })
-    ));
-    assert!(matches!(
-        train_test_split(0, 0.5, 1),
-        Err(EvalError::EmptySide { .. })
-    ));
+    for fraction in [0.0, 1.0, f64::NAN] {
+        assert!(
+            matches!(
+                train_test_split(10, fraction, 1),
+                Err(EvalError::FractionOutOfRange { .. })
+            ),
+            "fraction {fraction}"
+        );
+    }
+    for n in [1, 0] {
+        assert!(
+            matches!(
+                train_test_split(n, 0.5, 1),
+                Err(EvalError::EmptySide { .. })
+            ),
+            "{n} rows"
+        );
+    }
     assert!(matches!(
         kfold(4, 5, 1),
         Err(EvalError::TooManyFolds { .. })

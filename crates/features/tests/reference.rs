@@ -27,16 +27,21 @@ fn load() -> Result<Value, Box<dyn std::error::Error>> {
     Ok(serde_json::from_str(&std::fs::read_to_string(path)?)?)
 }
 
+/// The accelerometer samples of one case.
+fn accel(case: &Value) -> Vec<f64> {
+    case["accel"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect()
+}
+
 #[test]
 fn features_match_numpy_scipy() -> TestResult {
     let data = load()?;
     for c in data["cases"].as_array().unwrap() {
-        let a: Vec<f64> = c["accel"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| v.as_f64().unwrap())
-            .collect();
+        let a = accel(c);
         let fs = c["fs"].as_f64().unwrap();
         let cmd = c["command_hz"].as_f64().unwrap();
         let g = |k: &str| c[k].as_f64().unwrap();
@@ -84,12 +89,7 @@ fn features_match_numpy_scipy() -> TestResult {
 fn names_vec_slice_and_json_round_trip() -> TestResult {
     let data = load()?;
     let c = &data["cases"][0];
-    let a: Vec<f64> = c["accel"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|v| v.as_f64().unwrap())
-        .collect();
+    let a = accel(c);
     let f = extract(&a, 1000.0, 20.0)?;
     assert_eq!(Features::NAMES.len(), 12);
     assert_eq!(Features::NAMES[11], "f12");

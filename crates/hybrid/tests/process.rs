@@ -51,6 +51,20 @@ fn cfg_roughness() -> ProcessConfig {
     c
 }
 
+/// The quick fit of `physics` for the target `y` on a table of the named `columns`, the
+/// parameters `calibrate` calibrated.
+fn fit_calibrated<const N: usize>(
+    columns: [(&str, Vec<f64>); N],
+    physics: &str,
+    calibrate: &[&str],
+) -> ProcessModel {
+    let (names, cols) = columns.into_iter().map(|(n, c)| (n.to_string(), c)).unzip();
+    let t = Table::new(names, cols).unwrap();
+    let mut cfg = quick(ProcessConfig::new("y", physics));
+    cfg.calibrate = calibrate.iter().map(|p| p.to_string()).collect();
+    fit_process(&t, &cfg, &mut |_| {}).unwrap()
+}
+
 /// Evaluates `text` (infix, e.g. the model's sympy form) on every row of `table`.
 fn eval_text(text: &str, table: &Table) -> Vec<f64> {
     let c = compile_text(text, &BTreeMap::new()).unwrap();
@@ -82,14 +96,11 @@ fn calibration_matches_least_squares_with_standard_errors() {
         .zip(&z)
         .map(|(x, z)| 3.0 * x - 2.0 + 0.5 * z + rng.gen_range(-0.3..0.3))
         .collect();
-    let t = Table::new(
-        vec!["x".into(), "z".into(), "y".into()],
-        vec![x.clone(), z, y.clone()],
-    )
-    .unwrap();
-    let mut cfg = quick(ProcessConfig::new("y", "a*x + b"));
-    cfg.calibrate = vec!["a".into(), "b".into()];
-    let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
+    let m = fit_calibrated(
+        [("x", x.clone()), ("z", z), ("y", y.clone())],
+        "a*x + b",
+        &["a", "b"],
+    );
     // closed form on the training rows
     let rows = &m.split.train;
     let (xs, ys): (Vec<f64>, Vec<f64>) = rows.iter().map(|&i| (x[i], y[i])).unzip();
@@ -127,14 +138,11 @@ fn a_parameter_used_twice_is_one_unknown() {
         .zip(&w)
         .map(|(x, w)| 2.5 * (x + 1.0) + 0.1 * w)
         .collect();
-    let t = Table::new(
-        vec!["x".into(), "w".into(), "y".into()],
-        vec![x.clone(), w, y.clone()],
-    )
-    .unwrap();
-    let mut cfg = quick(ProcessConfig::new("y", "C*x + C"));
-    cfg.calibrate = vec!["C".into()];
-    let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
+    let m = fit_calibrated(
+        [("x", x.clone()), ("w", w), ("y", y.clone())],
+        "C*x + C",
+        &["C"],
+    );
     let rows = &m.split.train;
     let num: f64 = rows.iter().map(|&i| (x[i] + 1.0) * y[i]).sum();
     let den: f64 = rows.iter().map(|&i| (x[i] + 1.0).powi(2)).sum();

@@ -731,11 +731,7 @@ fn split_section(
         "Correction ({}, complexity {}, features: {}):\n\n```text\ndelta = {}\n```\n\nHybrid as one equation:\n\n```text\n{} = {}\n```\n\n$${}$$\n\n",
         case.correction_form,
         s.correction.complexity.map_or("–".to_string(), |c| c.to_string()),
-        if s.correction.features.is_empty() {
-            "none".to_string()
-        } else {
-            s.correction.features.join(", ")
-        },
+        crate::report::list_or_none(&s.correction.features),
         s.correction.equation,
         case.target,
         s.hybrid.equation,
@@ -772,11 +768,7 @@ fn verdicts(case: &CaseResult) -> String {
     ));
     out.push_str(&format!(
         "- effects of the generator the random split's correction names (through its features): {}{}.\n",
-        if g.effects_named.is_empty() {
-            "none".to_string()
-        } else {
-            g.effects_named.join(", ")
-        },
+        crate::report::list_or_none(&g.effects_named),
         if g.distractors_used.is_empty() {
             String::new()
         } else {
@@ -788,11 +780,7 @@ fn verdicts(case: &CaseResult) -> String {
     ));
     out.push_str(&format!(
         "- effects of the generator it does not name: {}.\n",
-        if g.effects_missed.is_empty() {
-            "none".to_string()
-        } else {
-            g.effects_missed.join(", ")
-        }
+        crate::report::list_or_none(&g.effects_missed)
     ));
     // Where the hybrid does not win, say so in words.
     let mut losses = Vec::new();

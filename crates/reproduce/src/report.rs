@@ -25,11 +25,34 @@ fn opt(v: Option<f64>, digits: usize) -> String {
     v.map_or_else(|| "–".to_string(), |v| format!("{v:.digits$}"))
 }
 
+/// The items joined by commas, or `none` when there are none.
+pub(crate) fn list_or_none(items: &[String]) -> String {
+    if items.is_empty() {
+        "none".to_string()
+    } else {
+        items.join(", ")
+    }
+}
+
 fn g(v: f64) -> String {
     if v != 0.0 && (v.abs() >= 1e4 || v.abs() < 1e-3) {
         format!("{v:.3e}")
     } else {
         format!("{v:.4}")
+    }
+}
+
+/// Writes a Markdown table: the `header` row, its rule, and one row of cells per entry of
+/// `rows`.
+fn table(s: &mut String, header: &[&str], rows: impl IntoIterator<Item = Vec<String>>) {
+    let _ = writeln!(
+        s,
+        "| {} |\n|{}",
+        header.join(" | "),
+        "---|".repeat(header.len())
+    );
+    for cells in rows {
+        let _ = writeln!(s, "| {} |", cells.join(" | "));
     }
 }
 
@@ -104,48 +127,51 @@ pub fn markdown(r: &Results) -> String {
         s,
         "## Table 2: features of the raw acceleration, ranges on our samples\n"
     );
-    let _ = writeln!(
-        s,
-        "| label | feature | unit | min | mean | max |\n|---|---|---|---|---|---|"
+    table(
+        &mut s,
+        &["label", "feature", "unit", "min", "mean", "max"],
+        r.feature_ranges.iter().map(|f| {
+            let (name, unit) = FEATURES
+                .iter()
+                .find(|x| x.0 == f.name)
+                .map_or(("?", "?"), |x| (x.1, x.2));
+            vec![
+                f.name.clone(),
+                name.into(),
+                unit.into(),
+                g(f.min),
+                g(f.mean),
+                g(f.max),
+            ]
+        }),
     );
-    for f in &r.feature_ranges {
-        let (name, unit) = FEATURES
-            .iter()
-            .find(|x| x.0 == f.name)
-            .map_or(("?", "?"), |x| (x.1, x.2));
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} | {} |",
-            f.name,
-            name,
-            unit,
-            g(f.min),
-            g(f.mean),
-            g(f.max)
-        );
-    }
 
     // Table 3.
     let _ = writeln!(
         s,
         "\n## Table 3: models of the correction factor δ (test set, 80/20 grouped split)\n"
     );
-    let _ = writeln!(
-        s,
-        "| model | R² | R² (paper) | RMSE (µm) | MAE (µm) | complexity |\n|---|---|---|---|---|---|"
+    table(
+        &mut s,
+        &[
+            "model",
+            "R²",
+            "R² (paper)",
+            "RMSE (µm)",
+            "MAE (µm)",
+            "complexity",
+        ],
+        r.table3.iter().map(|m| {
+            vec![
+                m.name.clone(),
+                format!("{:.3}", m.test.r2),
+                opt(m.paper_r2, 3),
+                format!("{:.3}", m.test.rmse),
+                format!("{:.3}", m.test.mae),
+                m.complexity.map_or("–".into(), |c| c.to_string()),
+            ]
+        }),
     );
-    for m in &r.table3 {
-        let _ = writeln!(
-            s,
-            "| {} | {:.3} | {} | {:.3} | {:.3} | {} |",
-            m.name,
-            m.test.r2,
-            opt(m.paper_r2, 3),
-            m.test.rmse,
-            m.test.mae,
-            m.complexity.map_or("–".into(), |c| c.to_string())
-        );
-    }
     let _ = writeln!(
         s,
         "\nThe paper's symbolic model: R² {}, RMSE {} µm, complexity {}.",
@@ -173,11 +199,7 @@ pub fn markdown(r: &Results) -> String {
         "Complexity {} (features + operators, constants not counted), features used: {} \
          ({} of 12); {} models evaluated (paper: complexity {}, 3 of 12 features, {} models).\n",
         sym.complexity,
-        if sym.features.is_empty() {
-            "none".to_string()
-        } else {
-            sym.features.join(", ")
-        },
+        list_or_none(&sym.features),
         sym.features.len(),
         sym.evaluations,
         paper::SR_COMPLEXITY,
@@ -201,27 +223,27 @@ pub fn markdown(r: &Results) -> String {
         "\n## Cross-validation of the symbolic model ({} folds, grouped by record)\n",
         r.settings.folds
     );
-    let _ = writeln!(
-        s,
-        "| metric | mean ± sd | 95 % CI, Student t | 95 % CI, normal approx. | paper mean ± sd | paper CI (normal approx.) |\n|---|---|---|---|---|---|"
+    table(
+        &mut s,
+        &[
+            "metric",
+            "mean ± sd",
+            "95 % CI, Student t",
+            "95 % CI, normal approx.",
+            "paper mean ± sd",
+            "paper CI (normal approx.)",
+        ],
+        r.cv.iter().map(|c| {
+            vec![
+                c.metric.clone(),
+                format!("{:.4} ± {:.4}", c.mean, c.sd),
+                format!("{:.4} – {:.4}", c.ci_t[0], c.ci_t[1]),
+                format!("{:.4} – {:.4}", c.ci_normal[0], c.ci_normal[1]),
+                format!("{} ± {}", c.paper[0], c.paper[1]),
+                format!("{} – {}", c.paper[2], c.paper[3]),
+            ]
+        }),
     );
-    for c in &r.cv {
-        let _ = writeln!(
-            s,
-            "| {} | {:.4} ± {:.4} | {:.4} – {:.4} | {:.4} – {:.4} | {} ± {} | {} – {} |",
-            c.metric,
-            c.mean,
-            c.sd,
-            c.ci_t[0],
-            c.ci_t[1],
-            c.ci_normal[0],
-            c.ci_normal[1],
-            c.paper[0],
-            c.paper[1],
-            c.paper[2],
-            c.paper[3]
-        );
-    }
     let _ = writeln!(
         s,
         "\nThe Student-t interval (t(0.975, {}) quantile) is the correct one for {} folds; the \

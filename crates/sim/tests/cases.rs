@@ -12,6 +12,11 @@ fn col<'a>(t: &'a hxai_table::Table, name: &str) -> &'a [f64] {
     t.column(name).unwrap()
 }
 
+/// Whether every value of the column `name` lies in `[lo, hi]`.
+fn within(t: &hxai_table::Table, name: &str, [lo, hi]: [f64; 2]) -> bool {
+    col(t, name).iter().all(|v| (lo..=hi).contains(v))
+}
+
 fn rough(seed: u64, n: usize) -> RoughnessConfig {
     RoughnessConfig {
         seed,
@@ -68,11 +73,14 @@ proptest! {
     fn columns_stay_in_their_ranges(seed in any::<u64>()) {
         let c = rough(seed, 300);
         let t = roughness(&c).unwrap();
-        let within = |name: &str, [lo, hi]: [f64; 2]| col(&t, name).iter().all(|v| (lo..=hi).contains(v));
-        prop_assert!(within("feed_mm", c.feed_mm));
-        prop_assert!(within("cutting_speed_m_min", c.cutting_speed_m_min));
-        prop_assert!(within("cutting_time_min", c.cutting_time_min));
-        prop_assert!(within("depth_of_cut_mm", c.depth_of_cut_mm));
+        for (name, range) in [
+            ("feed_mm", c.feed_mm),
+            ("cutting_speed_m_min", c.cutting_speed_m_min),
+            ("cutting_time_min", c.cutting_time_min),
+            ("depth_of_cut_mm", c.depth_of_cut_mm),
+        ] {
+            prop_assert!(within(&t, name, range), "{}", name);
+        }
         prop_assert!(col(&t, "nose_radius_mm").iter().all(|r| c.nose_radii_mm.contains(r)));
         prop_assert!(col(&t, "tool").iter().all(|k| *k >= 1.0 && *k <= c.n_tools as f64 && k.fract() == 0.0));
         for (i, ra) in col(&t, "Ra_um").iter().enumerate() {
@@ -85,12 +93,15 @@ proptest! {
 
         let c = force(seed, 300);
         let t = cutting_force(&c).unwrap();
-        let within = |name: &str, [lo, hi]: [f64; 2]| col(&t, name).iter().all(|v| (lo..=hi).contains(v));
-        prop_assert!(within("chip_thickness_mm", c.chip_thickness_mm));
-        prop_assert!(within("width_of_cut_mm", c.width_of_cut_mm));
-        prop_assert!(within("rake_angle_deg", c.rake_angle_deg));
-        prop_assert!(within("cutting_speed_m_min", c.cutting_speed_m_min));
-        prop_assert!(within("cutting_time_min", c.cutting_time_min));
+        for (name, range) in [
+            ("chip_thickness_mm", c.chip_thickness_mm),
+            ("width_of_cut_mm", c.width_of_cut_mm),
+            ("rake_angle_deg", c.rake_angle_deg),
+            ("cutting_speed_m_min", c.cutting_speed_m_min),
+            ("cutting_time_min", c.cutting_time_min),
+        ] {
+            prop_assert!(within(&t, name, range), "{}", name);
+        }
         // Every insert has one rake angle.
         let tools = col(&t, "tool");
         let rake = col(&t, "rake_angle_deg");

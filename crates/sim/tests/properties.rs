@@ -134,44 +134,41 @@ fn structural_errors() {
             name: "amplitudes_um"
         })
     );
-    let zero = SimConfig {
-        repeats: 0,
-        ..SimConfig::default()
-    };
-    assert!(matches!(
-        zero.check(),
-        Err(SimError::InvalidParameter {
-            name: "repeats",
-            ..
-        })
-    ));
-    let fast = SimConfig {
-        frequencies_hz: vec![2_000.0],
-        ..SimConfig::default()
-    };
-    assert!(matches!(
-        fast.check(),
-        Err(SimError::InvalidParameter {
-            name: "frequencies_hz",
-            ..
-        })
-    ));
     let huge = SimConfig {
         duration_s: 1.0e6,
         ..SimConfig::default()
     };
     assert!(matches!(huge.check(), Err(SimError::TooLarge { .. })));
-    let late = SimConfig {
-        warmup_s: 0.0,
-        ..SimConfig::default()
-    };
-    assert!(matches!(
-        late.check(),
-        Err(SimError::InvalidParameter {
-            name: "encoder.delay_s",
-            ..
-        })
-    ));
+    // One bad structural setting each, and the parameter the error names.
+    for (cfg, name) in [
+        (
+            SimConfig {
+                repeats: 0,
+                ..SimConfig::default()
+            },
+            "repeats",
+        ),
+        (
+            SimConfig {
+                frequencies_hz: vec![2_000.0],
+                ..SimConfig::default()
+            },
+            "frequencies_hz",
+        ),
+        (
+            SimConfig {
+                warmup_s: 0.0,
+                ..SimConfig::default()
+            },
+            "encoder.delay_s",
+        ),
+    ] {
+        assert!(
+            matches!(cfg.check(), Err(SimError::InvalidParameter { name: got, .. }) if got == name),
+            "{name}: {:?}",
+            cfg.check()
+        );
+    }
     let msg = SimError::EmptyList {
         name: "frequencies_hz",
     }

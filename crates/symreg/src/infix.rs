@@ -218,32 +218,42 @@ impl Parser {
         t
     }
 
-    fn expr(&mut self) -> Result<Expr, SrError> {
-        let mut e = self.term()?;
-        loop {
-            let op = match self.peek() {
-                Tok::Plus => Op::Add,
-                Tok::Minus => Op::Sub,
-                _ => return Ok(e),
-            };
+    /// One left-associative level of binary operators, `operand (op operand)*`: `op_of`
+    /// gives the operator of a token (`None` ends the level).
+    fn left_assoc(
+        &mut self,
+        op_of: fn(&Tok) -> Option<Op>,
+        operand: fn(&mut Self) -> Result<Expr, SrError>,
+    ) -> Result<Expr, SrError> {
+        let mut e = operand(self)?;
+        while let Some(op) = op_of(self.peek()) {
             self.next();
-            let r = self.term()?;
+            let r = operand(self)?;
             e = Expr::Bin(op, Box::new(e), Box::new(r));
         }
+        Ok(e)
+    }
+
+    fn expr(&mut self) -> Result<Expr, SrError> {
+        self.left_assoc(
+            |t| match t {
+                Tok::Plus => Some(Op::Add),
+                Tok::Minus => Some(Op::Sub),
+                _ => None,
+            },
+            Self::term,
+        )
     }
 
     fn term(&mut self) -> Result<Expr, SrError> {
-        let mut e = self.unary()?;
-        loop {
-            let op = match self.peek() {
-                Tok::Star => Op::Mul,
-                Tok::Slash => Op::Div,
-                _ => return Ok(e),
-            };
-            self.next();
-            let r = self.unary()?;
-            e = Expr::Bin(op, Box::new(e), Box::new(r));
-        }
+        self.left_assoc(
+            |t| match t {
+                Tok::Star => Some(Op::Mul),
+                Tok::Slash => Some(Op::Div),
+                _ => None,
+            },
+            Self::unary,
+        )
     }
 
     fn unary(&mut self) -> Result<Expr, SrError> {

@@ -270,6 +270,24 @@ pub struct ParamEstimate {
     pub ci95: Option<[f64; 2]>,
 }
 
+impl ParamEstimate {
+    /// The estimate of a constant shown as `value`, fitted at `fitted`, with its standard
+    /// error: the 95 % interval is `fitted +- t std_error` (`t` the Student quantile for
+    /// the residual degrees of freedom), `None` without a standard error or where it is
+    /// not finite.
+    pub fn with_interval(value: f64, fitted: f64, std_error: Option<f64>, t: f64) -> Self {
+        let ci95 = std_error
+            .map(|se| [fitted - t * se, fitted + t * se])
+            .filter(|c| c.iter().all(|v| v.is_finite()));
+        ParamEstimate {
+            value,
+            fitted,
+            std_error,
+            ci95,
+        }
+    }
+}
+
 /// The constants of a model as a template with named parameters, their estimates, and what
 /// prediction intervals need. JSON keys `template`, `params` ({name: [`ParamEstimate`]},
 /// in template order), `slots`, `covariance`, `residual_variance`, `dof`, `n_rows`,
@@ -391,17 +409,9 @@ impl Uncertainty {
                 let value = shown.get(first).copied().unwrap_or(f64::NAN);
                 let centre = fitted.get(first).copied().unwrap_or(value);
                 let std_error = cov.std_error(i).filter(|_| cov.dof > 0);
-                let ci95 = std_error
-                    .map(|se| [centre - t * se, centre + t * se])
-                    .filter(|c| c.iter().all(|v| v.is_finite()));
                 (
                     name.clone(),
-                    ParamEstimate {
-                        value,
-                        fitted: centre,
-                        std_error,
-                        ci95,
-                    },
+                    ParamEstimate::with_interval(value, centre, std_error, t),
                 )
             })
             .collect();

@@ -27,23 +27,30 @@ fn quick() -> SearchConfig {
     }
 }
 
-fn run_law(f: impl Fn(&[f64]) -> f64, n_in: usize, cfg: &SearchConfig) -> (SearchResult, f64) {
-    let names: Vec<String> = (0..n_in).map(|i| format!("x{i}")).collect();
+/// `rows` rows of `n_in` inputs, each uniform on [1, 5) (input `i` seeded `seed + i`),
+/// and the law `f` on each row.
+fn sample_law(
+    f: &impl Fn(&[f64]) -> f64,
+    n_in: usize,
+    rows: usize,
+    seed: u64,
+) -> (Vec<Vec<f64>>, Vec<f64>) {
     let cols: Vec<Vec<f64>> = (0..n_in)
-        .map(|i| uniform(300, 1.0, 5.0, 10 + i as u64))
+        .map(|i| uniform(rows, 1.0, 5.0, seed + i as u64))
         .collect();
-    let y: Vec<f64> = (0..300)
+    let y: Vec<f64> = (0..rows)
         .map(|r| f(&cols.iter().map(|c| c[r]).collect::<Vec<_>>()))
         .collect();
+    (cols, y)
+}
+
+fn run_law(f: impl Fn(&[f64]) -> f64, n_in: usize, cfg: &SearchConfig) -> (SearchResult, f64) {
+    let names: Vec<String> = (0..n_in).map(|i| format!("x{i}")).collect();
+    let (cols, y) = sample_law(&f, n_in, 300, 10);
     let data = Table::new(names.clone(), cols).unwrap();
     let res = search(&data, &y, cfg, &mut |_| {}).unwrap();
     // held-out rows from the same law
-    let test_cols: Vec<Vec<f64>> = (0..n_in)
-        .map(|i| uniform(200, 1.0, 5.0, 100 + i as u64))
-        .collect();
-    let ty: Vec<f64> = (0..200)
-        .map(|r| f(&test_cols.iter().map(|c| c[r]).collect::<Vec<_>>()))
-        .collect();
+    let (test_cols, ty) = sample_law(&f, n_in, 200, 100);
     let test = Table::new(names, test_cols).unwrap();
     let score = r2(&res.best.predict(&test).unwrap(), &ty);
     (res, score)

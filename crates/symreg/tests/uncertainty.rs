@@ -108,6 +108,18 @@ fn normal(rng: &mut ChaCha8Rng) -> f64 {
     (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
 }
 
+/// The model's predictions on `data` plus normal noise of standard deviation `sd`
+/// (seeded by `seed`): observations of a known truth.
+fn noisy_predictions(model: &Model, data: &Table, sd: f64, seed: u64) -> Vec<f64> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    model
+        .predict(data)
+        .expect("predict")
+        .iter()
+        .map(|v| v + sd * normal(&mut rng))
+        .collect()
+}
+
 /// The line `scale * x + offset` as a model (no affine input, two parameters).
 fn line(scale: f64, offset: f64) -> Model {
     let prog = Program {
@@ -189,14 +201,8 @@ fn template_with_values_substituted_is_the_model() {
     )
     .expect("model");
     let x: Vec<f64> = (0..50).map(|i| 0.1 * i as f64).collect();
-    let mut rng = ChaCha8Rng::seed_from_u64(5);
     let data = Table::new(vec!["x".into()], vec![x]).expect("table");
-    let y: Vec<f64> = model
-        .predict(&data)
-        .expect("predict")
-        .iter()
-        .map(|v| v + 0.01 * normal(&mut rng))
-        .collect();
+    let y = noisy_predictions(&model, &data, 0.01, 5);
     let unc = model.uncertainty(&data, &y).expect("uncertainty");
     let names: Vec<&str> = unc.params.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["p0", "p1", "p2"], "{}", unc.template);
@@ -235,13 +241,7 @@ fn singular_normal_matrix_gives_null_errors_and_a_reason() {
     let model = Model::new(vec!["x".into()], prog, vec![1.7, 0.3, 0.8, 0.2]).expect("model");
     let x: Vec<f64> = (0..60).map(|i| 0.05 * i as f64).collect();
     let data = Table::new(vec!["x".into()], vec![x]).expect("table");
-    let mut rng = ChaCha8Rng::seed_from_u64(9);
-    let y: Vec<f64> = model
-        .predict(&data)
-        .expect("predict")
-        .iter()
-        .map(|v| v + 0.05 * normal(&mut rng))
-        .collect();
+    let y = noisy_predictions(&model, &data, 0.05, 9);
     let unc = model.uncertainty(&data, &y).expect("uncertainty");
     assert!(unc.reason.is_some());
     assert!(

@@ -19,6 +19,27 @@ pub fn hxai_ok(args: &[&str], what: &str) -> Result<Output, std::io::Error> {
     Ok(out)
 }
 
+/// The arguments of `hxai predict` for one record at `frequency_hz`, written to `out`;
+/// callers append further flags.
+pub fn predict_args<'a>(
+    model: &'a str,
+    record: &'a str,
+    frequency_hz: &'a str,
+    out: &'a str,
+) -> Vec<&'a str> {
+    vec![
+        "predict",
+        "--model",
+        model,
+        "--record",
+        record,
+        "--frequency-hz",
+        frequency_hz,
+        "--out",
+        out,
+    ]
+}
+
 /// An empty folder `<temp>/<prefix>-<pid>-<name>` (removed first if a former run left it).
 pub fn scratch(prefix: &str, name: &str) -> Result<PathBuf, std::io::Error> {
     let dir = std::env::temp_dir().join(format!("{prefix}-{}-{name}", std::process::id()));

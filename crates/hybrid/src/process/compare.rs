@@ -2,7 +2,7 @@
 use super::model::columns_of;
 use super::{
     CorrectionForm, ProcessConfig, ProcessModel, ProcessProgress, calibrate_physics, check_rows,
-    deltas, fit_inner, gather, physics_values, process_split, resolve,
+    deltas, fit_inner, gather, physics_values, process_split, resolve, search_training_rows,
 };
 use crate::HybridError;
 use hxai_baselines::{RandomForest, Regressor};
@@ -131,22 +131,16 @@ fn predictions_on(
     let model = fit_inner(table, cfg, split, kind, tasks, progress)?;
     let hp = model.predict(table)?;
 
-    let ft = table
-        .select_columns(&res.features)?
-        .select_rows(&split.train)?;
     let label = format!("symbolic ({}/{})", tasks.0 + 1, tasks.1);
-    let sym = hxai_symreg::search(
-        &ft,
+    let (_, sym) = search_training_rows(
+        table,
+        &res,
+        cfg,
+        split,
         &gather(y, &split.train),
-        &cfg.search_config(),
-        &mut |p| {
-            progress(&ProcessProgress {
-                task: tasks.0 + 1,
-                tasks: tasks.1,
-                label: label.clone(),
-                search: p.clone(),
-            })
-        },
+        (tasks.0 + 1, tasks.1),
+        label,
+        progress,
     )?;
     let test_table = table.select_rows(&split.test)?;
     names.push("symbolic");

@@ -54,7 +54,9 @@ use crate::HybridError;
 use hxai_eval::Split;
 use hxai_symreg::infix::{Compiled, Parsed, parse};
 use hxai_symreg::{ParamEstimate, SearchConfig, Table, Uncertainty};
-use model::{Combined, columns_of, combine, combine_values, compile_physics, forms};
+use model::{
+    Combined, columns_of, combine, combine_values, compile_physics, finite_physics, forms,
+};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -479,16 +481,7 @@ pub(crate) fn physics_values(
     res: &Resolved,
     phys: &Compiled,
 ) -> Result<Vec<f64>, HybridError> {
-    let cols = columns_of(table, &res.columns, "physics column")?;
-    let v = phys.eval_columns(&cols, table.n_rows());
-    if let Some((row, x)) = v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-        return Err(HybridError::BadPhysics {
-            row,
-            value: *x,
-            why: "not a finite number: check the equation's domain at this row".into(),
-        });
-    }
-    Ok(v)
+    finite_physics(table, phys, &res.columns)
 }
 
 /// `delta` on `rows` for the correction form, refusing rows where it is undefined.
@@ -611,6 +604,34 @@ pub(crate) fn check_rows(table: &Table, split: &Split) -> Result<(), HybridError
     Ok(())
 }
 
+/// Symbolic regression of `y` (one value per training row of `split`) on the training rows
+/// of the feature columns, reported as task `task.0` of `task.1` named `label`: those rows'
+/// feature table and the search's result.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn search_training_rows(
+    table: &Table,
+    res: &Resolved,
+    cfg: &ProcessConfig,
+    split: &Split,
+    y: &[f64],
+    task: (usize, usize),
+    label: String,
+    progress: &mut dyn FnMut(&ProcessProgress),
+) -> Result<(Table, hxai_symreg::SearchResult), HybridError> {
+    let ft = table
+        .select_columns(&res.features)?
+        .select_rows(&split.train)?;
+    let found = hxai_symreg::search(&ft, y, &cfg.search_config(), &mut |p| {
+        progress(&ProcessProgress {
+            task: task.0,
+            tasks: task.1,
+            label: label.clone(),
+            search: p.clone(),
+        })
+    })?;
+    Ok((ft, found))
+}
+
 pub(crate) fn fit_inner(
     table: &Table,
     cfg: &ProcessConfig,
@@ -625,36 +646,29 @@ pub(crate) fn fit_inner(
     let y_all = table.require(&cfg.target)?;
     let physics = physics_values(table, &res, &phys)?;
     let delta = deltas(cfg.correction, y_all, &physics, &split.train)?;
-    let ft = table
-        .select_columns(&res.features)?
-        .select_rows(&split.train)?;
     let label = if task.1 > 1 {
         format!("correction ({}/{})", task.0, task.1)
     } else {
         "correction".to_string()
     };
-    let found = hxai_symreg::search(&ft, &delta, &cfg.search_config(), &mut |p| {
-        progress(&ProcessProgress {
-            task: task.0,
-            tasks: task.1,
-            label: label.clone(),
-            search: p.clone(),
-        })
-    })?;
+    let (ft, found) = search_training_rows(table, &res, cfg, split, &delta, task, label, progress)?;
     let mut correction = found.best;
     let y_train = gather(y_all, &split.train);
-
-    let mut joint = None;
-    if cfg.joint {
-        let before = train_rmse(
+    let rmse_on_train = |phys: &Compiled, correction: &hxai_symreg::Model| {
+        train_rmse(
             table,
             &res,
-            &phys,
-            &correction,
+            phys,
+            correction,
             cfg.correction,
             split,
             &y_train,
-        )?;
+        )
+    };
+
+    let mut joint = None;
+    if cfg.joint {
+        let before = rmse_on_train(&phys, &correction)?;
         let sequential_parameters = named_values(&phys);
         let sequential_standard_errors = ses.clone();
         let sequential_correction = correction.sympy();
@@ -692,15 +706,7 @@ pub(crate) fn fit_inner(
             // the physics must still be usable everywhere
             physics_values(table, &res, &phys)?;
         }
-        let after = train_rmse(
-            table,
-            &res,
-            &phys,
-            &correction,
-            cfg.correction,
-            split,
-            &y_train,
-        )?;
+        let after = rmse_on_train(&phys, &correction)?;
         joint = Some(JointInfo {
             sequential_parameters,
             sequential_standard_errors,
@@ -725,17 +731,9 @@ pub(crate) fn fit_inner(
         .map(|n| {
             let value = parameters.get(n).copied().unwrap_or(f64::NAN);
             let std_error = ses.get(n).copied().flatten();
-            let ci95 = std_error
-                .map(|se| [value - t * se, value + t * se])
-                .filter(|c| c.iter().all(|v| v.is_finite()));
             (
                 n.clone(),
-                ParamEstimate {
-                    value,
-                    fitted: value,
-                    std_error,
-                    ci95,
-                },
+                ParamEstimate::with_interval(value, value, std_error, t),
             )
         })
         .collect();

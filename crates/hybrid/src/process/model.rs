@@ -198,6 +198,25 @@ pub(crate) fn columns_of<'a>(
         .collect()
 }
 
+/// The physics `phys` (over the columns `inputs`) on every row of `table`, refusing a
+/// non-finite value (naming the row).
+pub(crate) fn finite_physics(
+    table: &Table,
+    phys: &Compiled,
+    inputs: &[String],
+) -> Result<Vec<f64>, HybridError> {
+    let cols = columns_of(table, inputs, "physics column")?;
+    let v = phys.eval_columns(&cols, table.n_rows());
+    if let Some((row, x)) = v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+        return Err(HybridError::BadPhysics {
+            row,
+            value: *x,
+            why: "not a finite number: check the equation's domain at this row".into(),
+        });
+    }
+    Ok(v)
+}
+
 /// Compiles the physics equation with the given parameter values.
 pub(crate) fn compile_physics(
     equation: &str,
@@ -369,15 +388,7 @@ impl ProcessModel {
     /// [`HybridError::BadPhysics`] naming the first row where the physics is not finite.
     pub fn predict(&self, table: &Table) -> Result<ProcessPrediction, HybridError> {
         let phys = self.physics_program()?;
-        let cols = columns_of(table, &phys.inputs, "physics column")?;
-        let physics = phys.eval_columns(&cols, table.n_rows());
-        if let Some((row, v)) = physics.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(HybridError::BadPhysics {
-                row,
-                value: *v,
-                why: "not a finite number: check the equation's domain at this row".into(),
-            });
-        }
+        let physics = finite_physics(table, &phys, &phys.inputs)?;
         columns_of(
             table,
             &self.correction.model.feature_names,

@@ -36,6 +36,16 @@ pub const DEFAULT_SEED: u64 = 42;
 /// Largest table a generator will build (rows).
 pub const MAX_ROWS: usize = 10_000_000;
 
+/// Replaces a case configuration's row count and seed (`fields`) by the ones given.
+fn override_rows_and_seed(fields: (&mut usize, &mut u64), rows: Option<usize>, seed: Option<u64>) {
+    if let Some(n) = rows {
+        *fields.0 = n;
+    }
+    if let Some(s) = seed {
+        *fields.1 = s;
+    }
+}
+
 /// Generates the named case (one of [`CASE_NAMES`]) with its default configuration, `rows`
 /// rows and the given seed.
 ///
@@ -49,22 +59,12 @@ pub fn generate_case(
     match name {
         "roughness" => {
             let mut c = RoughnessConfig::default();
-            if let Some(n) = rows {
-                c.n_rows = n;
-            }
-            if let Some(s) = seed {
-                c.seed = s;
-            }
+            override_rows_and_seed((&mut c.n_rows, &mut c.seed), rows, seed);
             roughness(&c)
         }
         "cutting_force" => {
             let mut c = CuttingForceConfig::default();
-            if let Some(n) = rows {
-                c.n_rows = n;
-            }
-            if let Some(s) = seed {
-                c.seed = s;
-            }
+            override_rows_and_seed((&mut c.n_rows, &mut c.seed), rows, seed);
             cutting_force(&c)
         }
         other => Err(SimError::UnknownCase {
