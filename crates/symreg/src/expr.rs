@@ -365,12 +365,10 @@ impl Expr {
                 }
             }
             Expr::Bin(op, a, b) => match op {
-                Op::Add | Op::Sub => match b.without_minus() {
-                    Some(p) if *op == Op::Add => format!("{} - {}", wrap(a, 1), wrap_right(&p, 2)),
-                    Some(p) => format!("{} + {}", wrap(a, 1), wrap_right(&p, 1)),
-                    None if *op == Op::Add => format!("{} + {}", wrap(a, 1), wrap_right(b, 1)),
-                    None => format!("{} - {}", wrap(a, 1), wrap_right(b, 2)),
-                },
+                Op::Add | Op::Sub => {
+                    let (sign, right, min) = signed_right(*op, b);
+                    format!("{} {sign} {}", wrap(a, 1), wrap_right(&right, min))
+                }
                 Op::Mul => format!("{}*{}", wrap(a, 2), wrap_right(b, 2)),
                 Op::Div => format!("{}/{}", wrap(a, 2), wrap_right(b, 3)),
                 Op::Gaussian2 => format!("exp(-({}**2 + {}**2))", wrap(a, 9), wrap(b, 9)),
@@ -433,12 +431,10 @@ impl Expr {
                 }
             }
             Expr::Bin(op, a, b) => match op {
-                Op::Add | Op::Sub => match b.without_minus() {
-                    Some(p) if *op == Op::Add => format!("{} - {}", wrap(a, 1), wrap_right(&p, 2)),
-                    Some(p) => format!("{} + {}", wrap(a, 1), wrap_right(&p, 1)),
-                    None if *op == Op::Add => format!("{} + {}", wrap(a, 1), wrap_right(b, 1)),
-                    None => format!("{} - {}", wrap(a, 1), wrap_right(b, 2)),
-                },
+                Op::Add | Op::Sub => {
+                    let (sign, right, min) = signed_right(*op, b);
+                    format!("{} {sign} {}", wrap(a, 1), wrap_right(&right, min))
+                }
                 Op::Mul => {
                     let (l, r) = (wrap(a, 2), wrap_right(b, 2));
                     // Juxtaposed digits would read as one number: "2 3" -> "2 \cdot 3".
@@ -463,6 +459,19 @@ impl Expr {
                 ),
             },
         }
+    }
+}
+
+/// The sign and right operand a sum or difference `a op b` prints with, and the precedence
+/// the operand needs: a right term that leads with a minus turns the sign (`a - 0.5*x` for
+/// `a + (-0.5*x)`); a subtracted sum needs parentheses, an added one does not.
+fn signed_right(op: Op, b: &Expr) -> (&'static str, std::borrow::Cow<'_, Expr>, u8) {
+    use std::borrow::Cow;
+    match (b.without_minus(), op == Op::Add) {
+        (Some(p), true) => ("-", Cow::Owned(p), 2),
+        (Some(p), false) => ("+", Cow::Owned(p), 1),
+        (None, true) => ("+", Cow::Borrowed(b), 1),
+        (None, false) => ("-", Cow::Borrowed(b), 2),
     }
 }
 
