@@ -170,18 +170,23 @@ pub fn stability(
             Ok((res.best, r2))
         })
         .collect();
-    let mut features: BTreeMap<String, f64> =
-        data.names().iter().map(|n| (n.clone(), 0.0)).collect();
+    // counted in whole runs and divided once, so a feature in every run has share 1 exactly
+    // (adding 1/runs twenty times gives 1.0000000000000002)
+    let mut used: BTreeMap<String, usize> = data.names().iter().map(|n| (n.clone(), 0)).collect();
     let mut counts: BTreeMap<String, usize> = BTreeMap::new();
     let mut r2s = Vec::new();
     for r in results {
         let (model, r2) = r?;
         for f in model.features() {
-            *features.entry(f).or_insert(0.0) += 1.0 / runs as f64;
+            *used.entry(f).or_insert(0) += 1;
         }
         *counts.entry(structure_of(&model)).or_insert(0) += 1;
         r2s.extend(r2);
     }
+    let features: BTreeMap<String, f64> = used
+        .into_iter()
+        .map(|(name, c)| (name, c as f64 / runs as f64))
+        .collect();
     let mut structures: Vec<StructureShare> = counts
         .into_iter()
         .map(|(template, c)| StructureShare {

@@ -55,6 +55,18 @@ fn stability_is_independent_of_threads_and_finds_the_feature() {
     assert!(stability(&t, &y, &cfg(), 0, &mut |_, _| {}).is_err());
 }
 
+/// A feature used in every one of 10 runs has share 1 exactly (ten additions of 0.1 would
+/// give 0.9999999999999999).
+#[test]
+fn shares_are_whole_runs_over_runs() {
+    let (t, y) = data();
+    let s = stability(&t, &y, &cfg(), 10, &mut |_, _| {}).expect("stability");
+    assert_eq!(s.features["x1"], 1.0);
+    for share in s.features.values() {
+        assert_eq!((share * 10.0).round() / 10.0, *share, "{share}");
+    }
+}
+
 /// Constants are ignored and `+`, `*` operands ordered: one structure for `c*x1 + c` and
 /// its reorderings, whatever the values.
 #[test]

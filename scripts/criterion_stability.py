@@ -1,0 +1,103 @@
+"""Which selection criterion picks a structure that comes back across bootstrap resamples:
+training BIC or 5-fold cross-validated loss (issue 15 item 5), on the paper's case and on
+the two table cases of the results page.
+
+Runs the hxai binary only (no Python packages needed):
+
+    python3 scripts/criterion_stability.py --hxai target/debug/hxai --runs 20 --out DIR
+
+For each case and criterion it runs `hxai fit` (the tool case) or `hxai hybrid fit` (the
+tables) with `--stability RUNS --criterion C --json`, then prints one Markdown table row:
+the structure selected on all training rows, how many distinct structures the RUNS
+resamples selected, the share of the most frequent one, the features used in at least half
+of the runs, and the out-of-bag R^2 of the runs. Data and model files go to DIR (made if
+missing); nothing outside it is written.
+"""
+import argparse
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+# The table cases as the results page runs them (crates/reproduce/src/beyond.rs):
+# 400 rows, seed 42, the physics with its given starting values, a multiplicative correction.
+TABLES = [
+    ("roughness", "Ra_um", "1000*feed_mm^2/(32*nose_radius_mm) + Ra0", "Ra0", "Ra0=0"),
+    ("cutting-force", "Fc_N", "kc*width_of_cut_mm*chip_thickness_mm^(1-mc)", "kc,mc",
+     "kc=2220,mc=0.14"),
+]
+
+
+def run(cmd):
+    t = time.time()
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"failed ({p.returncode}): {' '.join(cmd)}\n{p.stderr}")
+    return p.stdout, time.time() - t
+
+
+def summary(case, criterion, model, stability, seconds):
+    runs = stability["runs"]
+    structures = stability["structures"]
+    top = structures[0]["share"] if structures else float("nan")
+    common = [f for f, s in sorted(stability["features"].items(), key=lambda kv: -kv[1])
+              if s >= 0.5]
+    r2 = stability.get("r2") or {}
+    r2_text = (f"{r2['mean']:.3f} ± {r2['sd']:.3f}"
+               if r2.get("mean") is not None else "–")
+    return (f"| {case} | {criterion} | `{model}` | {len(structures)} of {runs} | {top:.2f} | "
+            f"{', '.join(common)} | {r2_text} | {seconds:.0f} |")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--hxai", required=True, help="the hxai binary")
+    ap.add_argument("--runs", type=int, default=20, help="bootstrap resamples per fit")
+    ap.add_argument("--out", default="target/criterion-stability", help="work folder")
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--cases", default="tool,roughness,cutting-force")
+    a = ap.parse_args()
+    out = Path(a.out)
+    out.mkdir(parents=True, exist_ok=True)
+    hx = [a.hxai]
+    cases = a.cases.split(",")
+    print("| case | criterion | selected structure | distinct structures | share of the most "
+          "frequent | features in >= half the runs | out-of-bag R^2 | s |")
+    print("|---|---|---|---:|---:|---|---|---:|")
+    if "tool" in cases:
+        sim = out / "sim"
+        if not (sim / "manifest.csv").exists():
+            run(hx + ["simulate", "--out", str(sim), "--seed", "42"])
+        for crit in ["bic", "cv"]:
+            model = out / f"tool-{crit}.json"
+            text, secs = run(hx + ["fit", "--data", str(sim), "--out", str(model), "--seed", "42",
+                                   "--criterion", crit, "--stability", str(a.runs), "--json",
+                                   "--threads", str(a.threads)])
+            j = json.loads(text)
+            m = json.loads(model.read_text())
+            print(summary("tool (paper)", crit, m["correction"]["equation"], j["stability"],
+                          secs), flush=True)
+    for name, target, physics, calibrate, init in TABLES:
+        if name not in cases:
+            continue
+        table = out / f"{name}.csv"
+        if not table.exists():
+            run(hx + ["simulate", "--case", name.replace("-", "_"), "--out", str(table),
+                      "--seed", "42", "--rows", "400"])
+        for crit in ["bic", "cv"]:
+            model = out / f"{name}-{crit}.json"
+            _, secs = run(hx + ["hybrid", "fit", "--data", str(table), "--target", target,
+                                "--physics", physics, "--calibrate", calibrate, "--init", init,
+                                "--correction", "multiplicative", "--exclude", "tool",
+                                "--max-complexity", "10", "--seed", "42", "--criterion", crit,
+                                "--stability", str(a.runs), "--out", str(model),
+                                "--threads", str(a.threads)])
+            m = json.loads(model.read_text())
+            print(summary(name, crit, m["correction"]["equation"], m["stability"], secs),
+                  flush=True)
+
+
+if __name__ == "__main__":
+    main()
