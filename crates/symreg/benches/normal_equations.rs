@@ -1,0 +1,83 @@
+//! The normal equations of Levenberg-Marquardt (`J^T J`, `J^T r`), where a search spends
+//! most of its time: 100 seeded random programs with affine inputs (the search's default),
+//! all parameters free, 1,000 rows (a search fits on at most 2,000). `avx2` is the run-time
+//! path on a CPU with AVX2, `portable` the path without (the scalar dot products of the
+//! engine before the four-at-a-time kernel); both give the same bits
+//! (`tests/properties.rs`), so their ratio in one run is the speed-up.
+#![allow(missing_docs, clippy::unwrap_used)]
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use hxai_symreg::bench_programs::{BENCH_OPS, column};
+use hxai_symreg::eval::Evaluator;
+use hxai_symreg::program::{ComplexityMeasure, Program};
+use hxai_symreg::search::generate::Tables;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// `count` seeded random affine programs over 3 inputs of 5 to 25 nodes, with parameters.
+fn affine_programs(count: usize, seed: u64) -> Vec<(Program, Vec<f64>)> {
+    let t = Tables {
+        ops: BENCH_OPS.to_vec(),
+        op_w: vec![1.0; BENCH_OPS.len()],
+        in_w: vec![1.0; 3],
+        affine: true,
+        measure: ComplexityMeasure::Edges,
+        max_complexity: 25,
+        op_costs: hxai_symreg::ops::OpCosts::default(),
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut out = Vec::new();
+    while out.len() < count {
+        let mut nodes = Vec::new();
+        t.grow(&mut rng, 25, &mut nodes);
+        if nodes.len() < 5 {
+            continue;
+        }
+        let p = Program {
+            nodes,
+            affine: true,
+        };
+        let params: Vec<f64> = (0..p.n_params()).map(|_| rng.gen_range(0.5..2.0)).collect();
+        out.push((p, params));
+    }
+    out
+}
+
+fn bench(c: &mut Criterion) {
+    let rows = 1_000;
+    let progs = affine_programs(100, 7);
+    let cols: Vec<Vec<f64>> = (0..3).map(|j| column(j, rows)).collect();
+    let refs: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
+    let y: Vec<f64> = cols[0].iter().zip(&cols[1]).map(|(a, b)| a * b).collect();
+    let mut g = c.benchmark_group("normal_equations");
+    g.throughput(Throughput::Elements(progs.len() as u64));
+    for path in ["avx2", "portable"] {
+        let mut evs: Vec<Evaluator> = progs
+            .iter()
+            .map(|(p, _)| {
+                let ev = Evaluator::new(p);
+                if path == "portable" {
+                    ev.portable()
+                } else {
+                    ev
+                }
+            })
+            .collect();
+        g.bench_with_input(BenchmarkId::new(path, rows), &rows, |b, _| {
+            b.iter(|| {
+                let mut s = 0.0;
+                for ((p, params), ev) in progs.iter().zip(evs.iter_mut()) {
+                    let free: Vec<usize> = (0..params.len()).collect();
+                    let m = free.len();
+                    let (mut jtj, mut jtr) = (vec![0.0; m * m], vec![0.0; m]);
+                    s += ev.normal_equations(p, params, &free, &refs, &y, &mut jtj, &mut jtr);
+                    s += jtj[m * m - 1];
+                }
+                s
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
