@@ -245,7 +245,13 @@ fn forward_impl(
                             unary(dst, a, vmath::cos_kernel);
                             vmath::trig_fixup(dst, a, |_, x| vmath::cos(x));
                         }
-                        Op::Tanh => unary(dst, a, vmath::tanh),
+                        Op::Tanh => {
+                            // a loop of its own: passed to `unary`, `tanh` (larger than the
+                            // other kernels) was called per row, unvectorised
+                            for (d, &x) in dst.iter_mut().zip(a) {
+                                *d = vmath::tanh(x);
+                            }
+                        }
                         Op::Abs => unary(dst, a, f64::abs),
                         Op::Gaussian => unary(dst, a, |v| vmath::exp(-v * v)),
                         Op::Tan => unary(dst, a, f64::tan),
