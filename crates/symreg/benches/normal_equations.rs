@@ -6,41 +6,8 @@
 //! (`tests/properties.rs`), so their ratio in one run is the speed-up.
 #![allow(missing_docs, clippy::unwrap_used)]
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use hxai_symreg::bench_programs::{BENCH_OPS, column};
+use hxai_symreg::bench_programs::{affine_programs, column};
 use hxai_symreg::eval::Evaluator;
-use hxai_symreg::program::{ComplexityMeasure, Program};
-use hxai_symreg::search::generate::Tables;
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
-
-/// `count` seeded random affine programs over 3 inputs of 5 to 25 nodes, with parameters.
-fn affine_programs(count: usize, seed: u64) -> Vec<(Program, Vec<f64>)> {
-    let t = Tables {
-        ops: BENCH_OPS.to_vec(),
-        op_w: vec![1.0; BENCH_OPS.len()],
-        in_w: vec![1.0; 3],
-        affine: true,
-        measure: ComplexityMeasure::Edges,
-        max_complexity: 25,
-        op_costs: hxai_symreg::ops::OpCosts::default(),
-    };
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut out = Vec::new();
-    while out.len() < count {
-        let mut nodes = Vec::new();
-        t.grow(&mut rng, 25, &mut nodes);
-        if nodes.len() < 5 {
-            continue;
-        }
-        let p = Program {
-            nodes,
-            affine: true,
-        };
-        let params: Vec<f64> = (0..p.n_params()).map(|_| rng.gen_range(0.5..2.0)).collect();
-        out.push((p, params));
-    }
-    out
-}
 
 fn bench(c: &mut Criterion) {
     let rows = 1_000;
