@@ -1,9 +1,10 @@
-//! The normal equations of Levenberg-Marquardt (`J^T J`, `J^T r`), where a search spends
-//! most of its time: 100 seeded random programs with affine inputs (the search's default),
-//! all parameters free, 1,000 rows (a search fits on at most 2,000). `avx2` is the run-time
-//! path on a CPU with AVX2, `portable` the path without (the scalar dot products of the
-//! engine before the four-at-a-time kernel); both give the same bits
-//! (`tests/properties.rs`), so their ratio in one run is the speed-up.
+//! The normal equations of Levenberg-Marquardt (`J^T J`, `J^T r`, with the forward and
+//! adjoint sweeps they need), where a search spends most of its time: 100 seeded random
+//! programs with affine inputs (the search's default), all parameters free, 1,000 rows (a
+//! search fits on at most 2,000). `avx2` is the run-time path on a CPU with AVX2 (four dot
+//! products at a time), `portable` the reference without AVX2 (scalar dot products, as the
+//! AVX2 path also had before, and SSE2 sweeps); both give the same bits
+//! (`tests/properties.rs`).
 #![allow(missing_docs, clippy::unwrap_used)]
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use hxai_symreg::bench_programs::{affine_programs, column};
