@@ -26,11 +26,23 @@ pub const BENCH_OPS: [Op; 11] = [
 /// `count` seeded random programs over 3 inputs (no affine scaling, constants as leaves) of
 /// 5 to 25 nodes, with their parameters.
 pub fn programs(count: usize, seed: u64) -> Vec<(Program, Vec<f64>)> {
+    generate(count, seed, false)
+}
+
+/// The same draw with affine inputs (each input leaf has a fitted scale and offset, as in a
+/// search): the programs of the normal-equations bench.
+pub fn affine_programs(count: usize, seed: u64) -> Vec<(Program, Vec<f64>)> {
+    generate(count, seed, true)
+}
+
+/// `count` seeded random programs of 5 to 25 nodes over 3 inputs; the output map is the
+/// identity, every other parameter is drawn from [0.5, 2).
+fn generate(count: usize, seed: u64, affine: bool) -> Vec<(Program, Vec<f64>)> {
     let t = Tables {
         ops: BENCH_OPS.to_vec(),
         op_w: vec![1.0; BENCH_OPS.len()],
         in_w: vec![1.0; 3],
-        affine: false,
+        affine,
         measure: ComplexityMeasure::Edges,
         max_complexity: 25,
         op_costs: crate::ops::OpCosts::default(),
@@ -43,10 +55,7 @@ pub fn programs(count: usize, seed: u64) -> Vec<(Program, Vec<f64>)> {
         if nodes.len() < 5 {
             continue;
         }
-        let p = Program {
-            nodes,
-            affine: false,
-        };
+        let p = Program { nodes, affine };
         let mut params: Vec<f64> = (0..p.n_params()).map(|_| rng.gen_range(0.5..2.0)).collect();
         params[0] = 1.0;
         params[1] = 0.0;

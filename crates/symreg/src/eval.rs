@@ -60,8 +60,8 @@ fn has_avx2() -> bool {
 
 #[inline(always)]
 fn dot(a: &[f64], b: &[f64]) -> f64 {
-    // Eight accumulators in a fixed association order: the compiler maps them to SIMD lanes
-    // without reordering anything, so the result depends on the inputs only.
+    // Eight accumulators in a fixed association order, so the result depends on the inputs
+    // only (the compiler keeps them scalar; `dot4_avx2` computes the same sums in lanes).
     let mut s = [0.0f64; 8];
     let (ca, cb) = (a.chunks_exact(8), b.chunks_exact(8));
     let (ra, rb) = (ca.remainder(), cb.remainder());
@@ -75,6 +75,128 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
         t += x * y;
     }
     t
+}
+
+/// Adds one batch's share of the normal equations: `jtr[a] += dot(J_a, res)` and, for
+/// `b <= a`, `jtj[a * m + b] += dot(J_a, J_b)`, where `J_p` is parameter `p`'s row of `jac`
+/// (rows of [`BATCH`]) over the batch's `res.len()` rows. This is where a search spends most
+/// of its time (`m (m + 3) / 2` dot products per batch for `m` free parameters), so with
+/// AVX2 four dot products share each load of `J_a` ([`dot4_avx2`]); every dot product keeps
+/// [`dot`]'s association order, so both paths give the same bits.
+#[inline(always)]
+fn gram(jac: &[f64], res: &[f64], free: &[usize], jtj: &mut [f64], jtr: &mut [f64], avx2: bool) {
+    let len = res.len();
+    let m = free.len();
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // the vectors row `a` meets: the residual (t = 0), then J_free[b] (t = b + 1)
+        let vector = |t: usize| -> &[f64] {
+            if t == 0 {
+                res
+            } else {
+                let q = free[t - 1] * BATCH;
+                &jac[q..q + len]
+            }
+        };
+        for (a, &p) in free.iter().enumerate() {
+            let jp = &jac[p * BATCH..p * BATCH + len];
+            let last = a + 1;
+            let mut t0 = 0;
+            while t0 <= last {
+                // a short last group repeats its last vector; the repeats are dropped
+                let d = dot4_avx2(
+                    jp,
+                    vector(t0),
+                    vector((t0 + 1).min(last)),
+                    vector((t0 + 2).min(last)),
+                    vector((t0 + 3).min(last)),
+                );
+                for (t, v) in (t0..=last).zip(d) {
+                    if t == 0 {
+                        jtr[a] += v;
+                    } else {
+                        jtj[a * m + t - 1] += v;
+                    }
+                }
+                t0 += 4;
+            }
+        }
+        return;
+    }
+    let _ = avx2;
+    for (a, &p) in free.iter().enumerate() {
+        let jp = &jac[p * BATCH..p * BATCH + len];
+        jtr[a] += dot(jp, res);
+        for (b, &q) in free[..=a].iter().enumerate() {
+            jtj[a * m + b] += dot(jp, &jac[q * BATCH..q * BATCH + len]);
+        }
+    }
+}
+
+/// Four dot products of `a` with `b0..b3` (each at least as long as `a`), each
+/// bit-identical to [`dot`]: lane `k` of a pair of 4-wide accumulators is `dot`'s
+/// accumulator `s[k]`, updated by the same IEEE multiply and add (never fused), and the
+/// lanes are summed in `dot`'s order. Call only when the CPU has AVX2.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn dot4_avx2(a: &[f64], b0: &[f64], b1: &[f64], b2: &[f64], b3: &[f64]) -> [f64; 4] {
+    // SAFETY: the caller runs on a CPU with AVX2 (see `gram`).
+    #[allow(unsafe_code)]
+    unsafe {
+        dot4_avx2_kernel(a, b0, b1, b2, b3)
+    }
+}
+
+/// The body of [`dot4_avx2`]. Whole chunks of 8 (`as_chunks`) and value transmutes keep
+/// the loop free of the checks that the dev profile (debug assertions on) adds to indexing
+/// and to the load intrinsics' pointer copies.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+#[allow(unsafe_code)]
+fn dot4_avx2_kernel(a: &[f64], b0: &[f64], b1: &[f64], b2: &[f64], b3: &[f64]) -> [f64; 4] {
+    use std::arch::x86_64::{__m256d, _mm256_add_pd, _mm256_mul_pd, _mm256_setzero_pd};
+    let n = a.len();
+    let b = [&b0[..n], &b1[..n], &b2[..n], &b3[..n]];
+    let (ac, ar) = a.as_chunks::<8>();
+    let [c0, c1, c2, c3] = b.map(|v| v.as_chunks::<8>().0);
+    // one chunk as two 4-lane vectors: lanes 0-3 and 4-7
+    let lanes = |x: &[f64; 8]| -> [__m256d; 2] {
+        // SAFETY: same size (64 bytes), and every bit pattern is a valid f64.
+        unsafe { std::mem::transmute::<[f64; 8], [__m256d; 2]>(*x) }
+    };
+    let z = _mm256_setzero_pd();
+    let (mut l0, mut l1, mut l2, mut l3) = (z, z, z, z);
+    let (mut h0, mut h1, mut h2, mut h3) = (z, z, z, z);
+    for ((((x, y0), y1), y2), y3) in ac.iter().zip(c0).zip(c1).zip(c2).zip(c3) {
+        let [x0, x1] = lanes(x);
+        let [y00, y01] = lanes(y0);
+        l0 = _mm256_add_pd(l0, _mm256_mul_pd(x0, y00));
+        h0 = _mm256_add_pd(h0, _mm256_mul_pd(x1, y01));
+        let [y10, y11] = lanes(y1);
+        l1 = _mm256_add_pd(l1, _mm256_mul_pd(x0, y10));
+        h1 = _mm256_add_pd(h1, _mm256_mul_pd(x1, y11));
+        let [y20, y21] = lanes(y2);
+        l2 = _mm256_add_pd(l2, _mm256_mul_pd(x0, y20));
+        h2 = _mm256_add_pd(h2, _mm256_mul_pd(x1, y21));
+        let [y30, y31] = lanes(y3);
+        l3 = _mm256_add_pd(l3, _mm256_mul_pd(x0, y30));
+        h3 = _mm256_add_pd(h3, _mm256_mul_pd(x1, y31));
+    }
+    // SAFETY: same size (4 x 64 bytes), and every bit pattern is a valid f64.
+    let sums: [[f64; 8]; 4] = unsafe {
+        std::mem::transmute::<[__m256d; 8], [[f64; 8]; 4]>([l0, h0, l1, h1, l2, h2, l3, h3])
+    };
+    let n8 = n - ar.len();
+    let mut out = [0.0; 4];
+    for ((o, s), bj) in out.iter_mut().zip(&sums).zip(b) {
+        let mut t = ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
+        for (x, y) in ar.iter().zip(&bj[n8..]) {
+            t += x * y;
+        }
+        *o = t;
+    }
+    out
 }
 
 /// The forward sweep over one batch: `vals[k * BATCH..][..len]` receives node `k`'s values.
@@ -123,7 +245,13 @@ fn forward_impl(
                             unary(dst, a, vmath::cos_kernel);
                             vmath::trig_fixup(dst, a, |_, x| vmath::cos(x));
                         }
-                        Op::Tanh => unary(dst, a, vmath::tanh),
+                        Op::Tanh => {
+                            // a loop of its own: passed to `unary`, `tanh` (larger than the
+                            // other kernels) was called per row, unvectorised
+                            for (d, &x) in dst.iter_mut().zip(a) {
+                                *d = vmath::tanh(x);
+                            }
+                        }
                         Op::Abs => unary(dst, a, f64::abs),
                         Op::Gaussian => unary(dst, a, |v| vmath::exp(-v * v)),
                         Op::Tan => unary(dst, a, f64::tan),
@@ -327,7 +455,6 @@ impl Evaluator {
         jtr: &mut [f64],
     ) -> f64 {
         let n = prog.nodes.len();
-        let m = free.len();
         let n_params = params.len();
         jtj.fill(0.0);
         jtr.fill(0.0);
@@ -350,13 +477,7 @@ impl Evaluator {
                 sse += dot(&self.res[..len], &self.res[..len]);
             }
             self.backward(prog, params, cols, start, len);
-            for (a, &p) in free.iter().enumerate() {
-                let jp = &self.jac[p * BATCH..p * BATCH + len];
-                jtr[a] += dot(jp, &self.res[..len]);
-                for (b, &q) in free[..=a].iter().enumerate() {
-                    jtj[a * m + b] += dot(jp, &self.jac[q * BATCH..q * BATCH + len]);
-                }
-            }
+            gram(&self.jac, &self.res[..len], free, jtj, jtr, self.avx2);
             start += len;
         }
         let mse = sse / n_rows as f64;

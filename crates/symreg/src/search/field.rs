@@ -3,7 +3,7 @@
 //! the operators' arity weights and the inputs' mutual-information priors, and pulled each
 //! epoch towards what the elite models put at that position.
 use super::archive::Fitted;
-use super::generate::Tables;
+use super::generate::{Tables, roulette};
 use crate::program::{Node, Program};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -232,20 +232,10 @@ fn normalised(mut r: Vec<f64>) -> Vec<f64> {
     r
 }
 
+/// [`roulette`]; when no weight is usable, the last symbol (only leaves are always allowed:
+/// fall back to the constant).
 fn pick(rng: &mut ChaCha8Rng, w: &[f64]) -> usize {
-    let total: f64 = w.iter().sum();
-    if total <= 0.0 || !total.is_finite() {
-        // only leaves are always allowed: fall back to the constant
-        return w.len() - 1;
-    }
-    let mut u = rng.gen_range(0.0..total);
-    for (i, &x) in w.iter().enumerate() {
-        if u < x {
-            return i;
-        }
-        u -= x;
-    }
-    w.len() - 1
+    roulette(rng, w).unwrap_or(w.len() - 1)
 }
 
 #[cfg(test)]

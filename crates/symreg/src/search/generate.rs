@@ -59,19 +59,30 @@ pub struct Tables {
     pub op_costs: OpCosts,
 }
 
-fn pick(rng: &mut ChaCha8Rng, w: &[f64]) -> usize {
+/// An index drawn with probability proportional to the weights `w`, or `None` (drawing
+/// nothing) when they do not sum to a positive finite total; the caller decides the
+/// fallback.
+pub(crate) fn roulette(rng: &mut ChaCha8Rng, w: &[f64]) -> Option<usize> {
     let total: f64 = w.iter().sum();
     if total <= 0.0 || !total.is_finite() {
-        return rng.gen_range(0..w.len().max(1));
+        return None;
     }
     let mut u = rng.gen_range(0.0..total);
     for (i, &x) in w.iter().enumerate() {
         if u < x {
-            return i;
+            return Some(i);
         }
         u -= x;
     }
-    w.len() - 1
+    Some(w.len() - 1)
+}
+
+/// [`roulette`], falling back to a uniform draw.
+fn pick(rng: &mut ChaCha8Rng, w: &[f64]) -> usize {
+    match roulette(rng, w) {
+        Some(i) => i,
+        None => rng.gen_range(0..w.len().max(1)),
+    }
 }
 
 impl Tables {
