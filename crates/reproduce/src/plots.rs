@@ -4,6 +4,7 @@ use crate::ReproduceError;
 use crate::figures::{Panel, Series, draw};
 use crate::pipeline::Computed;
 use hxai_hybrid::RecordInput;
+use hxai_plot::explain::diagonal;
 use hxai_sim::SimRecord;
 use std::collections::BTreeMap;
 
@@ -182,18 +183,6 @@ fn fig5(c: &Computed) -> Result<Vec<Panel>, ReproduceError> {
     Ok(panels)
 }
 
-fn parity(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
-    let lo = points
-        .iter()
-        .map(|p| p.0.min(p.1))
-        .fold(f64::INFINITY, f64::min);
-    let hi = points
-        .iter()
-        .map(|p| p.0.max(p.1))
-        .fold(f64::NEG_INFINITY, f64::max);
-    vec![(lo, lo), (hi, hi)]
-}
-
 fn fig8(c: &Computed) -> Vec<Panel> {
     let (mut train, mut test) = (Vec::new(), Vec::new());
     for (i, w) in c.fit.samples.iter().enumerate() {
@@ -214,7 +203,7 @@ fn fig8(c: &Computed) -> Vec<Panel> {
         series: vec![
             Series::points("train", train),
             Series::points("test", test),
-            Series::dashed("y = x", parity(&all)),
+            Series::dashed("y = x", diagonal(&all)),
         ],
     }]
 }
@@ -251,7 +240,7 @@ fn fig9(c: &Computed) -> Vec<Panel> {
         series: vec![
             Series::points("physics A_phys", phys),
             Series::points("hybrid A_corr", hyb),
-            Series::dashed("y = x", parity(&all)),
+            Series::dashed("y = x", diagonal(&all)),
         ],
     }]
 }
