@@ -97,7 +97,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let explanation = model
         .explain(data.as_ref(), args.interval)
         .with_context(|| format!("cannot explain the model {}", args.model.display()))?;
-    let pictures = hxai_plot::explain::pictures(&explanation, "δ (µm)", "")
+    let pictures = hxai_plot::explain::pictures(&explanation, hxai_plot::explain::DELTA_AXIS, "")
         .context("cannot draw the pictures")?;
     if pictures.files.is_empty() {
         let reasons: Vec<String> = pictures

@@ -11,6 +11,9 @@ pub const PARITY_FILE: &str = "predicted_vs_true.svg";
 /// File of the Pareto front.
 pub const PARETO_FILE: &str = "pareto.svg";
 
+/// Axis label of the tool case's correction.
+pub const DELTA_AXIS: &str = "δ = A_true - A_phys (µm)";
+
 /// The pictures drawn, and those that could not be, each with its reason.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pictures {
