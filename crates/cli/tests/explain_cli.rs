@@ -2,6 +2,7 @@
 //! of its correction; old model files without the Pareto front; bad input.
 
 use std::path::{Path, PathBuf};
+use std::process::Output;
 
 mod common;
 use common::{hxai, hxai_ok, s, text};
@@ -50,6 +51,27 @@ fn fitted(name: &str) -> Result<(PathBuf, PathBuf, PathBuf), Box<dyn std::error:
         "fit failed",
     )?;
     Ok((dir, model, samples))
+}
+
+/// Runs `hxai explain` on `model` (with `data` if given) into `out`.
+fn explain(model: &Path, data: Option<&Path>, out: &Path) -> Result<Output, std::io::Error> {
+    let mut args = vec!["explain", "--model", s(model), "--out", s(out)];
+    if let Some(d) = data {
+        args.extend(["--data", s(d)]);
+    }
+    hxai(&args)
+}
+
+/// [`explain`], requiring success; `what` names the step in the failure message.
+fn explain_ok(
+    model: &Path,
+    data: Option<&Path>,
+    out: &Path,
+    what: &str,
+) -> Result<Output, std::io::Error> {
+    let o = explain(model, data, out)?;
+    common::ok(&o, what);
+    Ok(o)
 }
 
 fn svg(path: &Path) -> Result<String, Box<dyn std::error::Error>> {
@@ -102,18 +124,7 @@ fn explain_draws_the_response_the_parity_and_the_front() -> TestResult {
         assert!(member["equation"].is_string());
     }
     let pics = dir.join("pictures").join("new");
-    let out = hxai_ok(
-        &[
-            "explain",
-            "--model",
-            s(&model),
-            "--data",
-            s(&samples),
-            "--out",
-            s(&pics),
-        ],
-        "explain failed",
-    )?;
+    let out = explain_ok(&model, Some(&samples), &pics, "explain failed")?;
     let said = text(&out);
     for f in ["response.svg", "predicted_vs_true.svg", "pareto.svg"] {
         assert!(
@@ -144,7 +155,8 @@ fn explain_draws_the_response_the_parity_and_the_front() -> TestResult {
         assert!(p.iter().any(|l| l == series), "series {series} missing");
     }
     let f = labels(&svg(&pics.join("pareto.svg"))?);
-    for series in ["Pareto front", "members", "selected"] {
+    let selected = format!("selected (complexity {})", m["correction"]["complexity"]);
+    for series in ["Pareto front", "members", selected.as_str()] {
         assert!(f.iter().any(|l| l == series), "series {series} missing");
     }
     // nothing but the three pictures (no temporary file left behind)
@@ -158,18 +170,7 @@ fn explain_draws_the_response_the_parity_and_the_front() -> TestResult {
     );
     // the same input gives the same bytes
     let again = dir.join("again");
-    hxai_ok(
-        &[
-            "explain",
-            "--model",
-            s(&model),
-            "--data",
-            s(&samples),
-            "--out",
-            s(&again),
-        ],
-        "explain failed",
-    )?;
+    explain_ok(&model, Some(&samples), &again, "explain failed")?;
     assert_eq!(std::fs::read_to_string(again.join("response.svg"))?, r);
     Ok(())
 }
@@ -178,11 +179,8 @@ fn explain_draws_the_response_the_parity_and_the_front() -> TestResult {
 fn without_data_or_front_the_missing_pictures_are_named() -> TestResult {
     let (dir, model, samples) = fitted("partial")?;
     let only_front = dir.join("front");
-    let out = hxai_ok(
-        &["explain", "--model", s(&model), "--out", s(&only_front)],
-        "explain without data failed",
-    )?;
-    assert!(text(&out).contains("not drawn: response.svg needs the data"));
+    let out = explain_ok(&model, None, &only_front, "explain without data failed")?;
+    assert!(text(&out).contains("not drawn: response.svg needs the rows"));
     assert!(only_front.join("pareto.svg").is_file());
     assert!(!only_front.join("response.svg").exists());
 
@@ -194,16 +192,10 @@ fn without_data_or_front_the_missing_pictures_are_named() -> TestResult {
     let old = dir.join("old.json");
     std::fs::write(&old, serde_json::to_string_pretty(&m)?)?;
     let out_old = dir.join("old");
-    let out = hxai_ok(
-        &[
-            "explain",
-            "--model",
-            s(&old),
-            "--data",
-            s(&samples),
-            "--out",
-            s(&out_old),
-        ],
+    let out = explain_ok(
+        &old,
+        Some(&samples),
+        &out_old,
         "explain of an old model failed",
     )?;
     assert!(
@@ -215,7 +207,7 @@ fn without_data_or_front_the_missing_pictures_are_named() -> TestResult {
     assert!(!out_old.join("pareto.svg").exists());
     // with neither, there is nothing to draw: an error, and no folder made
     let none = dir.join("none");
-    let out = hxai(&["explain", "--model", s(&old), "--out", s(&none)])?;
+    let out = explain(&old, None, &none)?;
     assert!(!out.status.success());
     assert!(text(&out).contains("nothing to draw"), "{}", text(&out));
     assert!(!none.exists());
@@ -298,5 +290,94 @@ fn bad_input_fails_with_a_message_and_writes_nothing() -> TestResult {
     )?;
     assert!(!pics.exists());
     assert_eq!(std::fs::read(&model)?, before);
+    Ok(())
+}
+
+#[test]
+fn explain_draws_a_table_hybrid_too() -> TestResult {
+    let dir = common::scratch("hxai-cli-explain", "process")?;
+    let (table, model) = (dir.join("ra.csv"), dir.join("ra.json"));
+    hxai_ok(
+        &[
+            "simulate",
+            "--case",
+            "roughness",
+            "--rows",
+            "120",
+            "--seed",
+            "3",
+            "--out",
+            s(&table),
+        ],
+        "simulate failed",
+    )?;
+    hxai_ok(
+        &[
+            "hybrid",
+            "fit",
+            "--data",
+            s(&table),
+            "--target",
+            "Ra_um",
+            "--physics",
+            "1000*feed_mm^2/(32*nose_radius_mm) + Ra0",
+            "--calibrate",
+            "Ra0",
+            "--init",
+            "Ra0=0",
+            "--correction",
+            "multiplicative",
+            "--exclude",
+            "tool",
+            "--epochs",
+            "2",
+            "--out",
+            s(&model),
+        ],
+        "hybrid fit failed",
+    )?;
+    let m = model_json(&model)?;
+    let features = m["correction"]["features"]
+        .as_array()
+        .map(Vec::len)
+        .unwrap_or(0);
+    assert!(
+        m["correction"]["pareto"]
+            .as_array()
+            .is_some_and(|f| !f.is_empty())
+    );
+    let pics = dir.join("pics");
+    explain_ok(
+        &model,
+        Some(&table),
+        &pics,
+        "explain of a table hybrid failed",
+    )?;
+    let r = labels(&svg(&pics.join("response.svg"))?);
+    assert_eq!(
+        r.iter().filter(|l| l.starts_with("response to ")).count(),
+        features
+    );
+    let p = labels(&svg(&pics.join("predicted_vs_true.svg"))?);
+    assert!(
+        p.iter()
+            .any(|l| l == "true δ (multiplicative correction of Ra_um)"),
+        "{p:?}"
+    );
+    svg(&pics.join("pareto.svg"))?;
+    // a table with fewer rows than the model's split is not the fitting table
+    let text_of = std::fs::read_to_string(&table)?;
+    let short = dir.join("short.csv");
+    std::fs::write(
+        &short,
+        text_of.lines().take(20).collect::<Vec<_>>().join("\n"),
+    )?;
+    let out = explain(&model, Some(&short), &dir.join("short"))?;
+    assert!(!out.status.success());
+    assert!(
+        text(&out).contains("pass the table the model was fitted on"),
+        "{}",
+        text(&out)
+    );
     Ok(())
 }

@@ -87,10 +87,15 @@ fn response_panels(e: &Explanation, target: &str) -> Vec<Panel> {
 pub fn pictures(e: &Explanation, target: &str, prefix: &str) -> Result<Pictures, FigureError> {
     let mut files = Vec::new();
     let mut skipped = Vec::new();
-    let no_data = "needs the data the correction was fitted on (--data SAMPLES)";
+    let no_data = "needs the rows the correction was fitted on (--data)";
     let name = |f: &str| format!("{prefix}{f}");
     if e.responses.is_empty() {
-        skipped.push((name(RESPONSE_FILE), no_data.to_owned()));
+        let why = if e.parity.is_some() {
+            "the equation uses no feature (a constant correction)"
+        } else {
+            no_data
+        };
+        skipped.push((name(RESPONSE_FILE), why.to_owned()));
     } else {
         let panels = response_panels(e, target);
         let cols = panels.len().min(3);
@@ -102,10 +107,8 @@ pub fn pictures(e: &Explanation, target: &str, prefix: &str) -> Result<Pictures,
     match &e.parity {
         None => skipped.push((name(PARITY_FILE), no_data.to_owned())),
         Some(p) => {
-            let mut series = vec![Series::points("train", p.train.clone())];
-            if !p.test.is_empty() {
-                series.push(Series::points("test", p.test.clone()));
-            }
+            // the bars first, so the points stay visible on them
+            let mut series = Vec::new();
             if let Some(iv) = &p.intervals {
                 let side = if p.test.is_empty() { "" } else { " (test)" };
                 series.push(Series::bars(
@@ -113,10 +116,14 @@ pub fn pictures(e: &Explanation, target: &str, prefix: &str) -> Result<Pictures,
                     iv,
                 ));
             }
+            series.push(Series::points("train", p.train.clone()));
+            if !p.test.is_empty() {
+                series.push(Series::points("test", p.test.clone()));
+            }
             let all: Vec<(f64, f64)> = p.train.iter().chain(&p.test).copied().collect();
             series.push(Series::dashed("y = x", diagonal(&all)));
             let panel = Panel {
-                title: format!("predicted vs true: {}", e.equation),
+                title: "predicted vs true".into(),
                 x_label: format!("true {target}"),
                 y_label: format!("predicted {target}"),
                 series,
@@ -138,13 +145,16 @@ pub fn pictures(e: &Explanation, target: &str, prefix: &str) -> Result<Pictures,
                 .map(|m| (m.complexity as f64, m.loss))
                 .collect();
             let panel = Panel {
-                title: format!("Pareto front; selected: {}", e.equation),
+                title: "Pareto front of the search".into(),
                 x_label: "complexity".into(),
                 y_label: "training loss (mean squared error)".into(),
                 series: vec![
                     Series::line("Pareto front", pts.clone()),
                     Series::points("members", pts),
-                    Series::marker("selected", vec![(f.selected.0 as f64, f.selected.1)]),
+                    Series::marker(
+                        format!("selected (complexity {})", f.selected.0),
+                        vec![(f.selected.0 as f64, f.selected.1)],
+                    ),
                 ],
             };
             files.push((name(PARETO_FILE), draw(&name(PARETO_FILE), &[panel], 1)?));
@@ -207,7 +217,7 @@ mod tests {
         assert!(p.files[0].1.contains("95 % prediction interval"));
         assert!(p.files[0].1.contains("<polygon"));
         assert!(p.files[1].1.contains("true δ (µm)"));
-        assert!(p.files[2].1.contains("selected"));
+        assert!(p.files[2].1.contains("selected (complexity 3)"));
         Ok(())
     }
 

@@ -41,7 +41,7 @@ pub const CAPTIONS: [(&str, &str); 10] = [
     ),
     (
         "fig_explain_response.svg",
-        "`hxai explain`: the selected correction's response to each feature it uses, the other features at their median over the training windows, with its 95 % prediction interval as a band and the windows (train, test) as points",
+        "`hxai explain --model MODEL --data samples.csv --out DIR` on the paper's fit: the selected correction's response to each feature it uses, the other features at their median over the training windows, with its 95 % prediction interval as a band and the windows (train, test) as points",
     ),
     (
         "fig_explain_predicted_vs_true.svg",
@@ -49,7 +49,7 @@ pub const CAPTIONS: [(&str, &str); 10] = [
     ),
     (
         "fig_explain_pareto.svg",
-        "`hxai explain`: the search's Pareto front (complexity vs training mean squared error), the selected equation marked",
+        "`hxai explain`: the search's Pareto front (complexity vs training mean squared error), the selected equation (the one above) marked",
     ),
 ];
 
