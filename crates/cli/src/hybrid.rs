@@ -175,8 +175,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
 
 /// A table read for the hybrid: numeric columns, plus the group column (text groups are
 /// numbered in order of first appearance) and its original cells for `predict`'s output.
-struct Loaded {
-    table: Table,
+pub(crate) struct Loaded {
+    pub(crate) table: Table,
     group_cells: Option<hxai_data::Column>,
     /// Text columns left out (other than the group column).
     text: Vec<String>,
@@ -202,7 +202,7 @@ impl Loaded {
     }
 }
 
-fn read(path: &Path, group: Option<&str>) -> Result<Loaded> {
+pub(crate) fn read(path: &Path, group: Option<&str>) -> Result<Loaded> {
     let mixed = hxai_data::read_mixed_table(path)
         .with_context(|| format!("cannot read the table {}", path.display()))?;
     let mut names = Vec::new();

@@ -11,6 +11,7 @@ use clap::{Parser, Subcommand};
 mod compare;
 mod displacement;
 mod evaluate;
+mod explain;
 mod features;
 mod fit;
 mod hybrid;
@@ -62,6 +63,9 @@ enum Command {
     Predict(predict::Args),
     /// Physics vs hybrid on the records of a data folder.
     Evaluate(evaluate::Args),
+    /// Pictures (SVG) of a fitted model's correction: its response to each feature, predicted
+    /// vs true with prediction intervals, and the Pareto front it was chosen from.
+    Explain(explain::Args),
     /// Symbolic regression on any CSV table.
     Sr(sr::Args),
     /// Table 3 baselines and the symbolic model on a train/test table pair.
@@ -103,6 +107,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Fit(a) => fit::run(a, g),
         Command::Predict(a) => predict::run(a, g),
         Command::Evaluate(a) => evaluate::run(a, g),
+        Command::Explain(a) => explain::run(a, g),
         Command::Sr(a) => sr::run(a, g),
         Command::Compare(a) => compare::run(a, g),
         Command::Hybrid(a) => hybrid::run(a, g),

@@ -17,6 +17,8 @@
 //!   [`Hybrid::predict`] applies a correction: `A_corr = A_phys + delta_hat`,
 //!   `x_hat = A_corr sin(omega t + phi_phys)`.
 //! - [`evaluate()`]: physics vs hybrid against the truth ([`Evaluation`]).
+//! - [`explain`]: the numbers behind `hxai explain`'s pictures (response curves with
+//!   prediction bands, predicted vs true, the Pareto front).
 //! - The tool-position case: [`DoubleIntegration`], [`SineDecomposition`],
 //!   [`AccelFeatures`]; [`fit`] with [`FitConfig`] returns a [`HybridModel`], the
 //!   serialisable model file (schema [`SCHEMA_VERSION`]).
@@ -64,6 +66,7 @@
 mod composer;
 mod error;
 pub mod evaluate;
+pub mod explain;
 mod model;
 pub mod process;
 mod tool;

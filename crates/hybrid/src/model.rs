@@ -5,6 +5,7 @@ use crate::composer::{Hybrid, RecordInput, RecordPrediction, WindowSample};
 use crate::evaluate::{
     DEFAULT_INTERVAL, EvalInput, Evaluation, IntervalReport, evaluate, metrics_um,
 };
+use crate::explain::{ExplainData, Explanation, ParetoMember};
 use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
 use crate::traits::{Correction, FeatureMap, SymbolicCorrection, ZeroCorrection};
 use crate::warnings::{Warning, input_warnings, units_warning};
@@ -96,6 +97,11 @@ pub struct CorrectionInfo {
     /// written before it existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uncertainty: Option<hxai_symreg::Uncertainty>,
+    /// The Pareto front of the search the model was chosen from (complexity, training loss
+    /// and equation of each member), for `hxai explain`. Absent for the zero correction and
+    /// in files written before it was stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pareto: Option<Vec<ParetoMember>>,
 }
 
 impl CorrectionInfo {
@@ -110,6 +116,7 @@ impl CorrectionInfo {
             features: model.features(),
             model: Some(model),
             uncertainty: None,
+            pareto: None,
         }
     }
 
@@ -124,6 +131,7 @@ impl CorrectionInfo {
             features: Vec::new(),
             model: None,
             uncertainty: None,
+            pareto: None,
         }
     }
 }
@@ -590,6 +598,7 @@ pub fn fit(
         window: cfg.window,
         correction: CorrectionInfo {
             uncertainty: Some(result.best.uncertainty(&train_table, &train_delta)?),
+            pareto: Some(ParetoMember::front(&result.pareto)),
             ..CorrectionInfo::symbolic(result.best.clone())
         },
         split: SplitInfo {
@@ -837,6 +846,34 @@ impl HybridModel {
         let lo = a.iter().zip(&b).map(|(x, y)| x.min(*y)).collect();
         let hi = a.iter().zip(&b).map(|(x, y)| x.max(*y)).collect();
         Ok((p, lo, hi))
+    }
+
+    /// The explanation of the correction ([`crate::explain::explain`]): with `data` (the
+    /// samples of a fit: features, `delta`, split) its response to each feature it uses and
+    /// predicted vs true `delta`, with prediction intervals at `level`; the Pareto front when
+    /// the file stores it.
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] for the zero correction (nothing to explain), and those
+    /// of [`crate::explain::explain`].
+    pub fn explain(
+        &self,
+        data: Option<&ExplainData<'_>>,
+        level: f64,
+    ) -> Result<Explanation, HybridError> {
+        let Some(model) = &self.correction.model else {
+            return Err(HybridError::InvalidConfig(
+                "the model's correction is zero: there is no equation to explain".into(),
+            ));
+        };
+        crate::explain::explain(
+            model,
+            self.correction.uncertainty.as_ref(),
+            self.correction.pareto.as_deref(),
+            data,
+            "delta",
+            level,
+        )
     }
 
     /// Evaluates the model on records. With `all` false, only this model's test data is

@@ -1,14 +1,16 @@
-//! Equivalents of the paper's Figures 4, 5, 8, 9, 10, 11 and 12.
+//! Equivalents of the paper's Figures 4, 5, 8, 9, 10, 11 and 12, and the pictures of
+//! `hxai explain` for the paper's case.
 
 use crate::ReproduceError;
 use crate::figures::{Panel, Series, draw};
 use crate::pipeline::Computed;
 use hxai_hybrid::RecordInput;
+use hxai_plot::explain::diagonal;
 use hxai_sim::SimRecord;
 use std::collections::BTreeMap;
 
 /// File name and caption of every figure, in the order they are listed in the report.
-pub const CAPTIONS: [(&str, &str); 7] = [
+pub const CAPTIONS: [(&str, &str); 10] = [
     (
         "fig04_command_encoder_probe.svg",
         "Fig. 4: command, encoder and probe at 10 and 40 Hz; mean fitted amplitudes vs frequency and vs amplitude",
@@ -37,7 +39,22 @@ pub const CAPTIONS: [(&str, &str); 7] = [
         "fig12_errors.svg",
         "Fig. 12: physics and hybrid position errors at 10 and 25 Hz (test records)",
     ),
+    (
+        "fig_explain_response.svg",
+        "`hxai explain --model MODEL --data samples.csv --out DIR` on the paper's fit: the selected correction's response to each feature it uses, the other features at their median over the training windows, with its 95 % prediction interval as a band and the windows (train, test) as points",
+    ),
+    (
+        "fig_explain_predicted_vs_true.svg",
+        "`hxai explain`: predicted vs true δ of every window, with the 95 % prediction intervals of the test windows",
+    ),
+    (
+        "fig_explain_pareto.svg",
+        "`hxai explain`: the search's Pareto front (complexity vs training mean squared error), the selected equation (the one above) marked",
+    ),
 ];
+
+/// Prefix of the explanation pictures' file names (`hxai explain` writes them unprefixed).
+const EXPLAIN_PREFIX: &str = "fig_explain_";
 
 const T_LABEL: &str = "time (ms)";
 const X_LABEL: &str = "position (µm)";
@@ -182,18 +199,6 @@ fn fig5(c: &Computed) -> Result<Vec<Panel>, ReproduceError> {
     Ok(panels)
 }
 
-fn parity(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
-    let lo = points
-        .iter()
-        .map(|p| p.0.min(p.1))
-        .fold(f64::INFINITY, f64::min);
-    let hi = points
-        .iter()
-        .map(|p| p.0.max(p.1))
-        .fold(f64::NEG_INFINITY, f64::max);
-    vec![(lo, lo), (hi, hi)]
-}
-
 fn fig8(c: &Computed) -> Vec<Panel> {
     let (mut train, mut test) = (Vec::new(), Vec::new());
     for (i, w) in c.fit.samples.iter().enumerate() {
@@ -214,7 +219,7 @@ fn fig8(c: &Computed) -> Vec<Panel> {
         series: vec![
             Series::points("train", train),
             Series::points("test", test),
-            Series::dashed("y = x", parity(&all)),
+            Series::dashed("y = x", diagonal(&all)),
         ],
     }]
 }
@@ -251,7 +256,7 @@ fn fig9(c: &Computed) -> Vec<Panel> {
         series: vec![
             Series::points("physics A_phys", phys),
             Series::points("hybrid A_corr", hyb),
-            Series::dashed("y = x", parity(&all)),
+            Series::dashed("y = x", diagonal(&all)),
         ],
     }]
 }
@@ -355,9 +360,31 @@ pub fn all(c: &Computed) -> Result<Vec<(String, String)>, ReproduceError> {
         (f11, 2),
         (f12, 2),
     ];
-    CAPTIONS
+    let mut files = CAPTIONS
         .iter()
         .zip(figs)
         .map(|((name, _), (panels, cols))| Ok((name.to_string(), draw(name, &panels, cols)?)))
-        .collect()
+        .collect::<Result<Vec<_>, ReproduceError>>()?;
+    files.extend(explain(c)?);
+    Ok(files)
+}
+
+/// The pictures of `hxai explain --data samples.csv` for the paper's fit.
+fn explain(c: &Computed) -> Result<Vec<(String, String)>, ReproduceError> {
+    let t = c.fit.samples_table()?;
+    let delta = t.values.require("delta")?.to_vec();
+    let data = hxai_hybrid::explain::ExplainData {
+        features: &t.values,
+        target: &delta,
+        is_test: &c.fit.is_test,
+    };
+    let e = c
+        .fit
+        .model
+        .explain(Some(&data), hxai_hybrid::DEFAULT_INTERVAL)?;
+    let p = hxai_plot::explain::pictures(&e, hxai_plot::explain::DELTA_AXIS, EXPLAIN_PREFIX)?;
+    if let Some((file, why)) = p.skipped.first() {
+        return Err(ReproduceError::Pipeline(format!("{file}: {why}")));
+    }
+    Ok(p.files)
 }

@@ -766,6 +766,7 @@ pub(crate) fn fit_inner(
             candidates: res.features.clone(),
             model: correction,
             uncertainty: Some(correction_uncertainty),
+            pareto: Some(crate::explain::ParetoMember::front(&found.pareto)),
         },
         hybrid: EquationInfo {
             uncertainty: Some(hybrid_uncertainty),

@@ -61,6 +61,10 @@ pub struct CorrectionInfo {
     /// uncertainty, fitted to `delta` on the training rows (`hxai_symreg::uncertainty`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uncertainty: Option<Uncertainty>,
+    /// The Pareto front of the correction's search, for `hxai explain`; absent in files
+    /// written before it was stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pareto: Option<Vec<crate::explain::ParetoMember>>,
 }
 
 /// An equation in three forms.
@@ -459,6 +463,55 @@ impl ProcessModel {
         let c = combine(&phys, &self.correction.model, self.correction.kind);
         let cols = columns_of(table, &c.names, "column")?;
         Ok(unc.intervals(&c.program, &c.params, &cols, table.n_rows(), level)?)
+    }
+
+    /// The explanation of the correction ([`crate::explain::explain`]): with `table` (the
+    /// table the model was fitted on, every row of its split present) the correction's
+    /// response to each feature it uses and predicted vs true `delta` (`y - f_p`, or `y / f_p
+    /// - 1` for a multiplicative correction) on the split's rows, with prediction intervals
+    /// of the correction at `level`; the Pareto front when the file stores it.
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] when `table` has fewer rows than the split names, and
+    /// those of [`ProcessModel::predict`] and [`crate::explain::explain`].
+    pub fn explain(
+        &self,
+        table: Option<&Table>,
+        level: f64,
+    ) -> Result<crate::explain::Explanation, HybridError> {
+        let pareto = self.correction.pareto.as_deref();
+        let unc = self.correction.uncertainty.as_ref();
+        let model = &self.correction.model;
+        let Some(table) = table else {
+            return crate::explain::explain(model, unc, pareto, None, "delta", level);
+        };
+        let rows: Vec<usize> = self
+            .split
+            .train
+            .iter()
+            .chain(&self.split.test)
+            .copied()
+            .collect();
+        if let Some(&i) = rows.iter().find(|&&i| i >= table.n_rows()) {
+            return Err(HybridError::InvalidConfig(format!(
+                "the model was fitted on a table with at least {} rows, this one has {}: pass the table the model was fitted on",
+                i + 1,
+                table.n_rows()
+            )));
+        }
+        let y = columns_of(table, std::slice::from_ref(&self.target), "target")?[0];
+        let physics = self.predict(table)?.physics;
+        let delta = super::deltas(self.correction.kind, y, &physics, &rows)?;
+        let features = table.select_rows(&rows)?;
+        let is_test: Vec<bool> = (0..rows.len())
+            .map(|k| k >= self.split.train.len())
+            .collect();
+        let data = crate::explain::ExplainData {
+            features: &features,
+            target: &delta,
+            is_test: &is_test,
+        };
+        crate::explain::explain(model, unc, pareto, Some(&data), "delta", level)
     }
 
     /// The whole hybrid as one expression over the columns.

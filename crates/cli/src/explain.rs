@@ -1,0 +1,170 @@
+//! `hxai explain`: pictures (SVG) of a fitted model's correction.
+use crate::Global;
+use anyhow::{Context, Result};
+use hxai_data::Column;
+use hxai_hybrid::explain::ExplainData;
+use std::path::{Path, PathBuf};
+
+/// Arguments of `hxai explain`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Model written by `hxai fit` or `hxai hybrid fit`.
+    #[arg(long)]
+    pub model: PathBuf,
+    /// Folder the pictures are written into (created if missing): response.svg,
+    /// predicted_vs_true.svg, pareto.svg.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// The rows the model was fitted on: for a model of `hxai fit`, the table `hxai fit
+    /// --samples` wrote (CSV or Parquet; the model's feature columns, `delta`, and `split` =
+    /// train/test if present); for one of `hxai hybrid fit`, the table it was fitted on.
+    /// Without it only the Pareto front is drawn.
+    #[arg(long)]
+    pub data: Option<PathBuf>,
+    /// Level of the prediction intervals drawn.
+    #[arg(long, default_value_t = hxai_hybrid::DEFAULT_INTERVAL)]
+    pub interval: f64,
+}
+
+/// A model file of either kind.
+enum Model {
+    /// `hxai fit`.
+    Tool(Box<hxai_hybrid::HybridModel>),
+    /// `hxai hybrid fit`.
+    Process(Box<hxai_hybrid::process::ProcessModel>),
+}
+
+/// Reads a model file of `hxai fit` or `hxai hybrid fit` (told apart by the process model's
+/// `target` and `hybrid` keys).
+fn load(path: &Path) -> Result<Model> {
+    let text = hxai_data::read_text(path)
+        .with_context(|| format!("cannot read the model {}", path.display()))?;
+    let is_process = serde_json::from_str::<serde_json::Value>(&text)
+        .ok()
+        .is_some_and(|v| v.get("target").is_some() && v.get("hybrid").is_some());
+    let loaded = if is_process {
+        hxai_hybrid::process::ProcessModel::from_json(&text).map(|m| Model::Process(Box::new(m)))
+    } else {
+        hxai_hybrid::HybridModel::from_json(&text).map(|m| Model::Tool(Box::new(m)))
+    };
+    loaded.with_context(|| format!("cannot load the model {}", path.display()))
+}
+
+/// The numeric columns of a samples table and its split flags (`split` = `test`).
+fn read_samples(path: &Path) -> Result<(hxai_table::Table, Vec<f64>, Vec<bool>)> {
+    let mixed = hxai_data::read_mixed_table(path)
+        .with_context(|| format!("cannot read the samples {}", path.display()))?;
+    let (table, _) = mixed
+        .numeric()
+        .with_context(|| format!("{}: no usable numeric columns", path.display()))?;
+    let delta = table
+        .require("delta")
+        .with_context(|| {
+            format!(
+                "{}: no numeric column `delta`; pass the table `hxai fit --samples` wrote",
+                path.display()
+            )
+        })?
+        .to_vec();
+    let is_test = match mixed.names.iter().position(|n| n == "split") {
+        None => vec![false; delta.len()],
+        Some(i) => match &mixed.columns[i] {
+            Column::Text(v) => v
+                .iter()
+                .enumerate()
+                .map(|(row, s)| match s.as_str() {
+                    "train" => Ok(false),
+                    "test" => Ok(true),
+                    other => Err(anyhow::anyhow!(
+                        "{}: row {}: `split` must be train or test, got `{}`",
+                        path.display(),
+                        row + 1,
+                        other.chars().take(20).collect::<String>()
+                    )),
+                })
+                .collect::<Result<Vec<bool>>>()?,
+            Column::Number(_) => anyhow::bail!(
+                "{}: `split` must be text (train or test), found numbers",
+                path.display()
+            ),
+        },
+    };
+    Ok((table, delta, is_test))
+}
+
+/// Runs `hxai explain`.
+pub fn run(args: Args, _g: &Global) -> Result<()> {
+    if args.out.exists() && !args.out.is_dir() {
+        anyhow::bail!(
+            "{}: --out must be a folder (the pictures are written into it), and this is a file",
+            args.out.display()
+        );
+    }
+    anyhow::ensure!(
+        args.interval > 0.0 && args.interval < 1.0,
+        "--interval must lie strictly between 0 and 1, got {}",
+        hxai_data::format_number(args.interval)
+    );
+    let mut inputs = vec![crate::safety::input(&args.model, "the model (--model)")];
+    if let Some(path) = &args.data {
+        inputs.push(crate::safety::input(path, "the data (--data)"));
+    }
+    let (explanation, label) = match load(&args.model)? {
+        Model::Tool(model) => {
+            let samples = args.data.as_deref().map(read_samples).transpose()?;
+            let data = samples.as_ref().map(|(t, d, s)| ExplainData {
+                features: t,
+                target: d,
+                is_test: s,
+            });
+            let e = model.explain(data.as_ref(), args.interval);
+            (e, hxai_plot::explain::DELTA_AXIS.to_owned())
+        }
+        Model::Process(model) => {
+            let table = match &args.data {
+                Some(path) => Some(crate::hybrid::read(path, model.group.as_deref())?.table),
+                None => None,
+            };
+            let e = model.explain(table.as_ref(), args.interval);
+            let label = format!(
+                "δ ({} correction of {})",
+                model.correction.kind.name(),
+                model.target
+            );
+            (e, label)
+        }
+    };
+    let explanation = explanation
+        .with_context(|| format!("cannot explain the model {}", args.model.display()))?;
+    let pictures = hxai_plot::explain::pictures(&explanation, &label, "")
+        .context("cannot draw the pictures")?;
+    if pictures.files.is_empty() {
+        let reasons: Vec<String> = pictures
+            .skipped
+            .iter()
+            .map(|(f, why)| format!("{f} {why}"))
+            .collect();
+        anyhow::bail!("nothing to draw: {}", reasons.join("; "));
+    }
+    // Every output is checked before anything is written.
+    let paths: Vec<PathBuf> = pictures
+        .files
+        .iter()
+        .map(|(name, _)| args.out.join(name))
+        .collect();
+    for p in &paths {
+        crate::safety::check_output(p, &inputs)?;
+    }
+    for (p, (_, svg)) in paths.iter().zip(&pictures.files) {
+        hxai_data::write_text(p, svg).with_context(|| format!("cannot write {}", p.display()))?;
+    }
+    let mut lines = vec![format!("correction: delta = {}", explanation.equation)];
+    lines.extend(paths.iter().map(|p| format!("wrote {}", p.display())));
+    lines.extend(
+        pictures
+            .skipped
+            .iter()
+            .map(|(f, why)| format!("not drawn: {f} {why}")),
+    );
+    crate::safety::emit(&lines.join("\n"))
+}

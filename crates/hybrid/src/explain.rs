@@ -1,0 +1,470 @@
+//! The numbers behind the pictures of `hxai explain`: how a symbolic correction responds to
+//! each feature it uses, how its predictions compare with the truth, and the Pareto front
+//! it was chosen from. Drawing them is another crate's work (`hxai-plot`); this module
+//! only computes.
+//!
+//! # Design decision: the data comes with the call, the front with the model
+//! The response curves and the predicted-vs-true picture need the rows the correction was
+//! fitted on (the points, and the medians the other features are held at). A model file of
+//! the tool case would grow by twelve features times every window if it stored them, so it
+//! does not: the caller passes them ([`ExplainData`], in the command line the samples table
+//! `hxai fit --samples` writes). The Pareto front is small (one line per complexity), so
+//! the model file stores it ([`ParetoMember`], key `correction.pareto`).
+
+use crate::HybridError;
+use hxai_symreg::{Model, Uncertainty};
+use hxai_table::Table;
+use serde::{Deserialize, Serialize};
+
+/// Points of each response curve spread evenly over the feature's range in the data (the
+/// median is added to them).
+pub const RESPONSE_POINTS: usize = 101;
+
+/// One member of the Pareto front of a search, as stored in a model file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ParetoMember {
+    /// Complexity (the search's measure).
+    pub complexity: usize,
+    /// Mean squared error on the training rows.
+    pub loss: f64,
+    /// Plain-text equation.
+    pub equation: String,
+}
+
+impl ParetoMember {
+    /// The stored form of a search's front (`hxai_symreg::SearchResult::pareto`); members
+    /// without a finite loss are left out.
+    pub fn front(models: &[Model]) -> Vec<Self> {
+        models
+            .iter()
+            .filter(|m| m.train_mse.is_finite())
+            .map(|m| Self {
+                complexity: m.complexity(),
+                loss: m.train_mse,
+                equation: m.equation(),
+            })
+            .collect()
+    }
+}
+
+/// The rows an explanation draws: feature columns (every feature the model reads), the
+/// correction's target, and which rows were held out.
+#[derive(Debug, Clone, Copy)]
+pub struct ExplainData<'a> {
+    /// Feature columns (extra columns are ignored).
+    pub features: &'a Table,
+    /// The true target of each row (`delta`).
+    pub target: &'a [f64],
+    /// Whether each row is on the test side (all `false` when unknown).
+    pub is_test: &'a [bool],
+}
+
+/// The response of the correction to one feature, the others held at their median.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Response {
+    /// The feature varied.
+    pub feature: String,
+    /// Its median on the training rows (one of the [`Response::grid`] values).
+    pub median: f64,
+    /// Feature values, increasing, spanning the data's range.
+    pub grid: Vec<f64>,
+    /// The correction at each grid value.
+    pub curve: Vec<f64>,
+    /// Its prediction interval `(lo, hi)` at each grid value (NaN where the equation or its
+    /// gradient is undefined), when the model stores the uncertainty of its constants.
+    pub band: Option<Vec<(f64, f64)>>,
+    /// `(feature value, target)` of the training rows.
+    pub train: Vec<(f64, f64)>,
+    /// `(feature value, target)` of the test rows.
+    pub test: Vec<(f64, f64)>,
+}
+
+/// Predicted vs true target.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parity {
+    /// `(true, predicted)` of the training rows.
+    pub train: Vec<(f64, f64)>,
+    /// `(true, predicted)` of the test rows.
+    pub test: Vec<(f64, f64)>,
+    /// `(true, lo, hi)`: the prediction interval of the test rows (of every row when none is
+    /// held out), when the model stores the uncertainty of its constants.
+    pub intervals: Option<Vec<(f64, f64, f64)>>,
+}
+
+/// The Pareto front with the selected model marked.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Front {
+    /// The members, by increasing complexity.
+    pub members: Vec<ParetoMember>,
+    /// `(complexity, loss)` of the selected model (which need not lie on the front: the
+    /// criterion chooses among every refitted candidate).
+    pub selected: (usize, f64),
+}
+
+/// Everything the explanation pictures show.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Explanation {
+    /// Name of the target (`delta`).
+    pub target: String,
+    /// Level of the intervals (e.g. 0.95).
+    pub level: f64,
+    /// The selected equation.
+    pub equation: String,
+    /// One response per feature the equation uses, in first-use order (empty without data).
+    pub responses: Vec<Response>,
+    /// Predicted vs true (absent without data).
+    pub parity: Option<Parity>,
+    /// The Pareto front (absent when the model file does not store it).
+    pub front: Option<Front>,
+}
+
+/// Median of finite values (mean of the middle two for an even count); `None` when empty.
+pub fn median(values: impl IntoIterator<Item = f64>) -> Option<f64> {
+    let mut v: Vec<f64> = values.into_iter().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    Some(if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    })
+}
+
+fn check_data(model: &Model, data: &ExplainData<'_>) -> Result<(), HybridError> {
+    let n = data.features.n_rows();
+    if data.target.len() != n || data.is_test.len() != n {
+        return Err(HybridError::InvalidConfig(format!(
+            "{n} rows of features, {} targets and {} split flags",
+            data.target.len(),
+            data.is_test.len()
+        )));
+    }
+    for name in &model.feature_names {
+        data.features.require(name)?;
+    }
+    Ok(())
+}
+
+/// Prediction intervals of every row of `table`, `(NaN, NaN)` where the model or its
+/// gradient is not finite (a response curve can leave the equation's domain where the data
+/// never go).
+fn intervals(
+    model: &Model,
+    uncertainty: &Uncertainty,
+    table: &Table,
+    level: f64,
+) -> Result<Vec<(f64, f64)>, HybridError> {
+    match model.prediction_intervals(uncertainty, table, level) {
+        Err(hxai_symreg::SrError::NonFinite { .. }) => (0..table.n_rows())
+            .map(|i| {
+                let row = table.select_rows(&[i])?;
+                match model.prediction_intervals(uncertainty, &row, level) {
+                    Ok(v) => Ok(v.first().copied().unwrap_or((f64::NAN, f64::NAN))),
+                    Err(hxai_symreg::SrError::NonFinite { .. }) => Ok((f64::NAN, f64::NAN)),
+                    Err(e) => Err(e.into()),
+                }
+            })
+            .collect(),
+        other => Ok(other?),
+    }
+}
+
+/// The training rows' indices (every row when all are held out or the split is unknown).
+fn fitting_rows(is_test: &[bool]) -> Vec<usize> {
+    let train: Vec<usize> = (0..is_test.len()).filter(|&i| !is_test[i]).collect();
+    if train.is_empty() {
+        (0..is_test.len()).collect()
+    } else {
+        train
+    }
+}
+
+/// The response of `model` to `feature`: a grid over the feature's range in `data` (plus its
+/// median), every other feature the model reads at its median on the training rows, the
+/// model's prediction on it and, with `uncertainty`, its prediction interval at `level`.
+///
+/// # Errors
+/// [`HybridError::InvalidConfig`] for data of mismatched lengths or without rows,
+/// [`HybridError::Table`] for a missing feature column, and the model's errors (a `level`
+/// outside (0, 1) among them).
+pub fn response(
+    model: &Model,
+    uncertainty: Option<&Uncertainty>,
+    data: &ExplainData<'_>,
+    feature: &str,
+    level: f64,
+) -> Result<Response, HybridError> {
+    check_data(model, data)?;
+    let fit_rows = fitting_rows(data.is_test);
+    let med = |name: &str| -> Result<f64, HybridError> {
+        let col = data.features.require(name)?;
+        median(fit_rows.iter().map(|&i| col[i]))
+            .ok_or_else(|| HybridError::NoData("no rows to explain the correction on".into()))
+    };
+    let x = data.features.require(feature)?;
+    let (lo, hi) = x
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    let m = med(feature)?;
+    let mut grid: Vec<f64> = if hi > lo {
+        (0..RESPONSE_POINTS)
+            .map(|k| lo + (hi - lo) * k as f64 / (RESPONSE_POINTS - 1) as f64)
+            .collect()
+    } else {
+        Vec::new()
+    };
+    grid.push(m);
+    grid.sort_by(f64::total_cmp);
+    grid.dedup();
+    let mut names = Vec::new();
+    let mut columns = Vec::new();
+    for name in &model.feature_names {
+        names.push(name.clone());
+        columns.push(if name == feature {
+            grid.clone()
+        } else {
+            vec![med(name)?; grid.len()]
+        });
+    }
+    let table = Table::new(names, columns)?;
+    let curve = model.predict(&table)?;
+    let band = uncertainty
+        .map(|u| intervals(model, u, &table, level))
+        .transpose()?;
+    let (mut train, mut test) = (Vec::new(), Vec::new());
+    for (i, (&v, &t)) in x.iter().zip(data.target).enumerate() {
+        if data.is_test[i] {
+            test.push((v, t));
+        } else {
+            train.push((v, t));
+        }
+    }
+    Ok(Response {
+        feature: feature.to_owned(),
+        median: m,
+        grid,
+        curve,
+        band,
+        train,
+        test,
+    })
+}
+
+/// Predicted vs true target on `data`, with the prediction intervals at `level` of the test
+/// rows (of every row when none is held out) when `uncertainty` is given.
+///
+/// # Errors
+/// As [`response`].
+pub fn parity(
+    model: &Model,
+    uncertainty: Option<&Uncertainty>,
+    data: &ExplainData<'_>,
+    level: f64,
+) -> Result<Parity, HybridError> {
+    check_data(model, data)?;
+    let pred = model.predict(data.features)?;
+    let (mut train, mut test) = (Vec::new(), Vec::new());
+    for (i, (&t, &p)) in data.target.iter().zip(&pred).enumerate() {
+        if data.is_test[i] {
+            test.push((t, p));
+        } else {
+            train.push((t, p));
+        }
+    }
+    let intervals = match uncertainty {
+        Some(u) => {
+            let any_test = data.is_test.iter().any(|&t| t);
+            let iv = intervals(model, u, data.features, level)?;
+            Some(
+                iv.into_iter()
+                    .zip(data.target)
+                    .zip(data.is_test)
+                    .filter(|(_, t)| !any_test || **t)
+                    .map(|(((lo, hi), &y), _)| (y, lo, hi))
+                    .collect(),
+            )
+        }
+        None => None,
+    };
+    Ok(Parity {
+        train,
+        test,
+        intervals,
+    })
+}
+
+/// The whole explanation of a symbolic correction: a [`response`] for each feature the
+/// equation uses and the [`parity`] when `data` is given, and the front when `pareto` is.
+/// `target` names the correction's target in the pictures.
+///
+/// # Errors
+/// As [`response`].
+pub fn explain(
+    model: &Model,
+    uncertainty: Option<&Uncertainty>,
+    pareto: Option<&[ParetoMember]>,
+    data: Option<&ExplainData<'_>>,
+    target: &str,
+    level: f64,
+) -> Result<Explanation, HybridError> {
+    if !(level > 0.0 && level < 1.0) {
+        return Err(HybridError::InvalidConfig(format!(
+            "the interval level must lie strictly between 0 and 1, got {level}"
+        )));
+    }
+    let (responses, parity) = match data {
+        Some(d) => (
+            model
+                .features()
+                .iter()
+                .map(|f| response(model, uncertainty, d, f, level))
+                .collect::<Result<Vec<_>, _>>()?,
+            Some(parity(model, uncertainty, d, level)?),
+        ),
+        None => (Vec::new(), None),
+    };
+    Ok(Explanation {
+        target: target.to_owned(),
+        level,
+        equation: model.equation(),
+        responses,
+        parity,
+        front: pareto.map(|members| Front {
+            members: members.to_vec(),
+            selected: (model.complexity(), model.train_mse),
+        }),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use hxai_symreg::{SearchConfig, search};
+
+    /// `y = 2 x0 + 0.5 x1^2`-like data with a little deterministic noise; x2 is unused.
+    fn case() -> (Table, Vec<f64>, Vec<bool>) {
+        let n = 60;
+        let x0: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin() * 3.0).collect();
+        let x1: Vec<f64> = (0..n)
+            .map(|i| (i as f64 * 0.11).cos() * 2.0 + 1.0)
+            .collect();
+        let x2: Vec<f64> = (0..n).map(|i| i as f64).collect();
+        let y: Vec<f64> = (0..n)
+            .map(|i| 2.0 * x0[i] + 0.5 * x1[i] + 0.05 * ((i * 7 % 11) as f64 - 5.0))
+            .collect();
+        let is_test = (0..n).map(|i| i % 5 == 0).collect();
+        let t = Table::new(
+            vec!["x0".into(), "x1".into(), "x2".into()],
+            vec![x0, x1, x2],
+        )
+        .unwrap();
+        (t, y, is_test)
+    }
+
+    fn fitted() -> (Model, Uncertainty, Table, Vec<f64>, Vec<bool>) {
+        let (t, y, is_test) = case();
+        let cfg = SearchConfig {
+            epochs: 2,
+            seed: 3,
+            ..SearchConfig::paper()
+        };
+        let r = search(&t, &y, &cfg, &mut |_| {}).unwrap();
+        let u = r.best.uncertainty(&t, &y).unwrap();
+        (r.best, u, t, y, is_test)
+    }
+
+    #[test]
+    fn the_curve_at_the_median_is_the_model_at_the_medians_and_the_band_holds_it() {
+        let (m, u, t, y, is_test) = fitted();
+        let data = ExplainData {
+            features: &t,
+            target: &y,
+            is_test: &is_test,
+        };
+        let e = explain(&m, Some(&u), None, Some(&data), "y", 0.95).unwrap();
+        assert_eq!(e.responses.len(), m.features().len());
+        assert!(!e.responses.is_empty());
+        let train: Vec<usize> = (0..y.len()).filter(|&i| !is_test[i]).collect();
+        let med = |name: &str| median(train.iter().map(|&i| t.column(name).unwrap()[i])).unwrap();
+        for r in &e.responses {
+            assert!(r.grid.windows(2).all(|w| w[0] < w[1]));
+            let k = r.grid.iter().position(|&g| g == r.median).unwrap();
+            let row = Table::new(
+                m.feature_names.clone(),
+                m.feature_names.iter().map(|n| vec![med(n)]).collect(),
+            )
+            .unwrap();
+            let at_medians = m.predict(&row).unwrap()[0];
+            // the same expression on the same inputs: equal to rounding
+            assert!(
+                (r.curve[k] - at_medians).abs() <= 1e-12 * at_medians.abs().max(1.0),
+                "{} vs {at_medians}",
+                r.curve[k]
+            );
+            let band = r.band.as_ref().unwrap();
+            assert_eq!(band.len(), r.grid.len());
+            for (c, (lo, hi)) in r.curve.iter().zip(band) {
+                assert!(lo < c && c < hi, "{lo} < {c} < {hi}");
+            }
+            assert_eq!(r.train.len() + r.test.len(), y.len());
+            assert_eq!(r.test.len(), 12);
+        }
+        let p = e.parity.unwrap();
+        assert_eq!((p.train.len(), p.test.len()), (48, 12));
+        let iv = p.intervals.unwrap();
+        assert_eq!(iv.len(), 12);
+        // a 95 % interval of a model this good holds most of its test rows
+        let inside = iv.iter().filter(|(y, lo, hi)| lo <= y && y <= hi).count();
+        assert!(inside >= 9, "{inside} of 12 inside");
+    }
+
+    #[test]
+    fn without_data_only_the_front_is_explained() {
+        let (m, _, _, _, _) = fitted();
+        let front = vec![ParetoMember {
+            complexity: 1,
+            loss: 2.0,
+            equation: "x0".into(),
+        }];
+        let e = explain(&m, None, Some(&front), None, "y", 0.9).unwrap();
+        assert!(e.responses.is_empty() && e.parity.is_none());
+        let f = e.front.unwrap();
+        assert_eq!(f.members, front);
+        assert_eq!(f.selected, (m.complexity(), m.train_mse));
+        assert!(explain(&m, None, None, None, "y", 1.0).is_err());
+    }
+
+    #[test]
+    fn mismatched_or_incomplete_data_is_an_error() {
+        let (m, u, t, y, is_test) = fitted();
+        let short = ExplainData {
+            features: &t,
+            target: &y[1..],
+            is_test: &is_test,
+        };
+        assert!(explain(&m, Some(&u), None, Some(&short), "y", 0.95).is_err());
+        let other = Table::new(vec!["z".into()], vec![vec![0.0; y.len()]]).unwrap();
+        let missing = ExplainData {
+            features: &other,
+            target: &y,
+            is_test: &is_test,
+        };
+        assert!(matches!(
+            parity(&m, None, &missing, 0.95),
+            Err(HybridError::Table(_))
+        ));
+    }
+
+    #[test]
+    fn median_of_odd_even_and_empty() {
+        assert_eq!(median([3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median([4.0, 1.0, 2.0, 3.0]), Some(2.5));
+        assert_eq!(median([f64::NAN]), None);
+    }
+}
