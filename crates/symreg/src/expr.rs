@@ -31,42 +31,41 @@ fn add_num(e: Expr, x: f64) -> Expr {
 /// four half-turns either way.
 pub(crate) const MAX_HALF_PI_MULTIPLE: f64 = 8.0;
 
+/// `k` when `v` is `k * pi/2` for a whole `k` with `0 < |k| <= 8`, within `ulps` units in
+/// the last place of `v`.
+fn half_pi_within(v: f64, ulps: f64) -> Option<i64> {
+    let k = (v / std::f64::consts::FRAC_PI_2).round();
+    let exact = k * std::f64::consts::FRAC_PI_2;
+    (k != 0.0
+        && k.abs() <= MAX_HALF_PI_MULTIPLE
+        && (exact - v).abs() <= ulps * f64::EPSILON * v.abs())
+    .then_some(k as i64)
+}
+
 /// `k` when `v` is exactly (to the last bit) `k * pi/2` for a whole `k` with
 /// `0 < |k| <= 8`. Such values come from snapping (see `snap_candidates`) or from a fit
 /// that converged to the double nearest a phase; any other value is `None`.
 pub(crate) fn half_pi_multiple(v: f64) -> Option<i64> {
-    let k = (v / std::f64::consts::FRAC_PI_2).round();
-    (k != 0.0 && k.abs() <= MAX_HALF_PI_MULTIPLE && k * std::f64::consts::FRAC_PI_2 == v)
-        .then_some(k as i64)
+    half_pi_within(v, 0.0)
 }
 
 /// `(u, k)` when `e` is `u + k pi/2` (or `u - k pi/2`, or `k pi/2 + u`) for a whole `k`,
 /// with the phase a number within a few units in the last place of the multiple.
 fn split_phase(e: &Expr) -> Option<(&Expr, i64)> {
-    let (u, c) = match e {
-        Expr::Bin(Op::Add, u, c) | Expr::Bin(Op::Add, c, u) if matches!(**c, Expr::Num(_)) => {
-            (&**u, &**c)
-        }
-        Expr::Bin(Op::Sub, u, c) => match **c {
-            Expr::Num(v) => return near_half_pi(-v).map(|k| (&**u, k)),
-            _ => return None,
+    let num = |c: &Expr| match c {
+        Expr::Num(v) => Some(*v),
+        _ => None,
+    };
+    let (u, phase) = match e {
+        Expr::Bin(Op::Add, a, b) => match (num(a), num(b)) {
+            (_, Some(v)) => (&**a, v),
+            (Some(v), None) => (&**b, v),
+            (None, None) => return None,
         },
+        Expr::Bin(Op::Sub, a, b) => (&**a, -num(b)?),
         _ => return None,
     };
-    match c {
-        Expr::Num(v) => near_half_pi(*v).map(|k| (u, k)),
-        _ => None,
-    }
-}
-
-/// `k` when `v` is `k pi/2` within 4 units in the last place (`0 < |k| <= 8`).
-fn near_half_pi(v: f64) -> Option<i64> {
-    let k = (v / std::f64::consts::FRAC_PI_2).round();
-    let exact = k * std::f64::consts::FRAC_PI_2;
-    (k != 0.0
-        && k.abs() <= MAX_HALF_PI_MULTIPLE
-        && (exact - v).abs() <= 4.0 * f64::EPSILON * v.abs())
-    .then_some(k as i64)
+    half_pi_within(phase, 4.0).map(|k| (u, k))
 }
 
 /// `sin(u + k pi/2)` or `cos(u + k pi/2)` written without the phase: `cos(u)`, `-sin(u)`, ...
@@ -166,21 +165,24 @@ impl Expr {
                 Neg(x) => *x,
                 x => Neg(Box::new(x)),
             },
-            Un(op, a) => match (op, a.simplify()) {
-                (_, Num(v)) => Num(op.apply1(v)),
-                // log undoes exp wherever exp is finite (where it is not, neither is the model)
-                (Op::Log, Un(Op::Exp, x)) => *x,
-                (Op::Log, Un(Op::Gaussian, x)) => Neg(Box::new(Un(Op::Square, x))),
+            Un(op, a) => {
+                let a = a.simplify();
                 // a phase of a whole number of quarter turns is a shift between sin and cos:
                 // sin(u - pi/2) is -cos(u)
-                (Op::Sin | Op::Cos, x) if split_phase(&x).is_some() => match split_phase(&x) {
-                    Some((u, k)) => shift_trig(op, u.clone(), k).simplify(),
-                    None => Un(op, Box::new(x)),
-                },
-                // even functions drop a sign
-                (Op::Square | Op::Abs | Op::Cos | Op::Gaussian, Neg(x)) => Un(op, x),
-                (_, x) => Un(op, Box::new(x)),
-            },
+                if let (Op::Sin | Op::Cos, Some((u, k))) = (op, split_phase(&a)) {
+                    return shift_trig(op, u.clone(), k).simplify();
+                }
+                match (op, a) {
+                    (_, Num(v)) => Num(op.apply1(v)),
+                    // log undoes exp wherever exp is finite (where it is not, neither is the
+                    // model)
+                    (Op::Log, Un(Op::Exp, x)) => *x,
+                    (Op::Log, Un(Op::Gaussian, x)) => Neg(Box::new(Un(Op::Square, x))),
+                    // even functions drop a sign
+                    (Op::Square | Op::Abs | Op::Cos | Op::Gaussian, Neg(x)) => Un(op, x),
+                    (_, x) => Un(op, Box::new(x)),
+                }
+            }
             Bin(op, a, b) => {
                 let a = a.simplify();
                 let b = b.simplify();
@@ -401,16 +403,18 @@ impl Expr {
             }
         };
         match self {
-            Expr::Num(v) if half_pi_multiple(*v).is_some() => {
-                half_pi_multiple(*v).map_or_else(String::new, pi_latex)
-            }
-            Expr::Num(v) => {
-                let s = fmt_number(*v, Some(digits));
-                match s.split_once('e') {
-                    Some((m, e)) => format!("{m} \\cdot 10^{{{}}}", e.trim_start_matches('+')),
-                    None => s,
+            Expr::Num(v) => match half_pi_multiple(*v) {
+                Some(k) => pi_latex(k),
+                None => {
+                    let s = fmt_number(*v, Some(digits));
+                    match s.split_once('e') {
+                        Some((m, e)) => {
+                            format!("{m} \\cdot 10^{{{}}}", e.trim_start_matches('+'))
+                        }
+                        None => s,
+                    }
                 }
-            }
+            },
             Expr::Var(n) => latex_name(n),
             Expr::Neg(a) => format!("-{}", wrap(a, 3)),
             Expr::Un(op, a) => {
