@@ -46,6 +46,36 @@ fn adjoint1(da: &mut [f64], ak: &[f64], va: &[f64], out: &[f64], d: impl Fn(f64,
     }
 }
 
+/// What a sweep reads: the program, its parameters (the output's scale and offset first)
+/// and the input columns.
+#[derive(Clone, Copy, Debug)]
+pub struct Inputs<'a> {
+    /// The program.
+    pub prog: &'a Program,
+    /// Its parameters, as [`Program::param_offsets`] lays them out.
+    pub params: &'a [f64],
+    /// The input columns, in the program's variable order.
+    pub cols: &'a [&'a [f64]],
+}
+
+/// The normal equations of a least-squares problem: what the sweep reads, the parameters
+/// that are free (indices into `inp.params`) and the target, and the system's buffers
+/// (`jtj`: `free.len()` squared; `jtr`: `free.len()`).
+struct NormalEquations<'a> {
+    inp: Inputs<'a>,
+    free: &'a [usize],
+    y: &'a [f64],
+    jtj: &'a mut [f64],
+    jtr: &'a mut [f64],
+}
+
+/// The rows `0..n_rows` as batches `(start, len)` of at most [`BATCH`] rows.
+fn batches(n_rows: usize) -> impl Iterator<Item = (usize, usize)> {
+    (0..n_rows)
+        .step_by(BATCH)
+        .map(move |start| (start, BATCH.min(n_rows - start)))
+}
+
 /// Whether the running CPU has AVX2 (always false off x86-64).
 fn has_avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -165,28 +195,18 @@ fn dot4_avx2_kernel(a: &[f64], b0: &[f64], b1: &[f64], b2: &[f64], b3: &[f64]) -
         // SAFETY: same size (64 bytes), and every bit pattern is a valid f64.
         unsafe { std::mem::transmute::<[f64; 8], [__m256d; 2]>(*x) }
     };
-    let z = _mm256_setzero_pd();
-    let (mut l0, mut l1, mut l2, mut l3) = (z, z, z, z);
-    let (mut h0, mut h1, mut h2, mut h3) = (z, z, z, z);
+    // accumulators: lanes 0-3 and 4-7 of the chunks, one pair per `b`
+    let mut acc = [[_mm256_setzero_pd(); 2]; 4];
     for ((((x, y0), y1), y2), y3) in ac.iter().zip(c0).zip(c1).zip(c2).zip(c3) {
         let [x0, x1] = lanes(x);
-        let [y00, y01] = lanes(y0);
-        l0 = _mm256_add_pd(l0, _mm256_mul_pd(x0, y00));
-        h0 = _mm256_add_pd(h0, _mm256_mul_pd(x1, y01));
-        let [y10, y11] = lanes(y1);
-        l1 = _mm256_add_pd(l1, _mm256_mul_pd(x0, y10));
-        h1 = _mm256_add_pd(h1, _mm256_mul_pd(x1, y11));
-        let [y20, y21] = lanes(y2);
-        l2 = _mm256_add_pd(l2, _mm256_mul_pd(x0, y20));
-        h2 = _mm256_add_pd(h2, _mm256_mul_pd(x1, y21));
-        let [y30, y31] = lanes(y3);
-        l3 = _mm256_add_pd(l3, _mm256_mul_pd(x0, y30));
-        h3 = _mm256_add_pd(h3, _mm256_mul_pd(x1, y31));
+        for (a, y) in acc.iter_mut().zip([y0, y1, y2, y3]) {
+            let [y_lo, y_hi] = lanes(y);
+            a[0] = _mm256_add_pd(a[0], _mm256_mul_pd(x0, y_lo));
+            a[1] = _mm256_add_pd(a[1], _mm256_mul_pd(x1, y_hi));
+        }
     }
     // SAFETY: same size (4 x 64 bytes), and every bit pattern is a valid f64.
-    let sums: [[f64; 8]; 4] = unsafe {
-        std::mem::transmute::<[__m256d; 8], [[f64; 8]; 4]>([l0, h0, l1, h1, l2, h2, l3, h3])
-    };
+    let sums = unsafe { std::mem::transmute::<[[__m256d; 2]; 4], [[f64; 8]; 4]>(acc) };
     let n8 = n - ar.len();
     let mut out = [0.0; 4];
     for ((o, s), bj) in out.iter_mut().zip(&sums).zip(b) {
@@ -201,17 +221,9 @@ fn dot4_avx2_kernel(a: &[f64], b0: &[f64], b1: &[f64], b2: &[f64], b3: &[f64]) -
 
 /// The forward sweep over one batch: `vals[k * BATCH..][..len]` receives node `k`'s values.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn forward_impl(
-    prog: &Program,
-    offsets: &[usize],
-    children: &[[usize; 2]],
-    vals: &mut [f64],
-    params: &[f64],
-    cols: &[&[f64]],
-    start: usize,
-    len: usize,
-) {
+fn forward_impl(ev: &mut Evaluator, inp: Inputs, start: usize, len: usize) {
+    let Inputs { prog, params, cols } = inp;
+    let (offsets, children, vals) = (&ev.offsets, &ev.children, &mut ev.vals);
     for (k, node) in prog.nodes.iter().enumerate() {
         let (before, rest) = vals.split_at_mut(k * BATCH);
         let dst = &mut rest[..len];
@@ -277,18 +289,8 @@ fn forward_impl(
 /// [`forward_impl`] compiled for AVX2 (4 rows per instruction); chosen at run time.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-#[allow(clippy::too_many_arguments)]
-fn forward_avx2(
-    prog: &Program,
-    offsets: &[usize],
-    children: &[[usize; 2]],
-    vals: &mut [f64],
-    params: &[f64],
-    cols: &[&[f64]],
-    start: usize,
-    len: usize,
-) {
-    forward_impl(prog, offsets, children, vals, params, cols, start, len);
+fn forward_avx2(ev: &mut Evaluator, inp: Inputs, start: usize, len: usize) {
+    forward_impl(ev, inp, start, len);
 }
 
 impl Evaluator {
@@ -314,25 +316,30 @@ impl Evaluator {
         self
     }
 
-    fn forward(
-        &mut self,
-        prog: &Program,
-        params: &[f64],
-        cols: &[&[f64]],
-        start: usize,
-        len: usize,
-    ) {
-        let (o, c, v) = (&self.offsets, &self.children, &mut self.vals);
+    fn forward(&mut self, inp: Inputs, start: usize, len: usize) {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `avx2` is set only when the running CPU reported AVX2 (see `new`).
             #[allow(unsafe_code)]
             unsafe {
-                forward_avx2(prog, o, c, v, params, cols, start, len);
+                forward_avx2(self, inp, start, len);
             }
             return;
         }
-        forward_impl(prog, o, c, v, params, cols, start, len);
+        forward_impl(self, inp, start, len);
+    }
+
+    /// [`Self::forward`] on the batch at `start`, then its residuals
+    /// `scale * root + offset - y` into `self.res[..len]`; returns their sum of squares.
+    fn forward_residuals(&mut self, inp: Inputs, y: &[f64], start: usize, len: usize) -> f64 {
+        self.forward(inp, start, len);
+        let root = inp.prog.nodes.len() - 1;
+        let (scale, offset) = (inp.params[0], inp.params[1]);
+        let v = &self.vals[root * BATCH..root * BATCH + len];
+        for i in 0..len {
+            self.res[i] = scale * v[i] + offset - y[start + i];
+        }
+        dot(&self.res[..len], &self.res[..len])
     }
 
     /// Writes the program's output for all `n_rows` rows into `out`.
@@ -348,55 +355,33 @@ impl Evaluator {
         out.reserve(n_rows);
         let root = prog.nodes.len() - 1;
         let (scale, offset) = (params[0], params[1]);
-        let mut start = 0;
-        while start < n_rows {
-            let len = BATCH.min(n_rows - start);
-            self.forward(prog, params, cols, start, len);
+        for (start, len) in batches(n_rows) {
+            self.forward(Inputs { prog, params, cols }, start, len);
             out.extend(
                 self.vals[root * BATCH..root * BATCH + len]
                     .iter()
                     .map(|&v| scale * v + offset),
             );
-            start += len;
         }
     }
 
-    /// Writes the root value (before the output map) for all rows into `out`.
-    pub fn root_values(
-        &mut self,
-        prog: &Program,
-        params: &[f64],
-        cols: &[&[f64]],
-        n_rows: usize,
-        out: &mut Vec<f64>,
-    ) {
-        out.clear();
-        let root = prog.nodes.len() - 1;
-        let mut start = 0;
-        while start < n_rows {
-            let len = BATCH.min(n_rows - start);
-            self.forward(prog, params, cols, start, len);
+    /// The root value (before the output map) on all `n_rows` rows.
+    pub(crate) fn root_values(&mut self, inp: Inputs, n_rows: usize) -> Vec<f64> {
+        let root = inp.prog.nodes.len() - 1;
+        let mut out = Vec::with_capacity(n_rows);
+        for (start, len) in batches(n_rows) {
+            self.forward(inp, start, len);
             out.extend_from_slice(&self.vals[root * BATCH..root * BATCH + len]);
-            start += len;
         }
+        out
     }
 
     /// Mean squared error against `y`; `f64::INFINITY` if any prediction is not finite.
     pub fn mse(&mut self, prog: &Program, params: &[f64], cols: &[&[f64]], y: &[f64]) -> f64 {
         let n_rows = y.len();
-        let root = prog.nodes.len() - 1;
-        let (scale, offset) = (params[0], params[1]);
         let mut sse = 0.0;
-        let mut start = 0;
-        while start < n_rows {
-            let len = BATCH.min(n_rows - start);
-            self.forward(prog, params, cols, start, len);
-            let v = &self.vals[root * BATCH..root * BATCH + len];
-            for i in 0..len {
-                self.res[i] = scale * v[i] + offset - y[start + i];
-            }
-            sse += dot(&self.res[..len], &self.res[..len]);
-            start += len;
+        for (start, len) in batches(n_rows) {
+            sse += self.forward_residuals(Inputs { prog, params, cols }, y, start, len);
         }
         let m = sse / n_rows as f64;
         if m.is_finite() { m } else { f64::INFINITY }
@@ -416,69 +401,49 @@ impl Evaluator {
         jtj: &mut [f64],
         jtr: &mut [f64],
     ) -> f64 {
+        let inp = Inputs { prog, params, cols };
+        let ne = NormalEquations {
+            inp,
+            free,
+            y,
+            jtj,
+            jtr,
+        };
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `avx2` is set only when the running CPU reported AVX2 (see `new`).
             #[allow(unsafe_code)]
-            return unsafe { self.normal_equations_avx2(prog, params, free, cols, y, jtj, jtr) };
+            return unsafe { self.normal_equations_avx2(ne) };
         }
-        self.normal_equations_impl(prog, params, free, cols, y, jtj, jtr)
+        self.normal_equations_impl(ne)
     }
 
     /// [`Self::normal_equations_impl`] compiled for AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    #[allow(clippy::too_many_arguments)]
-    fn normal_equations_avx2(
-        &mut self,
-        prog: &Program,
-        params: &[f64],
-        free: &[usize],
-        cols: &[&[f64]],
-        y: &[f64],
-        jtj: &mut [f64],
-        jtr: &mut [f64],
-    ) -> f64 {
-        self.normal_equations_impl(prog, params, free, cols, y, jtj, jtr)
+    fn normal_equations_avx2(&mut self, ne: NormalEquations) -> f64 {
+        self.normal_equations_impl(ne)
     }
 
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn normal_equations_impl(
-        &mut self,
-        prog: &Program,
-        params: &[f64],
-        free: &[usize],
-        cols: &[&[f64]],
-        y: &[f64],
-        jtj: &mut [f64],
-        jtr: &mut [f64],
-    ) -> f64 {
-        let n = prog.nodes.len();
-        let n_params = params.len();
+    fn normal_equations_impl(&mut self, ne: NormalEquations) -> f64 {
+        let NormalEquations {
+            inp,
+            free,
+            y,
+            jtj,
+            jtr,
+        } = ne;
         jtj.fill(0.0);
         jtr.fill(0.0);
-        self.adj.resize(n * BATCH, 0.0);
-        self.jac.resize(n_params * BATCH, 0.0);
-        let root = n - 1;
-        let (scale, offset) = (params[0], params[1]);
+        self.adj.resize(inp.prog.nodes.len() * BATCH, 0.0);
+        self.jac.resize(inp.params.len() * BATCH, 0.0);
         let n_rows = y.len();
         let mut sse = 0.0;
-        let mut start = 0;
-        while start < n_rows {
-            let len = BATCH.min(n_rows - start);
-            self.forward(prog, params, cols, start, len);
-            // residuals
-            {
-                let v = &self.vals[root * BATCH..root * BATCH + len];
-                for i in 0..len {
-                    self.res[i] = scale * v[i] + offset - y[start + i];
-                }
-                sse += dot(&self.res[..len], &self.res[..len]);
-            }
-            self.backward(prog, params, cols, start, len);
+        for (start, len) in batches(n_rows) {
+            sse += self.forward_residuals(inp, y, start, len);
+            self.backward(inp, start, len);
             gram(&self.jac, &self.res[..len], free, jtj, jtr, self.avx2);
-            start += len;
         }
         let mse = sse / n_rows as f64;
         if mse.is_finite() && jtj.iter().all(|v| v.is_finite()) && jtr.iter().all(|v| v.is_finite())
@@ -493,14 +458,8 @@ impl Evaluator {
     /// `self.jac` (`n_params` rows of `BATCH`) with the derivative of the prediction with
     /// respect to every parameter. Inlined into both code paths of the normal equations.
     #[inline(always)]
-    fn backward(
-        &mut self,
-        prog: &Program,
-        params: &[f64],
-        cols: &[&[f64]],
-        start: usize,
-        len: usize,
-    ) {
+    fn backward(&mut self, inp: Inputs, start: usize, len: usize) {
+        let Inputs { prog, params, cols } = inp;
         let n = prog.nodes.len();
         let root = n - 1;
         let scale = params[0];
@@ -613,17 +572,15 @@ impl Evaluator {
         out.resize(n_rows * m, 0.0);
         self.adj.resize(n * BATCH, 0.0);
         self.jac.resize(params.len() * BATCH, 0.0);
-        let mut start = 0;
-        while start < n_rows {
-            let len = BATCH.min(n_rows - start);
-            self.forward(prog, params, cols, start, len);
-            self.backward(prog, params, cols, start, len);
+        let inp = Inputs { prog, params, cols };
+        for (start, len) in batches(n_rows) {
+            self.forward(inp, start, len);
+            self.backward(inp, start, len);
             for (a, &p) in free.iter().enumerate() {
                 for i in 0..len {
                     out[(start + i) * m + a] = self.jac[p * BATCH + i];
                 }
             }
-            start += len;
         }
     }
 }

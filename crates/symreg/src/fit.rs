@@ -4,7 +4,7 @@
 //! with a hand-written Cholesky factorisation: for systems this small (≤ ~40 unknowns) a
 //! general linear-algebra library costs more in set-up than the solve itself, and the
 //! fixed operation order keeps results bit-identical everywhere.
-use crate::eval::Evaluator;
+use crate::eval::{Evaluator, Inputs};
 use crate::program::{Node, Program};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -77,17 +77,15 @@ impl Unknowns<'_> {
     /// squared, row-major; the lower triangle is what [`cholesky_solve`] reads) and `jtr`
     /// (`len()`) and returns the mean squared error (`INFINITY` if not finite). `Free`
     /// fills the lower triangle only; `Tied` fills the whole symmetric matrix.
-    #[allow(clippy::too_many_arguments)]
     pub fn normal_equations(
         &self,
         ev: &mut Evaluator,
-        prog: &Program,
-        params: &[f64],
-        cols: &[&[f64]],
+        inp: Inputs,
         y: &[f64],
         jtj: &mut [f64],
         jtr: &mut [f64],
     ) -> f64 {
+        let Inputs { prog, params, cols } = inp;
         let groups = match self {
             Unknowns::Free(free) => {
                 return ev.normal_equations(prog, params, free, cols, y, jtj, jtr);
@@ -186,7 +184,8 @@ pub fn levenberg_marquardt(
     let mut a = vec![0.0; m * m];
     let mut delta = vec![0.0; m];
     let mut trial = params.to_vec();
-    let mut mse = unknowns.normal_equations(ev, prog, params, cols, y, &mut jtj, &mut jtr);
+    let inp = Inputs { prog, params, cols };
+    let mut mse = unknowns.normal_equations(ev, inp, y, &mut jtj, &mut jtr);
     if !mse.is_finite() || m == 0 {
         // a non-finite Jacobian (sqrt or log at 0, say) ends the fit, but the start's own
         // loss may still be finite
@@ -227,7 +226,8 @@ pub fn levenberg_marquardt(
         if !accepted {
             break;
         }
-        let next = unknowns.normal_equations(ev, prog, params, cols, y, &mut jtj, &mut jtr);
+        let inp = Inputs { prog, params, cols };
+        let next = unknowns.normal_equations(ev, inp, y, &mut jtj, &mut jtr);
         if !next.is_finite() {
             // the accepted step's loss stands; only its Jacobian is unusable
             return mse;
@@ -314,8 +314,14 @@ pub fn fit_output_map(
     y: &[f64],
     ev: &mut Evaluator,
 ) {
-    let mut root = Vec::new();
-    ev.root_values(prog, p, cols, y.len(), &mut root);
+    let root = ev.root_values(
+        Inputs {
+            prog,
+            params: p,
+            cols,
+        },
+        y.len(),
+    );
     let n = y.len() as f64;
     let mx = root.iter().sum::<f64>() / n;
     let my = y.iter().sum::<f64>() / n;

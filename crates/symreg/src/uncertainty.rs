@@ -30,7 +30,7 @@
 //! (JSON `null`) and `reason` says why; the covariance stored for prediction intervals is
 //! then the pseudo-inverse, which is still right for predictions (they depend only on the
 //! identifiable combinations). No `NaN` is ever written.
-use crate::eval::Evaluator;
+use crate::eval::{Evaluator, Inputs};
 use crate::expr::Expr;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::program::Program;
@@ -102,7 +102,8 @@ pub fn covariance(
     let mut ev = Evaluator::new(prog);
     let mut jtj = vec![0.0; k * k];
     let mut jtr = vec![0.0; k];
-    let mse = unknowns.normal_equations(&mut ev, prog, params, cols, y, &mut jtj, &mut jtr);
+    let inp = Inputs { prog, params, cols };
+    let mse = unknowns.normal_equations(&mut ev, inp, y, &mut jtj, &mut jtr);
     let dof = n.saturating_sub(k);
     let plain_mse = ev.mse(prog, params, cols, y);
     let mut out = Covariance {

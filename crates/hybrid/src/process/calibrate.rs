@@ -6,7 +6,7 @@
 //! [`levenberg_marquardt`]), so the calibration and the symbolic-regression search share
 //! one evaluator, one differentiator and one optimiser.
 use hxai_symreg::Program;
-use hxai_symreg::eval::Evaluator;
+use hxai_symreg::eval::{Evaluator, Inputs};
 use hxai_symreg::fit::{LmSettings, Unknowns, cholesky_solve, levenberg_marquardt};
 
 /// Fits the unknowns (each a group of tied parameter indices) by Levenberg-Marquardt,
@@ -59,8 +59,8 @@ pub(crate) fn standard_errors(
     let mut ev = Evaluator::new(prog);
     let mut jtj = vec![0.0; m * m];
     let mut jtr = vec![0.0; m];
-    let mse =
-        Unknowns::Tied(groups).normal_equations(&mut ev, prog, params, cols, y, &mut jtj, &mut jtr);
+    let inp = Inputs { prog, params, cols };
+    let mse = Unknowns::Tied(groups).normal_equations(&mut ev, inp, y, &mut jtj, &mut jtr);
     if !mse.is_finite() || n <= m {
         return vec![None; m];
     }
