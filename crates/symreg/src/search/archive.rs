@@ -1,6 +1,8 @@
 //! What flows through the loop: proposed [`Candidate`]s, their [`Fitted`] results, and the
 //! [`Archive`] of the best fit at each complexity that every strategy reads.
+use super::generate::Tables;
 use crate::program::Program;
+use rand_chacha::ChaCha8Rng;
 
 /// A proposed model structure, optionally with parameters to start from.
 #[derive(Clone, Debug)]
@@ -13,6 +15,24 @@ pub(crate) struct Candidate {
     pub source: u8,
     /// Strategy-specific tag (cell or island).
     pub tag: u32,
+}
+
+impl Candidate {
+    /// A proposal of `program` tagged `tag`, warm-started from `params` if given; the
+    /// combined strategy sets `source`.
+    pub(crate) fn new(program: Program, params: Option<Vec<f64>>, tag: u32) -> Self {
+        Self {
+            program,
+            params,
+            source: 0,
+            tag,
+        }
+    }
+
+    /// A fresh random program of `tables`, tagged `tag`.
+    pub(crate) fn random(tables: &Tables, rng: &mut ChaCha8Rng, tag: u32) -> Self {
+        Self::new(tables.random_program(rng), None, tag)
+    }
 }
 
 /// A fitted candidate.

@@ -3,7 +3,6 @@
 //! their island and the oldest members leave, whatever their fitness; the shared archive
 //! sends its best models in as migrants.
 use super::archive::{Archive, Candidate, Fitted};
-use super::generate::Tables;
 use super::qlattice::same_layout;
 use super::strategy::{ROUNDS_PER_EPOCH, SearchStrategy, Step};
 use crate::program::Program;
@@ -96,13 +95,8 @@ fn fitness(f: &Fitted) -> f64 {
 }
 
 impl SearchStrategy for Genetic {
-    fn propose(
-        &mut self,
-        step: Step,
-        rng: &mut ChaCha8Rng,
-        _archive: &Archive,
-        tables: &Tables,
-    ) -> Vec<Candidate> {
+    fn propose(&mut self, step: Step, rng: &mut ChaCha8Rng) -> Vec<Candidate> {
+        let tables = step.tables;
         let n = self.per_round(step.round);
         let mut out = Vec::with_capacity(n);
         for i in 0..n {
@@ -110,12 +104,7 @@ impl SearchStrategy for Genetic {
             let pop = &self.islands[isl];
             let tag = isl as u32;
             if pop.len() < 2 || rng.gen_bool(FRESH) {
-                out.push(Candidate {
-                    program: tables.random_program(rng),
-                    params: None,
-                    source: 0,
-                    tag,
-                });
+                out.push(Candidate::random(tables, rng, tag));
                 continue;
             }
             let a = tournament(rng, pop);
@@ -128,19 +117,9 @@ impl SearchStrategy for Genetic {
             match child {
                 Some(program) => {
                     let params = same_layout(&a.program, &program).then(|| a.params.clone());
-                    out.push(Candidate {
-                        program,
-                        params,
-                        source: 0,
-                        tag,
-                    });
+                    out.push(Candidate::new(program, params, tag));
                 }
-                None => out.push(Candidate {
-                    program: tables.random_program(rng),
-                    params: None,
-                    source: 0,
-                    tag,
-                }),
+                None => out.push(Candidate::random(tables, rng, tag)),
             }
         }
         out

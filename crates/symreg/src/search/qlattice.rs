@@ -84,13 +84,8 @@ impl QLattice {
 }
 
 impl SearchStrategy for QLattice {
-    fn propose(
-        &mut self,
-        step: Step,
-        rng: &mut ChaCha8Rng,
-        _archive: &Archive,
-        tables: &Tables,
-    ) -> Vec<Candidate> {
+    fn propose(&mut self, step: Step, rng: &mut ChaCha8Rng) -> Vec<Candidate> {
+        let tables = step.tables;
         // a whole epoch at once, learning once an epoch (as QLattice)
         if step.round != 0 {
             return Vec::new();
@@ -109,24 +104,18 @@ impl SearchStrategy for QLattice {
                     }
                     if let Some(program) = p {
                         let params = same_layout(&k.program, &program).then(|| k.params.clone());
-                        out.push(Candidate {
-                            program,
-                            params,
-                            source: 0,
-                            tag: c as u32,
-                        });
+                        out.push(Candidate::new(program, params, c as u32));
                         made += 1;
                     }
                 }
             }
             // the rest of the cell's share: new structures sampled from the field
             while made < per_cell {
-                out.push(Candidate {
-                    program: self.field.sample(tables, rng),
-                    params: None,
-                    source: 0,
-                    tag: c as u32,
-                });
+                out.push(Candidate::new(
+                    self.field.sample(tables, rng),
+                    None,
+                    c as u32,
+                ));
                 made += 1;
             }
         }

@@ -62,8 +62,11 @@ pub fn search(
     let mut state = LoopState::default();
     'epochs: for epoch in 0..cfg.epochs {
         for round in 0..ROUNDS_PER_EPOCH {
-            let step = Step { round };
-            let mut cands = strategy.propose(step, &mut master, &state.archive, &tables);
+            let step = Step {
+                round,
+                tables: &tables,
+            };
+            let mut cands = strategy.propose(step, &mut master);
             let budget_spent = state.cut_to_budget(&mut cands, cfg.max_evaluations);
             let (fitted, timed_out) = state.fit_epoch(
                 &problem,

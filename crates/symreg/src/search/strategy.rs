@@ -14,11 +14,14 @@ use rand_chacha::ChaCha8Rng;
 /// once (in the first round) and learn once an epoch, as QLattice does.
 pub(crate) const ROUNDS_PER_EPOCH: usize = 5;
 
-/// Where the loop is within an epoch.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Step {
+/// Where the loop is within an epoch, and what programs are drawn from. (Strategies read the
+/// shared archive when they learn, in [`SearchStrategy::update`].)
+#[derive(Clone, Copy)]
+pub(crate) struct Step<'a> {
     /// Round within the epoch, from 0 to [`ROUNDS_PER_EPOCH`] - 1.
     pub round: usize,
+    /// The operators and inputs programs are drawn from, with their weights.
+    pub tables: &'a Tables,
 }
 
 /// A way of proposing candidates and learning from their fits. Two implementations
@@ -26,13 +29,7 @@ pub(crate) struct Step {
 /// chooses one by [`Strategy`].
 pub(crate) trait SearchStrategy: Send {
     /// Candidates for this round, drawn from `rng` only (possibly none).
-    fn propose(
-        &mut self,
-        step: Step,
-        rng: &mut ChaCha8Rng,
-        archive: &Archive,
-        tables: &Tables,
-    ) -> Vec<Candidate>;
+    fn propose(&mut self, step: Step, rng: &mut ChaCha8Rng) -> Vec<Candidate>;
     /// Learns from the fitted candidates of this round (in proposal order; empty when it
     /// proposed none).
     fn update(&mut self, fitted: &[Fitted], archive: &Archive, rng: &mut ChaCha8Rng);
@@ -61,16 +58,10 @@ struct Combined {
 }
 
 impl SearchStrategy for Combined {
-    fn propose(
-        &mut self,
-        step: Step,
-        rng: &mut ChaCha8Rng,
-        archive: &Archive,
-        tables: &Tables,
-    ) -> Vec<Candidate> {
+    fn propose(&mut self, step: Step, rng: &mut ChaCha8Rng) -> Vec<Candidate> {
         let mut out = Vec::new();
         for (i, p) in self.parts.iter_mut().enumerate() {
-            for mut c in p.propose(step, rng, archive, tables) {
+            for mut c in p.propose(step, rng) {
                 c.source = i as u8;
                 out.push(c);
             }
@@ -97,23 +88,12 @@ struct RandomSearch {
 }
 
 impl SearchStrategy for RandomSearch {
-    fn propose(
-        &mut self,
-        step: Step,
-        rng: &mut ChaCha8Rng,
-        _archive: &Archive,
-        tables: &Tables,
-    ) -> Vec<Candidate> {
+    fn propose(&mut self, step: Step, rng: &mut ChaCha8Rng) -> Vec<Candidate> {
         if step.round != 0 {
             return Vec::new();
         }
         (0..self.per_epoch)
-            .map(|_| Candidate {
-                program: tables.random_program(rng),
-                params: None,
-                source: 0,
-                tag: 0,
-            })
+            .map(|_| Candidate::random(step.tables, rng, 0))
             .collect()
     }
 
