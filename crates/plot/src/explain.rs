@@ -120,14 +120,12 @@ pub fn pictures(e: &Explanation, target: &str, prefix: &str) -> Result<Pictures,
             if !p.test.is_empty() {
                 series.push(Series::points("test", p.test.clone()));
             }
-            let all: Vec<(f64, f64)> = p.train.iter().chain(&p.test).copied().collect();
-            series.push(Series::dashed("y = x", diagonal(&all)));
-            let panel = Panel {
-                title: "predicted vs true".into(),
-                x_label: format!("true {target}"),
-                y_label: format!("predicted {target}"),
+            let panel = Panel::parity(
+                "predicted vs true",
+                format!("true {target}"),
+                format!("predicted {target}"),
                 series,
-            };
+            );
             files.push((name(PARITY_FILE), draw(&name(PARITY_FILE), &[panel], 1)?));
         }
     }

@@ -106,6 +106,30 @@ pub struct Panel {
     pub series: Vec<Series>,
 }
 
+impl Panel {
+    /// A predicted-vs-true panel: `series`, then the dashed `y = x` line across the range
+    /// of their scatter points ([`explain::diagonal`]).
+    pub fn parity(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+        mut series: Vec<Series>,
+    ) -> Self {
+        let scattered: Vec<(f64, f64)> = series
+            .iter()
+            .filter(|s| s.mark == Mark::Points)
+            .flat_map(|s| s.points.iter().copied())
+            .collect();
+        series.push(Series::dashed("y = x", explain::diagonal(&scattered)));
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series,
+        }
+    }
+}
+
 /// Errors while drawing.
 #[derive(Debug, thiserror::Error)]
 pub enum FigureError {

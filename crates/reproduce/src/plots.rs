@@ -5,7 +5,6 @@ use crate::ReproduceError;
 use crate::figures::{Panel, Series, draw};
 use crate::pipeline::Computed;
 use hxai_hybrid::RecordInput;
-use hxai_plot::explain::diagonal;
 use hxai_sim::SimRecord;
 use std::collections::BTreeMap;
 
@@ -211,17 +210,12 @@ fn fig8(c: &Computed) -> Vec<Panel> {
             }
         }
     }
-    let all: Vec<_> = train.iter().chain(&test).copied().collect();
-    vec![Panel {
-        title: "symbolic model of δ".into(),
-        x_label: "true δ (µm)".into(),
-        y_label: "predicted δ (µm)".into(),
-        series: vec![
-            Series::points("train", train),
-            Series::points("test", test),
-            Series::dashed("y = x", diagonal(&all)),
-        ],
-    }]
+    vec![Panel::parity(
+        "symbolic model of δ",
+        "true δ (µm)",
+        "predicted δ (µm)",
+        vec![Series::points("train", train), Series::points("test", test)],
+    )]
 }
 
 /// `(true, physics, hybrid)` amplitudes of the test windows, with record amplitude and frequency.
@@ -248,17 +242,15 @@ fn fig9(c: &Computed) -> Vec<Panel> {
     let t = test_amplitudes(c);
     let phys: Vec<_> = t.iter().map(|x| (x.0, x.1)).collect();
     let hyb: Vec<_> = t.iter().map(|x| (x.0, x.2)).collect();
-    let all: Vec<_> = phys.iter().chain(&hyb).copied().collect();
-    vec![Panel {
-        title: "amplitude predictions, test windows".into(),
-        x_label: "true amplitude A_true (µm)".into(),
-        y_label: "predicted amplitude (µm)".into(),
-        series: vec![
+    vec![Panel::parity(
+        "amplitude predictions, test windows",
+        "true amplitude A_true (µm)",
+        "predicted amplitude (µm)",
+        vec![
             Series::points("physics A_phys", phys),
             Series::points("hybrid A_corr", hyb),
-            Series::dashed("y = x", diagonal(&all)),
         ],
-    }]
+    )]
 }
 
 fn fig10(c: &Computed) -> Vec<Panel> {
