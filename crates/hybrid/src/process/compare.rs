@@ -1,8 +1,9 @@
 //! Every way of modelling the target on the same splits (`hxai hybrid compare`).
 use super::model::columns_of;
 use super::{
-    CorrectionForm, ProcessConfig, ProcessModel, ProcessProgress, calibrate_physics, check_rows,
-    deltas, fit_inner, gather, physics_values, process_split, resolve, search_training_rows,
+    CorrectionForm, ProcessConfig, ProcessModel, ProcessProgress, SplitJob, calibrate_physics,
+    check_rows, deltas, fit_inner, gather, physics_values, process_split, resolve,
+    search_training_rows,
 };
 use crate::HybridError;
 use hxai_baselines::{RandomForest, Regressor};
@@ -100,13 +101,10 @@ fn forest_delta(
 }
 
 fn predictions_on(
-    table: &Table,
-    cfg: &ProcessConfig,
-    split: &Split,
-    kind: &str,
-    tasks: (usize, usize),
+    job: SplitJob,
     progress: &mut dyn FnMut(&ProcessProgress),
 ) -> Result<SplitPredictions, HybridError> {
+    let (table, cfg, split, tasks) = (job.table, job.cfg, job.split, job.task);
     check_rows(table, split)?;
     if split.test.is_empty() {
         return Err(HybridError::NoData("the split has no test rows".into()));
@@ -128,7 +126,7 @@ fn predictions_on(
         preds.push(gather(&physics, &split.test));
     }
 
-    let model = fit_inner(table, cfg, split, kind, tasks, progress)?;
+    let model = fit_inner(job, progress)?;
     let hp = model.predict(table)?;
 
     let label = format!("symbolic ({}/{})", tasks.0 + 1, tasks.1);
@@ -217,7 +215,14 @@ pub fn compare_process(
     };
     let tasks = 2 * (1 + cv_splits.len());
     let y = table.require(&cfg.target)?;
-    let main = predictions_on(table, cfg, &split, &kind, (1, tasks), progress)?;
+    let job = |split, kind, task| SplitJob {
+        table,
+        cfg,
+        split,
+        kind,
+        task,
+    };
+    let main = predictions_on(job(&split, &kind, (1, tasks)), progress)?;
     let y_test = gather(y, &split.test);
     let mut models = Vec::new();
     for (name, p) in main.names.iter().zip(&main.preds) {
@@ -248,7 +253,7 @@ pub fn compare_process(
 
     let mut per_model: Vec<(Vec<f64>, Vec<f64>)> = vec![(Vec::new(), Vec::new()); main.names.len()];
     for (f, s) in cv_splits.iter().enumerate() {
-        let fold = predictions_on(table, cfg, s, "fold", (3 + 2 * f, tasks), progress)?;
+        let fold = predictions_on(job(s, "fold", (3 + 2 * f, tasks)), progress)?;
         let yt = gather(y, &s.test);
         for (k, p) in fold.preds.iter().enumerate() {
             let m = hxai_eval::score(&yt, p)?;

@@ -575,7 +575,7 @@ pub fn fit_process(
     progress: &mut dyn FnMut(&ProcessProgress),
 ) -> Result<ProcessModel, HybridError> {
     let (split, kind) = process_split(table, cfg)?;
-    fit_inner(table, cfg, &split, &kind, (1, 1), progress)
+    fit_inner(SplitJob::single(table, cfg, &split, &kind), progress)
 }
 
 /// Fits on a given split (test rows may be empty: everything is then training data).
@@ -588,7 +588,7 @@ pub fn fit_process_split(
     split: &Split,
     progress: &mut dyn FnMut(&ProcessProgress),
 ) -> Result<ProcessModel, HybridError> {
-    fit_inner(table, cfg, split, "given", (1, 1), progress)
+    fit_inner(SplitJob::single(table, cfg, split, "given"), progress)
 }
 
 pub(crate) fn check_rows(table: &Table, split: &Split) -> Result<(), HybridError> {
@@ -632,14 +632,38 @@ pub(crate) fn search_training_rows(
     Ok((ft, found))
 }
 
+/// One fit on one split of a table: what [`fit_inner`] (and the comparison's
+/// per-split predictions) work on.
+#[derive(Clone, Copy)]
+pub(crate) struct SplitJob<'a> {
+    pub(crate) table: &'a Table,
+    pub(crate) cfg: &'a ProcessConfig,
+    pub(crate) split: &'a Split,
+    /// Split kind, as the model file reports it (`random`, `given`, `fold`, ...).
+    pub(crate) kind: &'a str,
+    /// `(this task, tasks in all)`, for progress reports.
+    pub(crate) task: (usize, usize),
+}
+
+impl<'a> SplitJob<'a> {
+    /// The only task of a run.
+    fn single(table: &'a Table, cfg: &'a ProcessConfig, split: &'a Split, kind: &'a str) -> Self {
+        let task = (1, 1);
+        Self {
+            table,
+            cfg,
+            split,
+            kind,
+            task,
+        }
+    }
+}
+
 pub(crate) fn fit_inner(
-    table: &Table,
-    cfg: &ProcessConfig,
-    split: &Split,
-    kind: &str,
-    task: (usize, usize),
+    job: SplitJob,
     progress: &mut dyn FnMut(&ProcessProgress),
 ) -> Result<ProcessModel, HybridError> {
+    let (table, cfg, split, kind, task) = (job.table, job.cfg, job.split, job.kind, job.task);
     check_rows(table, split)?;
     let res = resolve(table, cfg)?;
     let (mut phys, mut ses) = calibrate_physics(table, cfg, &res, &split.train)?;
