@@ -16,25 +16,10 @@ from sklearn.utils.validation import check_is_fitted, validate_data
 from . import _hxai
 from ._arrays import columns_of, from_bytes, to_bytes
 
-# The Rust defaults (SearchConfig::default()); tests/test_estimators.py checks they agree
-# with the compiled engine's.
-DEFAULT_OPERATORS = (
-    "add",
-    "sub",
-    "mul",
-    "div",
-    "sin",
-    "cos",
-    "gaussian",
-    "gaussian2",
-    "log",
-    "abs",
-    "exp",
-    "sqrt",
-    "square",
-    "inverse",
-    "tanh",
-)
+# The engine's default operators (SearchConfig::default()), read from the compiled engine so
+# that they cannot drift from it. The constructors' other defaults are written out, for
+# reading; tests/test_estimators.py checks that they agree with the engine's.
+DEFAULT_OPERATORS = tuple(json.loads(_hxai.defaults("search"))["operators"])
 
 # The paper's operators plus exp (PAPER_OPERATORS): what hybrid corrections search by default
 # (`hxai hybrid fit`, SearchConfig::paper()).
