@@ -72,6 +72,16 @@ fn assert_all_close(got: &[f64], want: &[f64], max_relative: f64) {
     }
 }
 
+/// `model` fitted to the reference's rows `x` and targets `y`.
+fn fitted<M: Regressor>(
+    mut model: M,
+    x: &[Vec<f64>],
+    y: &[f64],
+) -> Result<M, Box<dyn std::error::Error>> {
+    model.fit(&table(x)?, y)?;
+    Ok(model)
+}
+
 fn load() -> Result<Reference, Box<dyn std::error::Error>> {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -83,8 +93,7 @@ fn load() -> Result<Reference, Box<dyn std::error::Error>> {
 #[test]
 fn linear_regression_matches_sklearn_to_1e9() -> R {
     let r = load()?.linear;
-    let mut m = LinearRegression::new();
-    m.fit(&table(&r.x)?, &r.y)?;
+    let m = fitted(LinearRegression::new(), &r.x, &r.y)?;
     assert_all_close(m.coef(), &r.coef, 1e-9);
     assert_relative_eq!(m.intercept(), r.intercept, max_relative = 1e-9);
     Ok(())
@@ -93,8 +102,7 @@ fn linear_regression_matches_sklearn_to_1e9() -> R {
 #[test]
 fn lasso_cv_matches_sklearn_alpha_path_and_coefficients_to_1e6() -> R {
     let r = load()?.lasso;
-    let mut m = LassoCv::new();
-    m.fit(&table(&r.x)?, &r.y)?;
+    let m = fitted(LassoCv::new(), &r.x, &r.y)?;
     assert_eq!(m.alphas().len(), r.alphas.len());
     assert_all_close(m.alphas(), &r.alphas, 1e-6);
     for (row, want) in m.mse_path().iter().zip(&r.mse_path) {
@@ -116,8 +124,7 @@ fn best_first_trees_match_sklearn_predictions() -> R {
     let (xtr, xte) = (table(&r.x_train)?, table(&r.x_test)?);
     for k in [5usize, 6, 8] {
         let want = &r.models[&k.to_string()];
-        let mut t = DecisionTree::with_max_leaf_nodes(k);
-        t.fit(&xtr, &r.y_train)?;
+        let t = fitted(DecisionTree::with_max_leaf_nodes(k), &r.x_train, &r.y_train)?;
         assert_eq!(t.n_leaves(), want.n_leaves);
         // Same leaves and thresholds; a leaf value may differ from scikit-learn's in the last
         // bits because the mean is summed in another order: 1e-12 relative.
@@ -130,8 +137,7 @@ fn best_first_trees_match_sklearn_predictions() -> R {
 #[test]
 fn forest_test_r2_within_0_02_of_sklearn() -> R {
     let r = load()?.forest;
-    let mut f = RandomForest::new();
-    f.fit(&table(&r.x_train)?, &r.y_train)?;
+    let f = fitted(RandomForest::new(), &r.x_train, &r.y_train)?;
     let r2 = hxai_eval::r2(&r.y_test, &f.predict(&table(&r.x_test)?)?)?;
     assert!(
         (r2 - r.test_r2).abs() <= 0.02,

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
 mod common;
-use common::{predict_args, s};
+use common::{evaluate_args, predict_args, s};
 
 fn corpus(rel: &str) -> String {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -283,7 +283,7 @@ fn bad_folders_are_refused_by_fit_and_evaluate() {
     each_refused(BAD_FOLDERS, out, |d| {
         vec![
             owned(&["fit", "--data", d, "--out", out, "--epochs", "1"]),
-            owned(&["evaluate", "--model", &model, "--data", d, "--all"]),
+            owned(&evaluate_args(&model, d, &["--all"])),
         ]
     });
 }
@@ -328,7 +328,7 @@ fn bad_models_are_refused_by_predict_and_evaluate() {
     each_refused(BAD_MODELS, out, |m| {
         vec![
             owned(&predict_args(m, &rec, "20", out)),
-            owned(&["evaluate", "--model", m, "--data", &good, "--all"]),
+            owned(&evaluate_args(m, &good, &["--all"])),
         ]
     });
 }
@@ -552,15 +552,11 @@ fn closed_stdout_is_a_normal_exit() {
 fn implausible_input_gives_warnings_not_errors() {
     // The probe is about 6 um where the manifest commands 4000-10000 um: a unit slip.
     let doc = warned(
-        &[
-            "evaluate",
-            "--model",
+        &evaluate_args(
             &corpus("good/model.json"),
-            "--data",
             &corpus("folders/probe_in_mm"),
-            "--all",
-            "--json",
-        ],
+            &["--all", "--json"],
+        ),
         "warning: record `r1`: the probe amplitude",
     );
     let w = doc["warnings"].as_array().unwrap();

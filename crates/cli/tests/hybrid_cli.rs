@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
 mod common;
-use common::{hxai, hxai_ok, predict_args, s};
+use common::{evaluate_args, hxai, hxai_ok, predict_args, s};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
@@ -109,14 +109,7 @@ fn fit_evaluate_predict() -> TestResult {
     assert_eq!(st.columns[0].len(), 36);
 
     let out = hxai_ok(
-        &[
-            "evaluate",
-            "--model",
-            s(&model),
-            "--data",
-            s(&data),
-            "--json",
-        ],
+        &evaluate_args(s(&model), s(&data), &["--json"]),
         "evaluate failed",
     )?;
     let ev: serde_json::Value = serde_json::from_slice(&out.stdout)?;
@@ -145,15 +138,7 @@ fn fit_evaluate_predict() -> TestResult {
     );
     assert!(h < p, "hybrid {h:?} vs physics {p:?}");
 
-    let out = hxai(&[
-        "evaluate",
-        "--model",
-        s(&model),
-        "--data",
-        s(&data),
-        "--all",
-        "--json",
-    ])?;
+    let out = hxai(&evaluate_args(s(&model), s(&data), &["--all", "--json"]))?;
     assert!(out.status.success());
     let ev_all: serde_json::Value = serde_json::from_slice(&out.stdout)?;
     assert_eq!(ev_all["n_samples"], 18000);

@@ -5,7 +5,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 mod common;
-use common::{hxai, ok, s};
+use common::{evaluate_args, hxai, ok, s};
+
+#[path = "../../hybrid/tests/common/mod.rs"]
+mod hybrid_common;
+use hybrid_common::COMPARE_MODELS;
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
@@ -136,15 +140,9 @@ fn fit_predict_evaluate_follow_the_contract() -> TestResult {
     assert_eq!(lines.count(), 160);
 
     // evaluate
-    let out = hxai(&[
-        "hybrid",
-        "evaluate",
-        "--model",
-        s(&model),
-        "--data",
-        s(&data),
-        "--json",
-    ])?;
+    let mut args = vec!["hybrid"];
+    args.extend(evaluate_args(s(&model), s(&data), &["--json"]));
+    let out = hxai(&args)?;
     ok(&out, "evaluate");
     let ev: serde_json::Value = serde_json::from_slice(&out.stdout)?;
     for key in [
@@ -241,16 +239,7 @@ fn parquet_tables_and_compare_work() -> TestResult {
         .iter()
         .filter_map(|m| m["name"].as_str())
         .collect();
-    assert_eq!(
-        names,
-        [
-            "physics",
-            "physics_calibrated",
-            "symbolic",
-            "physics_forest",
-            "hybrid"
-        ]
-    );
+    assert_eq!(names, COMPARE_MODELS);
     for m in c["models"].as_array().ok_or("models")? {
         for k in ["r2", "rmse", "mae"] {
             assert!(m[k].is_number(), "{m}");

@@ -13,6 +13,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeMap;
 
+mod common;
+use common::COMPARE_MODELS;
+
 /// Turning-like table: feed f, nose radius r, speed v, a distractor d;
 /// Ra = 1.3 f^2/(32 r) + 2e-4 v + noise (sd `noise`).
 fn roughness(n: usize, noise: f64, seed: u64) -> Table {
@@ -281,16 +284,7 @@ fn compare_reports_every_model_and_the_folds() {
     cfg.search.candidates_per_epoch = 150;
     let c = compare_process(&t, &cfg, 3, &mut |_| {}).unwrap();
     let names: Vec<&str> = c.models.iter().map(|m| m.name.as_str()).collect();
-    assert_eq!(
-        names,
-        [
-            "physics",
-            "physics_calibrated",
-            "symbolic",
-            "physics_forest",
-            "hybrid"
-        ]
-    );
+    assert_eq!(names, COMPARE_MODELS);
     assert_eq!(c.cv.len(), 5);
     for s in &c.cv {
         assert_eq!(s.r2_folds.len(), 3);

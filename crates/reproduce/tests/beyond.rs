@@ -5,6 +5,10 @@
 use hxai_reproduce::ReproduceConfig;
 use hxai_reproduce::beyond::{compute, figure_name, markdown};
 
+#[path = "../../hybrid/tests/common/mod.rs"]
+mod hybrid_common;
+use hybrid_common::COMPARE_MODELS;
+
 #[test]
 fn both_cases_at_both_splits_and_repeatable() -> Result<(), Box<dyn std::error::Error>> {
     let cfg = ReproduceConfig::quick();
@@ -15,16 +19,7 @@ fn both_cases_at_both_splits_and_repeatable() -> Result<(), Box<dyn std::error::
         for (s, kind) in [(&c.random, "random"), (&c.extrapolation, "extrapolate")] {
             assert_eq!(s.split, kind);
             let models: Vec<&str> = s.models.iter().map(|m| m.name.as_str()).collect();
-            assert_eq!(
-                models,
-                [
-                    "physics",
-                    "physics_calibrated",
-                    "symbolic",
-                    "physics_forest",
-                    "hybrid"
-                ]
-            );
+            assert_eq!(models, COMPARE_MODELS);
             assert!(
                 s.models
                     .iter()

@@ -71,41 +71,36 @@ proptest! {
     // so 5 sd is a factor exp(-0.3)).
     #[test]
     fn columns_stay_in_their_ranges(seed in any::<u64>()) {
-        let c = rough(seed, 300);
-        let t = roughness(&c).unwrap();
-        for (name, range) in [
-            ("feed_mm", c.feed_mm),
-            ("cutting_speed_m_min", c.cutting_speed_m_min),
-            ("cutting_time_min", c.cutting_time_min),
-            ("depth_of_cut_mm", c.depth_of_cut_mm),
+        let (rc, fc) = (rough(seed, 300), force(seed, 300));
+        let (rt, ft) = (roughness(&rc).unwrap(), cutting_force(&fc).unwrap());
+        for (case, t, name, range) in [
+            ("roughness", &rt, "feed_mm", rc.feed_mm),
+            ("roughness", &rt, "cutting_speed_m_min", rc.cutting_speed_m_min),
+            ("roughness", &rt, "cutting_time_min", rc.cutting_time_min),
+            ("roughness", &rt, "depth_of_cut_mm", rc.depth_of_cut_mm),
+            ("cutting_force", &ft, "chip_thickness_mm", fc.chip_thickness_mm),
+            ("cutting_force", &ft, "width_of_cut_mm", fc.width_of_cut_mm),
+            ("cutting_force", &ft, "rake_angle_deg", fc.rake_angle_deg),
+            ("cutting_force", &ft, "cutting_speed_m_min", fc.cutting_speed_m_min),
+            ("cutting_force", &ft, "cutting_time_min", fc.cutting_time_min),
         ] {
-            prop_assert!(within(&t, name, range), "{}", name);
-        }
-        prop_assert!(col(&t, "nose_radius_mm").iter().all(|r| c.nose_radii_mm.contains(r)));
-        prop_assert!(col(&t, "tool").iter().all(|k| *k >= 1.0 && *k <= c.n_tools as f64 && k.fract() == 0.0));
-        for (i, ra) in col(&t, "Ra_um").iter().enumerate() {
-            let f = col(&t, "feed_mm")[i];
-            let r = col(&t, "nose_radius_mm")[i];
-            let kin = 1000.0 * f * f / (32.0 * r);
-            prop_assert!(*ra > 0.0 && *ra < 50.0, "Ra {} um out of range", ra);
-            prop_assert!(*ra >= kin * (-5.0 * c.noise_rel).exp(), "Ra {} below kinematic {}", ra, kin);
+            prop_assert!(within(t, name, range), "{} {}", case, name);
         }
 
-        let c = force(seed, 300);
-        let t = cutting_force(&c).unwrap();
-        for (name, range) in [
-            ("chip_thickness_mm", c.chip_thickness_mm),
-            ("width_of_cut_mm", c.width_of_cut_mm),
-            ("rake_angle_deg", c.rake_angle_deg),
-            ("cutting_speed_m_min", c.cutting_speed_m_min),
-            ("cutting_time_min", c.cutting_time_min),
-        ] {
-            prop_assert!(within(&t, name, range), "{}", name);
+        prop_assert!(col(&rt, "nose_radius_mm").iter().all(|r| rc.nose_radii_mm.contains(r)));
+        prop_assert!(col(&rt, "tool").iter().all(|k| *k >= 1.0 && *k <= rc.n_tools as f64 && k.fract() == 0.0));
+        for (i, ra) in col(&rt, "Ra_um").iter().enumerate() {
+            let f = col(&rt, "feed_mm")[i];
+            let r = col(&rt, "nose_radius_mm")[i];
+            let kin = 1000.0 * f * f / (32.0 * r);
+            prop_assert!(*ra > 0.0 && *ra < 50.0, "Ra {} um out of range", ra);
+            prop_assert!(*ra >= kin * (-5.0 * rc.noise_rel).exp(), "Ra {} below kinematic {}", ra, kin);
         }
+
         // Every insert has one rake angle.
-        let tools = col(&t, "tool");
-        let rake = col(&t, "rake_angle_deg");
-        for i in 0..t.n_rows() {
+        let tools = col(&ft, "tool");
+        let rake = col(&ft, "rake_angle_deg");
+        for i in 0..ft.n_rows() {
             for j in 0..i {
                 if tools[i] == tools[j] {
                     prop_assert_eq!(rake[i], rake[j]);
@@ -115,7 +110,7 @@ proptest! {
         // Bounds: the handbook's kc1.1 times the largest factors (rake 1.18, speed 1.03,
         // wear 1 + 0.49, scatter exp(5 * 0.03)) over the largest chip section.
         let fmax = HANDBOOK_KC11 * 4.0 * 0.5_f64.powf(0.78) * 1.18 * 1.03 * 1.49 * 1.17;
-        prop_assert!(col(&t, "Fc_N").iter().all(|f| *f > 0.0 && *f < fmax));
+        prop_assert!(col(&ft, "Fc_N").iter().all(|f| *f > 0.0 && *f < fmax));
     }
 
     // Invariant: with every effect off and no scatter, the target column is the engineer's

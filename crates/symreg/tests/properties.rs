@@ -10,6 +10,9 @@ use proptest::prelude::*;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+mod common;
+use common::affine_program;
+
 fn tables(affine: bool) -> Tables {
     Tables {
         ops: Op::ALL.to_vec(),
@@ -210,17 +213,7 @@ proptest! {
 #[test]
 fn gradient_matches_finite_differences() {
     // The Jacobian from the adjoint sweep matches central differences (1e-5 relative).
-    let prog = Program {
-        nodes: vec![
-            Node::Var(0),
-            Node::Var(1),
-            Node::Op(Op::Mul),
-            Node::Var(2),
-            Node::Op(Op::Gaussian2),
-            Node::Op(Op::Sin),
-        ],
-        affine: true,
-    };
+    let prog = affine_program("x0 x1 mul x2 gaussian2 sin");
     let params = vec![1.3, -0.2, 0.7, 0.1, -0.4, 0.3, 0.5, -0.6];
     let cols = columns(37, 9);
     let refs: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();

@@ -1,11 +1,13 @@
 //! Recovery, determinism, the paper's eq. 12-13, and bad input.
 #![allow(clippy::unwrap_used)]
 use hxai_symreg::{
-    Node, Op, Program, SearchConfig, SearchResult, SrError, Table, TableError, fit_structure,
-    search,
+    Op, SearchConfig, SearchResult, SrError, Table, TableError, fit_structure, search,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+
+mod common;
+use common::affine_program;
 
 fn uniform(n: usize, lo: f64, hi: f64, seed: u64) -> Vec<f64> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -133,16 +135,7 @@ fn eq12_data(n: usize, seed: u64) -> (Table, Vec<f64>) {
 #[test]
 fn paper_eq12_is_complexity_5_and_fits() {
     let (data, y) = eq12_data(400, 1);
-    let prog = Program {
-        nodes: vec![
-            Node::Var(0),
-            Node::Var(2),
-            Node::Op(Op::Mul),
-            Node::Var(1),
-            Node::Op(Op::Gaussian2),
-        ],
-        affine: true,
-    };
+    let prog = affine_program("x0 x2 mul x1 gaussian2");
     let m = fit_structure(&data, &y, &prog, &SearchConfig::default()).unwrap();
     assert_eq!(m.complexity(), 5);
     assert_eq!(m.features(), vec!["f1", "f6", "f2"]);
@@ -275,10 +268,7 @@ fn snapped_constants_are_simple() {
     let x = uniform(200, 1.0, 3.0, 8);
     let y: Vec<f64> = x.iter().map(|v| 3.0 * v * v + 2.0).collect();
     let data = Table::new(vec!["x".into()], vec![x]).unwrap();
-    let prog = Program {
-        nodes: vec![Node::Var(0), Node::Var(0), Node::Op(Op::Mul)],
-        affine: true,
-    };
+    let prog = affine_program("x0 x0 mul");
     let m = fit_structure(&data, &y, &prog, &SearchConfig::default()).unwrap();
     assert_eq!(m.sympy(), "3*x*x + 2", "{}", m.sympy());
     assert_eq!(m.equation(), "3*x*x + 2");
@@ -295,10 +285,7 @@ fn a_weight_snapped_to_zero_drops_its_feature_and_complexity() {
     let y: Vec<f64> = x0.iter().map(|v| 3.0 * v + 2.0).collect();
     let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
     // add(x0, x1): x1's weight fits to 0 and is snapped there
-    let prog = Program {
-        nodes: vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)],
-        affine: true,
-    };
+    let prog = affine_program("x0 x1 add");
     let m = fit_structure(&data, &y, &prog, &SearchConfig::default()).unwrap();
     assert_eq!(m.features(), vec!["x0".to_string()], "{}", m.equation());
     assert_eq!(m.complexity(), 1, "{}", m.equation());
@@ -339,10 +326,7 @@ fn noisy_product() -> (Table, Vec<f64>) {
 #[test]
 fn noise_only_offsets_are_snapped_away() {
     let (data, y) = noisy_product();
-    let prog = Program {
-        nodes: vec![Node::Var(0), Node::Var(1), Node::Op(Op::Mul)],
-        affine: true,
-    };
+    let prog = affine_program("x0 x1 mul");
     let m = fit_structure(&data, &y, &prog, &SearchConfig::default()).unwrap();
     // params: scale, offset, (w0, b0), (w1, b1)
     assert_eq!(m.params[1], 0.0, "{}", m.equation());

@@ -40,6 +40,13 @@ pub fn predict_args<'a>(
     ]
 }
 
+/// The arguments of `hxai evaluate` of `model` on `data`, then the `extra` flags.
+pub fn evaluate_args<'a>(model: &'a str, data: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec!["evaluate", "--model", model, "--data", data];
+    args.extend_from_slice(extra);
+    args
+}
+
 /// An empty folder `<temp>/<prefix>-<pid>-<name>` (removed first if a former run left it).
 pub fn scratch(prefix: &str, name: &str) -> Result<PathBuf, std::io::Error> {
     let dir = std::env::temp_dir().join(format!("{prefix}-{}-{name}", std::process::id()));
