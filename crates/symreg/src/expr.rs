@@ -49,6 +49,28 @@ pub(crate) fn half_pi_multiple(v: f64) -> Option<i64> {
     half_pi_within(v, 0.0)
 }
 
+/// The largest denominator [`small_fraction`] recognises.
+const MAX_FRACTION_DENOMINATOR: i64 = 12;
+
+/// `(p, q)` when `v` is exactly (to the last bit) the double nearest `p/q` for a whole `p`
+/// and a denominator `2 <= q <= 12` (the smallest such `q`), with `|v| < 1e6`; integers and
+/// every other value give `None`.
+///
+/// Such values come from exact arithmetic on snapped constants (a half, the inverse of a
+/// snapped 3); a fitted constant lands on one by chance with probability about 1e-15. The
+/// sympy text writes them as fractions (`1/3`, which sympy reads as a rational), so that a
+/// law written with exact constants reads back as one: `0.3333333333333333` rounded to
+/// `0.333` would not.
+pub(crate) fn small_fraction(v: f64) -> Option<(i64, i64)> {
+    if !v.is_finite() || v == v.round() || v.abs() >= 1e6 {
+        return None;
+    }
+    (2..=MAX_FRACTION_DENOMINATOR).find_map(|q| {
+        let p = (v * q as f64).round();
+        (p / q as f64 == v).then_some((p as i64, q))
+    })
+}
+
 /// `(u, k)` when `e` is `u + k pi/2` (or `u - k pi/2`, or `k pi/2 + u`) for a whole `k`,
 /// with the phase a number within a few units in the last place of the multiple.
 fn split_phase(e: &Expr) -> Option<(&Expr, i64)> {
@@ -326,12 +348,28 @@ impl Expr {
         }
     }
 
+    /// [`Expr::prec`] in text, where the full-precision sympy form writes exact fractions as
+    /// quotients (`1/3`), which bind like a division.
+    fn text_prec(&self, fractions: bool) -> u8 {
+        match self {
+            Expr::Num(v) if fractions && small_fraction(*v).is_some() => 2,
+            e => e.prec(),
+        }
+    }
+
     /// Plain-text form with `digits` significant digits (`None` for full precision).
+    ///
+    /// The full-precision sympy form (`digits` `None`, `sympy` true) writes a constant that
+    /// is exactly a small fraction as one (`1/3*x`, `x**(1/2)`; see [`small_fraction`]).
     pub fn to_text(&self, digits: Option<usize>, sympy: bool) -> String {
-        let fmt_num = |v: f64| fmt_number(v, digits);
+        let fractions = sympy && digits.is_none();
+        let fmt_num = |v: f64| match small_fraction(v) {
+            Some((p, q)) if fractions => format!("{p}/{q}"),
+            _ => fmt_number(v, digits),
+        };
         let wrap = |e: &Expr, min: u8| {
             let s = e.to_text(digits, sympy);
-            if e.prec() < min { format!("({s})") } else { s }
+            if e.text_prec(fractions) < min { format!("({s})") } else { s }
         };
         let wrap_right = |e: &Expr, min: u8| {
             if e.leads_with_minus() {
@@ -733,6 +771,66 @@ mod tests {
                 e.to_text(None, false)
             );
         }
+    }
+
+    /// Constants that are exactly small fractions (a snapped half, the inverse of a snapped
+    /// 3) print as fractions in the full-precision sympy text, so sympy reads them as
+    /// rationals, with the parentheses a quotient needs; the 4-digit and plain texts keep
+    /// decimals, and every text evaluates to the same value.
+    #[test]
+    fn exact_fractions_print_as_quotients_in_sympy_text() {
+        let third = 1.0 / 3.0;
+        assert_eq!(small_fraction(third), Some((1, 3)));
+        assert_eq!(small_fraction(-2.5), Some((-5, 2)));
+        assert_eq!(small_fraction(0.75), Some((3, 4)));
+        assert_eq!(small_fraction(5.0 / 12.0), Some((5, 12)));
+        for v in [
+            2.0,
+            0.0,
+            0.1 + 0.2,
+            1.0 / 13.0,
+            std::f64::consts::FRAC_1_SQRT_2,
+            third + f64::EPSILON,
+            f64::NAN,
+            f64::INFINITY,
+            2.5e6,
+        ] {
+            assert_eq!(small_fraction(v), None, "{v}");
+        }
+        let num = |v: f64| Box::new(Expr::Num(v));
+        let cases = [
+            (Expr::Num(third), "1/3"),
+            (Expr::Num(-0.5), "-1/2"),
+            (Expr::Bin(Op::Mul, num(third), var("x")), "1/3*x"),
+            (Expr::Bin(Op::Div, var("x"), num(third)), "x/(1/3)"),
+            (Expr::Bin(Op::Div, num(0.5), var("x")), "1/2/x"),
+            (Expr::Bin(Op::Pow, var("x"), num(0.5)), "x**(1/2)"),
+            (Expr::Un(Op::Square, num(1.5)), "(3/2)**2"),
+            (Expr::Bin(Op::Sub, var("x"), num(-0.25)), "x + 1/4"),
+            (Expr::Bin(Op::Add, var("x"), num(-0.25)), "x - 1/4"),
+            (Expr::Bin(Op::Mul, var("x"), num(-0.5)), "x*(-1/2)"),
+            (Expr::Neg(num(third)), "-(1/3)"),
+            (
+                Expr::Un(
+                    Op::Sin,
+                    Box::new(Expr::Bin(Op::Mul, num(0.5), var("x"))),
+                ),
+                "sin(1/2*x)",
+            ),
+        ];
+        for (e, text) in &cases {
+            assert_eq!(e.to_text(None, true), *text);
+            let sympy = crate::infix::parse(text).expect("parses").expr;
+            let plain = e.to_text(None, false);
+            assert_ne!(plain, *text, "the plain text keeps decimals");
+            let back = crate::infix::parse(&plain).expect("parses").expr;
+            let at = |e: &Expr| e.eval(&|_| 1.7);
+            assert!((at(&sympy) - at(e)).abs() <= 1e-15 * at(e).abs(), "{text}");
+            assert_eq!(at(&back), at(e), "{plain}");
+        }
+        assert_eq!(Expr::Num(third).to_text(None, false), "0.3333333333333333");
+        assert_eq!(Expr::Num(third).to_text(Some(4), true), "0.3333");
+        assert_eq!(Expr::Num(0.5).to_latex(4), "0.5");
     }
 
     /// Two juxtaposed numbers would read as one: the product of 2 and 3 prints with `\cdot`.
