@@ -450,17 +450,53 @@ def rescore(a):
 
 # ---------------------------------------------------------------- tables
 
-def table(paths):
+def load_rows(paths):
+    """The rows of results files; a problem run again (same engine and noise) in a later row
+    or file is ignored, the first row counts. Returns (rows, number ignored)."""
     rows, seen, dup = [], set(), 0
     for path in paths:
         with open(path) as fh:
             for r in (json.loads(l) for l in fh if l.strip()):
                 key = (r["engine"], r["number"], r["noise"])
-                if key in seen:  # a problem run again in another file: the first row counts
+                if key in seen:
                     dup += 1
                     continue
                 seen.add(key)
                 rows.append(r)
+    return rows, dup
+
+
+def pairs(rows):
+    """For each two engines at the same noise level, on the problems both ran: the problems
+    only one of them solves (exact, and R^2 > 0.999 on the test rows), by Number. This is
+    what says whether a strategy earns its place beside another: the counts of the summary
+    table can be equal while the problems differ."""
+    def solved(r, kind):
+        return bool(r.get("exact")) if kind == "exact" else (r.get("r2_test") or -1) > 0.999
+
+    by = {}
+    for r in rows:
+        by.setdefault((r["engine"], r["noise"]), {})[r["number"]] = r
+    engines = list(dict.fromkeys(r["engine"] for r in rows))
+    print("| noise | A | B | common | exact: A only | exact: B only | R^2 > 0.999: A only | R^2 > 0.999: B only |")
+    print("|---|---|---|---:|---|---|---|---|")
+    for z in sorted({r["noise"] for r in rows}):
+        for i, a in enumerate(engines):
+            for b in engines[i + 1:]:
+                ra, rb = by.get((a, z), {}), by.get((b, z), {})
+                common = sorted(set(ra) & set(rb))
+                if not common:
+                    continue
+                cells = []
+                for kind in ("exact", "r2"):
+                    for x, y in ((ra, rb), (rb, ra)):
+                        only = [n for n in common if solved(x[n], kind) and not solved(y[n], kind)]
+                        cells.append(f"{len(only)}" + (f" ({', '.join(map(str, only))})" if only else ""))
+                print(f"| {z:g} | {a} | {b} | {len(common)} | " + " | ".join(cells) + " |")
+
+
+def table(paths, with_pairs=False):
+    rows, dup = load_rows(paths)
     if dup:
         print(f"({dup} repeated rows ignored: the first of each counts)")
     print("| engine | noise | half | problems | failed | exact | exact % | sympy timeouts | "
@@ -487,6 +523,9 @@ def table(paths):
                 load = f"{min(loads):.1f}-{max(loads):.1f}" if loads else ""
                 print(f"| {eng} | {z:g} | {half} | {n} | {fail} | {ex} | {100 * ex / n:.0f} | {to} | "
                       f"{r3} | {r2_} | {np.median(secs):.1f} | {sum(secs):.0f} | {cpu} | {load} |")
+    if with_pairs:
+        print()
+        pairs(rows)
 
 
 def main():
@@ -522,6 +561,8 @@ def main():
     ap.add_argument("--pyoperon-evaluations", type=int, default=100000)
     ap.add_argument("--gplearn-generations", type=int, default=20)
     ap.add_argument("--table", nargs="+", metavar="RESULTS", help="print the summary of results files")
+    ap.add_argument("--pairs", action="store_true",
+                    help="with --table: also, for each two engines, the problems only one solves")
     ap.add_argument("--rescore", nargs="+", metavar="RESULTS",
                     help="check again, with --sympy-timeout seconds, the rows whose check ran out of time")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
@@ -531,7 +572,7 @@ def main():
     if a.worker:
         return worker(a)
     if a.table:
-        return table(a.table)
+        return table(a.table, a.pairs)
     if a.rescore:
         return rescore(a)
     if a.jobs != 1:
