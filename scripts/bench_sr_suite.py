@@ -468,18 +468,30 @@ def load_rows(paths):
 
 def pairs(rows):
     """For each two engines at the same noise level, on the problems both ran: the problems
-    only one of them solves (exact, and R^2 > 0.999 on the test rows), by Number. This is
-    what says whether a strategy earns its place beside another: the counts of the summary
-    table can be equal while the problems differ."""
+    only one of them solves (exact, and R^2 > 0.999 on the test rows), by Number, and the
+    exact McNemar test's p on those discordant problems. This is what says whether a
+    strategy earns its place beside another: the counts of the summary table can be equal
+    while the problems differ, and a difference of a few problems on one seed can be
+    chance."""
     def solved(r, kind):
         return bool(r.get("exact")) if kind == "exact" else (r.get("r2_test") or -1) > 0.999
+
+    def mcnemar(b, c):
+        """Two-sided exact McNemar p: how likely a split of the b + c discordant problems
+        at least this uneven is when neither engine is better (each side p = 1/2)."""
+        n = b + c
+        if n == 0:
+            return 1.0
+        tail = sum(math.comb(n, k) for k in range(min(b, c) + 1)) / 2 ** n
+        return min(1.0, 2 * tail)
 
     by = {}
     for r in rows:
         by.setdefault((r["engine"], r["noise"]), {})[r["number"]] = r
     engines = list(dict.fromkeys(r["engine"] for r in rows))
-    print("| noise | A | B | common | exact: A only | exact: B only | R^2 > 0.999: A only | R^2 > 0.999: B only |")
-    print("|---|---|---|---:|---|---|---|---|")
+    print("| noise | A | B | common | exact: A only | exact: B only | McNemar p | "
+          "R^2 > 0.999: A only | R^2 > 0.999: B only | McNemar p |")
+    print("|---|---|---|---:|---|---|---:|---|---|---:|")
     for z in sorted({r["noise"] for r in rows}):
         for i, a in enumerate(engines):
             for b in engines[i + 1:]:
@@ -489,9 +501,12 @@ def pairs(rows):
                     continue
                 cells = []
                 for kind in ("exact", "r2"):
+                    counts = []
                     for x, y in ((ra, rb), (rb, ra)):
                         only = [n for n in common if solved(x[n], kind) and not solved(y[n], kind)]
+                        counts.append(len(only))
                         cells.append(f"{len(only)}" + (f" ({', '.join(map(str, only))})" if only else ""))
+                    cells.append(f"{mcnemar(*counts):.2g}")
                 print(f"| {z:g} | {a} | {b} | {len(common)} | " + " | ".join(cells) + " |")
 
 

@@ -74,7 +74,7 @@ def test_pairs_name_the_problems_only_one_engine_solves(capsys):
     b = rows("B", [True, False, True, False], [1.0, 0.99, 1.0, 0.99999])
     suite.pairs(a + b)
     lines = capsys.readouterr().out.strip().splitlines()
-    assert lines[-1] == "| 0 | A | B | 4 | 1 (2) | 1 (3) | 1 (2) | 1 (4) |"
+    assert lines[-1] == "| 0 | A | B | 4 | 1 (2) | 1 (3) | 1 | 1 (2) | 1 (4) | 1 |"
 
 
 def test_pairs_compare_only_common_problems_at_the_same_noise(capsys):
@@ -84,7 +84,19 @@ def test_pairs_compare_only_common_problems_at_the_same_noise(capsys):
     suite.pairs(a + b + c)
     lines = capsys.readouterr().out.strip().splitlines()
     # A and B share problem 1; C ran at another noise level, so it is paired with no one
-    assert lines[2:] == ["| 0 | A | B | 1 | 1 (1) | 0 | 1 (1) | 0 |"]
+    assert lines[2:] == ["| 0 | A | B | 1 | 1 (1) | 0 | 1 | 1 (1) | 0 | 1 |"]
+
+
+def test_pairs_mcnemar_p_against_scipy(capsys):
+    # A solves 9 problems B does not, B solves 1 A does not, 5 both, 5 neither
+    a = rows("A", [True] * 14 + [False] * 6, [1.0] * 20)
+    b = rows("B", [False] * 9 + [True] * 5 + [True] + [False] * 5, [1.0] * 20)
+    suite.pairs(a + b)
+    cells = capsys.readouterr().out.strip().splitlines()[-1].strip("| ").split(" | ")
+    stats = pytest.importorskip("scipy.stats")
+    want = stats.binomtest(1, 10, 0.5).pvalue  # 0.0215
+    assert cells[6] == f"{want:.2g}"
+    assert cells[9] == "1"  # R^2: no discordant problems
 
 
 def test_load_rows_keeps_the_first_of_a_repeated_problem(tmp_path):
