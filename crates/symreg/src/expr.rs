@@ -369,7 +369,11 @@ impl Expr {
         };
         let wrap = |e: &Expr, min: u8| {
             let s = e.to_text(digits, sympy);
-            if e.text_prec(fractions) < min { format!("({s})") } else { s }
+            if e.text_prec(fractions) < min {
+                format!("({s})")
+            } else {
+                s
+            }
         };
         let wrap_right = |e: &Expr, min: u8| {
             if e.leads_with_minus() {
@@ -811,10 +815,7 @@ mod tests {
             (Expr::Bin(Op::Mul, var("x"), num(-0.5)), "x*(-1/2)"),
             (Expr::Neg(num(third)), "-(1/3)"),
             (
-                Expr::Un(
-                    Op::Sin,
-                    Box::new(Expr::Bin(Op::Mul, num(0.5), var("x"))),
-                ),
+                Expr::Un(Op::Sin, Box::new(Expr::Bin(Op::Mul, num(0.5), var("x")))),
                 "sin(1/2*x)",
             ),
         ];
