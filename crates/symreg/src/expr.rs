@@ -360,7 +360,8 @@ impl Expr {
     /// Plain-text form with `digits` significant digits (`None` for full precision).
     ///
     /// The full-precision sympy form (`digits` `None`, `sympy` true) writes a constant that
-    /// is exactly a small fraction as one (`1/3*x`, `x**(1/2)`; see [`small_fraction`]).
+    /// is exactly a small fraction as one (`1/3*x`, `x**(1/2)`: denominators up to 12, the
+    /// smallest that fits).
     pub fn to_text(&self, digits: Option<usize>, sympy: bool) -> String {
         let fractions = sympy && digits.is_none();
         let fmt_num = |v: f64| match small_fraction(v) {
