@@ -466,6 +466,16 @@ def load_rows(paths):
     return rows, dup
 
 
+def accurate(r, above=0.999):
+    """Whether a row's test R^2 is above `above` (a failed row has none: not accurate)."""
+    return (r.get("r2_test") or -1) > above
+
+
+def solved(r, kind):
+    """Whether a row solves its problem: exactly (`kind` "exact") or to R^2 > 0.999."""
+    return bool(r.get("exact")) if kind == "exact" else accurate(r)
+
+
 def pairs(rows):
     """For each two engines at the same noise level, on the problems both ran: the problems
     only one of them solves (exact, and R^2 > 0.999 on the test rows), by Number, and the
@@ -473,9 +483,6 @@ def pairs(rows):
     strategy earns its place beside another: the counts of the summary table can be equal
     while the problems differ, and a difference of a few problems on one seed can be
     chance."""
-    def solved(r, kind):
-        return bool(r.get("exact")) if kind == "exact" else (r.get("r2_test") or -1) > 0.999
-
     def mcnemar(b, c):
         """Two-sided exact McNemar p: how likely a split of the b + c discordant problems
         at least this uneven is when neither engine is better (each side p = 1/2)."""
@@ -527,10 +534,10 @@ def table(paths, with_pairs=False):
                     continue
                 n = len(rs)
                 fail = sum(1 for r in rs if "error" in r)
-                ex = sum(1 for r in rs if r.get("exact"))
+                ex = sum(1 for r in rs if solved(r, "exact"))
                 to = sum(1 for r in rs if r.get("exact_timeout"))
-                r3 = sum(1 for r in rs if (r.get("r2_test") or -1) > 0.999)
-                r2_ = sum(1 for r in rs if (r.get("r2_test") or -1) > 0.99)
+                r3 = sum(1 for r in rs if solved(r, "r2"))
+                r2_ = sum(1 for r in rs if accurate(r, 0.99))
                 secs = [r["seconds"] for r in rs if "seconds" in r]
                 cpus = [r["cpu_seconds"] for r in rs if "cpu_seconds" in r]
                 cpu = f"{np.median(cpus):.1f} | {sum(cpus):.0f}" if cpus else "- | -"

@@ -61,7 +61,7 @@ const MAX_FRACTION_DENOMINATOR: i64 = 12;
 /// sympy text writes them as fractions (`1/3`, which sympy reads as a rational), so that a
 /// law written with exact constants reads back as one: `0.3333333333333333` rounded to
 /// `0.333` would not.
-pub(crate) fn small_fraction(v: f64) -> Option<(i64, i64)> {
+fn small_fraction(v: f64) -> Option<(i64, i64)> {
     if !v.is_finite() || v == v.round() || v.abs() >= 1e6 {
         return None;
     }
