@@ -33,6 +33,9 @@
 //! ```
 #![deny(missing_docs)]
 
+mod sliding;
+pub use sliding::SlidingFeatures;
+
 use hxai_signal::{SignalError, WelchConfig, welch};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -329,6 +332,61 @@ pub fn extract_with(
         m3 += d2 * d;
         m4 += d2 * d2;
     }
+    let wcfg = welch_config(cfg);
+    let psd = welch(accel, fs, &wcfg)?;
+    assemble(
+        command_hz,
+        &Sums {
+            n: nf,
+            sum_abs,
+            sum_sq,
+            m2,
+            m3,
+            m4,
+            peak,
+        },
+        &psd,
+        cfg,
+    )
+}
+
+/// The Welch settings of a PSD estimator.
+fn welch_config(cfg: &FeatureConfig) -> WelchConfig {
+    match &cfg.psd {
+        PsdEstimator::Welch(w) => w.clone(),
+        PsdEstimator::Periodogram => WelchConfig::periodogram(),
+    }
+}
+
+/// What the twelve features are made of: over `n` samples, the sums of `|a|` and `a^2`, the
+/// sums of the 2nd, 3rd and 4th powers of `a - mean`, and the largest `|a|`.
+pub(crate) struct Sums {
+    pub n: f64,
+    pub sum_abs: f64,
+    pub sum_sq: f64,
+    pub m2: f64,
+    pub m3: f64,
+    pub m4: f64,
+    pub peak: f64,
+}
+
+/// The features from the sums and the PSD ([`extract_with`] and [`SlidingFeatures`] share
+/// it, so both define each feature once).
+pub(crate) fn assemble(
+    command_hz: f64,
+    sums: &Sums,
+    psd: &hxai_signal::Psd,
+    cfg: &FeatureConfig,
+) -> Result<Features, FeatureError> {
+    let &Sums {
+        n: nf,
+        sum_abs,
+        sum_sq,
+        m2,
+        m3,
+        m4,
+        peak,
+    } = sums;
     if !(m4.is_finite() && sum_sq.is_finite() && sum_abs.is_finite()) {
         return Err(FeatureError::Overflow);
     }
@@ -345,12 +403,6 @@ pub fn extract_with(
     let skewness = (m3 / nf) / (var_sigma * var_sigma.sqrt());
     let mav = sum_abs / nf;
     let rms = (sum_sq / nf).sqrt();
-
-    let wcfg = match &cfg.psd {
-        PsdEstimator::Welch(w) => w.clone(),
-        PsdEstimator::Periodogram => WelchConfig::periodogram(),
-    };
-    let psd = welch(accel, fs, &wcfg)?;
     let total_power: f64 = psd.density.iter().sum();
     if total_power <= 0.0 || !total_power.is_finite() {
         return Err(FeatureError::ConstantSignal);

@@ -17,6 +17,8 @@
 //!   [`Hybrid::predict`] applies a correction: `A_corr = A_phys + delta_hat`,
 //!   `x_hat = A_corr sin(omega t + phi_phys)`.
 //! - [`evaluate()`]: physics vs hybrid against the truth ([`Evaluation`]).
+//! - [`stream::Estimator`]: the same model applied sample by sample, causally, in bounded
+//!   memory (`hxai stream`).
 //! - [`explain`]: the numbers behind `hxai explain`'s pictures (response curves with
 //!   prediction bands, predicted vs true, the Pareto front).
 //! - The tool-position case: [`DoubleIntegration`], [`SineDecomposition`],
@@ -69,6 +71,7 @@ pub mod evaluate;
 pub mod explain;
 mod model;
 pub mod process;
+pub mod stream;
 mod tool;
 mod traits;
 mod warnings;

@@ -312,15 +312,22 @@ fn json_type(v: &serde_json::Value) -> &'static str {
 /// Refuses a record whose commanded frequency lies outside the physics band: the band-pass
 /// removes the motion there and the prediction would be a near-zero amplitude.
 fn check_band(physics: &PhysicsConfig, r: &RecordInput<'_>) -> Result<(), HybridError> {
-    if r.frequency_hz.is_finite()
-        && r.frequency_hz >= physics.low_hz
-        && r.frequency_hz <= physics.high_hz
+    check_band_hz(physics, r.id, r.frequency_hz)
+}
+
+/// [`check_band`] for a frequency of the input named `record`.
+pub(crate) fn check_band_hz(
+    physics: &PhysicsConfig,
+    record: &str,
+    frequency_hz: f64,
+) -> Result<(), HybridError> {
+    if frequency_hz.is_finite() && frequency_hz >= physics.low_hz && frequency_hz <= physics.high_hz
     {
         Ok(())
     } else {
         Err(HybridError::FrequencyOutOfBand {
-            record: r.id.to_owned(),
-            freq_hz: r.frequency_hz,
+            record: record.to_owned(),
+            freq_hz: frequency_hz,
             low_hz: physics.low_hz,
             high_hz: physics.high_hz,
         })

@@ -8,6 +8,8 @@
 //! - [`cumulative_trapezoid`] and [`detrend`] integrate and remove trends.
 //! - [`welch`] estimates a power spectral density ([`Psd`]) with a [`WelchConfig`].
 //! - [`fit_sine`] / [`fit_sine4`] fit a sine (IEEE 1057), giving a [`SineFit`].
+//! - [`SlidingSine`] and [`SlidingWelch`] give the sine fit and the Welch PSD of the last
+//!   `n` samples of a stream, one sample at a time, in bounded memory.
 //! - [`displacement`] runs the physics model of the case study, configured by
 //!   [`PhysicsConfig`] and checked once into a [`ValidPhysics`].
 //!
@@ -50,6 +52,7 @@ mod filter;
 mod integrate;
 mod physics;
 mod sine;
+mod sliding;
 mod spectral;
 
 pub use design::{Band, MAX_ORDER, butter};
@@ -58,4 +61,5 @@ pub use filter::Sos;
 pub use integrate::{Detrend, cumulative_trapezoid, detrend, detrend_in_place};
 pub use physics::{Drift, Integrator, LengthUnit, PhysicsConfig, ValidPhysics, displacement};
 pub use sine::{SineFit, SineFit4, fit_sine, fit_sine4, phase_lag_s};
+pub use sliding::{SlidingSine, SlidingWelch};
 pub use spectral::{Psd, Scaling, WelchConfig, Window, welch};

@@ -152,6 +152,43 @@ impl ValidPhysics {
         a.max(b).max(2)
     }
 
+    /// The chain's gain on a sine of `freq_hz`: the displacement amplitude (in the configured
+    /// unit) that [`ValidPhysics::displacement`] makes of an acceleration sine of amplitude 1
+    /// m/s^2, away from the record's ends. Its sign is the phase: the displacement of
+    /// `sin(w t)` is `-gain * sin(w t)`.
+    ///
+    /// Time integration: the zero-phase band-pass passes `|H(f)|^2`, each cumulative
+    /// trapezoid integrates a sampled sine with gain `(T / 2) cot(w T / 2)` (`1 / w` less a
+    /// relative `(w T)^2 / 12`) and a phase of exactly -90 degrees, and a high-pass drift
+    /// filter passes `|H_d(f)|^2` after each integration. A linear drift removal is a
+    /// projection that leaves a sine of whole periods unchanged and is taken as 1. Frequency
+    /// integration: `1 / w^2` inside the band, 0 outside. The streaming estimator
+    /// (`hxai_hybrid::stream`) uses this to turn the acceleration's sine at the command
+    /// frequency into the physics model's displacement without integrating.
+    pub fn gain_at(&self, freq_hz: f64) -> f64 {
+        let w = 2.0 * PI * freq_hz;
+        let unit = self.cfg.unit.factor();
+        match (&self.bandpass, self.cfg.integrator) {
+            (Some(bp), Integrator::Time) => {
+                let dt = 1.0 / self.fs;
+                let half = w * dt / 2.0;
+                let integrate = dt / 2.0 / half.tan();
+                let drift = self
+                    .drift
+                    .as_ref()
+                    .map_or(1.0, |hp| hp.gain(freq_hz, self.fs).powi(4));
+                unit * bp.gain(freq_hz, self.fs).powi(2) * integrate * integrate * drift
+            }
+            _ => {
+                if freq_hz >= self.cfg.low_hz && freq_hz <= self.cfg.high_hz {
+                    unit / (w * w)
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
+
     /// Displacement from acceleration in m/s^2, in the configured unit.
     ///
     /// # Errors

@@ -51,7 +51,7 @@ fn check_inputs(x: &[f64], fs: f64, freq_hz: f64, params: usize) -> Result<(), S
 /// Solves the `N x N` normal equations `M u = r` (row-major `m`) by Gaussian elimination with
 /// partial pivoting after scaling to unit diagonal. Returns `None` when singular.
 #[allow(clippy::needless_range_loop)] // index notation mirrors the algebra
-fn solve<const N: usize>(mut m: [[f64; N]; N], mut r: [f64; N]) -> Option<[f64; N]> {
+pub(crate) fn solve<const N: usize>(mut m: [[f64; N]; N], mut r: [f64; N]) -> Option<[f64; N]> {
     let mut d = [1.0; N];
     for i in 0..N {
         if m[i][i].is_nan() || m[i][i] <= 0.0 || !m[i][i].is_finite() {

@@ -94,7 +94,7 @@ impl WelchConfig {
     }
 
     /// Segment length and overlap for a signal of `n` samples, validated.
-    fn resolve(&self, n: usize) -> Result<(usize, usize), SignalError> {
+    pub(crate) fn resolve(&self, n: usize) -> Result<(usize, usize), SignalError> {
         if self.nperseg == 0 {
             return Err(SignalError::InvalidConfig(
                 "welch: nperseg must be at least 1".into(),
@@ -128,45 +128,123 @@ pub struct Psd {
 /// [`SignalError::InvalidConfig`] (nperseg 0 or overlap not below nperseg).
 pub fn welch(x: &[f64], fs: f64, cfg: &WelchConfig) -> Result<Psd, SignalError> {
     check_signal(x, "x")?;
-    check_fs(fs)?;
-    let (nperseg, noverlap) = cfg.resolve(x.len())?;
-    let step = nperseg - noverlap;
-    let nseg = (x.len() - nperseg) / step + 1;
-    let win = cfg.window.coefficients(nperseg);
-    let scale = match cfg.scaling {
-        Scaling::Density => 1.0 / (fs * win.iter().map(|w| w * w).sum::<f64>()),
-        Scaling::Spectrum => 1.0 / win.iter().sum::<f64>().powi(2),
-    };
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fft = planner.plan_fft_forward(nperseg);
-    let mut buf = fft.make_input_vec();
-    let mut spec = fft.make_output_vec();
-    let mut scratch = fft.make_scratch_vec();
-    let nfreq = nperseg / 2 + 1;
-    let mut acc = vec![0.0; nfreq];
-    for s in 0..nseg {
-        let seg = &x[s * step..s * step + nperseg];
-        buf.copy_from_slice(seg);
-        detrend_in_place(&mut buf, cfg.detrend);
-        buf.iter_mut().zip(&win).for_each(|(b, w)| *b *= w);
-        fft.process_with_scratch(&mut buf, &mut spec, &mut scratch)
-            .map_err(|e| SignalError::InvalidConfig(format!("welch: FFT failed: {e}")))?;
-        acc.iter_mut()
-            .zip(&spec)
-            .for_each(|(a, c): (&mut f64, &Complex<f64>)| *a += c.norm_sqr());
+    let mut seg = Segments::new(cfg, fs, x.len())?;
+    let mut acc = vec![0.0; seg.nfreq()];
+    for s in 0..seg.nseg {
+        let power = seg.power(&x[s * seg.step..s * seg.step + seg.nperseg])?;
+        acc.iter_mut().zip(power).for_each(|(a, p)| *a += p);
     }
-    let last = if nperseg % 2 == 1 { nfreq } else { nfreq - 1 };
-    let inv = 1.0 / nseg as f64;
-    for (k, a) in acc.iter_mut().enumerate() {
-        *a *= scale * inv;
-        if k >= 1 && k < last {
-            *a *= 2.0;
+    Ok(seg.finish(acc))
+}
+
+/// The per-segment work of Welch's method for signals of `n` samples: the segment length,
+/// step and count, the window and its scale, and the FFT. [`welch`] and the sliding
+/// estimator ([`crate::SlidingWelch`]) share it, so both compute each segment's power the
+/// same way, to the last bit.
+pub(crate) struct Segments {
+    pub nperseg: usize,
+    pub step: usize,
+    pub nseg: usize,
+    fs: f64,
+    detrend: Detrend,
+    win: Vec<f64>,
+    scale: f64,
+    fft: std::sync::Arc<dyn realfft::RealToComplex<f64>>,
+    buf: Vec<f64>,
+    spec: Vec<Complex<f64>>,
+    scratch: Vec<Complex<f64>>,
+    power: Vec<f64>,
+}
+
+impl std::fmt::Debug for Segments {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Segments")
+            .field("nperseg", &self.nperseg)
+            .field("step", &self.step)
+            .field("nseg", &self.nseg)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Segments {
+    pub fn new(cfg: &WelchConfig, fs: f64, n: usize) -> Result<Self, SignalError> {
+        check_fs(fs)?;
+        if n == 0 {
+            return Err(SignalError::Empty { what: "x" });
+        }
+        let (nperseg, noverlap) = cfg.resolve(n)?;
+        let step = nperseg - noverlap;
+        let nseg = (n - nperseg) / step + 1;
+        let win = cfg.window.coefficients(nperseg);
+        let scale = match cfg.scaling {
+            Scaling::Density => 1.0 / (fs * win.iter().map(|w| w * w).sum::<f64>()),
+            Scaling::Spectrum => 1.0 / win.iter().sum::<f64>().powi(2),
+        };
+        let mut planner = RealFftPlanner::<f64>::new();
+        let fft = planner.plan_fft_forward(nperseg);
+        let buf = fft.make_input_vec();
+        let spec = fft.make_output_vec();
+        let scratch = fft.make_scratch_vec();
+        let power = vec![0.0; nperseg / 2 + 1];
+        Ok(Self {
+            nperseg,
+            step,
+            nseg,
+            fs,
+            detrend: cfg.detrend,
+            win,
+            scale,
+            fft,
+            buf,
+            spec,
+            scratch,
+            power,
+        })
+    }
+
+    /// Frequencies of the one-sided spectrum.
+    pub fn nfreq(&self) -> usize {
+        self.nperseg / 2 + 1
+    }
+
+    /// `|FFT(window * detrend(segment))|^2` of one segment of `nperseg` samples.
+    pub fn power(&mut self, segment: &[f64]) -> Result<&[f64], SignalError> {
+        self.buf.copy_from_slice(segment);
+        detrend_in_place(&mut self.buf, self.detrend);
+        self.buf
+            .iter_mut()
+            .zip(&self.win)
+            .for_each(|(b, w)| *b *= w);
+        self.fft
+            .process_with_scratch(&mut self.buf, &mut self.spec, &mut self.scratch)
+            .map_err(|e| SignalError::InvalidConfig(format!("welch: FFT failed: {e}")))?;
+        self.power
+            .iter_mut()
+            .zip(&self.spec)
+            .for_each(|(p, c): (&mut f64, &Complex<f64>)| *p = c.norm_sqr());
+        Ok(&self.power)
+    }
+
+    /// The PSD from the sum of the `nseg` segments' powers: averaged, scaled, one-sided.
+    pub fn finish(&self, mut acc: Vec<f64>) -> Psd {
+        let nfreq = self.nfreq();
+        let last = if self.nperseg % 2 == 1 {
+            nfreq
+        } else {
+            nfreq - 1
+        };
+        let inv = 1.0 / self.nseg as f64;
+        for (k, a) in acc.iter_mut().enumerate() {
+            *a *= self.scale * inv;
+            if k >= 1 && k < last {
+                *a *= 2.0;
+            }
+        }
+        let val = 1.0 / (self.nperseg as f64 * (1.0 / self.fs));
+        let freqs = (0..nfreq).map(|k| k as f64 * val).collect();
+        Psd {
+            freqs,
+            density: acc,
         }
     }
-    let val = 1.0 / (nperseg as f64 * (1.0 / fs));
-    let freqs = (0..nfreq).map(|k| k as f64 * val).collect();
-    Ok(Psd {
-        freqs,
-        density: acc,
-    })
 }
