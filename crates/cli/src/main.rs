@@ -22,6 +22,7 @@ mod safety;
 mod simulate;
 mod sr;
 mod strategy;
+mod stream;
 
 /// Options shared by every subcommand.
 #[derive(Debug, Clone, clap::Args)]
@@ -63,6 +64,14 @@ enum Command {
     Predict(predict::Args),
     /// Physics vs hybrid on the records of a data folder.
     Evaluate(evaluate::Args),
+    /// Apply a fitted hybrid model sample by sample to a CSV stream of acceleration
+    /// (standard input or --in), one output row per sample, causally.
+    ///
+    /// The row of each sample depends on that sample and the ones before it only (delay 0);
+    /// the first rows (one model window) are the warm-up, with empty values. A gap or a jump
+    /// back in time restarts the estimator with a warning; a bad line stops the run with an
+    /// error naming it, after every row before it has been written.
+    Stream(stream::Args),
     /// Pictures (SVG) of a fitted model's correction: its response to each feature, predicted
     /// vs true with prediction intervals, and the Pareto front it was chosen from.
     Explain(explain::Args),
@@ -106,6 +115,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Features(a) => features::run(a, g),
         Command::Fit(a) => fit::run(a, g),
         Command::Predict(a) => predict::run(a, g),
+        Command::Stream(a) => stream::run(a, g),
         Command::Evaluate(a) => evaluate::run(a, g),
         Command::Explain(a) => explain::run(a, g),
         Command::Sr(a) => sr::run(a, g),

@@ -1,7 +1,7 @@
 //! The one way this crate (and the command line) writes a file: atomically, and never over
 //! an input.
 //!
-//! [`write_atomic`] writes to a temporary file in the target's own folder, flushes it to
+//! [`write_atomic`] (and [`AtomicFile`], for output that arrives over time) writes to a temporary file in the target's own folder, flushes it to
 //! disk, then renames it over the target. A reader (or a crash, or a full disk) therefore
 //! sees either the old file or the complete new one, never a file cut short; on any error
 //! the temporary file is removed and the target is left as it was.
@@ -17,6 +17,125 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 static COUNTER: AtomicU64 = AtomicU64::new(0);
 
+/// A file being written atomically: bytes go to a temporary file in the target's folder,
+/// and [`AtomicFile::commit`] syncs it and renames it over the target. Dropped without a
+/// commit (an error, a panic), the temporary file is removed and the target is untouched.
+/// [`write_atomic`] is the one-call form; `hxai stream` writes through this type directly
+/// because its rows arrive over time.
+#[derive(Debug)]
+pub struct AtomicFile {
+    path: PathBuf,
+    parent: PathBuf,
+    tmp: PathBuf,
+    file: Option<File>,
+}
+
+impl AtomicFile {
+    /// Starts writing `path`: creates missing parent folders and the temporary file.
+    ///
+    /// # Errors
+    /// [`DataError::IsADirectory`] when `path` is a folder, [`DataError::Io`].
+    pub fn create(path: &Path) -> Result<Self, DataError> {
+        if path.is_dir() {
+            return Err(DataError::IsADirectory {
+                path: path.to_path_buf(),
+            });
+        }
+        let parent = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        std::fs::create_dir_all(&parent).map_err(|e| DataError::io(&parent, e))?;
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .ok_or_else(|| DataError::IsADirectory {
+                path: path.to_path_buf(),
+            })?;
+        let tmp = parent.join(format!(
+            ".{name}.{}-{}.tmp",
+            std::process::id(),
+            COUNTER.fetch_add(1, Ordering::Relaxed)
+        ));
+        let file = File::create_new(&tmp).map_err(|e| DataError::io(&tmp, e))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            parent,
+            tmp,
+            file: Some(file),
+        })
+    }
+
+    /// The target path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The open temporary file.
+    pub fn file(&mut self) -> Result<&mut File, DataError> {
+        let path = self.path.clone();
+        self.file.as_mut().ok_or_else(|| {
+            DataError::io(
+                &path,
+                std::io::Error::other("the file was already committed"),
+            )
+        })
+    }
+
+    /// Flushes and syncs the temporary file, then renames it over the target.
+    ///
+    /// # Errors
+    /// [`DataError::Io`]; the temporary file is then removed and the target left as it was.
+    pub fn commit(mut self) -> Result<(), DataError> {
+        let result = (|| {
+            let mut file = self.file.take().ok_or_else(|| {
+                DataError::io(
+                    &self.path,
+                    std::io::Error::other("the file was already committed"),
+                )
+            })?;
+            file.flush().map_err(|e| DataError::io(&self.path, e))?;
+            file.sync_all().map_err(|e| DataError::io(&self.path, e))?;
+            drop(file);
+            std::fs::rename(&self.tmp, &self.path).map_err(|e| DataError::io(&self.path, e))
+        })();
+        if result.is_ok() {
+            // Make the rename itself durable; not all platforms can sync a folder.
+            if let Ok(dir) = File::open(&self.parent) {
+                let _ = dir.sync_all();
+            }
+            // Nothing left to remove.
+            self.tmp = PathBuf::new();
+        }
+        result
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match self.file.as_mut() {
+            Some(f) => f.write(buf),
+            None => Err(std::io::Error::other("the file was already committed")),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self.file.as_mut() {
+            Some(f) => f.flush(),
+            None => Ok(()),
+        }
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if !self.tmp.as_os_str().is_empty() {
+            self.file.take();
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
 /// Writes `path` atomically: `write` fills a temporary file in the same folder, which is
 /// synced and renamed over `path`. Missing parent folders are created. On error the
 /// temporary file is removed and an existing `path` is unchanged.
@@ -28,48 +147,9 @@ pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut File) -> Result<(), DataError>,
 ) -> Result<(), DataError> {
-    if path.is_dir() {
-        return Err(DataError::IsADirectory {
-            path: path.to_path_buf(),
-        });
-    }
-    let parent = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    std::fs::create_dir_all(&parent).map_err(|e| DataError::io(&parent, e))?;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .ok_or_else(|| DataError::IsADirectory {
-            path: path.to_path_buf(),
-        })?;
-    let tmp = parent.join(format!(
-        ".{name}.{}-{}.tmp",
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let result = (|| {
-        let mut file = File::create_new(&tmp).map_err(|e| DataError::io(&tmp, e))?;
-        write(&mut file)?;
-        file.flush().map_err(|e| DataError::io(path, e))?;
-        file.sync_all().map_err(|e| DataError::io(path, e))?;
-        drop(file);
-        std::fs::rename(&tmp, path).map_err(|e| DataError::io(path, e))
-    })();
-    match result {
-        Ok(()) => {
-            // Make the rename itself durable; not all platforms can sync a folder.
-            if let Ok(dir) = File::open(&parent) {
-                let _ = dir.sync_all();
-            }
-            Ok(())
-        }
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
-    }
+    let mut file = AtomicFile::create(path)?;
+    write(file.file()?)?;
+    file.commit()
 }
 
 /// Writes bytes to `path` atomically (see [`write_atomic`]).

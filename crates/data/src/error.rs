@@ -52,6 +52,16 @@ pub enum DataError {
         /// The writer's message.
         message: String,
     },
+    /// A line of a sample stream (`hxai stream`) is not what the header promised.
+    #[error("{source_name}, line {line}: {message}")]
+    StreamLine {
+        /// Where the stream comes from (a file's path, or `standard input`).
+        source_name: String,
+        /// The line, counted from 1 with the header as line 1.
+        line: usize,
+        /// What is wrong with it.
+        message: String,
+    },
     /// A required column is absent.
     #[error("{}: missing column `{column}` (columns found: {})", path.display(), found.join(", "))]
     MissingColumn {

@@ -71,6 +71,7 @@ use crate::{HybridError, LoadedCorrection};
 use hxai_features::SlidingFeatures;
 use hxai_signal::SlidingSine;
 use hxai_table::Table;
+use serde::{Deserialize, Serialize};
 
 /// One output row: the estimates at one input sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -87,11 +88,53 @@ pub struct Row {
     pub interval_um: Option<(f64, f64)>,
 }
 
+/// Columns of the streaming output, in order (`hxai stream`'s CSV header).
+pub const COLUMNS: [&str; 3] = ["time_s", "physics_um", "hybrid_um"];
+
+/// Columns added with an interval.
+pub const INTERVAL_COLUMNS: [&str; 2] = ["hybrid_lo_um", "hybrid_hi_um"];
+
+/// What a streaming run reports at its end (`hxai stream --summary`): the contract's keys
+/// first, then the estimator's settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// The delay `D`, samples: the row of sample `i` depends on samples up to `i + D`.
+    pub delay_samples: usize,
+    /// Rows without values at the start and after each restart.
+    pub warmup_samples: usize,
+    /// Samples read (= rows written).
+    pub samples: u64,
+    /// Wall time of the run, s.
+    pub seconds: f64,
+    /// Restarts of the estimator after a gap or a jump back in time.
+    pub restarts: u64,
+    /// The commanded frequency, Hz.
+    pub frequency_hz: f64,
+    /// The sampling rate, Hz (`None` when the stream ended before it was known).
+    pub fs_hz: Option<f64>,
+    /// The window the estimates are made over, samples.
+    pub window_samples: usize,
+    /// Samples between two updates of the correction.
+    pub update_step_samples: usize,
+    /// Updates whose features were undefined (a constant window): the hybrid stayed empty.
+    pub undefined_reports: u64,
+}
+
 /// The latest report of the correction.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Report {
     delta_hat: f64,
     interval: Option<(f64, f64)>,
+}
+
+/// Checks what can be checked of a model and a frequency before the sampling rate is known:
+/// the frequency lies in the model's physics band, and the model is complete.
+///
+/// # Errors
+/// [`HybridError::FrequencyOutOfBand`], and the model's correction errors.
+pub fn check_frequency(model: &HybridModel, frequency_hz: f64) -> Result<(), HybridError> {
+    check_band_hz(&model.physics, "stream", frequency_hz)?;
+    model.correction().map(|_| ())
 }
 
 /// The causal streaming estimator of the tool position (see the module docs).
@@ -208,6 +251,23 @@ impl Estimator {
     /// The sampling rate, Hz.
     pub fn fs_hz(&self) -> f64 {
         self.fs_hz
+    }
+
+    /// The run's summary, given what the caller counted: samples read over the whole run
+    /// (restarts included), its wall time and the restarts.
+    pub fn summary(&self, samples: u64, seconds: f64, restarts: u64) -> Summary {
+        Summary {
+            delay_samples: self.delay_samples(),
+            warmup_samples: self.warmup_samples(),
+            samples,
+            seconds,
+            restarts,
+            frequency_hz: self.frequency_hz,
+            fs_hz: Some(self.fs_hz),
+            window_samples: self.window,
+            update_step_samples: self.update_step(),
+            undefined_reports: self.undefined_reports,
+        }
     }
 
     /// Forgets every sample: the next one starts a new warm-up (after a gap in time).
