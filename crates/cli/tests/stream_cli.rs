@@ -1,0 +1,229 @@
+//! `hxai stream`: rows arrive through a pipe while the input is still open, one row per
+//! sample; gaps restart with a warning; a bad line is named after the rows before it; the
+//! file output and the summary follow the contract.
+
+mod common;
+
+use common::{hxai, s, scratch, stderr};
+use std::io::{BufRead, BufReader, Write};
+use std::process::{Command, Stdio};
+use std::sync::mpsc;
+use std::time::Duration;
+
+const MODEL: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../testdata/bad/good/model.json"
+);
+
+/// CSV text of `n` samples from `start` at 2 kHz of a 25 Hz motion, with an extra column.
+fn lines(start: usize, n: usize) -> String {
+    let (fs, w) = (2000.0, 2.0 * std::f64::consts::PI * 25.0);
+    (start..start + n)
+        .map(|i| {
+            let t = i as f64 / fs;
+            format!("{t},{},7\n", -6e-6 * w * w * (w * t).sin())
+        })
+        .collect()
+}
+
+const HEADER: &str = "time_s,accel_ms2,probe_um\n";
+
+/// Through a pipe that stays open: every row written so far can be read before the input
+/// ends (the output is flushed whenever no whole line is ready), then the end of the input
+/// ends the run with exit code 0.
+#[test]
+fn rows_come_through_an_open_pipe() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hxai"))
+        .args(["stream", "--model", MODEL, "--frequency-hz", "25"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("hxai starts");
+    let mut stdin = child.stdin.take().expect("stdin");
+    let stdout = child.stdout.take().expect("stdout");
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines() {
+            if tx.send(line.expect("a line of output")).is_err() {
+                return;
+            }
+        }
+    });
+    stdin
+        .write_all(format!("{HEADER}{}", lines(0, 1500)).as_bytes())
+        .expect("write");
+    stdin.flush().expect("flush");
+    // Header and 1500 rows, while the input is still open.
+    let mut got = Vec::new();
+    while got.len() < 1501 {
+        match rx.recv_timeout(Duration::from_secs(20)) {
+            Ok(l) => got.push(l),
+            Err(_) => panic!(
+                "only {} of 1501 lines arrived while the input was open",
+                got.len()
+            ),
+        }
+    }
+    assert_eq!(got[0], "time_s,physics_um,hybrid_um");
+    // Warm-up: one 0.5 s window at 2 kHz, 999 rows without values.
+    assert_eq!(got[999], "0.499,,");
+    let last: Vec<&str> = got[1500].split(',').collect();
+    assert_eq!(last[0], "0.7495");
+    assert!(
+        last[1].parse::<f64>().is_ok() && last[2].parse::<f64>().is_ok(),
+        "{}",
+        got[1500]
+    );
+    stdin.write_all(lines(1500, 10).as_bytes()).expect("write");
+    drop(stdin);
+    let status = child.wait().expect("exit");
+    assert!(status.success());
+    let rest: Vec<String> = rx.iter().collect();
+    assert_eq!(rest.len(), 10);
+}
+
+/// The file output equals standard output; the summary has the contract's keys; a gap in
+/// time restarts the estimator with a warning naming the time, and rows go on.
+#[test]
+fn file_output_summary_and_gaps() {
+    let dir = scratch("hxai-stream", "files").expect("scratch");
+    let input = dir.join("in.csv");
+    // 3000 samples, then a gap of 0.5 s, then 2000 more.
+    let text = format!("{HEADER}{}{}", lines(0, 3000), lines(4000, 2000));
+    std::fs::write(&input, &text).expect("write input");
+    let (out, summary) = (dir.join("out.csv"), dir.join("summary.json"));
+    let o = hxai(&[
+        "stream",
+        "--model",
+        MODEL,
+        "--frequency-hz",
+        "25",
+        "--in",
+        s(&input),
+        "--out",
+        s(&out),
+        "--summary",
+        s(&summary),
+    ])
+    .expect("run");
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("gap at t = 2 s (line 3002)"),
+        "{}",
+        stderr(&o)
+    );
+    let piped = hxai(&[
+        "stream",
+        "--model",
+        MODEL,
+        "--frequency-hz",
+        "25",
+        "--in",
+        s(&input),
+    ])
+    .expect("run");
+    let written = std::fs::read_to_string(&out).expect("output");
+    assert_eq!(written.as_bytes(), piped.stdout.as_slice());
+    let rows: Vec<&str> = written.lines().collect();
+    assert_eq!(rows.len(), 1 + 5000);
+    // After the gap the warm-up starts again: 999 empty rows, then values.
+    assert!(rows[1 + 3000 + 998].ends_with(",,"), "{}", rows[1 + 3998]);
+    assert!(!rows[1 + 3000 + 999].ends_with(",,"));
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary).expect("summary")).expect("json");
+    for (key, want) in [
+        ("delay_samples", 0.0),
+        ("warmup_samples", 999.0),
+        ("samples", 5000.0),
+        ("restarts", 1.0),
+        ("frequency_hz", 25.0),
+        ("fs_hz", 2000.0),
+    ] {
+        assert_eq!(doc[key].as_f64(), Some(want), "{key}: {doc}");
+    }
+    assert!(doc["seconds"].as_f64().is_some_and(|v| v >= 0.0));
+    // No temporary file is left beside the outputs.
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .expect("list")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.ends_with(".tmp")), "{names:?}");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+/// A bad line stops the run with exit code 1 and an error naming the line; every row before
+/// it has been written, to standard output and to `--out` alike.
+#[test]
+fn a_bad_line_is_named_after_the_rows_before_it() {
+    let dir = scratch("hxai-stream", "bad").expect("scratch");
+    let input = dir.join("in.csv");
+    let text = format!("{HEADER}{}0.6,oops,1\n{}", lines(0, 1200), lines(1201, 10));
+    std::fs::write(&input, &text).expect("write input");
+    let out = dir.join("out.csv");
+    for to_file in [false, true] {
+        let mut args = vec![
+            "stream",
+            "--model",
+            MODEL,
+            "--frequency-hz",
+            "25",
+            "--in",
+            s(&input),
+        ];
+        if to_file {
+            args.extend(["--out", s(&out)]);
+        }
+        let o = hxai(&args).expect("run");
+        assert_eq!(o.status.code(), Some(1));
+        let err = stderr(&o);
+        assert!(
+            err.contains("line 1202") && err.contains("`accel_ms2` is `oops`"),
+            "{err}"
+        );
+        let written = if to_file {
+            std::fs::read_to_string(&out).expect("output")
+        } else {
+            String::from_utf8_lossy(&o.stdout).into_owned()
+        };
+        assert_eq!(written.lines().count(), 1 + 1200, "to a file: {to_file}");
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+/// Settings that cannot work are refused before any input is read, by name.
+#[test]
+fn bad_settings_are_refused() {
+    let dir = scratch("hxai-stream", "settings").expect("scratch");
+    let input = dir.join("in.csv");
+    std::fs::write(&input, format!("{HEADER}{}", lines(0, 10))).expect("write input");
+    for (args, want) in [
+        (
+            vec!["--frequency-hz", "0"],
+            "--frequency-hz must be a positive",
+        ),
+        (vec!["--frequency-hz", "500"], "outside"),
+        (
+            vec!["--frequency-hz", "25", "--fs-hz=-3"],
+            "--fs-hz must be a positive",
+        ),
+        (vec!["--frequency-hz", "25", "--out", s(&input)], "input"),
+        (
+            vec!["--frequency-hz", "25", "--interval", "0.95"],
+            "uncertainty",
+        ),
+    ] {
+        let mut all = vec!["stream", "--model", MODEL, "--in", s(&input)];
+        all.extend(args.iter().copied());
+        let o = hxai(&all).expect("run");
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        let err = stderr(&o);
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    assert_eq!(
+        std::fs::read_to_string(&input).expect("input"),
+        format!("{HEADER}{}", lines(0, 10)),
+        "the input is untouched"
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
