@@ -10,9 +10,10 @@
 //!    the chain's gain there ([`hxai_signal::ValidPhysics::gain_at`]: the band-pass's
 //!    `|H(f)|^2`, the trapezoid rule's `1 / w^2` up to `(w T)^2 / 12`, the unit) with the
 //!    sign of a double integral. The acceleration's sine is a least-squares fit of offset,
-//!    sine and cosine at `f` over the last `W` samples ([`hxai_signal::SlidingSine`],
-//!    running sums, O(1) per sample), `W` being the model's window length (0.5 s by
-//!    default), re-solved at every sample. `A_phys` is its amplitude, the row's `physics_um`
+//!    sine and cosine at `f` over the whole periods of the last `W` samples
+//!    ([`hxai_signal::SlidingSine`], running sums, O(1) per sample), `W` being the model's
+//!    window length (0.5 s by default), re-solved at every sample. Over whole periods the
+//!    harmonics of `f` are orthogonal to the fit, so they do not leak into the amplitude. `A_phys` is its amplitude, the row's `physics_um`
 //!    the fitted sine's value at the newest sample.
 //! 2. **Features on the same trailing window** ([`hxai_features::SlidingFeatures`]): the
 //!    moments and the peak updated per sample, the Welch PSD one segment FFT per Welch step,
@@ -127,6 +128,21 @@ struct Report {
     interval: Option<(f64, f64)>,
 }
 
+/// The longest span of whole periods of `frequency_hz` within `window` samples (rounded to
+/// samples; `window` itself when not even one period fits). Over whole periods every
+/// harmonic of the command frequency is orthogonal to its sine and cosine, so harmonics of
+/// the motion and of the mains at twice a 25 Hz command do not leak into the amplitude, and
+/// the estimate does not wobble as the window slides.
+fn whole_periods(window: usize, fs_hz: f64, frequency_hz: f64) -> usize {
+    let period = fs_hz / frequency_hz;
+    let periods = (window as f64 / period).floor();
+    if periods >= 1.0 {
+        ((periods * period).round() as usize).clamp(3, window)
+    } else {
+        window
+    }
+}
+
 /// Checks what can be checked of a model and a frequency before the sampling rate is known:
 /// the frequency lies in the model's physics band, and the model is complete.
 ///
@@ -169,7 +185,11 @@ impl Estimator {
         model.window.check()?;
         let window = model.window.length_samples(fs_hz);
         hxai_features::check_covers_one_period(window, fs_hz, frequency_hz)?;
-        let sine = SlidingSine::new(window, fs_hz, frequency_hz)?;
+        let sine = SlidingSine::new(
+            whole_periods(window, fs_hz, frequency_hz),
+            fs_hz,
+            frequency_hz,
+        )?;
         let features = SlidingFeatures::new(window, fs_hz, frequency_hz, &model.features.config)?;
         Ok(Self {
             frequency_hz,

@@ -35,6 +35,7 @@ pub mod pipeline;
 mod plots;
 pub mod report;
 pub mod results;
+pub mod streaming;
 
 use hxai_sim::SimConfig;
 

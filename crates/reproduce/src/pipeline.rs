@@ -165,6 +165,13 @@ pub fn compute(
     progress(Progress::done("evaluate", 1));
     timings.push(("hybrid evaluation", t.elapsed().as_secs_f64()));
 
+    // 7. The same model in real time: every test record streamed sample by sample.
+    let t = Instant::now();
+    progress(Progress::start("streaming", 1));
+    let streaming = crate::streaming::compute(&records, &fit.model)?;
+    progress(Progress::done("streaming", 1));
+    timings.push(("streaming", t.elapsed().as_secs_f64()));
+
     // Descriptive tables.
     let feature_ranges = names
         .iter()
@@ -229,6 +236,7 @@ pub fn compute(
         symbolic,
         cv,
         hybrid,
+        streaming,
     };
     Ok(Computed {
         results,

@@ -9,7 +9,7 @@ use hxai_sim::SimRecord;
 use std::collections::BTreeMap;
 
 /// File name and caption of every figure, in the order they are listed in the report.
-pub const CAPTIONS: [(&str, &str); 10] = [
+pub const CAPTIONS: [(&str, &str); 11] = [
     (
         "fig04_command_encoder_probe.svg",
         "Fig. 4: command, encoder and probe at 10 and 40 Hz; mean fitted amplitudes vs frequency and vs amplitude",
@@ -50,7 +50,14 @@ pub const CAPTIONS: [(&str, &str); 10] = [
         "fig_explain_pareto.svg",
         "`hxai explain`: the search's Pareto front (complexity vs training mean squared error), the selected equation (the one above) marked",
     ),
+    (
+        STREAM_FIGURE,
+        "`hxai stream` on a test record at 25 Hz: the probe, the offline hybrid of `hxai predict` and the causal streaming hybrid around the end of the warm-up (dashed), where the streaming rows begin; the streaming estimate of each sample uses that sample and the ones before it only",
+    ),
 ];
+
+/// File name of the streaming figure.
+const STREAM_FIGURE: &str = "fig_stream_position.svg";
 
 /// Prefix of the explanation pictures' file names (`hxai explain` writes them unprefixed).
 const EXPLAIN_PREFIX: &str = "fig_explain_";
@@ -358,6 +365,10 @@ pub fn all(c: &Computed) -> Result<Vec<(String, String)>, ReproduceError> {
         .map(|((name, _), (panels, cols))| Ok((name.to_string(), draw(name, &panels, cols)?)))
         .collect::<Result<Vec<_>, ReproduceError>>()?;
     files.extend(explain(c)?);
+    if let Some(r) = pick(c, 25.0) {
+        let panels = crate::streaming::figure(c, r)?;
+        files.push((STREAM_FIGURE.to_string(), draw(STREAM_FIGURE, &panels, 1)?));
+    }
     Ok(files)
 }
 

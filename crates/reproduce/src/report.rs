@@ -354,6 +354,8 @@ pub fn markdown(r: &Results) -> String {
         );
     }
 
+    streaming_section(&mut s, &r.streaming);
+
     // Figures.
     let _ = writeln!(s, "\n## Figures\n");
     for (file, what) in crate::plots::CAPTIONS {
@@ -414,4 +416,56 @@ fn stability_section(s: &mut String, st: &hxai_symreg::Stability) {
             r2.mean, r2.sd
         );
     }
+}
+
+/// The model in real time: `hxai stream` against `hxai predict` on the test records.
+fn streaming_section(s: &mut String, st: &crate::streaming::StreamingSummary) {
+    let _ = writeln!(
+        s,
+        "\n## The tool position in real time (`hxai stream`)\n\n\
+         The fitted model applied to every test record sample by sample by the causal \
+         streaming estimator (`hxai_hybrid::stream`: the physics model at the command frequency \
+         by a sliding sine fit of the acceleration, the twelve features on the trailing \
+         window, the correction updated every {} samples), against the offline prediction of \
+         `hxai predict` on the same samples: every sample after the warm-up, against the probe \
+         minus its mean over them. Delay {} samples ({} ms): the row of a sample uses that \
+         sample and the ones before it only; warm-up {} samples ({} ms, one window).\n",
+        st.update_step_samples,
+        st.delay_samples,
+        format!("{:.1}", st.delay_ms),
+        st.warmup_samples,
+        format!("{:.1}", st.warmup_ms)
+    );
+    table(
+        s,
+        &[
+            "frequency (Hz)",
+            "test records",
+            "streaming hybrid RMSE (µm)",
+            "offline hybrid RMSE (µm)",
+            "ratio (goal ≤ 1.1)",
+            "streaming physics RMSE (µm)",
+            "offline physics RMSE (µm)",
+            "one period (ms)",
+        ],
+        st.by_frequency.iter().map(|f| {
+            vec![
+                f.frequency_hz.to_string(),
+                f.records.to_string(),
+                format!("{:.4}", f.stream_hybrid_rmse_um),
+                format!("{:.4}", f.offline_hybrid_rmse_um),
+                format!("{:.3}", f.ratio),
+                format!("{:.4}", f.stream_physics_rmse_um),
+                format!("{:.4}", f.offline_physics_rmse_um),
+                format!("{:.1}", f.period_ms),
+            ]
+        }),
+    );
+    let _ = writeln!(
+        s,
+        "\nThe streaming physics is the physics model's displacement at the command frequency \
+         (its latent sine), the offline physics the whole band-passed double integral with its \
+         harmonics and noise; the hybrid corrects the sine in both. Per-record rows are in \
+         `results.json` (`streaming.records`)."
+    );
 }

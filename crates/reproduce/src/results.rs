@@ -32,6 +32,8 @@ pub struct Results {
     /// Stability of the selected structure over bootstrap resamples of the training
     /// windows (`hxai fit --stability N`).
     pub stability: hxai_symreg::Stability,
+    /// The model applied in real time (`hxai stream`) against `hxai predict`.
+    pub streaming: crate::streaming::StreamingSummary,
 }
 
 /// Run settings.
