@@ -428,13 +428,13 @@ fn streaming_section(s: &mut String, st: &crate::streaming::StreamingSummary) {
          by a sliding sine fit of the acceleration, the twelve features on the trailing \
          window, the correction updated every {} samples), against the offline prediction of \
          `hxai predict` on the same samples: every sample after the warm-up, against the probe \
-         minus its mean over them. Delay {} samples ({} ms): the row of a sample uses that \
-         sample and the ones before it only; warm-up {} samples ({} ms, one window).\n",
+         minus its mean over them. Delay {} samples ({:.1} ms): the row of a sample uses that \
+         sample and the ones before it only; warm-up {} samples ({:.1} ms, one window).\n",
         st.update_step_samples,
         st.delay_samples,
-        format!("{:.1}", st.delay_ms),
+        st.delay_ms,
         st.warmup_samples,
-        format!("{:.1}", st.warmup_ms)
+        st.warmup_ms
     );
     table(
         s,
