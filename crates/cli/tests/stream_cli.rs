@@ -227,3 +227,41 @@ fn bad_settings_are_refused() {
     );
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+/// The README's tour runs `hxai stream` on a simulated record through a pipe: its two lines
+/// (the `hxai simulate --out live` and the `cat live/... | hxai stream` line), taken from the
+/// README as written, run by `sh` in a scratch folder with the test model as `model.json`.
+#[test]
+fn the_readme_tour_streams_through_a_pipe() {
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../README.md"))
+        .expect("README");
+    let lines: Vec<&str> = readme
+        .lines()
+        .filter(|l| l.starts_with("hxai simulate --out live") || l.starts_with("cat live/"))
+        .collect();
+    assert_eq!(lines.len(), 2, "the README's streaming step: {lines:?}");
+    let dir = scratch("hxai-stream", "readme").expect("scratch");
+    std::fs::copy(MODEL, dir.join("model.json")).expect("model");
+    let bin = std::path::Path::new(env!("CARGO_BIN_EXE_hxai"))
+        .parent()
+        .expect("bin folder")
+        .to_path_buf();
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let o = Command::new("sh")
+        .args(["-ec", &lines.join("\n")])
+        .current_dir(&dir)
+        .env("PATH", path)
+        .output()
+        .expect("sh");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = std::fs::read_to_string(dir.join("position.csv")).expect("position.csv");
+    let record = std::fs::read_to_string(dir.join("live/a8um_f25hz_r1.csv")).expect("record");
+    assert_eq!(out.lines().count(), record.lines().count());
+    let summary = std::fs::read_to_string(dir.join("live.json")).expect("summary");
+    assert!(summary.contains("\"delay_samples\": 0"), "{summary}");
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

@@ -344,7 +344,14 @@ impl Estimator {
         }
         let sample = self.samples;
         self.samples += 1;
-        let Some([p, q, _]) = self.sine.fit() else {
+        // The sine's window (whole periods) may fill before the features' window: every row
+        // of the warm-up stays empty all the same, so a row has both values or neither.
+        let fit = if self.samples < self.window as u64 {
+            None
+        } else {
+            self.sine.fit()
+        };
+        let Some([p, q, _]) = fit else {
             return Ok(Row {
                 sample,
                 physics_um: None,
