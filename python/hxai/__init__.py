@@ -8,6 +8,8 @@ as pandas DataFrames, all computed by hxai's compiled Rust engine (``hxai._hxai`
 - :class:`ToolModel` and :func:`predict_records`: the tool case's per-record pipeline with a
   model written by ``hxai fit`` (features, physics, hybrid), a pure function of a pandas
   DataFrame that Dask's ``map_partitions`` runs over a partitioned archive.
+- :class:`StreamEstimator`: the same model applied sample by sample, causally (``hxai
+  stream``): push chunks of acceleration, get one DataFrame row per sample.
 - :mod:`hxai.signal`, :mod:`hxai.features`: the signal functions in scipy's shapes, the
   twelve features.
 - :func:`simulate`: the machine simulator and the table cases as DataFrames.
@@ -20,6 +22,7 @@ from . import _hxai
 from . import features, signal
 from .estimators import HybridRegressor, SymbolicRegressor
 from .sim import simulate
+from .stream import StreamEstimator
 from .tool import ToolModel, predict_records
 
 __version__ = _hxai.__version__
@@ -29,6 +32,7 @@ __all__ = [
     "HybridRegressor",
     "ToolModel",
     "predict_records",
+    "StreamEstimator",
     "simulate",
     "signal",
     "features",

@@ -20,10 +20,13 @@
 //!
 //! Entry points: `sr_fit`, `sr_predict`, `process_fit`, `process_predict`, `tool_predict`,
 //! `butter`, `sosfilt`, `sosfiltfilt`, `welch`, `fit_sine`, `displacement`,
-//! `features_extract`, `simulate_tool`, `simulate_case`, `defaults`.
+//! `features_extract`, `simulate_tool`, `simulate_case`, `defaults`, and the class
+//! `StreamEstimator` (the causal estimator of `hxai_hybrid::stream`, which keeps state
+//! between calls).
 #![deny(missing_docs)]
 
 use hxai_hybrid::process::{CorrectionForm, ProcessConfig, ProcessModel, fit_process_split};
+use hxai_hybrid::stream::Estimator;
 use hxai_hybrid::{HybridModel, RecordInput};
 use hxai_signal::{Band, PhysicsConfig, Sos, WelchConfig};
 use hxai_symreg::{Model, SearchConfig, Table};
@@ -341,6 +344,129 @@ fn tool_predict<'py>(
     ))
 }
 
+/// `StreamEstimator(model_json, frequency_hz, fs_hz, interval=None)`: the tool position in
+/// real time (`hxai_hybrid::stream::Estimator`), a model written by `hxai fit` applied
+/// sample by sample, causally. `interval` (a level in (0, 1), e.g. 0.95) adds the hybrid's
+/// prediction bounds to every row.
+///
+/// The estimator is owned by the Python object and mutated through `&mut self`: pyo3's
+/// runtime borrow check gives one caller at a time, so a second thread calling `push` on the
+/// same object while the first runs (the GIL released) gets a `RuntimeError` ("already
+/// borrowed") instead of interleaving two streams' samples. No lock is needed: `Estimator`
+/// is `Send + Sync` (plain data), as `#[pyclass]` and `Python::detach` require.
+#[pyclass(module = "hxai._hxai", name = "StreamEstimator")]
+struct StreamEstimator {
+    inner: Estimator,
+    interval: bool,
+}
+
+/// What `push` returns: `(sample, physics, hybrid, lo, hi)`, each little-endian bytes
+/// (`sample` as `int64`, the others `float64`; `lo`, `hi` empty without an interval).
+type PushOut<'py> = (
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+);
+
+#[pymethods]
+impl StreamEstimator {
+    #[new]
+    #[pyo3(signature = (model_json, frequency_hz, fs_hz, interval=None))]
+    fn new(
+        model_json: &str,
+        frequency_hz: f64,
+        fs_hz: f64,
+        interval: Option<f64>,
+    ) -> PyResult<Self> {
+        let model = HybridModel::from_json(model_json).map_err(err)?;
+        let mut inner = Estimator::new(&model, frequency_hz, fs_hz).map_err(err)?;
+        if let Some(level) = interval {
+            inner = inner.with_interval(level).map_err(err)?;
+        }
+        Ok(Self {
+            inner,
+            interval: interval.is_some(),
+        })
+    }
+
+    /// `push(accel)` -> `(sample, physics, hybrid, lo, hi)`: the rows completed by these
+    /// samples of acceleration (m/s^2, float64 bytes), one per sample (the delay is 0).
+    /// Missing values (the warm-up, an undefined correction) are NaN. A NaN or infinite
+    /// sample is a `ValueError` naming its index since the start, and the estimator stays
+    /// as it was before that sample (the rows before it are not returned).
+    fn push<'py>(&mut self, py: Python<'py>, accel: &[u8]) -> PyResult<PushOut<'py>> {
+        let accel = floats(accel, "accel")?;
+        let inner = &mut self.inner;
+        let rows = py.detach(move || inner.push(&accel)).map_err(err)?;
+        let nan = f64::NAN;
+        let mut sample = Vec::with_capacity(rows.len() * 8);
+        let mut physics = Vec::with_capacity(rows.len());
+        let mut hybrid = Vec::with_capacity(rows.len());
+        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        for r in &rows {
+            let i = i64::try_from(r.sample).unwrap_or(i64::MAX);
+            sample.extend_from_slice(&i.to_le_bytes());
+            physics.push(r.physics_um.unwrap_or(nan));
+            hybrid.push(r.hybrid_um.unwrap_or(nan));
+            if self.interval {
+                let (l, h) = r.interval_um.unwrap_or((nan, nan));
+                lo.push(l);
+                hi.push(h);
+            }
+        }
+        Ok((
+            PyBytes::new(py, &sample),
+            to_bytes(py, &physics),
+            to_bytes(py, &hybrid),
+            to_bytes(py, &lo),
+            to_bytes(py, &hi),
+        ))
+    }
+
+    /// Forgets every sample: the next one starts a new warm-up, with sample index 0.
+    fn restart(&mut self) {
+        self.inner.restart();
+    }
+
+    /// The delay `D`: the row of sample `i` depends on samples up to `i + D` (0).
+    #[getter]
+    fn delay_samples(&self) -> usize {
+        self.inner.delay_samples()
+    }
+
+    /// Rows without values at the start and after each restart (`W - 1`).
+    #[getter]
+    fn warmup_samples(&self) -> usize {
+        self.inner.warmup_samples()
+    }
+
+    /// Samples between two updates of the correction.
+    #[getter]
+    fn update_step(&self) -> usize {
+        self.inner.update_step()
+    }
+
+    /// The window `W` the estimates are made over, samples.
+    #[getter]
+    fn window_samples(&self) -> usize {
+        self.inner.window_samples()
+    }
+
+    /// Samples pushed since the start or the last restart.
+    #[getter]
+    fn samples(&self) -> u64 {
+        self.inner.samples()
+    }
+
+    /// Whether the rows carry prediction bounds.
+    #[getter]
+    fn has_interval(&self) -> bool {
+        self.interval
+    }
+}
+
 /// `butter(order, btype, cutoff, fs)`: Butterworth design as second-order sections, flat
 /// (`n x 6`, scipy's layout, row-major).
 #[pyfunction]
@@ -559,6 +685,7 @@ fn _hxai(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(features_extract, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_tool, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_case, m)?)?;
+    m.add_class::<StreamEstimator>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

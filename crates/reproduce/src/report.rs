@@ -430,11 +430,7 @@ fn streaming_section(s: &mut String, st: &crate::streaming::StreamingSummary) {
          `hxai predict` on the same samples: every sample after the warm-up, against the probe \
          minus its mean over them. Delay {} samples ({:.1} ms): the row of a sample uses that \
          sample and the ones before it only; warm-up {} samples ({:.1} ms, one window).\n",
-        st.update_step_samples,
-        st.delay_samples,
-        st.delay_ms,
-        st.warmup_samples,
-        st.warmup_ms
+        st.update_step_samples, st.delay_samples, st.delay_ms, st.warmup_samples, st.warmup_ms
     );
     table(
         s,
