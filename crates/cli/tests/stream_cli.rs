@@ -28,6 +28,29 @@ fn lines(start: usize, n: usize) -> String {
 
 const HEADER: &str = "time_s,accel_ms2,probe_um\n";
 
+/// `hxai stream` of the test model at 25 Hz on `input`, then the `extra` flags.
+fn stream(input: &std::path::Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "stream",
+        "--model",
+        MODEL,
+        "--frequency-hz",
+        "25",
+        "--in",
+        s(input),
+    ];
+    args.extend_from_slice(extra);
+    hxai(&args).expect("run")
+}
+
+/// A scratch folder `name` holding `in.csv` with the header and `body`.
+fn input_file(name: &str, body: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = scratch("hxai-stream", name).expect("scratch");
+    let input = dir.join("in.csv");
+    std::fs::write(&input, format!("{HEADER}{body}")).expect("write input");
+    (dir, input)
+}
+
 /// Through a pipe that stays open: every row written so far can be read before the input
 /// ends (the output is flushed whenever no whole line is ready), then the end of the input
 /// ends the run with exit code 0.
@@ -87,42 +110,17 @@ fn rows_come_through_an_open_pipe() {
 /// time restarts the estimator with a warning naming the time, and rows go on.
 #[test]
 fn file_output_summary_and_gaps() {
-    let dir = scratch("hxai-stream", "files").expect("scratch");
-    let input = dir.join("in.csv");
     // 3000 samples, then a gap of 0.5 s, then 2000 more.
-    let text = format!("{HEADER}{}{}", lines(0, 3000), lines(4000, 2000));
-    std::fs::write(&input, &text).expect("write input");
+    let (dir, input) = input_file("files", &format!("{}{}", lines(0, 3000), lines(4000, 2000)));
     let (out, summary) = (dir.join("out.csv"), dir.join("summary.json"));
-    let o = hxai(&[
-        "stream",
-        "--model",
-        MODEL,
-        "--frequency-hz",
-        "25",
-        "--in",
-        s(&input),
-        "--out",
-        s(&out),
-        "--summary",
-        s(&summary),
-    ])
-    .expect("run");
+    let o = stream(&input, &["--out", s(&out), "--summary", s(&summary)]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
         stderr(&o).contains("gap at t = 2 s (line 3002)"),
         "{}",
         stderr(&o)
     );
-    let piped = hxai(&[
-        "stream",
-        "--model",
-        MODEL,
-        "--frequency-hz",
-        "25",
-        "--in",
-        s(&input),
-    ])
-    .expect("run");
+    let piped = stream(&input, &[]);
     let written = std::fs::read_to_string(&out).expect("output");
     assert_eq!(written.as_bytes(), piped.stdout.as_slice());
     let rows: Vec<&str> = written.lines().collect();
@@ -156,25 +154,16 @@ fn file_output_summary_and_gaps() {
 /// it has been written, to standard output and to `--out` alike.
 #[test]
 fn a_bad_line_is_named_after_the_rows_before_it() {
-    let dir = scratch("hxai-stream", "bad").expect("scratch");
-    let input = dir.join("in.csv");
-    let text = format!("{HEADER}{}0.6,oops,1\n{}", lines(0, 1200), lines(1201, 10));
-    std::fs::write(&input, &text).expect("write input");
+    let body = format!("{}0.6,oops,1\n{}", lines(0, 1200), lines(1201, 10));
+    let (dir, input) = input_file("bad", &body);
     let out = dir.join("out.csv");
     for to_file in [false, true] {
-        let mut args = vec![
-            "stream",
-            "--model",
-            MODEL,
-            "--frequency-hz",
-            "25",
-            "--in",
-            s(&input),
-        ];
-        if to_file {
-            args.extend(["--out", s(&out)]);
-        }
-        let o = hxai(&args).expect("run");
+        let extra = if to_file {
+            vec!["--out", s(&out)]
+        } else {
+            vec![]
+        };
+        let o = stream(&input, &extra);
         assert_eq!(o.status.code(), Some(1));
         let err = stderr(&o);
         assert!(
@@ -194,9 +183,7 @@ fn a_bad_line_is_named_after_the_rows_before_it() {
 /// Settings that cannot work are refused before any input is read, by name.
 #[test]
 fn bad_settings_are_refused() {
-    let dir = scratch("hxai-stream", "settings").expect("scratch");
-    let input = dir.join("in.csv");
-    std::fs::write(&input, format!("{HEADER}{}", lines(0, 10))).expect("write input");
+    let (dir, input) = input_file("settings", &lines(0, 10));
     for (args, want) in [
         (
             vec!["--frequency-hz", "0"],

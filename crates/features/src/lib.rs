@@ -378,15 +378,8 @@ pub(crate) fn assemble(
     psd: &hxai_signal::Psd,
     cfg: &FeatureConfig,
 ) -> Result<Features, FeatureError> {
-    let &Sums {
-        n: nf,
-        sum_abs,
-        sum_sq,
-        m2,
-        m3,
-        m4,
-        peak,
-    } = sums;
+    let (nf, sum_abs, sum_sq, peak) = (sums.n, sums.sum_abs, sums.sum_sq, sums.peak);
+    let (m2, m3, m4) = (sums.m2, sums.m3, sums.m4);
     if !(m4.is_finite() && sum_sq.is_finite() && sum_abs.is_finite()) {
         return Err(FeatureError::Overflow);
     }

@@ -203,13 +203,12 @@ mod tests {
     use crate::{PsdEstimator, Sigma, extract_with};
 
     fn signal(n: usize, offset: f64) -> Vec<f64> {
-        let mut state = 99u64;
+        use rand::Rng;
+        use rand_chacha::rand_core::SeedableRng;
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(99);
         (0..n)
             .map(|i| {
-                state = state
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                let noise = ((state >> 11) as f64 / (1u64 << 53) as f64) - 0.5;
+                let noise = rng.r#gen::<f64>() - 0.5;
                 let t = i as f64 / 5000.0;
                 // The amplitude drifts, so windows differ.
                 offset

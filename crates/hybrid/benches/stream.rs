@@ -18,13 +18,12 @@ use std::hint::black_box;
 
 fn accel(n: usize, fs: f64, f: f64) -> Vec<f64> {
     let w = 2.0 * std::f64::consts::PI * f;
-    let mut state = 7u64;
+    use rand::Rng;
+    use rand_chacha::rand_core::SeedableRng;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
     (0..n)
         .map(|i| {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64) - 0.5;
+            let noise = rng.r#gen::<f64>() - 0.5;
             -6e-6 * w * w * (w * i as f64 / fs).sin() + 0.02 * noise
         })
         .collect()

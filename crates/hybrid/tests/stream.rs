@@ -10,22 +10,33 @@ fn model() -> HybridModel {
         .expect("the test model loads")
 }
 
+/// One simulated record per amplitude and frequency.
+fn simulate(
+    seed: u64,
+    amps: &[f64],
+    freqs: &[f64],
+    seconds: f64,
+    fs: f64,
+) -> Vec<hxai_sim::SimRecord> {
+    let cfg = hxai_sim::SimConfig {
+        seed,
+        amplitudes_um: amps.to_vec(),
+        frequencies_hz: freqs.to_vec(),
+        repeats: 1,
+        duration_s: seconds,
+        fs_hz: fs,
+        ..hxai_sim::SimConfig::default()
+    };
+    hxai_sim::simulate(&cfg).expect("simulate")
+}
+
 /// The test model with the uncertainty of its correction computed on the windows of a few
 /// simulated records (the file predates stored uncertainties), for the interval rows.
 fn model_with_uncertainty() -> HybridModel {
     let mut m = model();
-    let cfg = hxai_sim::SimConfig {
-        seed: 5,
-        amplitudes_um: vec![4.0, 8.0],
-        frequencies_hz: vec![10.0, 20.0, 30.0, 40.0],
-        repeats: 1,
-        duration_s: 2.0,
-        fs_hz: 2000.0,
-        ..hxai_sim::SimConfig::default()
-    };
     let hybrid = m.hybrid();
     let mut samples = Vec::new();
-    for rec in hxai_sim::simulate(&cfg).expect("simulate") {
+    for rec in simulate(5, &[4.0, 8.0], &[10.0, 20.0, 30.0, 40.0], 2.0, 2000.0) {
         let input = RecordInput {
             id: &rec.id,
             fs_hz: rec.fs_hz,
@@ -44,14 +55,13 @@ fn model_with_uncertainty() -> HybridModel {
 
 /// A noisy, harmonic, slowly modulated acceleration (m/s^2) of a motion at `f` Hz.
 fn accel(n: usize, fs: f64, f: f64, seed: u64) -> Vec<f64> {
-    let mut state = seed;
+    use rand::Rng;
+    use rand_chacha::rand_core::SeedableRng;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     let w = 2.0 * std::f64::consts::PI * f;
     (0..n)
         .map(|i| {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64) - 0.5;
+            let noise = rng.r#gen::<f64>() - 0.5;
             let t = i as f64 / fs;
             let amp = 6e-6 * (1.0 + 0.2 * (0.7 * t).sin());
             -amp * w * w * (w * t).sin() + 0.05 * (3.0 * w * t).sin() + 0.02 * noise
@@ -194,17 +204,8 @@ fn bad_input_is_refused() {
 /// same samples.
 #[test]
 fn as_accurate_as_the_offline_prediction() {
-    let cfg = hxai_sim::SimConfig {
-        seed: 11,
-        amplitudes_um: vec![5.0, 9.0],
-        frequencies_hz: vec![10.0, 25.0, 40.0],
-        repeats: 1,
-        duration_s: 2.5,
-        fs_hz: 5000.0,
-        ..hxai_sim::SimConfig::default()
-    };
     let m = model();
-    for rec in hxai_sim::simulate(&cfg).expect("simulate") {
+    for rec in simulate(11, &[5.0, 9.0], &[10.0, 25.0, 40.0], 2.5, 5000.0) {
         let input = RecordInput {
             id: &rec.id,
             fs_hz: rec.fs_hz,

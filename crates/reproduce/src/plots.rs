@@ -96,7 +96,7 @@ fn trace(r: &SimRecord, x: &[f64], start: usize, n: usize, offset: f64) -> Vec<(
         .collect()
 }
 
-fn input(r: &SimRecord) -> RecordInput<'_> {
+pub(crate) fn input(r: &SimRecord) -> RecordInput<'_> {
     RecordInput {
         id: &r.id,
         fs_hz: r.fs_hz,

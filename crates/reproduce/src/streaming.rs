@@ -72,13 +72,11 @@ pub struct StreamingSummary {
     pub by_frequency: Vec<StreamFrequency>,
 }
 
+/// The record as the offline prediction takes it, without its truth.
 fn input(r: &SimRecord) -> RecordInput<'_> {
     RecordInput {
-        id: &r.id,
-        fs_hz: r.fs_hz,
-        frequency_hz: r.frequency_hz,
-        signal: &r.accel_ms2,
         truth: None,
+        ..crate::plots::input(r)
     }
 }
 

@@ -258,14 +258,13 @@ mod tests {
     use super::*;
 
     fn signal(n: usize) -> Vec<f64> {
-        // A sine, a harmonic, an offset and a deterministic pseudo-noise.
-        let mut state = 12345u64;
+        // A sine, a harmonic, an offset and seeded noise.
+        use rand::Rng;
+        use rand_chacha::rand_core::SeedableRng;
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(12345);
         (0..n)
             .map(|i| {
-                state = state
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                let noise = ((state >> 11) as f64 / (1u64 << 53) as f64) - 0.5;
+                let noise = rng.r#gen::<f64>() - 0.5;
                 let t = i as f64 / 2000.0;
                 0.3 + 2.0 * (2.0 * PI * 25.0 * t + 0.4).sin()
                     + 0.2 * (2.0 * PI * 75.0 * t).sin()
