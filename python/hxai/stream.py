@@ -19,7 +19,7 @@ from .tool import ToolModel
 _I64 = np.dtype("<i8")
 
 #: Columns of :meth:`StreamEstimator.push`'s frame, without and with an interval.
-COLUMNS = ("sample", "physics_um", "hybrid_um")
+COLUMNS = ("sample", "time_s", "physics_um", "hybrid_um")
 INTERVAL_COLUMNS = ("hybrid_lo_um", "hybrid_hi_um")
 
 
@@ -71,7 +71,8 @@ class StreamEstimator:
     def push(self, accel):
         """Pushes samples of acceleration (m/s^2, a 1-D array-like) and returns the rows they
         complete as a DataFrame, one per sample, in order: ``sample`` (int64, the index since
-        the start or the last :meth:`restart`), ``physics_um`` and ``hybrid_um`` (float64,
+        the start or the last :meth:`restart`), ``time_s`` (``sample / fs_hz``, s),
+        ``physics_um`` and ``hybrid_um`` (float64,
         NaN during the warm-up and while the correction is undefined) and, with an interval,
         ``hybrid_lo_um`` and ``hybrid_hi_um``.
 
@@ -86,9 +87,10 @@ class StreamEstimator:
                 f"accel[{i}] = {a[i]} is not a finite number (sample {self.samples + i} of "
                 "the stream); nothing of this call was pushed"
             )
-        sample, phys, hyb, lo, hi = self._est.push(to_bytes(a, "accel"))
+        sample, time, phys, hyb, lo, hi = self._est.push(to_bytes(a, "accel"))
         cols = {
             "sample": np.frombuffer(sample, dtype=_I64).astype(np.int64, copy=True),
+            "time_s": from_bytes(time),
             "physics_um": from_bytes(phys),
             "hybrid_um": from_bytes(hyb),
         }

@@ -360,9 +360,10 @@ struct StreamEstimator {
     interval: bool,
 }
 
-/// What `push` returns: `(sample, physics, hybrid, lo, hi)`, each little-endian bytes
-/// (`sample` as `int64`, the others `float64`; `lo`, `hi` empty without an interval).
+/// What `push` returns: `(sample, time, physics, hybrid, lo, hi)`, each little-endian
+/// bytes (`sample` as `int64`, the others `float64`; `lo`, `hi` empty without an interval).
 type PushOut<'py> = (
+    Bound<'py, PyBytes>,
     Bound<'py, PyBytes>,
     Bound<'py, PyBytes>,
     Bound<'py, PyBytes>,
@@ -391,7 +392,7 @@ impl StreamEstimator {
         })
     }
 
-    /// `push(accel)` -> `(sample, physics, hybrid, lo, hi)`: the rows completed by these
+    /// `push(accel)` -> `(sample, time, physics, hybrid, lo, hi)`: the rows completed by these
     /// samples of acceleration (m/s^2, float64 bytes), one per sample (the delay is 0).
     /// Missing values (the warm-up, an undefined correction) are NaN. A NaN or infinite
     /// sample is a `ValueError` naming its index since the start, and the estimator stays
@@ -402,12 +403,14 @@ impl StreamEstimator {
         let rows = py.detach(move || inner.push(&accel)).map_err(err)?;
         let nan = f64::NAN;
         let mut sample = Vec::with_capacity(rows.len() * 8);
+        let mut time = Vec::with_capacity(rows.len());
         let mut physics = Vec::with_capacity(rows.len());
         let mut hybrid = Vec::with_capacity(rows.len());
         let (mut lo, mut hi) = (Vec::new(), Vec::new());
         for r in &rows {
             let i = i64::try_from(r.sample).unwrap_or(i64::MAX);
             sample.extend_from_slice(&i.to_le_bytes());
+            time.push(r.time_s);
             physics.push(r.physics_um.unwrap_or(nan));
             hybrid.push(r.hybrid_um.unwrap_or(nan));
             if self.interval {
@@ -418,6 +421,7 @@ impl StreamEstimator {
         }
         Ok((
             PyBytes::new(py, &sample),
+            to_bytes(py, &time),
             to_bytes(py, &physics),
             to_bytes(py, &hybrid),
             to_bytes(py, &lo),

@@ -60,10 +60,11 @@ def test_properties_and_frame(model, record):
     assert est.window_samples == 1000 and est.warmup_samples == 999
     assert est.update_step > 0
     rows = est.push(record["accel_ms2"])  # a Series is fine
-    assert list(rows.columns) == ["sample", "physics_um", "hybrid_um"]
+    assert list(rows.columns) == ["sample", "time_s", "physics_um", "hybrid_um"]
     assert rows["sample"].dtype == np.int64
     assert rows["physics_um"].dtype == np.float64 and rows["hybrid_um"].dtype == np.float64
     np.testing.assert_array_equal(rows["sample"], np.arange(len(record)))
+    np.testing.assert_array_equal(rows["time_s"], np.arange(len(record)) / est.fs_hz)
     assert est.samples == len(record)
     empty = est.push(np.zeros(0))
     assert empty.empty and list(empty.dtypes) == list(rows.dtypes)
@@ -135,10 +136,10 @@ def test_interval_brackets_the_hybrid(model_with_uncertainty, record):
     est = hxai.StreamEstimator(model_with_uncertainty, F, FS, interval=0.95)
     rows = est.push(record["accel_ms2"].to_numpy())
     assert list(rows.columns) == [
-        "sample", "physics_um", "hybrid_um", "hybrid_lo_um", "hybrid_hi_um"
+        "sample", "time_s", "physics_um", "hybrid_um", "hybrid_lo_um", "hybrid_hi_um"
     ]
     w = est.warmup_samples
-    assert rows.iloc[:w, 1:].isna().all().all()
+    assert rows.iloc[:w, 2:].isna().all().all()
     after = rows.iloc[w:]
     assert after.notna().all().all()
     assert (after["hybrid_lo_um"] <= after["hybrid_um"]).all()

@@ -79,6 +79,8 @@ use serde::{Deserialize, Serialize};
 pub struct Row {
     /// Index of the sample since the estimator started (or last restarted), from 0.
     pub sample: u64,
+    /// Time of the sample since the estimator started (or last restarted), s: `sample / fs`.
+    pub time_s: f64,
     /// Physics displacement at the command frequency, um; `None` during the warm-up.
     pub physics_um: Option<f64>,
     /// Hybrid displacement, um; `None` during the warm-up and while the correction is
@@ -354,6 +356,7 @@ impl Estimator {
         let Some([p, q, _]) = fit else {
             return Ok(Row {
                 sample,
+                time_s: sample as f64 / self.fs_hz,
                 physics_um: None,
                 hybrid_um: None,
                 interval_um: None,
@@ -381,6 +384,7 @@ impl Estimator {
         };
         Ok(Row {
             sample,
+            time_s: sample as f64 / self.fs_hz,
             physics_um: Some(physics),
             hybrid_um: hybrid,
             interval_um: interval,
