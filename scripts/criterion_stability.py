@@ -20,7 +20,7 @@ import sys
 import time
 from pathlib import Path
 
-# The table cases as the results page runs them (crates/reproduce/src/beyond.rs):
+# The table cases as the results page runs them (crates/reproduce/src/beyond/mod.rs):
 # 400 rows, seed 42, the physics with its given starting values, a multiplicative correction.
 TABLES = [
     ("roughness", "Ra_um", "1000*feed_mm^2/(32*nose_radius_mm) + Ra0", "Ra0", "Ra0=0"),

@@ -1,0 +1,383 @@
+//! Fitting the tool-position hybrid model: the samples of every record, a seeded split, and
+//! symbolic regression of `delta` on the training windows' features.
+
+use super::{
+    CorrectionInfo, FeatureInfo, HybridModel, SCHEMA_VERSION, SplitInfo, SplitKind, ToolHybrid,
+    TrainingInfo, WindowId, check_band,
+};
+use crate::HybridError;
+use crate::composer::{Hybrid, RecordInput, WindowSample};
+use crate::explain::ParetoMember;
+use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
+use crate::traits::{Correction, SymbolicCorrection};
+use crate::warnings::{Warning, input_warnings, units_warning};
+use crate::window::WindowConfig;
+use hxai_signal::PhysicsConfig;
+use hxai_table::Table;
+use std::collections::BTreeSet;
+
+/// Settings of [`fit`].
+#[derive(Debug, Clone)]
+pub struct FitConfig {
+    /// Physics settings.
+    pub physics: PhysicsConfig,
+    /// Feature settings.
+    pub features: hxai_features::FeatureConfig,
+    /// Window settings.
+    pub window: WindowConfig,
+    /// Record (default) or window split.
+    pub split: SplitKind,
+    /// Held-out fraction (default 0.2).
+    pub test_fraction: f64,
+    /// Seed of the split (the search has its own in `search.seed`).
+    pub seed: u64,
+    /// Symbolic-regression settings.
+    pub search: hxai_symreg::SearchConfig,
+}
+
+impl Default for FitConfig {
+    fn default() -> Self {
+        Self {
+            physics: PhysicsConfig::default(),
+            features: hxai_features::FeatureConfig::default(),
+            window: WindowConfig::default(),
+            split: SplitKind::Record,
+            test_fraction: 0.2,
+            seed: 42,
+            search: hxai_symreg::SearchConfig::paper(),
+        }
+    }
+}
+
+/// What [`fit`] reports while it works.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FitProgress {
+    /// Samples built for `done` of `total` records.
+    Samples {
+        /// Records done.
+        done: usize,
+        /// Records in all.
+        total: usize,
+    },
+    /// A search epoch finished.
+    Search(hxai_symreg::Progress),
+}
+
+/// The result of [`fit`]: the model and the samples it was fitted on.
+#[derive(Debug, Clone)]
+pub struct FitOutput {
+    /// The model.
+    pub model: HybridModel,
+    /// Every sample, in record then window order.
+    pub samples: Vec<WindowSample>,
+    /// Whether each sample is on the test side.
+    pub is_test: Vec<bool>,
+    /// The full search result (Pareto front etc.).
+    pub search: hxai_symreg::SearchResult,
+    /// Implausible but legal input met while fitting ([`input_warnings`], and records whose
+    /// probe and physics amplitudes differ by a units-like factor).
+    pub warnings: Vec<Warning>,
+}
+
+/// The samples of a fit as columns, one row per sample in record then window order: the
+/// table `hxai fit --samples` and the reproduction's `samples.csv` write.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SamplesTable {
+    /// Record id of each sample (column `record`).
+    pub record: Vec<String>,
+    /// Window index within the record (column `window`).
+    pub window: Vec<usize>,
+    /// `train` or `test` (column `split`).
+    pub split: Vec<&'static str>,
+    /// The features (named by the feature map, `f1`..`f12`), then `A_phys`, `A_true` and
+    /// `delta = A_true - A_phys`, in micrometres.
+    pub values: Table,
+}
+
+impl SamplesTable {
+    /// Every column name in file order: `record`, `window`, `split`, then the values'.
+    pub fn names(&self) -> Vec<String> {
+        let mut names = vec!["record".to_string(), "window".into(), "split".into()];
+        names.extend(self.values.names().iter().cloned());
+        names
+    }
+}
+
+/// The samples table of `samples` (each with its truth) split by `is_test`, feature columns
+/// named `feature_names`.
+///
+/// # Errors
+/// [`HybridError::NoTruth`] for a sample without truth, [`HybridError::InvalidConfig`] when
+/// `is_test` or a sample's features do not match in length, [`HybridError::Table`] for a
+/// non-finite value.
+pub fn samples_table(
+    samples: &[WindowSample],
+    is_test: &[bool],
+    feature_names: &[String],
+) -> Result<SamplesTable, HybridError> {
+    if is_test.len() != samples.len() {
+        return Err(HybridError::InvalidConfig(format!(
+            "{} split flags for {} samples",
+            is_test.len(),
+            samples.len()
+        )));
+    }
+    let mut values = crate::composer::feature_table(feature_names.to_vec(), samples)?;
+    let truth = |w: &WindowSample| {
+        w.a_true()
+            .zip(w.delta())
+            .ok_or_else(|| HybridError::NoTruth {
+                record: w.record.clone(),
+            })
+    };
+    let (a_true, delta): (Vec<f64>, Vec<f64>) = samples
+        .iter()
+        .map(truth)
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .unzip();
+    values.push_column(
+        "A_phys".into(),
+        samples.iter().map(|w| w.a_phys()).collect(),
+    )?;
+    values.push_column("A_true".into(), a_true)?;
+    values.push_column("delta".into(), delta)?;
+    Ok(SamplesTable {
+        record: samples.iter().map(|w| w.record.clone()).collect(),
+        window: samples.iter().map(|w| w.window).collect(),
+        split: is_test
+            .iter()
+            .map(|&t| if t { "test" } else { "train" })
+            .collect(),
+        values,
+    })
+}
+
+impl FitOutput {
+    /// The stability of the correction's structure: the search of this fit (settings
+    /// `search`) rerun on `runs` bootstrap resamples of the training windows
+    /// ([`hxai_symreg::stability()`]; out-of-bag R^2 of `delta`). `progress` gets `(runs
+    /// done, runs)`.
+    ///
+    /// # Errors
+    /// A sample without truth, and the search's errors.
+    pub fn stability(
+        &self,
+        search: &hxai_symreg::SearchConfig,
+        runs: usize,
+        progress: &mut (dyn FnMut(usize, usize) + Send),
+    ) -> Result<hxai_symreg::Stability, HybridError> {
+        let train: Vec<&WindowSample> = self
+            .samples
+            .iter()
+            .zip(&self.is_test)
+            .filter(|(_, t)| !**t)
+            .map(|(s, _)| s)
+            .collect();
+        let table = self.model.hybrid().feature_table(train.iter().copied())?;
+        let delta = train
+            .iter()
+            .map(|s| {
+                s.delta().ok_or_else(|| HybridError::NoTruth {
+                    record: s.record.clone(),
+                })
+            })
+            .collect::<Result<Vec<f64>, HybridError>>()?;
+        Ok(hxai_symreg::stability(
+            &table, &delta, search, runs, progress,
+        )?)
+    }
+
+    /// The samples of this fit as a [`SamplesTable`].
+    ///
+    /// # Errors
+    /// As [`samples_table`].
+    pub fn samples_table(&self) -> Result<SamplesTable, HybridError> {
+        samples_table(&self.samples, &self.is_test, &self.model.features.names)
+    }
+
+    /// `delta_hat` of every sample (record then window order) by the fitted correction.
+    ///
+    /// # Errors
+    /// Those of the correction.
+    pub fn delta_hat(&self) -> Result<Vec<f64>, HybridError> {
+        let hybrid = self.model.hybrid();
+        let table = hybrid.feature_table(&self.samples)?;
+        self.model.correction()?.predict(&table)
+    }
+}
+
+/// The tool-position composer for the given settings.
+pub fn tool_hybrid(physics: &PhysicsConfig, window: WindowConfig) -> ToolHybrid {
+    tool_hybrid_with(physics, &hxai_features::FeatureConfig::default(), window)
+}
+
+/// The tool-position composer with explicit feature settings.
+pub fn tool_hybrid_with(
+    physics: &PhysicsConfig,
+    features: &hxai_features::FeatureConfig,
+    window: WindowConfig,
+) -> ToolHybrid {
+    Hybrid {
+        physics: DoubleIntegration {
+            config: physics.clone(),
+        },
+        decomposition: SineDecomposition,
+        features: AccelFeatures {
+            config: features.clone(),
+        },
+        window,
+    }
+}
+
+/// Splits samples into train and test (`true` = test).
+pub fn split_samples(
+    samples: &[WindowSample],
+    kind: SplitKind,
+    test_fraction: f64,
+    seed: u64,
+) -> Result<Vec<bool>, HybridError> {
+    let split = match kind {
+        SplitKind::Record => {
+            let groups: Vec<&str> = samples.iter().map(|s| s.record.as_str()).collect();
+            hxai_eval::grouped_train_test_split(&groups, test_fraction, seed)?
+        }
+        SplitKind::Window => hxai_eval::train_test_split(samples.len(), test_fraction, seed)?,
+    };
+    let mut is_test = vec![false; samples.len()];
+    for &i in &split.test {
+        is_test[i] = true;
+    }
+    Ok(is_test)
+}
+
+/// Fits the tool-position hybrid model: samples from every record (each must carry the
+/// truth), a seeded split, symbolic regression of `delta` on the training windows' features.
+///
+/// # Errors
+/// Those of the composer, the split ([`HybridError::Eval`]) and the search
+/// ([`HybridError::Symreg`]).
+pub fn fit(
+    records: &[RecordInput<'_>],
+    cfg: &FitConfig,
+    progress: &mut dyn FnMut(FitProgress),
+) -> Result<FitOutput, HybridError> {
+    if !(cfg.test_fraction > 0.0 && cfg.test_fraction < 1.0) {
+        return Err(HybridError::InvalidConfig(format!(
+            "test fraction must lie strictly between 0 and 1, got {}",
+            cfg.test_fraction
+        )));
+    }
+    cfg.window.check()?;
+    let hybrid = tool_hybrid_with(&cfg.physics, &cfg.features, cfg.window);
+    let mut samples = Vec::new();
+    let mut warnings = Vec::new();
+    for r in records {
+        if r.truth.is_none() {
+            return Err(HybridError::NoTruth {
+                record: r.id.to_owned(),
+            });
+        }
+        check_band(&cfg.physics, r)?;
+    }
+    for (i, r) in records.iter().enumerate() {
+        warnings.extend(input_warnings(r, &cfg.window));
+        let rs = hybrid.samples(r)?;
+        warnings.extend(units_warning(r.id, &rs.windows));
+        samples.extend(rs.windows);
+        progress(FitProgress::Samples {
+            done: i + 1,
+            total: records.len(),
+        });
+    }
+    if samples.is_empty() {
+        return Err(HybridError::NoData("no records to fit on".into()));
+    }
+    let is_test = split_samples(&samples, cfg.split, cfg.test_fraction, cfg.seed)?;
+    let train: Vec<&WindowSample> = samples
+        .iter()
+        .zip(&is_test)
+        .filter(|(_, t)| !**t)
+        .map(|(s, _)| s)
+        .collect();
+    let test: Vec<&WindowSample> = samples
+        .iter()
+        .zip(&is_test)
+        .filter(|(_, t)| **t)
+        .map(|(s, _)| s)
+        .collect();
+    let delta_of = |v: &[&WindowSample]| -> Vec<f64> {
+        v.iter().map(|s| s.delta().unwrap_or(f64::NAN)).collect()
+    };
+    let train_table = hybrid.feature_table(train.iter().copied())?;
+    let test_table = hybrid.feature_table(test.iter().copied())?;
+    let (train_delta, test_delta) = (delta_of(&train), delta_of(&test));
+    let result = hxai_symreg::search(&train_table, &train_delta, &cfg.search, &mut |p| {
+        progress(FitProgress::Search(p.clone()));
+    })?;
+    let correction = SymbolicCorrection {
+        model: result.best.clone(),
+    };
+    let hat_train = correction.predict(&train_table)?;
+    let hat_test = correction.predict(&test_table)?;
+
+    let side = |want: bool| -> Vec<String> {
+        let set: BTreeSet<&str> = samples
+            .iter()
+            .zip(&is_test)
+            .filter(|(_, t)| **t == want)
+            .map(|(s, _)| s.record.as_str())
+            .collect();
+        set.into_iter().map(str::to_owned).collect()
+    };
+    let test_windows = match cfg.split {
+        SplitKind::Record => Vec::new(),
+        SplitKind::Window => test
+            .iter()
+            .map(|s| WindowId {
+                record: s.record.clone(),
+                window: s.window,
+            })
+            .collect(),
+    };
+    let model = HybridModel {
+        schema_version: SCHEMA_VERSION,
+        physics: cfg.physics.clone(),
+        features: FeatureInfo {
+            config: cfg.features.clone(),
+            ..FeatureInfo::default()
+        },
+        window: cfg.window,
+        correction: CorrectionInfo {
+            uncertainty: Some(result.best.uncertainty(&train_table, &train_delta)?),
+            pareto: Some(ParetoMember::front(&result.pareto)),
+            ..CorrectionInfo::symbolic(result.best.clone())
+        },
+        split: SplitInfo {
+            kind: cfg.split,
+            seed: cfg.seed,
+            test_fraction: cfg.test_fraction,
+            train: side(false),
+            test: side(true),
+            test_windows,
+        },
+        training: TrainingInfo {
+            strategy: Some(cfg.search.strategy),
+            seed: cfg.search.seed,
+            epochs: cfg.search.epochs,
+            evaluations: result.evaluations,
+            seconds: result.seconds,
+            n_train_windows: train.len(),
+            n_test_windows: test.len(),
+            delta_train: hxai_eval::score(&train_delta, &hat_train).ok(),
+            delta_test: hxai_eval::score(&test_delta, &hat_test).ok(),
+        },
+    };
+    Ok(FitOutput {
+        model,
+        samples,
+        is_test,
+        search: result,
+        warnings,
+    })
+}

@@ -1,0 +1,413 @@
+//! The tool-position hybrid model: fitting it, its JSON file, and applying it.
+//!
+//! This file holds the model file's schema (the types serialised to JSON) and loading and
+//! checking a model; [`fit()`] is in `fit.rs`, prediction and intervals in `predict.rs`,
+//! evaluation on records in `evaluate.rs`.
+
+mod evaluate;
+mod fit;
+mod predict;
+
+pub use fit::{
+    FitConfig, FitOutput, FitProgress, SamplesTable, fit, samples_table, split_samples,
+    tool_hybrid, tool_hybrid_with,
+};
+
+use crate::HybridError;
+use crate::composer::{Hybrid, RecordInput};
+use crate::evaluate::metrics_um;
+use crate::explain::ParetoMember;
+use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
+use crate::traits::{Correction, FeatureMap, SymbolicCorrection, ZeroCorrection};
+use crate::window::WindowConfig;
+use hxai_eval::Metrics;
+use hxai_signal::PhysicsConfig;
+use hxai_symreg::Strategy;
+use hxai_table::Table;
+use serde::{Deserialize, Serialize};
+
+/// Version of the model file layout this code writes and reads.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// The composer of the tool-position case.
+pub type ToolHybrid = Hybrid<DoubleIntegration, SineDecomposition, AccelFeatures>;
+
+/// How samples are split into train and test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SplitKind {
+    /// Whole records go to one side (default): windows of one record are never on both
+    /// sides, so the test score measures generalisation to unseen recordings.
+    #[default]
+    Record,
+    /// Windows are split individually: neighbouring windows of one recording (strongly
+    /// alike) can sit on both sides, which flatters the test score. Offered because it is
+    /// how a per-sample 80/20 split behaves.
+    Window,
+}
+
+/// A window named by record id and index.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct WindowId {
+    /// Record id.
+    pub record: String,
+    /// Window index within the record.
+    pub window: usize,
+}
+
+/// The split stored in the model file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SplitInfo {
+    /// Record or window split.
+    pub kind: SplitKind,
+    /// Seed of the split.
+    pub seed: u64,
+    /// Fraction of groups (records or windows) held out.
+    pub test_fraction: f64,
+    /// Records with at least one training window (sorted).
+    pub train: Vec<String>,
+    /// Records with at least one test window (sorted).
+    pub test: Vec<String>,
+    /// With a window split, the test windows (empty for a record split).
+    #[serde(default)]
+    pub test_windows: Vec<WindowId>,
+}
+
+/// Kind of correction stored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CorrectionKind {
+    /// A symbolic model from `hxai-symreg`.
+    Symbolic,
+    /// `delta_hat = 0`.
+    Zero,
+}
+
+/// The correction as stored: the readable forms and the model itself.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CorrectionInfo {
+    /// Symbolic or zero.
+    pub kind: CorrectionKind,
+    /// Plain-text equation.
+    pub equation: String,
+    /// sympy-parseable equation.
+    pub sympy: String,
+    /// LaTeX equation.
+    pub latex: String,
+    /// Complexity (features + operators).
+    pub complexity: usize,
+    /// Features the equation uses.
+    pub features: Vec<String>,
+    /// The serialised symbolic model (absent for the zero correction).
+    pub model: Option<hxai_symreg::Model>,
+    /// The model's constants as a template with named parameters, their standard errors
+    /// and 95 % intervals, and the covariance prediction intervals use, on the training
+    /// windows (`hxai_symreg::uncertainty`). Absent for the zero correction and in files
+    /// written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<hxai_symreg::Uncertainty>,
+    /// The Pareto front of the search the model was chosen from (complexity, training loss
+    /// and equation of each member), for `hxai explain`. Absent for the zero correction and
+    /// in files written before it was stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pareto: Option<Vec<ParetoMember>>,
+}
+
+impl CorrectionInfo {
+    /// Stores a symbolic model.
+    pub fn symbolic(model: hxai_symreg::Model) -> Self {
+        Self {
+            kind: CorrectionKind::Symbolic,
+            equation: model.equation(),
+            sympy: model.sympy(),
+            latex: model.latex(),
+            complexity: model.complexity(),
+            features: model.features(),
+            model: Some(model),
+            uncertainty: None,
+            pareto: None,
+        }
+    }
+
+    /// The zero correction.
+    pub fn zero() -> Self {
+        Self {
+            kind: CorrectionKind::Zero,
+            equation: "0".into(),
+            sympy: "0".into(),
+            latex: "0".into(),
+            complexity: 0,
+            features: Vec::new(),
+            model: None,
+            uncertainty: None,
+            pareto: None,
+        }
+    }
+}
+
+/// Feature settings stored with the model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FeatureInfo {
+    /// What computes them.
+    pub extractor: String,
+    /// Input of the feature map.
+    pub input: String,
+    /// Feature names, in order.
+    pub names: Vec<String>,
+    /// Sigma convention and PSD estimator.
+    pub config: hxai_features::FeatureConfig,
+}
+
+impl Default for FeatureInfo {
+    fn default() -> Self {
+        Self {
+            extractor: "hxai_features::extract (paper Table 2)".into(),
+            input: "raw acceleration window (m/s^2); f1 = commanded frequency from the manifest"
+                .into(),
+            names: AccelFeatures::default().names(),
+            config: hxai_features::FeatureConfig::default(),
+        }
+    }
+}
+
+/// How the model was trained.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrainingInfo {
+    /// Search strategy, `None` for a zero correction. Stored under the key `strategy` with
+    /// [`Strategy`]'s serde names (`null` for none); files that stored it as `engine` with
+    /// the names `qlattice`, `genetic`, `combined` or `none` still load.
+    #[serde(alias = "engine", with = "strategy_name")]
+    pub strategy: Option<Strategy>,
+    /// Seed of the search.
+    pub seed: u64,
+    /// Epochs of the search.
+    pub epochs: usize,
+    /// Models fitted by the search.
+    pub evaluations: u64,
+    /// Wall time of the search, s.
+    pub seconds: f64,
+    /// Training windows.
+    pub n_train_windows: usize,
+    /// Test windows.
+    pub n_test_windows: usize,
+    /// `delta_hat` vs `delta` on the training windows (JSON keys `rmse_um`, `r2`, `mae_um`).
+    #[serde(with = "metrics_um::option")]
+    pub delta_train: Option<Metrics>,
+    /// `delta_hat` vs `delta` on the test windows.
+    #[serde(with = "metrics_um::option")]
+    pub delta_test: Option<Metrics>,
+}
+
+/// The serde form of [`TrainingInfo::strategy`]: [`Strategy`]'s own names, `null` for none;
+/// reads `none`, written by files from before, too.
+mod strategy_name {
+    use hxai_symreg::Strategy;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub(crate) fn serialize<S: Serializer>(v: &Option<Strategy>, s: S) -> Result<S::Ok, S::Error> {
+        v.serialize(s)
+    }
+
+    pub(crate) fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<Strategy>, D::Error> {
+        let Some(name) = Option::<String>::deserialize(d)? else {
+            return Ok(None);
+        };
+        match name.as_str() {
+            "none" => Ok(None),
+            other => {
+                Strategy::deserialize(serde::de::value::StrDeserializer::<D::Error>::new(other))
+                    .map(Some)
+            }
+        }
+    }
+}
+
+/// A fitted tool-position hybrid model: everything needed to predict, and the record of
+/// how it was made. Serialises to the model file (`hxai fit --out MODEL.json`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HybridModel {
+    /// [`SCHEMA_VERSION`] of the writer.
+    pub schema_version: u32,
+    /// Physics settings.
+    pub physics: PhysicsConfig,
+    /// Feature settings.
+    pub features: FeatureInfo,
+    /// Window settings.
+    pub window: WindowConfig,
+    /// The correction.
+    pub correction: CorrectionInfo,
+    /// Train and test records.
+    pub split: SplitInfo,
+    /// Training details.
+    pub training: TrainingInfo,
+}
+
+fn json_type(v: &serde_json::Value) -> &'static str {
+    match v {
+        serde_json::Value::Null => "null",
+        serde_json::Value::Bool(_) => "boolean",
+        serde_json::Value::Number(_) => "number",
+        serde_json::Value::String(_) => "string",
+        serde_json::Value::Array(_) => "array",
+        serde_json::Value::Object(_) => "object",
+    }
+}
+
+/// Refuses a record whose commanded frequency lies outside the physics band: the band-pass
+/// removes the motion there and the prediction would be a near-zero amplitude.
+fn check_band(physics: &PhysicsConfig, r: &RecordInput<'_>) -> Result<(), HybridError> {
+    check_band_hz(physics, r.id, r.frequency_hz)
+}
+
+/// [`check_band`] for a frequency of the input named `record`.
+pub(crate) fn check_band_hz(
+    physics: &PhysicsConfig,
+    record: &str,
+    frequency_hz: f64,
+) -> Result<(), HybridError> {
+    if frequency_hz.is_finite() && frequency_hz >= physics.low_hz && frequency_hz <= physics.high_hz
+    {
+        Ok(())
+    } else {
+        Err(HybridError::FrequencyOutOfBand {
+            record: record.to_owned(),
+            freq_hz: frequency_hz,
+            low_hz: physics.low_hz,
+            high_hz: physics.high_hz,
+        })
+    }
+}
+
+/// A correction loaded from a model file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LoadedCorrection {
+    /// Symbolic model.
+    Symbolic(SymbolicCorrection),
+    /// Zero.
+    Zero(ZeroCorrection),
+}
+
+impl Correction for LoadedCorrection {
+    fn equation(&self) -> String {
+        match self {
+            LoadedCorrection::Symbolic(s) => s.equation(),
+            LoadedCorrection::Zero(z) => z.equation(),
+        }
+    }
+
+    fn predict(&self, features: &Table) -> Result<Vec<f64>, HybridError> {
+        match self {
+            LoadedCorrection::Symbolic(s) => s.predict(features),
+            LoadedCorrection::Zero(z) => z.predict(features),
+        }
+    }
+}
+
+impl HybridModel {
+    /// The model as pretty JSON.
+    pub fn to_json(&self) -> Result<String, HybridError> {
+        serde_json::to_string_pretty(self).map_err(|e| HybridError::ModelFormat(e.to_string()))
+    }
+
+    /// Reads a model from JSON; a file of another [`SCHEMA_VERSION`] is a
+    /// [`HybridError::SchemaVersion`] error, checked before anything else.
+    pub fn from_json(text: &str) -> Result<Self, HybridError> {
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        match value.get("schema_version") {
+            Some(v) if v.as_u64() == Some(u64::from(SCHEMA_VERSION)) => {}
+            Some(v) => {
+                let found = match v {
+                    serde_json::Value::String(s) => {
+                        format!(
+                            "\"{}\" (text, not a number)",
+                            s.chars().take(20).collect::<String>()
+                        )
+                    }
+                    serde_json::Value::Number(n) => n.to_string().chars().take(24).collect(),
+                    other => format!("of JSON type {}", json_type(other)),
+                };
+                return Err(HybridError::SchemaVersion {
+                    found,
+                    expected: SCHEMA_VERSION,
+                });
+            }
+            None => {
+                return Err(HybridError::ModelFormat(
+                    "no `schema_version` field; is this a model written by `hxai fit`?".into(),
+                ));
+            }
+        }
+        let model: HybridModel =
+            serde_json::from_value(value).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        model.validate()?;
+        Ok(model)
+    }
+
+    /// Checks a model in full before it is used (done by [`HybridModel::from_json`]): the
+    /// symbolic model's program, parameters and input indices, that its features are the
+    /// feature map's, the window settings, and the physics settings (band and orders).
+    ///
+    /// # Errors
+    /// [`HybridError::ModelFormat`], [`HybridError::UnknownFeature`],
+    /// [`HybridError::InvalidConfig`] or [`HybridError::Signal`], naming what is wrong.
+    pub fn validate(&self) -> Result<(), HybridError> {
+        let expected = AccelFeatures::default().names();
+        if self.features.names != expected {
+            return Err(HybridError::ModelFormat(format!(
+                "`features.names` must be {} (the features this hxai computes), found {}",
+                expected.join(", "),
+                self.features.names.join(", ")
+            )));
+        }
+        if let Some(m) = &self.correction.model {
+            m.validate().map_err(|e| {
+                HybridError::ModelFormat(format!("`correction.model` is corrupt: {e}"))
+            })?;
+        }
+        self.correction()?;
+        self.window.check()?;
+        // The band and orders are checked against a generous sampling rate: the record's
+        // own rate is checked again when the model is applied.
+        self.physics
+            .check(1e9)
+            .map_err(|e| HybridError::ModelFormat(format!("`physics` settings: {e}")))?;
+        Ok(())
+    }
+
+    /// Refuses a record whose commanded frequency lies outside this model's pass band.
+    fn check_band(&self, r: &RecordInput<'_>) -> Result<(), HybridError> {
+        check_band(&self.physics, r)
+    }
+
+    /// The composer with this model's physics and window settings.
+    pub fn hybrid(&self) -> ToolHybrid {
+        tool_hybrid_with(&self.physics, &self.features.config, self.window)
+    }
+
+    /// The correction as a [`Correction`].
+    pub fn correction(&self) -> Result<LoadedCorrection, HybridError> {
+        match (&self.correction.kind, &self.correction.model) {
+            (CorrectionKind::Zero, _) => Ok(LoadedCorrection::Zero(ZeroCorrection)),
+            (CorrectionKind::Symbolic, Some(m)) => {
+                let available = self.features.names.clone();
+                for f in m.features() {
+                    if !available.contains(&f) {
+                        return Err(HybridError::UnknownFeature {
+                            name: f,
+                            available: available.join(", "),
+                        });
+                    }
+                }
+                Ok(LoadedCorrection::Symbolic(SymbolicCorrection {
+                    model: m.clone(),
+                }))
+            }
+            (CorrectionKind::Symbolic, None) => Err(HybridError::ModelFormat(
+                "the correction is symbolic but `correction.model` is missing".into(),
+            )),
+        }
+    }
+}

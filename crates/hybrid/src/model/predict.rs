@@ -1,0 +1,125 @@
+//! Applying a tool-position hybrid model: prediction of a record, prediction intervals of
+//! the corrected amplitude and of the displacement, and the explanation of the correction.
+
+use super::HybridModel;
+use crate::HybridError;
+use crate::composer::{RecordInput, RecordPrediction, WindowSample};
+use crate::explain::{ExplainData, Explanation};
+use crate::warnings::input_warnings;
+
+impl HybridModel {
+    /// Physics and hybrid prediction of one record, with warnings about implausible input
+    /// ([`input_warnings`]) in [`RecordPrediction::warnings`].
+    ///
+    /// # Errors
+    /// [`HybridError::FrequencyOutOfBand`] when the record's frequency lies outside the
+    /// physics model's band, and the composer's errors.
+    pub fn predict(&self, record: &RecordInput<'_>) -> Result<RecordPrediction, HybridError> {
+        self.check_band(record)?;
+        let mut p = self.hybrid().predict(record, &self.correction()?)?;
+        p.warnings = input_warnings(record, &self.window);
+        Ok(p)
+    }
+
+    /// Prediction intervals at `level` of the corrected amplitude `A_corr = A_phys +
+    /// delta_hat` of each sample: `A_phys` plus the interval of `delta_hat` (delta method
+    /// through the correction with the covariance of its constants, plus the residual
+    /// variance of `delta` on the training windows; see `hxai_symreg::uncertainty` for the
+    /// assumptions). The zero correction has none.
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] when the model stores no uncertainty (the zero
+    /// correction, or a file from before it existed: refit), and the correction's errors.
+    pub fn amplitude_intervals(
+        &self,
+        samples: &[WindowSample],
+        level: f64,
+    ) -> Result<Vec<(f64, f64)>, HybridError> {
+        let (Some(model), Some(unc)) = (&self.correction.model, &self.correction.uncertainty)
+        else {
+            return Err(HybridError::InvalidConfig(
+                "this model stores no uncertainty of its correction (a zero correction, or a \
+                 file written before prediction intervals existed): refit it with `hxai fit`"
+                    .into(),
+            ));
+        };
+        let table = self.hybrid().feature_table(samples)?;
+        let iv = model.prediction_intervals(unc, &table, level)?;
+        Ok(samples
+            .iter()
+            .zip(iv)
+            .map(|(s, (lo, hi))| (s.a_phys() + lo, s.a_phys() + hi))
+            .collect())
+    }
+
+    /// [`HybridModel::predict`] with pointwise bounds of the displacement: each window's
+    /// sine reconstructed with the lower and the upper corrected amplitude of
+    /// [`HybridModel::amplitude_intervals`] (the smaller and larger value at each sample).
+    /// The band carries the amplitude's uncertainty only, not the phase's or the noise of
+    /// the probe.
+    ///
+    /// # Errors
+    /// As [`HybridModel::predict`] and [`HybridModel::amplitude_intervals`].
+    pub fn predict_with_intervals(
+        &self,
+        record: &RecordInput<'_>,
+        level: f64,
+    ) -> Result<(RecordPrediction, Vec<f64>, Vec<f64>), HybridError> {
+        let p = self.predict(record)?;
+        let iv = self.amplitude_intervals(&p.samples, level)?;
+        let hybrid = self.hybrid();
+        let with = |pick: fn(&(f64, f64)) -> f64| -> Vec<f64> {
+            let windows: Vec<_> = p
+                .windows
+                .iter()
+                .zip(&iv)
+                .map(|(w, b)| crate::composer::WindowPrediction {
+                    corrected: crate::composer::corrected_latent(
+                        &w.physics,
+                        pick(b) - w.physics.amplitude,
+                    ),
+                    ..*w
+                })
+                .collect();
+            hybrid.reconstruct_record(
+                &windows,
+                record.signal.len(),
+                record.fs_hz,
+                record.frequency_hz,
+            )
+        };
+        let a = with(|b| b.0);
+        let b = with(|b| b.1);
+        let lo = a.iter().zip(&b).map(|(x, y)| x.min(*y)).collect();
+        let hi = a.iter().zip(&b).map(|(x, y)| x.max(*y)).collect();
+        Ok((p, lo, hi))
+    }
+
+    /// The explanation of the correction ([`crate::explain::explain`]): with `data` (the
+    /// samples of a fit: features, `delta`, split) its response to each feature it uses and
+    /// predicted vs true `delta`, with prediction intervals at `level`; the Pareto front when
+    /// the file stores it.
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] for the zero correction (nothing to explain), and those
+    /// of [`crate::explain::explain`].
+    pub fn explain(
+        &self,
+        data: Option<&ExplainData<'_>>,
+        level: f64,
+    ) -> Result<Explanation, HybridError> {
+        let Some(model) = &self.correction.model else {
+            return Err(HybridError::InvalidConfig(
+                "the model's correction is zero: there is no equation to explain".into(),
+            ));
+        };
+        crate::explain::explain(
+            model,
+            self.correction.uncertainty.as_ref(),
+            self.correction.pareto.as_deref(),
+            data,
+            "delta",
+            level,
+        )
+    }
+}

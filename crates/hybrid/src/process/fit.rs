@@ -1,0 +1,448 @@
+//! Fitting a process model: the steps of one fit on one split ([`fit_inner`]), its public
+//! entry points, and the stability of the correction's structure.
+
+use super::model::{
+    CorrectionInfo, EquationInfo, JointInfo, PROCESS_SCHEMA_VERSION, PairScores, PhysicsInfo,
+    ProcessModel, ScoresInfo, SplitInfo, columns_of, combine, combine_values, forms,
+};
+use super::physics::{
+    calibrate_physics, calibrated_slots, deltas, gather, named_values, physics_values,
+};
+use super::resolve::{Resolved, resolve};
+use super::split::{check_rows, process_split};
+use super::{CorrectionForm, ProcessConfig, ProcessProgress, calibrate};
+use crate::HybridError;
+use hxai_eval::Split;
+use hxai_symreg::infix::Compiled;
+use hxai_symreg::{ParamEstimate, Table, Uncertainty};
+use std::collections::BTreeMap;
+
+/// The stability of the correction's structure of `model` (fitted with `cfg` on `table`):
+/// the correction's search rerun on `runs` bootstrap resamples of the training rows, on
+/// `delta` of the model's calibrated physics ([`hxai_symreg::stability()`]). `progress`
+/// gets `(runs done, runs)`.
+///
+/// # Errors
+/// A missing column, a physics value that cannot be used, and the search's errors.
+pub fn process_stability(
+    table: &Table,
+    cfg: &ProcessConfig,
+    model: &ProcessModel,
+    runs: usize,
+    progress: &mut (dyn FnMut(usize, usize) + Send),
+) -> Result<hxai_symreg::Stability, HybridError> {
+    let physics = model.predict(table)?.physics;
+    let y = table.require(&model.target)?;
+    let delta = deltas(model.correction.kind, y, &physics, &model.split.train)?;
+    let ft = table
+        .select_columns(&model.correction.candidates)?
+        .select_rows(&model.split.train)?;
+    Ok(hxai_symreg::stability(
+        &ft,
+        &delta,
+        &cfg.search_config(),
+        runs,
+        progress,
+    )?)
+}
+
+/// Fits on the split [`process_split`] chooses.
+///
+/// # Errors
+/// Bad configuration (see [`HybridError`]'s variants `UnknownName`, `ParameterIsColumn`,
+/// `ParameterNotInEquation`, `TargetInPhysics`, `MissingColumn`, `NoFeatures`,
+/// `Equation`), a physics value that cannot be used (`BadPhysics`), or a failed search.
+pub fn fit_process(
+    table: &Table,
+    cfg: &ProcessConfig,
+    progress: &mut dyn FnMut(&ProcessProgress),
+) -> Result<ProcessModel, HybridError> {
+    let (split, kind) = process_split(table, cfg)?;
+    fit_inner(SplitJob::single(table, cfg, &split, &kind), progress)
+}
+
+/// Fits on a given split (test rows may be empty: everything is then training data).
+///
+/// # Errors
+/// As [`fit_process`], and row indices out of range.
+pub fn fit_process_split(
+    table: &Table,
+    cfg: &ProcessConfig,
+    split: &Split,
+    progress: &mut dyn FnMut(&ProcessProgress),
+) -> Result<ProcessModel, HybridError> {
+    fit_inner(SplitJob::single(table, cfg, split, "given"), progress)
+}
+
+/// Symbolic regression of `y` (one value per training row of `split`) on the training rows
+/// of the feature columns, reported as task `task.0` of `task.1` named `label`: those rows'
+/// feature table and the search's result.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn search_training_rows(
+    table: &Table,
+    res: &Resolved,
+    cfg: &ProcessConfig,
+    split: &Split,
+    y: &[f64],
+    task: (usize, usize),
+    label: String,
+    progress: &mut dyn FnMut(&ProcessProgress),
+) -> Result<(Table, hxai_symreg::SearchResult), HybridError> {
+    let ft = table
+        .select_columns(&res.features)?
+        .select_rows(&split.train)?;
+    let found = hxai_symreg::search(&ft, y, &cfg.search_config(), &mut |p| {
+        progress(&ProcessProgress {
+            task: task.0,
+            tasks: task.1,
+            label: label.clone(),
+            search: p.clone(),
+        })
+    })?;
+    Ok((ft, found))
+}
+
+/// One fit on one split of a table: what [`fit_inner`] (and the comparison's
+/// per-split predictions) work on.
+#[derive(Clone, Copy)]
+pub(crate) struct SplitJob<'a> {
+    pub(crate) table: &'a Table,
+    pub(crate) cfg: &'a ProcessConfig,
+    pub(crate) split: &'a Split,
+    /// Split kind, as the model file reports it (`random`, `given`, `fold`, ...).
+    pub(crate) kind: &'a str,
+    /// `(this task, tasks in all)`, for progress reports.
+    pub(crate) task: (usize, usize),
+}
+
+impl<'a> SplitJob<'a> {
+    /// The only task of a run.
+    fn single(table: &'a Table, cfg: &'a ProcessConfig, split: &'a Split, kind: &'a str) -> Self {
+        let task = (1, 1);
+        Self {
+            table,
+            cfg,
+            split,
+            kind,
+            task,
+        }
+    }
+}
+
+/// Fits one split: calibrates the physics on the training rows, searches the correction of
+/// its `delta`, refits both jointly when asked, and writes the model with its scores.
+pub(crate) fn fit_inner(
+    job: SplitJob,
+    progress: &mut dyn FnMut(&ProcessProgress),
+) -> Result<ProcessModel, HybridError> {
+    let (table, cfg, split, task) = (job.table, job.cfg, job.split, job.task);
+    check_rows(table, split)?;
+    let res = resolve(table, cfg)?;
+    let (mut phys, mut ses) = calibrate_physics(table, cfg, &res, &split.train)?;
+    let y_all = table.require(&cfg.target)?;
+    let physics = physics_values(table, &res, &phys)?;
+    let delta = deltas(cfg.correction, y_all, &physics, &split.train)?;
+    let label = if task.1 > 1 {
+        format!("correction ({}/{})", task.0, task.1)
+    } else {
+        "correction".to_string()
+    };
+    let (ft, found) = search_training_rows(table, &res, cfg, split, &delta, task, label, progress)?;
+    let mut correction = found.best;
+    let y_train = gather(y_all, &split.train);
+
+    let mut joint = None;
+    if cfg.joint {
+        joint = Some(joint_refit(
+            job,
+            &res,
+            &mut phys,
+            &mut correction,
+            &mut ses,
+            &y_train,
+        )?);
+    }
+
+    let fitted = Fitted {
+        phys,
+        ses,
+        correction,
+        joint,
+    };
+    let mut model = model_of(job, &res, &ft, &found.pareto, fitted, y_all, &y_train)?;
+    model.scores = scores_of(&model, table, y_all, split)?;
+    Ok(model)
+}
+
+/// What a fit found, before it is written down as a [`ProcessModel`]: the physics with its
+/// parameters and their standard errors, the correction, and the joint refit's record.
+struct Fitted {
+    phys: Compiled,
+    ses: BTreeMap<String, Option<f64>>,
+    correction: hxai_symreg::Model,
+    joint: Option<JointInfo>,
+}
+
+/// The joint refit: physics parameters and the correction's fitted constants together on the
+/// training rows, kept only when it does not raise the training RMSE; updates `phys`,
+/// `correction` and `ses` then, and returns the record of both fits.
+fn joint_refit(
+    job: SplitJob,
+    res: &Resolved,
+    phys: &mut Compiled,
+    correction: &mut hxai_symreg::Model,
+    ses: &mut BTreeMap<String, Option<f64>>,
+    y_train: &[f64],
+) -> Result<JointInfo, HybridError> {
+    let (table, cfg, split) = (job.table, job.cfg, job.split);
+    let rmse_on_train = |phys: &Compiled, correction: &hxai_symreg::Model| {
+        train_rmse(table, res, phys, correction, cfg.correction, split, y_train)
+    };
+    let before = rmse_on_train(phys, correction)?;
+    let sequential_parameters = named_values(phys);
+    let sequential_standard_errors = ses.clone();
+    let sequential_correction = correction.sympy();
+    let mut c = combine(phys, correction, cfg.correction);
+    // physics unknowns (tied leaves), then each fitted correction constant; constants
+    // the search snapped to exact values (integers, halves) stay fixed
+    let mut groups = calibrated_slots(res, phys, &c);
+    let n_phys = groups.len();
+    for (i, &ci) in c.corr_map.iter().enumerate() {
+        let v = correction.params[i];
+        if (2.0 * v).fract() != 0.0 {
+            groups.push(vec![ci]);
+        }
+    }
+    let all = columns_of(table, &c.names, "column")?;
+    let cols: Vec<Vec<f64>> = all.iter().map(|col| gather(col, &split.train)).collect();
+    let cols: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
+    let mut trial = c.params.clone();
+    let mse = calibrate::lm_tied(&c.program, &mut trial, &groups, &cols, y_train, 200, 1e-15);
+    if mse.is_finite() && mse.sqrt() <= before {
+        let se = calibrate::standard_errors(&c.program, &trial, &groups, &cols, y_train);
+        c.params = trial;
+        for (&pi, &ci) in &c.phys_map {
+            phys.params[pi] = c.params[ci];
+        }
+        for (i, &ci) in c.corr_map.iter().enumerate() {
+            correction.params[i] = c.params[ci];
+        }
+        *ses = res
+            .calibrate
+            .iter()
+            .cloned()
+            .zip(se.into_iter().take(n_phys))
+            .collect();
+        // the physics must still be usable everywhere
+        physics_values(table, res, phys)?;
+    }
+    let after = rmse_on_train(phys, correction)?;
+    Ok(JointInfo {
+        sequential_parameters,
+        sequential_standard_errors,
+        sequential_correction,
+        sequential_train_rmse: before,
+        joint_train_rmse: after,
+    })
+}
+
+/// The model file of a fit: the physics with its parameters' intervals, the correction with
+/// its uncertainty and Pareto front, the hybrid as one equation with its uncertainty, and the
+/// split; its scores are zero until [`scores_of`] fills them.
+fn model_of(
+    job: SplitJob,
+    res: &Resolved,
+    ft: &Table,
+    pareto: &[hxai_symreg::Model],
+    fitted: Fitted,
+    y_all: &[f64],
+    y_train: &[f64],
+) -> Result<ProcessModel, HybridError> {
+    let (table, cfg, split, kind) = (job.table, job.cfg, job.split, job.kind);
+    let Fitted {
+        phys,
+        ses,
+        correction,
+        joint,
+    } = fitted;
+    let parameters = named_values(&phys);
+    let correction_uncertainty = correction.uncertainty(
+        ft,
+        &delta_train(cfg, y_all, &physics_values(table, res, &phys)?, split)?,
+    )?;
+    let hybrid_uncertainty =
+        hybrid_uncertainty(table, res, &phys, &correction, cfg, split, y_train)?;
+    let n_cal = res.calibrate.len();
+    let t = hxai_eval::t_upper_quantile(0.025, split.train.len().saturating_sub(n_cal) as f64);
+    let physics_params: BTreeMap<String, ParamEstimate> = res
+        .calibrate
+        .iter()
+        .map(|n| {
+            let value = parameters.get(n).copied().unwrap_or(f64::NAN);
+            let std_error = ses.get(n).copied().flatten();
+            (
+                n.clone(),
+                ParamEstimate::with_interval(value, value, std_error, t),
+            )
+        })
+        .collect();
+    let phys_expr = phys.expr();
+    let phys_forms = forms(&phys_expr);
+    let combined = combine(&phys, &correction, cfg.correction);
+    let hybrid_expr =
+        hxai_symreg::expr::Expr::from_program(&combined.program, &combined.params, &combined.names);
+    Ok(ProcessModel {
+        schema_version: PROCESS_SCHEMA_VERSION,
+        target: cfg.target.clone(),
+        physics: PhysicsInfo {
+            equation: cfg.physics.clone(),
+            columns: res.columns.clone(),
+            parameters,
+            standard_errors: ses,
+            calibrated: res.calibrate.clone(),
+            initial: res.initial.clone(),
+            sympy: phys_forms.sympy,
+            latex: phys_forms.latex,
+            params: physics_params,
+        },
+        correction: CorrectionInfo {
+            kind: cfg.correction,
+            equation: correction.equation(),
+            sympy: correction.sympy(),
+            latex: correction.latex(),
+            complexity: correction.complexity(),
+            features: correction.features(),
+            candidates: res.features.clone(),
+            model: correction,
+            uncertainty: Some(correction_uncertainty),
+            pareto: Some(crate::explain::ParetoMember::front(pareto)),
+        },
+        hybrid: EquationInfo {
+            uncertainty: Some(hybrid_uncertainty),
+            ..forms(&hybrid_expr)
+        },
+        split: SplitInfo {
+            kind: kind.to_string(),
+            train: split.train.clone(),
+            test: split.test.clone(),
+        },
+        group: cfg.group.clone(),
+        joint,
+        stability: None,
+        scores: ScoresInfo {
+            train: PairScores {
+                physics: zero_metrics(),
+                hybrid: zero_metrics(),
+            },
+            test: None,
+        },
+    })
+}
+
+/// The scores of `model`'s physics and hybrid on the training rows of `split` and, when
+/// there are any, its test rows.
+fn scores_of(
+    model: &ProcessModel,
+    table: &Table,
+    y_all: &[f64],
+    split: &Split,
+) -> Result<ScoresInfo, HybridError> {
+    let pred = model.predict(table)?;
+    let pair = |rows: &[usize]| -> Result<PairScores, HybridError> {
+        let y = gather(y_all, rows);
+        Ok(PairScores {
+            physics: hxai_eval::score(&y, &gather(&pred.physics, rows))?,
+            hybrid: hxai_eval::score(&y, &gather(&pred.hybrid, rows))?,
+        })
+    };
+    let train = pair(&split.train)?;
+    let test = if split.test.is_empty() {
+        None
+    } else {
+        Some(pair(&split.test)?)
+    };
+    Ok(ScoresInfo { train, test })
+}
+
+/// `delta` on the training rows with the final physics parameters (those of the joint refit
+/// when there was one), the target of the correction's uncertainty.
+fn delta_train(
+    cfg: &ProcessConfig,
+    y_all: &[f64],
+    physics: &[f64],
+    split: &Split,
+) -> Result<Vec<f64>, HybridError> {
+    deltas(cfg.correction, y_all, physics, &split.train)
+}
+
+/// The hybrid as one template over the columns, the calibrated parameters (by name) and
+/// the correction's free constants (those that are not whole or half numbers, named `p0`,
+/// `p1`, ... past the names already taken), with their covariance at the model's values on
+/// the training rows.
+fn hybrid_uncertainty(
+    table: &Table,
+    res: &Resolved,
+    phys: &Compiled,
+    correction: &hxai_symreg::Model,
+    cfg: &ProcessConfig,
+    split: &Split,
+    y_train: &[f64],
+) -> Result<Uncertainty, HybridError> {
+    let c = combine(phys, correction, cfg.correction);
+    let mut slots = calibrated_slots(res, phys, &c);
+    let mut names: Vec<String> = res.calibrate.clone();
+    let mut taken: Vec<String> = c.names.clone();
+    taken.extend(phys.slots.keys().cloned());
+    let free: Vec<usize> = c
+        .corr_map
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !hxai_symreg::uncertainty::is_exact(correction.params[*i]))
+        .map(|(_, &ci)| ci)
+        .collect();
+    names.extend(hxai_symreg::uncertainty::parameter_names(
+        free.len(),
+        &taken,
+    ));
+    slots.extend(free.iter().map(|&i| vec![i]));
+    let all = columns_of(table, &c.names, "column")?;
+    let cols: Vec<Vec<f64>> = all.iter().map(|col| gather(col, &split.train)).collect();
+    let cols: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
+    let cov = hxai_symreg::uncertainty::covariance(
+        &c.program,
+        &c.params,
+        hxai_symreg::fit::Unknowns::Tied(&slots),
+        &cols,
+        y_train,
+    );
+    Ok(Uncertainty::build(
+        &c.program, &c.params, &c.params, &c.names, names, slots, &cov,
+    ))
+}
+
+fn zero_metrics() -> hxai_eval::Metrics {
+    hxai_eval::Metrics {
+        r2: 0.0,
+        rmse: 0.0,
+        mae: 0.0,
+    }
+}
+
+fn train_rmse(
+    table: &Table,
+    res: &Resolved,
+    phys: &Compiled,
+    correction: &hxai_symreg::Model,
+    kind: CorrectionForm,
+    split: &Split,
+    y_train: &[f64],
+) -> Result<f64, HybridError> {
+    let p = physics_values(table, res, phys)?;
+    let d = correction.predict(table)?;
+    let h: Vec<f64> = split
+        .train
+        .iter()
+        .map(|&i| combine_values(kind, p[i], d[i]))
+        .collect();
+    Ok(hxai_eval::rmse(y_train, &h)?)
+}

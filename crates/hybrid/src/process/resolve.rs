@@ -1,0 +1,179 @@
+//! The physics equation and the feature columns resolved against a table: every name in
+//! the equation a column or a parameter, the settings checked against the table.
+
+use super::ProcessConfig;
+use super::model::compile_physics;
+use crate::HybridError;
+use hxai_symreg::Table;
+use hxai_symreg::infix::{Compiled, Parsed, parse};
+use std::collections::BTreeMap;
+
+/// The physics equation resolved against a table.
+#[derive(Clone, Debug)]
+pub(crate) struct Resolved {
+    pub columns: Vec<String>,
+    pub calibrate: Vec<String>,
+    pub initial: BTreeMap<String, f64>,
+    pub compiled: Compiled,
+    pub features: Vec<String>,
+}
+
+pub(super) fn cols_list(table: &Table) -> String {
+    table.names().join(", ")
+}
+
+fn require_column(table: &Table, name: &str, what: &'static str) -> Result<(), HybridError> {
+    if table.column(name).is_none() {
+        return Err(HybridError::MissingColumn {
+            what,
+            name: name.to_string(),
+            columns: cols_list(table),
+        });
+    }
+    Ok(())
+}
+
+/// Checks the configuration against the table: every name in the equation is a column or
+/// a parameter, parameters are not columns and appear in the equation, the target is not
+/// in the equation, at least one feature.
+pub(crate) fn resolve(table: &Table, cfg: &ProcessConfig) -> Result<Resolved, HybridError> {
+    require_column(table, &cfg.target, "target")?;
+    if let Some(g) = &cfg.group {
+        require_column(table, g, "group column")?;
+    }
+    if let Some(e) = &cfg.extrapolate {
+        require_column(table, e, "extrapolation column")?;
+    }
+    let parsed: Parsed = parse(&cfg.physics).map_err(|source| HybridError::Equation {
+        equation: cfg.physics.clone(),
+        source,
+    })?;
+    let is_col = |n: &str| table.column(n).is_some();
+    let named: [(&'static str, Vec<&String>); 3] = [
+        ("calibrate", cfg.calibrate.iter().collect()),
+        ("set", cfg.set.keys().collect()),
+        ("init", cfg.init.keys().collect()),
+    ];
+    for (flag, names) in &named {
+        for n in names {
+            if is_col(n) {
+                return Err(HybridError::ParameterIsColumn {
+                    name: (*n).clone(),
+                    flag,
+                });
+            }
+            if parsed.position(n).is_none() {
+                return Err(HybridError::ParameterNotInEquation {
+                    name: (*n).clone(),
+                    flag,
+                    equation: cfg.physics.clone(),
+                });
+            }
+        }
+    }
+    for n in &cfg.calibrate {
+        if cfg.set.contains_key(n) {
+            return Err(HybridError::InvalidConfig(format!(
+                "parameter `{n}` is both calibrated (--calibrate) and fixed (--set): choose one"
+            )));
+        }
+    }
+    for n in cfg.init.keys() {
+        if !cfg.calibrate.contains(n) {
+            return Err(HybridError::InvalidConfig(format!(
+                "--init gives a starting value for `{n}`, which is not calibrated: add it to --calibrate or use --set"
+            )));
+        }
+    }
+    let mut columns = Vec::new();
+    let mut values: BTreeMap<String, f64> = BTreeMap::new();
+    for (name, position) in &parsed.positions {
+        if *name == cfg.target {
+            return Err(HybridError::TargetInPhysics {
+                name: name.clone(),
+                position: *position,
+            });
+        }
+        if is_col(name) {
+            columns.push(name.clone());
+        } else if cfg.calibrate.contains(name) {
+            values.insert(name.clone(), cfg.init.get(name).copied().unwrap_or(1.0));
+        } else if let Some(v) = cfg.set.get(name) {
+            values.insert(name.clone(), *v);
+        } else {
+            return Err(HybridError::UnknownName {
+                name: name.clone(),
+                position: *position,
+                columns: cols_list(table),
+            });
+        }
+    }
+    for (n, v) in cfg.set.iter().chain(&cfg.init) {
+        if !v.is_finite() {
+            return Err(HybridError::InvalidConfig(format!(
+                "parameter `{n}` = {v}: give a finite value"
+            )));
+        }
+    }
+    let initial: BTreeMap<String, f64> = cfg
+        .calibrate
+        .iter()
+        .map(|n| (n.clone(), values.get(n).copied().unwrap_or(1.0)))
+        .collect();
+    let compiled = compile_physics(&cfg.physics, &columns, &values)?;
+    let features = feature_columns(table, cfg)?;
+    Ok(Resolved {
+        columns,
+        calibrate: cfg.calibrate.clone(),
+        initial,
+        compiled,
+        features,
+    })
+}
+
+fn feature_columns(table: &Table, cfg: &ProcessConfig) -> Result<Vec<String>, HybridError> {
+    let features: Vec<String> = match &cfg.features {
+        Some(list) => {
+            for f in list {
+                require_column(table, f, "feature")?;
+                if *f == cfg.target {
+                    return Err(HybridError::NoFeatures(format!(
+                        "the target `{f}` cannot be a feature of its own correction"
+                    )));
+                }
+                if cfg.group.as_ref() == Some(f) {
+                    return Err(HybridError::NoFeatures(format!(
+                        "the group column `{f}` cannot be a feature"
+                    )));
+                }
+            }
+            list.clone()
+        }
+        None => {
+            for e in &cfg.exclude {
+                require_column(table, e, "excluded column")?;
+            }
+            table
+                .names()
+                .iter()
+                .filter(|n| {
+                    **n != cfg.target && cfg.group.as_ref() != Some(*n) && !cfg.exclude.contains(n)
+                })
+                .cloned()
+                .collect()
+        }
+    };
+    if features.is_empty() {
+        return Err(HybridError::NoFeatures(format!(
+            "no feature column is left for the correction (table columns: {}; target `{}`{}): \
+             give --features or exclude fewer columns",
+            cols_list(table),
+            cfg.target,
+            cfg.group
+                .as_ref()
+                .map(|g| format!(", group `{g}`"))
+                .unwrap_or_default()
+        )));
+    }
+    Ok(features)
+}

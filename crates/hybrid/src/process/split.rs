@@ -1,0 +1,112 @@
+//! The train/test split of a process fit: extrapolation, grouped or random, and the check
+//! of a given split's rows.
+
+use super::ProcessConfig;
+use super::resolve::cols_list;
+use crate::HybridError;
+use hxai_eval::Split;
+use hxai_symreg::Table;
+use std::collections::BTreeMap;
+
+/// The split [`fit_process`](super::fit_process) uses: with `extrapolate`, the rows (or groups, by their mean)
+/// with the top `test_fraction` of that column are the test set; otherwise a seeded random
+/// split, grouped when `group` is set.
+///
+/// # Errors
+/// A missing column, `test_fraction` outside (0, 1), or a side left empty.
+pub fn process_split(table: &Table, cfg: &ProcessConfig) -> Result<(Split, String), HybridError> {
+    let n = table.n_rows();
+    let groups: Option<Vec<u64>> = match &cfg.group {
+        Some(g) => {
+            let col = table.column(g).ok_or_else(|| HybridError::MissingColumn {
+                what: "group column",
+                name: g.clone(),
+                columns: cols_list(table),
+            })?;
+            Some(col.iter().map(|v| (v + 0.0).to_bits()).collect())
+        }
+        None => None,
+    };
+    if let Some(e) = &cfg.extrapolate {
+        let col = table.column(e).ok_or_else(|| HybridError::MissingColumn {
+            what: "extrapolation column",
+            name: e.clone(),
+            columns: cols_list(table),
+        })?;
+        if !(cfg.test_fraction > 0.0 && cfg.test_fraction < 1.0) {
+            return Err(HybridError::InvalidConfig(format!(
+                "test fraction {}: choose a value between 0 and 1",
+                cfg.test_fraction
+            )));
+        }
+        // units: rows, or groups keyed by first appearance
+        let mut unit_of = vec![0usize; n];
+        let mut sums: Vec<(f64, usize, usize)> = Vec::new(); // (sum, count, first row)
+        match &groups {
+            Some(g) => {
+                let mut seen: BTreeMap<u64, usize> = BTreeMap::new();
+                for (i, key) in g.iter().enumerate() {
+                    let u = *seen.entry(*key).or_insert_with(|| {
+                        sums.push((0.0, 0, i));
+                        sums.len() - 1
+                    });
+                    unit_of[i] = u;
+                    sums[u].0 += col[i];
+                    sums[u].1 += 1;
+                }
+            }
+            None => {
+                for (i, v) in col.iter().enumerate() {
+                    unit_of[i] = i;
+                    sums.push((*v, 1, i));
+                }
+            }
+        }
+        let mut order: Vec<usize> = (0..sums.len()).collect();
+        order.sort_by(|&a, &b| {
+            let ma = sums[a].0 / sums[a].1 as f64;
+            let mb = sums[b].0 / sums[b].1 as f64;
+            mb.total_cmp(&ma).then(sums[a].2.cmp(&sums[b].2))
+        });
+        let need = (cfg.test_fraction * n as f64).ceil() as usize;
+        let mut in_test = vec![false; sums.len()];
+        let mut taken = 0;
+        for u in order {
+            if taken >= need {
+                break;
+            }
+            in_test[u] = true;
+            taken += sums[u].1;
+        }
+        let (test, train): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| in_test[unit_of[i]]);
+        if train.is_empty() || test.is_empty() {
+            return Err(HybridError::InvalidConfig(format!(
+                "the extrapolation split on `{e}` leaves one side empty: change --test-fraction"
+            )));
+        }
+        return Ok((Split { train, test }, "extrapolate".into()));
+    }
+    Ok(match groups {
+        Some(g) => (
+            hxai_eval::grouped_train_test_split(&g, cfg.test_fraction, cfg.seed)?,
+            "grouped".into(),
+        ),
+        None => (
+            hxai_eval::train_test_split(n, cfg.test_fraction, cfg.seed)?,
+            "random".into(),
+        ),
+    })
+}
+
+pub(crate) fn check_rows(table: &Table, split: &Split) -> Result<(), HybridError> {
+    let n = table.n_rows();
+    if split.train.is_empty() {
+        return Err(HybridError::NoData("the split has no training rows".into()));
+    }
+    if let Some(&i) = split.train.iter().chain(&split.test).find(|&&i| i >= n) {
+        return Err(HybridError::InvalidConfig(format!(
+            "row index {i} is out of range: the table has {n} rows"
+        )));
+    }
+    Ok(())
+}
