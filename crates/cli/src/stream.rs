@@ -189,13 +189,33 @@ impl Run {
         Ok(())
     }
 
+    /// At the end of the input: a sample still held for the sampling rate (a stream of one
+    /// sample) gets its row too, without values, so every input sample has one.
+    fn finish(&mut self, out: &mut dyn Write) -> Result<()> {
+        if let Some(first) = self.first.take() {
+            let row = Row {
+                sample: 0,
+                time_s: 0.0,
+                physics_um: None,
+                hybrid_um: None,
+                interval_um: None,
+            };
+            self.line.clear();
+            write_row(&mut self.line, first.time_s, &row, self.interval.is_some());
+            out.write_all(self.line.as_bytes())
+                .context("cannot write the output")?;
+            self.samples += 1;
+        }
+        Ok(())
+    }
+
     fn summary(&self, seconds: f64) -> Summary {
         match &self.estimator {
             Some(est) => est.summary(self.samples, seconds, self.restarts),
             None => Summary {
                 delay_samples: 0,
                 warmup_samples: 0,
-                samples: self.samples + u64::from(self.first.is_some()),
+                samples: self.samples,
                 seconds,
                 restarts: self.restarts,
                 frequency_hz: self.frequency_hz,
@@ -307,7 +327,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             }
             match reader.next_sample()? {
                 Some(s) => run.take(s, sink.writer())?,
-                None => return Ok(()),
+                None => return run.finish(sink.writer()),
             }
         }
     })();

@@ -180,6 +180,30 @@ fn a_bad_line_is_named_after_the_rows_before_it() {
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
 
+/// Short streams: a header alone gives a header alone; one sample (its sampling rate never
+/// known) still gets its row, without values; the summary says so.
+#[test]
+fn short_streams_have_one_row_per_sample() {
+    for (body, rows) in [("", 0), ("0.5,1.25,0\n", 1)] {
+        let (dir, input) = input_file("short", body);
+        let summary = dir.join("s.json");
+        let o = stream(&input, &["--summary", s(&summary)]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = String::from_utf8_lossy(&o.stdout).into_owned();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 1 + rows, "{text}");
+        if rows == 1 {
+            assert_eq!(lines[1], "0.5,,");
+        }
+        let doc: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&summary).expect("summary"))
+                .expect("json");
+        assert_eq!(doc["samples"].as_u64(), Some(rows as u64));
+        assert!(doc["fs_hz"].is_null());
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
+}
+
 /// Settings that cannot work are refused before any input is read, by name.
 #[test]
 fn bad_settings_are_refused() {
