@@ -319,48 +319,6 @@ fn on_progress(b: &ProgressBar) -> impl FnMut(&ProcessProgress) + '_ {
     }
 }
 
-/// Writes through a temporary file in the target folder, then renames; refuses to write
-/// over an input.
-fn write_atomic(
-    out: &Path,
-    inputs: &[&Path],
-    write: impl FnOnce(&Path) -> Result<()>,
-) -> Result<()> {
-    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => a == b,
-    };
-    if let Some(i) = inputs.iter().find(|i| same(out, i)) {
-        bail!(
-            "--out {} is an input file: choose another path",
-            i.display()
-        );
-    }
-    let dir = out
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let file = out
-        .file_name()
-        .with_context(|| format!("--out {} names no file", out.display()))?
-        .to_string_lossy()
-        .to_string();
-    let ext = out.extension().map(|e| e.to_string_lossy().to_string());
-    let tmp = dir.join(match ext {
-        Some(e) => format!(".{file}.{}.tmp.{e}", std::process::id()),
-        None => format!(".{file}.{}.tmp", std::process::id()),
-    });
-    let r = write(&tmp).and_then(|()| {
-        std::fs::rename(&tmp, out)
-            .with_context(|| format!("cannot move {} to {}", tmp.display(), out.display()))
-    });
-    if r.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    r
-}
-
 fn fmt_se(se: Option<&Option<f64>>) -> String {
     match se {
         Some(Some(s)) => format!(" +- {s:.4e}"),
@@ -427,6 +385,11 @@ fn print_model(m: &ProcessModel) {
 
 #[allow(clippy::print_stdout)]
 fn fit(a: FitArgs) -> Result<()> {
+    // The output is checked before any work: a fit that cannot be written is not started.
+    crate::safety::check_output(
+        &a.out,
+        &[crate::safety::input(&a.common.data, "the table (--data)")],
+    )?;
     let (cfg, loaded, b) = prepare(&a.common)?;
     let mut model = fit_process(&loaded.table, &cfg, &mut on_progress(&b))?;
     b.finish_and_clear();
@@ -447,10 +410,8 @@ fn fit(a: FitArgs) -> Result<()> {
         sb.finish_and_clear();
     }
     let json = model.to_json();
-    write_atomic(&a.out, &[&a.common.data], |tmp| {
-        hxai_data::write_text(tmp, &json)
-            .with_context(|| format!("cannot write the model to {}", a.out.display()))
-    })?;
+    hxai_data::write_text(&a.out, &json)
+        .with_context(|| format!("cannot write the model to {}", a.out.display()))?;
     if a.common.json {
         println!("{json}");
     } else {
@@ -472,6 +433,14 @@ fn load_model(path: &Path) -> Result<ProcessModel> {
 
 #[allow(clippy::print_stdout)]
 fn predict(a: PredictArgs) -> Result<()> {
+    crate::safety::check_output(
+        &a.out,
+        &[
+            crate::safety::input(&a.data, "the table (--data)"),
+            crate::safety::input(&a.model, "the model (--model)"),
+        ],
+    )?;
+    crate::safety::check_table_path(&a.out)?;
     let model = load_model(&a.model)?;
     let loaded = read(&a.data, model.group.as_deref())?;
     let p = model.predict(&loaded.table)?;
@@ -499,10 +468,8 @@ fn predict(a: PredictArgs) -> Result<()> {
             t.columns.push(hxai_data::Column::Number(v));
         }
     }
-    write_atomic(&a.out, &[&a.data, &a.model], |tmp| {
-        hxai_data::write_mixed_table(tmp, &t)
-            .with_context(|| format!("cannot write the predictions to {}", a.out.display()))
-    })?;
+    hxai_data::write_mixed_table(&a.out, &t)
+        .with_context(|| format!("cannot write the predictions to {}", a.out.display()))?;
     println!(
         "{} rows written to {}",
         loaded.table.n_rows(),

@@ -372,3 +372,31 @@ fn sympy_reproduces_predict() -> TestResult {
     }
     Ok(())
 }
+
+/// Outputs are checked before any work: `hybrid fit --out` naming the table is refused
+/// before the search (the table untouched), `hybrid predict --out` with an unknown
+/// extension is refused naming that path (not a temporary one), and nothing is left behind.
+#[test]
+fn outputs_are_checked_before_any_work() -> TestResult {
+    let (dir, csv) = scratch_table("outputs-first", 60)?;
+    let before = std::fs::read(&csv)?;
+    let o = hxai(&fit_args(s(&csv), s(&csv)))?;
+    assert_eq!(o.status.code(), Some(1));
+    let err = common::stderr(&o);
+    assert!(err.contains("the table (--data)"), "{err}");
+    assert!(!err.contains("epoch"), "{err}");
+    assert_eq!(std::fs::read(&csv)?, before);
+    let model = dir.join("m.json");
+    ok(&hxai(&fit_args(s(&csv), s(&model)))?, "fit");
+    let out = dir.join("p.txt");
+    let o = hxai(&predict_args(&model, &csv, &out))?;
+    assert_eq!(o.status.code(), Some(1));
+    let err = common::stderr(&o);
+    assert!(err.contains("p.txt") && !err.contains(".tmp"), "{err}");
+    let left: Vec<String> = std::fs::read_dir(&dir)?
+        .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
+        .collect::<Result<_, _>>()?;
+    assert!(left.iter().all(|n| !n.contains(".tmp")), "{left:?}");
+    std::fs::remove_dir_all(&dir)?;
+    Ok(())
+}
