@@ -400,3 +400,28 @@ fn outputs_are_checked_before_any_work() -> TestResult {
     std::fs::remove_dir_all(&dir)?;
     Ok(())
 }
+
+/// No physics equation aborts the process: nesting 10,000 deep and flat chains of 60,000
+/// terms (which overflowed the stack) exit 1 with one short line naming the limit.
+#[test]
+fn deep_and_long_physics_equations_are_refused() -> TestResult {
+    let (dir, csv) = scratch_table("deep-physics", 40)?;
+    let out = dir.join("m.json");
+    for physics in [
+        format!("{}f{}", "(".repeat(10_000), ")".repeat(10_000)),
+        format!("{}f{}", "abs(".repeat(10_000), ")".repeat(10_000)),
+        vec!["f"; 60_000].join("+"),
+        vec!["f"; 1_500].join("*"),
+    ] {
+        let mut args = hybrid_args("fit", s(&csv), &physics);
+        args.extend(["--out", s(&out)]);
+        let o = hxai(&args)?;
+        assert_eq!(o.status.code(), Some(1), "{}...", &physics[..12]);
+        let err = common::stderr(&o);
+        assert!(err.lines().count() == 1 && err.len() < 400, "{err}");
+        assert!(err.contains("tokens") || err.contains("nests"), "{err}");
+    }
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir)?;
+    Ok(())
+}

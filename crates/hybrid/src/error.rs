@@ -111,7 +111,7 @@ pub enum HybridError {
         available: String,
     },
     /// The physics equation does not parse.
-    #[error("physics equation `{equation}`: {source}")]
+    #[error("physics equation `{}`: {source}", shorten(equation))]
     Equation {
         /// The equation text.
         equation: String,
@@ -143,7 +143,10 @@ pub enum HybridError {
         flag: &'static str,
     },
     /// A parameter given in --calibrate, --set or --init does not appear in the equation.
-    #[error("parameter `{name}` (--{flag}) does not appear in the physics equation `{equation}`")]
+    #[error(
+        "parameter `{name}` (--{flag}) does not appear in the physics equation `{}`",
+        shorten(equation)
+    )]
     ParameterNotInEquation {
         /// The name.
         name: String,
@@ -211,5 +214,18 @@ impl HybridError {
             window,
             source: Box::new(self),
         }
+    }
+}
+
+/// An equation as messages quote it: whole up to 80 characters, else its start and its
+/// length, so that a runaway equation does not become a runaway message.
+fn shorten(equation: &str) -> String {
+    const SHOWN: usize = 80;
+    let n = equation.chars().count();
+    if n <= SHOWN {
+        equation.to_owned()
+    } else {
+        let head: String = equation.chars().take(SHOWN).collect();
+        format!("{head}... ({n} characters)")
     }
 }

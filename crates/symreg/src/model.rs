@@ -36,6 +36,11 @@ fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> 
     Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
+/// Most nodes a model read from a file may have: searches stop at a few dozen, and a
+/// program this long is also as deep as the recursive walks over it (printing, the
+/// expression tree) can go on any thread's stack.
+pub const MAX_PROGRAM_NODES: usize = 1_000;
+
 impl Model {
     /// Builds a model and checks that program, parameters and names agree.
     ///
@@ -66,6 +71,13 @@ impl Model {
     /// # Errors
     /// [`SrError::MalformedModel`] naming what is wrong.
     pub fn validate(&self) -> Result<(), SrError> {
+        if self.program.nodes.len() > MAX_PROGRAM_NODES {
+            return Err(SrError::MalformedModel(format!(
+                "the program has {} nodes, more than the {MAX_PROGRAM_NODES} a model can have; \
+                 the file was not written by a search",
+                self.program.nodes.len()
+            )));
+        }
         self.check()?;
         if let Some(i) = self.params.iter().position(|p| !p.is_finite()) {
             return Err(SrError::MalformedModel(format!(
@@ -433,4 +445,40 @@ pub(crate) fn prune_snapped(
         out_params,
         out_fixed,
     )
+}
+
+#[cfg(test)]
+mod limits {
+    use super::*;
+    use crate::ops::Op;
+    use crate::program::Node;
+
+    /// A hand-made program longer than [`MAX_PROGRAM_NODES`] (a well-formed chain
+    /// `x0 + x0 + ...`, as deep as it is long) is refused by `validate` by name; one within
+    /// the limit passes.
+    #[test]
+    fn a_program_too_long_is_refused() {
+        let chain = |terms: usize| {
+            let mut nodes = vec![Node::Var(0)];
+            for _ in 1..terms {
+                nodes.extend([Node::Var(0), Node::Op(Op::Add)]);
+            }
+            Program {
+                nodes,
+                affine: false,
+            }
+        };
+        let long = chain(MAX_PROGRAM_NODES / 2 + 2);
+        let params = vec![1.0; long.n_params()];
+        let m = Model::new(vec!["x".into()], long, params);
+        match m.and_then(|m| m.validate().map(|()| m)) {
+            Err(SrError::MalformedModel(msg)) => assert!(msg.contains("nodes"), "{msg}"),
+            other => panic!("{other:?}"),
+        }
+        let short = chain(100);
+        let params = vec![1.0; short.n_params()];
+        Model::new(vec!["x".into()], short, params)
+            .and_then(|m| m.validate())
+            .expect("a program of 199 nodes is fine");
+    }
 }

@@ -7,10 +7,21 @@ use crate::SrError;
 use crate::expr::Expr;
 use crate::ops::Op;
 
+/// Most tokens an equation may have: far beyond any physical law (Kienzle's force is about
+/// 15), small enough that the expression tree stays shallow for the recursive walks that
+/// evaluate, simplify and print it (a flat chain of 60,000 terms overflowed the stack).
+pub const MAX_TOKENS: usize = 10_000;
+
+/// Deepest nesting an equation may have (parentheses, functions, signs and powers, and the
+/// length of a chain of one operator, which nests to the left): far beyond any physical
+/// law, shallow enough for every recursive walk on a 2 MB worker-thread stack.
+pub const MAX_DEPTH: usize = 1_000;
+
 struct Parser {
     toks: Vec<(Tok, usize)>,
     i: usize,
     positions: Vec<(String, usize)>,
+    depth: usize,
 }
 
 impl Parser {
@@ -68,7 +79,22 @@ impl Parser {
         )
     }
 
+    /// Every nesting of the grammar passes through here (parentheses and function calls
+    /// through `expr`, signs and exponents directly), so the recursion is bounded here.
     fn unary(&mut self) -> Result<Expr, SrError> {
+        if self.depth >= MAX_DEPTH {
+            return Err(err(
+                self.pos(),
+                format!("the equation nests deeper than {MAX_DEPTH} levels; write it flatter"),
+            ));
+        }
+        self.depth += 1;
+        let e = self.unary_inner();
+        self.depth -= 1;
+        e
+    }
+
+    fn unary_inner(&mut self) -> Result<Expr, SrError> {
         match self.peek() {
             Tok::Minus => {
                 self.next();
@@ -170,10 +196,23 @@ impl Parser {
 /// token, an unclosed parenthesis, an unknown function, an empty equation.
 pub fn parse(text: &str) -> Result<Parsed, SrError> {
     let toks = lex(text)?;
+    // Checked before any tree is built: the tree of a longer chain could not even be dropped
+    // without deep recursion.
+    if toks.len() > MAX_TOKENS + 1 {
+        return Err(err(
+            toks[MAX_TOKENS].1,
+            format!(
+                "the equation has {} tokens, more than the {MAX_TOKENS} accepted; is this the \
+                 equation you meant?",
+                toks.len() - 1
+            ),
+        ));
+    }
     let mut p = Parser {
         toks,
         i: 0,
         positions: Vec::new(),
+        depth: 0,
     };
     if *p.peek() == Tok::End {
         return Err(err(1, "the equation is empty".into()));
@@ -186,8 +225,68 @@ pub fn parse(text: &str) -> Result<Parsed, SrError> {
             format!("unexpected {} after a complete expression", describe(&t)),
         ));
     }
+    let depth = tree_depth(&expr);
+    if depth > MAX_DEPTH {
+        return Err(err(
+            1,
+            format!(
+                "the equation nests {depth} levels deep (a chain of one operator nests once per \
+                 term), more than the {MAX_DEPTH} accepted; write it flatter"
+            ),
+        ));
+    }
     Ok(Parsed {
         expr,
         positions: p.positions,
     })
+}
+
+/// The depth of a tree, without recursion.
+fn tree_depth(e: &Expr) -> usize {
+    let mut deepest = 0;
+    let mut stack = vec![(e, 1usize)];
+    while let Some((e, d)) = stack.pop() {
+        deepest = deepest.max(d);
+        match e {
+            Expr::Num(_) | Expr::Var(_) => {}
+            Expr::Neg(a) | Expr::Un(_, a) => stack.push((a, d + 1)),
+            Expr::Bin(_, a, b) => {
+                stack.push((a, d + 1));
+                stack.push((b, d + 1));
+            }
+        }
+    }
+    deepest
+}
+
+#[cfg(test)]
+mod limits {
+    use super::*;
+
+    /// No text can overflow the stack: deep nesting of every kind and long flat chains are
+    /// refused with a parse error naming the limit; the largest accepted ones parse.
+    #[test]
+    fn deep_and_long_equations_are_refused_by_name() {
+        let cases = [
+            format!("{}x{}", "(".repeat(20_000), ")".repeat(20_000)),
+            format!("{}x{}", "abs(".repeat(10_000), ")".repeat(10_000)),
+            format!("{}x", "-".repeat(50_000)),
+            format!("x{}", "^x".repeat(30_000)),
+            vec!["x"; 60_000].join("+"),
+            vec!["x"; 15_000].join("*"),
+            vec!["x"; 1_500].join("+"),
+        ];
+        for text in &cases {
+            match parse(text) {
+                Err(SrError::Parse { message, .. }) => assert!(
+                    message.contains("nests") || message.contains("tokens"),
+                    "{}...: {message}",
+                    &text[..20]
+                ),
+                other => panic!("{}...: {other:?}", &text[..20]),
+            }
+        }
+        assert!(parse(&vec!["x"; 900].join("+")).is_ok());
+        assert!(parse(&format!("{}x{}", "(".repeat(900), ")".repeat(900))).is_ok());
+    }
 }
