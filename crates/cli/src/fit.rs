@@ -99,6 +99,12 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         protected.push(crate::safety::input(&args.out, "the model output (--out)"));
         crate::safety::check_output(path, &protected)?;
     }
+    if let Some(runs) = args.stability {
+        anyhow::ensure!(
+            runs >= 1,
+            "--stability must be at least 1 (the number of bootstrap reruns), got 0"
+        );
+    }
     anyhow::ensure!(
         !folder.entries.is_empty(),
         "the manifest of {} lists no records",
@@ -159,25 +165,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     warnings.extend(crate::records::amplitude_warnings(&entries, &inputs));
     crate::safety::warn(&warnings);
 
-    let json = out.model.to_json().context("cannot serialise the model")?;
-    hxai_data::write_text(&args.out, &json)
-        .with_context(|| format!("cannot write the model to {}", args.out.display()))?;
-    if let Some(path) = &args.samples {
-        use hxai_data::Column;
-        let s = out.samples_table().context("cannot tabulate the samples")?;
-        let mut table = hxai_data::MixedTable {
-            names: vec!["record".into(), "window".into(), "split".into()],
-            columns: vec![
-                Column::Text(s.record),
-                Column::Number(s.window.iter().map(|&w| w as f64).collect()),
-                Column::Text(s.split.iter().map(|s| s.to_string()).collect()),
-            ],
-        };
-        table.push_table(s.values);
-        hxai_data::write_mixed_table(path, &table)
-            .with_context(|| format!("cannot write the samples to {}", path.display()))?;
-    }
-
+    // Everything is computed before anything is written, and every output is staged (written
+    // beside its target) before any replaces its target: a failure leaves all as it was.
     let stability = match args.stability {
         Some(runs) => {
             let b = bar(runs as u64, "stability");
@@ -192,6 +181,38 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         }
         None => None,
     };
+    let json = out.model.to_json().context("cannot serialise the model")?;
+    let model_file = hxai_data::stage_text(&args.out, &json)
+        .with_context(|| format!("cannot write the model to {}", args.out.display()))?;
+    let samples_file = match &args.samples {
+        Some(path) => {
+            use hxai_data::Column;
+            let s = out.samples_table().context("cannot tabulate the samples")?;
+            let mut table = hxai_data::MixedTable {
+                names: vec!["record".into(), "window".into(), "split".into()],
+                columns: vec![
+                    Column::Text(s.record),
+                    Column::Number(s.window.iter().map(|&w| w as f64).collect()),
+                    Column::Text(s.split.iter().map(|s| s.to_string()).collect()),
+                ],
+            };
+            table.push_table(s.values);
+            Some(
+                hxai_data::stage_mixed_table(path, &table)
+                    .with_context(|| format!("cannot write the samples to {}", path.display()))?,
+            )
+        }
+        None => None,
+    };
+    model_file
+        .commit()
+        .with_context(|| format!("cannot write the model to {}", args.out.display()))?;
+    if let Some(f) = samples_file {
+        let shown = f.path().display().to_string();
+        f.commit()
+            .with_context(|| format!("cannot write the samples to {shown}"))?;
+    }
+
     let m = &out.model;
     if args.json {
         let doc = serde_json::json!({

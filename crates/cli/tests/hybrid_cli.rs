@@ -215,3 +215,43 @@ fn bad_inputs_fail_with_one_line() -> TestResult {
     assert!(err.contains("schema_version"), "{err}");
     Ok(())
 }
+
+/// All or nothing: `--stability 0` is refused before any work, and a samples path that
+/// cannot be written (its folder is a file) fails before the model file is replaced: an
+/// existing model stays byte for byte, and no temporary file is left.
+#[test]
+fn fit_writes_all_outputs_or_none() -> TestResult {
+    let dir = scratch("all-or-nothing")?;
+    let data = dir.join("data");
+    write_data(&data, Format::Parquet)?;
+    let model = dir.join("model.json");
+    std::fs::write(&model, "the old model\n")?;
+    let blocker = dir.join("not_a_folder");
+    std::fs::write(&blocker, "a file")?;
+    let bad_samples = blocker.join("s.csv");
+    let fit = |extra: &[&str]| {
+        let mut args = vec![
+            "fit",
+            "--data",
+            s(&data),
+            "--out",
+            s(&model),
+            "--epochs",
+            "2",
+        ];
+        args.extend_from_slice(extra);
+        hxai(&args)
+    };
+    let o = fit(&["--stability", "0"])?;
+    assert_eq!(o.status.code(), Some(1));
+    assert!(common::stderr(&o).contains("--stability must be at least 1"));
+    let o = fit(&["--samples", s(&bad_samples)])?;
+    assert_eq!(o.status.code(), Some(1), "{}", common::stderr(&o));
+    assert_eq!(std::fs::read_to_string(&model)?, "the old model\n");
+    let left: Vec<String> = std::fs::read_dir(&dir)?
+        .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
+        .collect::<Result<_, _>>()?;
+    assert!(left.iter().all(|n| !n.contains(".tmp")), "{left:?}");
+    std::fs::remove_dir_all(&dir)?;
+    Ok(())
+}

@@ -147,9 +147,23 @@ pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut File) -> Result<(), DataError>,
 ) -> Result<(), DataError> {
+    stage(path, write)?.commit()
+}
+
+/// [`write_atomic`] without the rename: the file is written in full beside `path` and
+/// returned uncommitted. A command with several outputs stages them all and commits them
+/// only when every one was written (a full disk then fails before any output is replaced);
+/// dropping an uncommitted file removes it.
+///
+/// # Errors
+/// As [`write_atomic`].
+pub fn stage(
+    path: &Path,
+    write: impl FnOnce(&mut File) -> Result<(), DataError>,
+) -> Result<AtomicFile, DataError> {
     let mut file = AtomicFile::create(path)?;
     write(file.file()?)?;
-    file.commit()
+    Ok(file)
 }
 
 /// Writes bytes to `path` atomically (see [`write_atomic`]).

@@ -78,7 +78,7 @@ mod stream;
 mod table;
 mod text;
 
-pub use atomic::{AtomicFile, check_output, write_atomic, write_bytes};
+pub use atomic::{AtomicFile, check_output, stage, write_atomic, write_bytes};
 pub use error::DataError;
 pub use folder::{
     DataFolder, MANIFEST_COLUMNS, MANIFEST_FILE, ManifestEntry, read_folder, write_folder,
@@ -88,8 +88,11 @@ pub use hxai_table::format_number;
 pub use hxai_table::{Table, TableError};
 pub use record::{RECORD_COLUMNS, Record, UNIFORM_TIME_TOLERANCE, read_record, write_record};
 pub use stream::{MAX_LINE_BYTES, Sample, SampleReader};
-pub use table::{Column, MixedTable, read_mixed_table, read_table, write_mixed_table, write_table};
-pub use text::{read_text, write_text};
+pub use table::{
+    Column, MixedTable, read_mixed_table, read_table, stage_mixed_table, write_mixed_table,
+    write_table,
+};
+pub use text::{read_text, stage_text, write_text};
 
 use std::path::Path;
 

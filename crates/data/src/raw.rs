@@ -235,6 +235,16 @@ pub(crate) fn write(
     names: &[String],
     columns: &[OutColumn<'_>],
 ) -> Result<(), DataError> {
+    stage(path, format, names, columns)?.commit()
+}
+
+/// [`write`] staged, not committed (see [`crate::stage`]).
+pub(crate) fn stage(
+    path: &Path,
+    format: Format,
+    names: &[String],
+    columns: &[OutColumn<'_>],
+) -> Result<crate::AtomicFile, DataError> {
     let height = columns.first().map_or(0, |c| match c {
         OutColumn::Num(v) => v.len(),
         OutColumn::Text(v) => v.len(),
@@ -248,7 +258,7 @@ pub(crate) fn write(
         })
         .collect();
     let mut df = DataFrame::new(height, cols).map_err(|e| write_err(path, e))?;
-    crate::atomic::write_atomic(path, |file| {
+    crate::atomic::stage(path, |file| {
         match format {
             Format::Csv => CsvWriter::new(file)
                 .include_header(true)

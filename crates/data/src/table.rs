@@ -152,6 +152,11 @@ pub fn write_table(path: &Path, table: &Table) -> Result<(), DataError> {
 
 /// Writes a mixed table; CSV or Parquet by extension. Numeric values must be finite.
 pub fn write_mixed_table(path: &Path, table: &MixedTable) -> Result<(), DataError> {
+    stage_mixed_table(path, table)?.commit()
+}
+
+/// [`write_mixed_table`] staged, not committed (see [`crate::stage`]).
+pub fn stage_mixed_table(path: &Path, table: &MixedTable) -> Result<crate::AtomicFile, DataError> {
     let format = Format::from_path(path)?;
     check_shape(
         path,
@@ -168,5 +173,5 @@ pub fn write_mixed_table(path: &Path, table: &MixedTable) -> Result<(), DataErro
             Column::Text(v) => Ok(OutColumn::Text(v)),
         })
         .collect::<Result<_, _>>()?;
-    raw::write(path, format, &table.names, &cols)
+    raw::stage(path, format, &table.names, &cols)
 }

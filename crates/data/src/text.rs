@@ -20,3 +20,12 @@ pub fn read_text(path: &Path) -> Result<String, DataError> {
 pub fn write_text(path: &Path, text: &str) -> Result<(), DataError> {
     crate::atomic::write_bytes(path, text.as_bytes())
 }
+
+/// [`write_text`] staged, not committed (see [`crate::stage`]).
+pub fn stage_text(path: &Path, text: &str) -> Result<crate::AtomicFile, DataError> {
+    use std::io::Write;
+    crate::atomic::stage(path, |f| {
+        f.write_all(text.as_bytes())
+            .map_err(|e| DataError::io(path, e))
+    })
+}
