@@ -19,11 +19,27 @@
 //! A trailing `:LINE` and trailing punctuation are ignored. Words containing `<`, `{`, `$`
 //! or `...` are placeholders, not paths. `target/` and other ignored folders are outputs,
 //! not documentation targets, and are not checked.
+//!
+//! It also fails when a Rust module is missing from the code map of `docs/architecture.md`,
+//! so a new module cannot go unmapped. Every crate under `crates/`, plus `xtask` and
+//! `python`, has a section there (a `###` heading whose first code span is its folder, such
+//! as `` `crates/symreg` ``), and every module of the crate (`src/**/*.rs` other than
+//! `lib.rs` and `main.rs`; a `mod.rs` stands for its folder) must be named in that section.
+//! A module `m` is named by any of `` `m` `` (a code span holding just the module name),
+//! `m.rs` or `m/`, whichever form the module has on disk: the name survives turning a file
+//! into a folder and back. A named folder covers the files inside it, because their map is
+//! the folder's `mod.rs` header (`search/mod.rs` maps the search, for example).
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 
 /// Top-level entries that are outputs or local environments, never documentation targets.
 const IGNORED_ROOTS: [&str; 2] = ["target", ".git"];
+
+/// The page whose code map must name every module.
+const CODE_MAP: &str = "docs/architecture.md";
+
+/// Crate folders outside `crates/` whose modules the code map must name.
+const OTHER_CRATES: [&str; 2] = ["xtask", "python"];
 
 /// Runs the check from the repository root.
 pub fn run(args: &[String]) -> Result<()> {
@@ -31,15 +47,165 @@ pub fn run(args: &[String]) -> Result<()> {
         bail!("check-docs takes no arguments (got `{a}`)");
     }
     let root = crate::root();
-    let problems = check(&root)?;
-    if problems.is_empty() {
-        println!("check-docs: every path named in README.md and docs/ exists");
+    let dangling = check(&root)?;
+    let unmapped = check_code_map(&root)?;
+    if dangling.is_empty() && unmapped.is_empty() {
+        println!(
+            "check-docs: every path named in README.md and docs/ exists, and every module \
+             is in the code map of {CODE_MAP}"
+        );
         return Ok(());
     }
-    for p in &problems {
+    for p in dangling.iter().chain(&unmapped) {
         eprintln!("{p}");
     }
-    bail!("{} dangling path(s) in the documentation", problems.len())
+    bail!(
+        "{} dangling path(s) and {} module(s) missing from the code map",
+        dangling.len(),
+        unmapped.len()
+    )
+}
+
+/// The modules that the code map does not name, one line each
+/// (`docs/architecture.md: crates/X/src/Y.rs is not in the code map`).
+fn check_code_map(root: &Path) -> Result<Vec<String>> {
+    let page = root.join(CODE_MAP);
+    let text =
+        std::fs::read_to_string(&page).with_context(|| format!("reading {}", page.display()))?;
+    let sections = code_map_sections(&text);
+    let mut crates: Vec<String> = Vec::new();
+    let crates_dir = root.join("crates");
+    for entry in std::fs::read_dir(&crates_dir)
+        .with_context(|| format!("listing {}", crates_dir.display()))?
+    {
+        let entry = entry?;
+        if entry.path().join("src").is_dir() {
+            crates.push(format!("crates/{}", entry.file_name().to_string_lossy()));
+        }
+    }
+    crates.sort();
+    crates.extend(OTHER_CRATES.iter().map(|c| (*c).to_string()));
+    let mut problems = Vec::new();
+    for krate in &crates {
+        let src = root.join(krate).join("src");
+        if !src.is_dir() {
+            continue;
+        }
+        let mut modules = Vec::new();
+        module_files(&src, &[], &mut modules)?;
+        let section = sections
+            .iter()
+            .find(|(name, _)| name == krate)
+            .map_or("", |(_, body)| body.as_str());
+        for m in unmapped(section, &modules) {
+            problems.push(format!(
+                "{CODE_MAP}: {krate}/src/{} is not in the code map",
+                m.file
+            ));
+        }
+    }
+    Ok(problems)
+}
+
+/// The `###` sections of the page's `## Code map`: (the heading's first code span, the
+/// heading and body).
+fn code_map_sections(text: &str) -> Vec<(String, String)> {
+    let mut out: Vec<(String, String)> = Vec::new();
+    let mut in_map = false;
+    for line in text.lines() {
+        if let Some(h) = line.strip_prefix("## ") {
+            in_map = h.trim() == "Code map";
+            continue;
+        }
+        if !in_map {
+            continue;
+        }
+        if let Some(h) = line.strip_prefix("### ") {
+            let name = h.split('`').nth(1).unwrap_or(h).trim().to_string();
+            out.push((name, String::new()));
+        }
+        if let Some((_, body)) = out.last_mut() {
+            body.push_str(line);
+            body.push('\n');
+        }
+    }
+    out
+}
+
+/// A module file of a crate.
+#[derive(Debug, PartialEq)]
+struct Module {
+    /// Path under `src/` (`search/run.rs`, `cases/mod.rs`).
+    file: String,
+    /// The module's name and those of the folders that hold it, outermost first
+    /// (`["search", "run"]`; `["cases"]` for `cases/mod.rs`).
+    names: Vec<String>,
+}
+
+/// Every module file under `dir` (a crate's `src/` at the top), sorted by path.
+fn module_files(dir: &Path, folders: &[String], out: &mut Vec<Module>) -> Result<()> {
+    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("listing {}", dir.display()))?
+        .map(|e| e.map(|e| e.path()))
+        .collect::<Result<_, _>>()?;
+    entries.sort();
+    for p in entries {
+        let name = p
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let mut names = folders.to_vec();
+        if p.is_dir() {
+            names.push(name);
+            module_files(&p, &names, out)?;
+            continue;
+        }
+        let Some(stem) = name.strip_suffix(".rs") else {
+            continue;
+        };
+        if folders.is_empty() && (stem == "lib" || stem == "main") {
+            continue;
+        }
+        if stem != "mod" {
+            names.push(stem.to_string());
+        }
+        if names.is_empty() {
+            continue; // a `src/mod.rs`: not a module of its own
+        }
+        let mut file: Vec<&str> = folders.iter().map(String::as_str).collect();
+        file.push(&name);
+        out.push(Module {
+            file: file.join("/"),
+            names,
+        });
+    }
+    Ok(())
+}
+
+/// The modules that `section` does not name, themselves or through a folder that holds them.
+fn unmapped<'a>(section: &str, modules: &'a [Module]) -> Vec<&'a Module> {
+    modules
+        .iter()
+        .filter(|m| !m.names.iter().any(|n| names_module(section, n)))
+        .collect()
+}
+
+/// Whether `text` names module `name` as `` `name` ``, `name.rs` or `name/`.
+fn names_module(text: &str, name: &str) -> bool {
+    if text.contains(&format!("`{name}`")) {
+        return true;
+    }
+    let ident = |c: char| c.is_alphanumeric() || c == '_';
+    [format!("{name}.rs"), format!("{name}/")]
+        .iter()
+        .any(|form| {
+            text.match_indices(form.as_str()).any(|(i, _)| {
+                let before = text[..i].chars().next_back();
+                let after = text[i + form.len()..].chars().next();
+                !before.is_some_and(ident)
+                    && !after.is_some_and(|c| ident(c) && form.ends_with(".rs"))
+            })
+        })
 }
 
 /// The dangling paths, one line each (`file:line: path`).
@@ -337,6 +503,80 @@ mod tests {
         assert!(wildcard("ref_?.py", "ref_a.py"));
         assert!(!wildcard("fig*.svg", "fig04.csv"));
         assert!(!wildcard("*.md", "md"));
+    }
+
+    fn module(file: &str) -> Module {
+        let mut names: Vec<String> = file.split('/').map(str::to_string).collect();
+        if let Some(last) = names.pop()
+            && last != "mod.rs"
+        {
+            names.push(last.trim_end_matches(".rs").to_string());
+        }
+        Module {
+            file: file.into(),
+            names,
+        }
+    }
+
+    const MAP: &str = "# Architecture\n\n## Code map\n\n### `crates/a` (`hxai-a`)\n\n\
+        The `expr` module, `ops.rs`, and the search (`search/`).\n\n### `xtask`\n\n\
+        `sub_model.rs` and `model.rsx`.\n\n## Cross-cutting concerns\n\n`fit.rs`\n";
+
+    #[test]
+    fn a_module_missing_from_the_code_map_is_reported() {
+        let sections = code_map_sections(MAP);
+        let names: Vec<&str> = sections.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["crates/a", "xtask"]);
+        let (_, a) = &sections[0];
+        let (_, x) = &sections[1];
+        let modules = [module("fit.rs"), module("model.rs")];
+        let missing: Vec<&str> = unmapped(a, &modules)
+            .iter()
+            .map(|m| m.file.as_str())
+            .collect();
+        // `fit.rs` is named after the code map, which does not count.
+        assert_eq!(missing, ["fit.rs", "model.rs"]);
+        // `sub_model.rs` and `model.rsx` are other names.
+        assert_eq!(unmapped(x, &modules).len(), 2);
+        // A crate without a section: every module is missing.
+        assert_eq!(unmapped("", &modules).len(), 2);
+    }
+
+    #[test]
+    fn a_module_named_in_any_form_is_not_reported() {
+        let sections = code_map_sections(MAP);
+        let (_, a) = &sections[0];
+        // As a module name, a file name or a folder, before and after a split into a
+        // folder; a named folder covers its files.
+        let modules = [
+            module("expr.rs"),
+            module("expr/mod.rs"),
+            module("expr/parse.rs"),
+            module("ops.rs"),
+            module("ops/mod.rs"),
+            module("search/mod.rs"),
+            module("search/run.rs"),
+            module("search.rs"),
+        ];
+        assert!(unmapped(a, &modules).is_empty());
+    }
+
+    #[test]
+    fn module_files_skip_the_crate_roots() {
+        let src = crate::root().join("xtask/src");
+        let mut modules = Vec::new();
+        assert!(module_files(&src, &[], &mut modules).is_ok());
+        let files: Vec<&str> = modules.iter().map(|m| m.file.as_str()).collect();
+        assert!(files.contains(&"check_docs.rs"));
+        assert!(!files.contains(&"main.rs"));
+        let root = crate::root();
+        let mut sim = Vec::new();
+        assert!(module_files(&root.join("crates/sim/src"), &[], &mut sim).is_ok());
+        let cases = sim.iter().find(|m| m.file == "cases/mod.rs");
+        assert_eq!(
+            cases.map(|m| m.names.clone()),
+            Some(vec!["cases".to_string()])
+        );
     }
 
     #[test]

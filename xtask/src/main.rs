@@ -5,7 +5,8 @@
 //!   files differ from what the code produces now.
 //! - `cargo xtask bench-sr [...]`: symbolic regression side by side with peer engines.
 //! - `cargo xtask check-docs`: fails when `README.md` or `docs/` name a path that does not
-//!   exist (CI runs it).
+//!   exist, or when a module is missing from the code map of `docs/architecture.md` (CI runs
+//!   it).
 //! - `cargo xtask refs`: regenerates the reference vectors under `testdata/` with the pinned
 //!   Python tools of `scripts/requirements.txt` (in a venv under `target/`; not run by CI).
 #![allow(clippy::print_stdout, clippy::print_stderr)]
@@ -30,7 +31,8 @@ commands:
   bench-sr [--help]
       hxai vs feyn, pyoperon and gplearn on AI-Feynman problems (creates .venv-sr)
   check-docs
-      fail when README.md or docs/ name a repository path that does not exist
+      fail when README.md or docs/ name a repository path that does not exist,
+      or when a module is missing from the code map of docs/architecture.md
   refs [--python PY]
       regenerate testdata/ reference vectors with the versions pinned in
       scripts/requirements.txt (venv in target/refs-venv; needs network for pip)";

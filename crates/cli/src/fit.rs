@@ -31,7 +31,9 @@ pub struct Args {
     /// Fraction of records (or windows, with --split window) held out for testing.
     #[arg(long, default_value_t = 0.2)]
     pub test_fraction: f64,
-    /// Symbolic-regression search strategy (`--engine` is accepted as an alias).
+    /// Symbolic-regression search strategy.
+    // `--engine` is the old spelling, still read for old scripts; `alias` (not
+    // `visible_alias`) keeps it out of `--help` and the docs.
     #[arg(long, alias = "engine", value_enum, default_value_t = StrategyArg::Combined)]
     pub strategy: StrategyArg,
     /// How the correction's equation is chosen among the search's candidates (see

@@ -189,7 +189,8 @@ fn fit_evaluate_predict() -> TestResult {
 fn bad_inputs_fail_with_one_line() -> TestResult {
     let dir = scratch("bad")?;
     // `fit` takes the search strategy as `--strategy`, like `sr`, and still accepts the
-    // `--engine` of the interface contract: with either, the run fails only on the folder.
+    // old spelling `--engine` (a hidden alias, for old scripts): with either, the run fails
+    // only on the folder.
     for strategy in [
         &[][..],
         &["--strategy", "genetic"],

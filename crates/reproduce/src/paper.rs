@@ -1,5 +1,5 @@
-//! The published numbers (method.md, "Published numbers to reproduce or beat"), printed
-//! beside ours in every table. Nothing here feeds a computation.
+//! The numbers the paper publishes (its Table 3, cross-validation, equation and hybrid
+//! against physics), printed beside ours in every table. Nothing here feeds a computation.
 
 /// SR on delta, 80/20 hold-out: R^2.
 pub const SR_TEST_R2: f64 = 0.945;
