@@ -1,6 +1,6 @@
 //! Hybrid models of any process, on tables (`hxai hybrid ...`).
 //!
-//! The paper's framework (method.md section 1) for a user's own process: a physics equation
+//! The paper's generic hybrid framework (its section 2) for a user's own process: a physics equation
 //! `f_p` written as text over the table's columns and named parameters, calibrated
 //! parameters fitted by Levenberg-Marquardt on the training rows (grey-box calibration,
 //! with standard errors from the Jacobian at the optimum), the physics' error `delta`
