@@ -144,11 +144,7 @@ struct Module {
 
 /// Every module file under `dir` (a crate's `src/` at the top), sorted by path.
 fn module_files(dir: &Path, folders: &[String], out: &mut Vec<Module>) -> Result<()> {
-    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
-        .with_context(|| format!("listing {}", dir.display()))?
-        .map(|e| e.map(|e| e.path()))
-        .collect::<Result<_, _>>()?;
-    entries.sort();
+    let entries = sorted_entries(dir)?;
     for p in entries {
         let name = p
             .file_name()
@@ -251,11 +247,7 @@ fn top_level_dirs(root: &Path) -> Result<Vec<String>> {
 }
 
 fn markdown_files(dir: &Path, out: &mut Vec<PathBuf>) -> Result<()> {
-    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
-        .with_context(|| format!("listing {}", dir.display()))?
-        .map(|e| e.map(|e| e.path()))
-        .collect::<Result<_, _>>()?;
-    entries.sort();
+    let entries = sorted_entries(dir)?;
     for p in entries {
         if p.is_dir() {
             markdown_files(&p, out)?;
@@ -445,6 +437,16 @@ fn wildcard(pattern: &str, name: &str) -> bool {
         i += 1;
     }
     i == p.len()
+}
+
+/// The entries of `dir`, sorted by path.
+fn sorted_entries(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("listing {}", dir.display()))?
+        .map(|e| e.map(|e| e.path()))
+        .collect::<Result<_, _>>()?;
+    entries.sort();
+    Ok(entries)
 }
 
 #[cfg(test)]

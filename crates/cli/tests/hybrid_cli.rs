@@ -230,16 +230,9 @@ fn fit_writes_all_outputs_or_none() -> TestResult {
     let blocker = dir.join("not_a_folder");
     std::fs::write(&blocker, "a file")?;
     let bad_samples = blocker.join("s.csv");
+    let (data_s, model_s) = (s(&data), s(&model));
     let fit = |extra: &[&str]| {
-        let mut args = vec![
-            "fit",
-            "--data",
-            s(&data),
-            "--out",
-            s(&model),
-            "--epochs",
-            "2",
-        ];
+        let mut args = vec!["fit", "--epochs", "2", "--data", data_s, "--out", model_s];
         args.extend_from_slice(extra);
         hxai(&args)
     };
@@ -249,10 +242,7 @@ fn fit_writes_all_outputs_or_none() -> TestResult {
     let o = fit(&["--samples", s(&bad_samples)])?;
     assert_eq!(o.status.code(), Some(1), "{}", common::stderr(&o));
     assert_eq!(std::fs::read_to_string(&model)?, "the old model\n");
-    let left: Vec<String> = std::fs::read_dir(&dir)?
-        .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
-        .collect::<Result<_, _>>()?;
-    assert!(left.iter().all(|n| !n.contains(".tmp")), "{left:?}");
+    common::assert_no_temporary_files(&dir);
     std::fs::remove_dir_all(&dir)?;
     Ok(())
 }

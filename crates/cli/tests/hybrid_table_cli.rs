@@ -393,10 +393,7 @@ fn outputs_are_checked_before_any_work() -> TestResult {
     assert_eq!(o.status.code(), Some(1));
     let err = common::stderr(&o);
     assert!(err.contains("p.txt") && !err.contains(".tmp"), "{err}");
-    let left: Vec<String> = std::fs::read_dir(&dir)?
-        .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
-        .collect::<Result<_, _>>()?;
-    assert!(left.iter().all(|n| !n.contains(".tmp")), "{left:?}");
+    common::assert_no_temporary_files(&dir);
     std::fs::remove_dir_all(&dir)?;
     Ok(())
 }

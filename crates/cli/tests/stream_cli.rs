@@ -142,11 +142,7 @@ fn file_output_summary_and_gaps() {
     }
     assert!(doc["seconds"].as_f64().is_some_and(|v| v >= 0.0));
     // No temporary file is left beside the outputs.
-    let names: Vec<String> = std::fs::read_dir(&dir)
-        .expect("list")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    assert!(names.iter().all(|n| !n.ends_with(".tmp")), "{names:?}");
+    common::assert_no_temporary_files(&dir);
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
 

@@ -76,3 +76,17 @@ pub fn text(o: &Output) -> String {
 pub fn ok(out: &Output, what: &str) {
     assert!(out.status.success(), "{what}: {}", stderr(out));
 }
+
+/// Requires that no temporary file (`.NAME.PID-N.tmp`, the atomic writers' staging files)
+/// was left in `dir`.
+pub fn assert_no_temporary_files(dir: &Path) {
+    let left: Vec<String> = std::fs::read_dir(dir)
+        .map(|entries| {
+            entries
+                .filter_map(|e| e.ok())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    assert!(left.iter().all(|n| !n.contains(".tmp")), "{left:?}");
+}
