@@ -63,6 +63,12 @@ pub struct Args {
 pub fn run(args: Args, _g: &Global) -> Result<()> {
     let n = hxai_data::format_number;
     anyhow::ensure!(
+        args.low_hz < args.high_hz,
+        "--low-hz {} must be below --high-hz {}: the pass band runs from the low edge to the high one",
+        n(args.low_hz),
+        n(args.high_hz)
+    );
+    anyhow::ensure!(
         args.input.frequency_hz.is_finite()
             && args.input.frequency_hz >= args.low_hz
             && args.input.frequency_hz <= args.high_hz,

@@ -27,6 +27,7 @@ pub struct Args {
 
 /// Runs `hxai evaluate`.
 pub fn run(args: Args, _g: &Global) -> Result<()> {
+    crate::safety::check_level(args.interval, "--interval")?;
     let model = crate::predict::load_model(&args.model)?;
     let folder = hxai_data::read_folder(&args.data)
         .with_context(|| format!("cannot read the data folder {}", args.data.display()))?;

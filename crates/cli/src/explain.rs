@@ -100,11 +100,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             args.out.display()
         );
     }
-    anyhow::ensure!(
-        args.interval > 0.0 && args.interval < 1.0,
-        "--interval must lie strictly between 0 and 1, got {}",
-        hxai_data::format_number(args.interval)
-    );
+    crate::safety::check_level(args.interval, "--interval")?;
     let mut inputs = vec![crate::safety::input(&args.model, "the model (--model)")];
     if let Some(path) = &args.data {
         inputs.push(crate::safety::input(path, "the data (--data)"));

@@ -441,6 +441,9 @@ fn predict(a: PredictArgs) -> Result<()> {
         ],
     )?;
     crate::safety::check_table_path(&a.out)?;
+    if let Some(level) = a.interval {
+        crate::safety::check_level(level, "--interval")?;
+    }
     let model = load_model(&a.model)?;
     let loaded = read(&a.data, model.group.as_deref())?;
     let p = model.predict(&loaded.table)?;
@@ -480,6 +483,7 @@ fn predict(a: PredictArgs) -> Result<()> {
 
 #[allow(clippy::print_stdout)]
 fn evaluate(a: EvaluateArgs) -> Result<()> {
+    crate::safety::check_level(a.interval, "--interval")?;
     let model = load_model(&a.model)?;
     let loaded = read(&a.data, model.group.as_deref())?;
     let e = model.evaluate_at(&loaded.table, a.interval)?;

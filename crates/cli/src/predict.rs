@@ -50,6 +50,9 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         ],
     )?;
     crate::safety::check_table_path(&args.out)?;
+    if let Some(level) = args.interval {
+        crate::safety::check_level(level, "--interval")?;
+    }
     let model = load_model(&args.model)?;
     let rec = hxai_data::read_record(&args.input.record)
         .with_context(|| format!("cannot read the record {}", args.input.record.display()))?;

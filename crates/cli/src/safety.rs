@@ -17,6 +17,16 @@ pub fn check_output(output: &Path, inputs: &[(PathBuf, String)]) -> Result<()> {
     Ok(())
 }
 
+/// Refuses an interval level outside (0, 1), naming the flag, before any work.
+pub fn check_level(level: f64, flag: &str) -> Result<()> {
+    anyhow::ensure!(
+        level > 0.0 && level < 1.0,
+        "{flag} must lie strictly between 0 and 1 (a probability such as 0.95), got {}",
+        hxai_data::format_number(level)
+    );
+    Ok(())
+}
+
 /// An input with its role, for [`check_output`].
 pub fn input(path: &Path, role: &str) -> (PathBuf, String) {
     (path.to_path_buf(), role.to_owned())

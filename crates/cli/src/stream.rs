@@ -261,6 +261,9 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             format_number(fs)
         );
     }
+    if let Some(level) = args.interval {
+        crate::safety::check_level(level, "--interval")?;
+    }
     let mut inputs = vec![crate::safety::input(&args.model, "the model (--model)")];
     if let Some(i) = &args.input {
         inputs.push(crate::safety::input(i, "the input (--in)"));

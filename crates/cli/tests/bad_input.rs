@@ -444,6 +444,33 @@ fn bad_flags_are_refused_at_once() {
         "not a valid simulator configuration",
     );
     assert!(!Path::new(new).exists());
+    // Interval levels are checked before any work, by flag, not deep in a library.
+    for level in ["0", "1", "1.5", "-0.2"] {
+        let flag = format!("--interval={level}");
+        let mut p = predict_args(&model, &rec, "20", out);
+        p.push(&flag);
+        refused(&p, "--interval must lie strictly between 0 and 1");
+        refused(
+            &["evaluate", "--model", &model, "--data", &good, &flag],
+            "--interval must lie strictly between 0 and 1",
+        );
+    }
+    refused(
+        &[
+            "displacement",
+            "--record",
+            &rec,
+            "--frequency-hz",
+            "20",
+            "--out",
+            out,
+            "--low-hz",
+            "100",
+            "--high-hz",
+            "10",
+        ],
+        "--low-hz 100 must be below --high-hz 10",
+    );
     refused(&["simulate", "--out", &good], "the folder is not empty");
     refused(&["simulate", "--out", &rec], "is a file, not a folder");
 }
