@@ -422,3 +422,35 @@ fn deep_and_long_physics_equations_are_refused() -> TestResult {
     std::fs::remove_dir_all(&dir)?;
     Ok(())
 }
+
+/// A model of the other workflow is refused by name, with the command it belongs to:
+/// `hxai fit`'s model given to `hybrid predict`, `hybrid fit`'s given to `predict`.
+#[test]
+fn models_of_the_other_kind_are_named() -> TestResult {
+    let (dir, csv) = scratch_table("other-kind", 60)?;
+    let tool_model = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../testdata/bad/good/model.json"
+    );
+    let out = dir.join("p.csv");
+    let o = hxai(&predict_args(Path::new(tool_model), &csv, &out))?;
+    assert_eq!(o.status.code(), Some(1));
+    let err = common::stderr(&o);
+    assert!(
+        err.contains("model of `hxai fit`") && err.contains("`hxai predict`"),
+        "{err}"
+    );
+    let model = dir.join("m.json");
+    ok(&hxai(&fit_args(s(&csv), s(&model)))?, "fit");
+    let record = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../testdata/bad/good/r1.parquet"
+    );
+    let o = hxai(&common::predict_args(s(&model), record, "20", s(&out)))?;
+    assert_eq!(o.status.code(), Some(1));
+    let err = common::stderr(&o);
+    assert!(err.contains("`hxai hybrid predict`"), "{err}");
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir)?;
+    Ok(())
+}

@@ -179,7 +179,7 @@ pub enum HybridError {
     #[error("{0}")]
     NoFeatures(String),
     /// The physics prediction cannot be used at a row.
-    #[error("row {row} (0-based): the physics prediction is {value}, {why}")]
+    #[error("row {} of the table (counted from 1, header not counted): the physics prediction is {value}, {why}", row + 1)]
     BadPhysics {
         /// Row index, 0-based in the table's order.
         row: usize,
@@ -190,7 +190,8 @@ pub enum HybridError {
     },
     /// The correction is not finite at a row (outside the domain of its equation).
     #[error(
-        "row {row} (0-based): the correction is {value} (the row lies outside the domain of the correction's equation)"
+        "row {} of the table (counted from 1, header not counted): the correction is {value} (the row lies outside the domain of the correction's equation)",
+        row + 1
     )]
     BadCorrection {
         /// Row index, 0-based.

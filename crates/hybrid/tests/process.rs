@@ -385,11 +385,12 @@ fn unusable_physics_names_the_row() {
     let e = fit_process_split(&t, &c, &split, &mut |_| {})
         .unwrap_err()
         .to_string();
-    assert!(e.contains("row 17") && e.contains("multiplicative"), "{e}");
+    // Index 17 is row 18 counted from 1, as the file shows it (issue 27: one convention).
+    assert!(e.contains("row 18 ") && e.contains("multiplicative"), "{e}");
     c.physics = "k*log(z)".into();
     c.correction = CorrectionForm::Additive;
     let e = fit_process_split(&t, &c, &split, &mut |_| {})
         .unwrap_err()
         .to_string();
-    assert!(e.contains("row 17") && e.contains("finite"), "{e}");
+    assert!(e.contains("row 18 ") && e.contains("finite"), "{e}");
 }

@@ -316,6 +316,13 @@ impl HybridModel {
     pub fn from_json(text: &str) -> Result<Self, HybridError> {
         let value: serde_json::Value =
             serde_json::from_str(text).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        if value.get("target").is_some() && value.get("hybrid").is_some() {
+            return Err(HybridError::ModelFormat(
+                "this is a model of `hxai hybrid fit` (a process on a table), not of `hxai fit`: \
+                 apply it with `hxai hybrid predict` or `hxai hybrid evaluate`"
+                    .into(),
+            ));
+        }
         match value.get("schema_version") {
             Some(v) if v.as_u64() == Some(u64::from(SCHEMA_VERSION)) => {}
             Some(v) => {

@@ -538,6 +538,13 @@ impl ProcessModel {
     pub fn from_json(text: &str) -> Result<Self, HybridError> {
         let v: serde_json::Value =
             serde_json::from_str(text).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        if v.get("target").is_none() && v.get("window").is_some() && v.get("features").is_some() {
+            return Err(HybridError::ModelFormat(
+                "this is a model of `hxai fit` (the tool position from an accelerometer), not of \
+                 `hxai hybrid fit`: apply it with `hxai predict`, `hxai evaluate` or `hxai stream`"
+                    .into(),
+            ));
+        }
         match v.get("schema_version").and_then(serde_json::Value::as_u64) {
             Some(n) if n == u64::from(PROCESS_SCHEMA_VERSION) => {}
             other => {
