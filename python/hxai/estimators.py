@@ -105,6 +105,16 @@ def _search_json(est):
     return json.dumps(s)
 
 
+def _n_jobs(est):
+    """``n_jobs`` checked: None, -1 or a positive int (the engine refuses more than 1024)."""
+    n = est.n_jobs
+    if n is None:
+        return None
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or (n < 1 and n != -1):
+        raise ValueError(f"n_jobs must be None, -1 (all cores) or a positive integer, got {n!r}")
+    return int(n)
+
+
 def _names(est, n):
     """Column names: the DataFrame's (``feature_names_in_``), else x0, x1, ..."""
     names = getattr(est, "feature_names_in_", None)
@@ -144,6 +154,7 @@ class _SearchParams:
     def _set_search(self, loc):
         for k in _SEARCH_KEYS:
             setattr(self, k, loc[k])
+        self.n_jobs = loc["n_jobs"]
 
 
 class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
@@ -160,6 +171,11 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     name, value, fitted, std_error, ci95_lo, ci95_hi), ``model_json_`` (the
     model as the engine serialises it), ``evaluations_``, ``n_features_in_`` and, from a
     DataFrame, ``feature_names_in_``.
+
+    ``n_jobs`` is the number of threads of the search: ``None`` (the default) uses every
+    core (the engine's shared thread pool, sized by ``RAYON_NUM_THREADS`` if set), ``-1``
+    every core in a pool of its own, a positive int that many threads. It is chosen per
+    estimator and never changes the result.
 
     The result is identical to ``hxai sr --csv TABLE --target y`` for the same seed, settings
     and data (the CLI's defaults are these).
@@ -187,6 +203,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         lm_iterations=25,
         snap_constants=True,
         snap_tolerance=1e-3,
+        n_jobs=None,
     ):
         self._set_search(locals())
 
@@ -202,7 +219,9 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             self, X, y, dtype=np.float64, y_numeric=True, ensure_all_finite=False
         )
         names = _names(self, X.shape[1])
-        doc = json.loads(_hxai.sr_fit(names, columns_of(X), to_bytes(y, "y"), settings))
+        doc = json.loads(
+            _hxai.sr_fit(names, columns_of(X), to_bytes(y, "y"), settings, _n_jobs(self))
+        )
         best = doc["best"]
         self.model_json_ = best["model"]
         self.equation_ = best["equation"]
@@ -241,6 +260,10 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     the correction's ``equation_``, ``sympy_``, ``latex_``, ``complexity_``, ``features_``,
     and ``model_json_`` (the model file of ``hxai hybrid fit``, readable by
     ``hxai hybrid predict``). ``predict_parts(X)`` returns physics, correction and hybrid.
+
+    ``n_jobs`` is the number of threads of the fit, as on :class:`SymbolicRegressor`
+    (``None``, the default: every core; ``-1``: every core in a pool of its own; a positive
+    int: that many); it never changes the result.
     """
 
     def __init__(
@@ -273,6 +296,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         lm_iterations=25,
         snap_constants=True,
         snap_tolerance=1e-3,
+        n_jobs=None,
     ):
         self.physics = physics
         self.calibrate = calibrate
@@ -307,6 +331,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
                 f"correction `{self.correction}`: use additive or multiplicative"
             )
         search = json.loads(_search_json(self))
+        n_jobs = _n_jobs(self)
         y_in = y
         X, y = validate_data(
             self, X, y, dtype=np.float64, y_numeric=True, ensure_all_finite=False
@@ -326,7 +351,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             "search": search,
         }
         text = _hxai.process_fit(
-            names + [target], columns_of(X) + [to_bytes(y, "y")], json.dumps(settings)
+            names + [target], columns_of(X) + [to_bytes(y, "y")], json.dumps(settings), n_jobs
         )
         doc = json.loads(text)
         self.model_json_ = text

@@ -26,7 +26,7 @@ def defaults(case="tool"):
     return json.loads(_hxai.defaults(case))
 
 
-def simulate(case="tool", **settings):
+def simulate(case="tool", n_jobs=None, **settings):
     """Runs a simulator with its defaults overridden by ``settings`` (the Rust
     configuration's field names; see :func:`defaults`) and returns a DataFrame.
 
@@ -36,11 +36,15 @@ def simulate(case="tool", **settings):
       ``fs_hz``, ``time_s``, ``accel_ms2``, ``probe_um``, ``command_um``, ``encoder_um``.
     - ``case="roughness"`` or ``"cutting_force"``: the table cases (``hxai simulate --case``,
       docs/cases.md), e.g. ``simulate("roughness", n_rows=200, seed=1)``; one row per cut.
+
+    ``n_jobs``: threads that simulate the tool case's records (``None``, the default: every
+    core; ``-1``: every core in a pool of its own; a positive int: that many); the table
+    cases run on one thread. The result never depends on it.
     """
     overrides = json.dumps(_jsonable(settings))
     if case == "tool":
         parts = []
-        for rid, amp, freq, rep, fs, t, a, p, c, e in _hxai.simulate_tool(overrides):
+        for rid, amp, freq, rep, fs, t, a, p, c, e in _hxai.simulate_tool(overrides, n_jobs):
             t = from_bytes(t)
             n = len(t)
             parts.append(

@@ -29,7 +29,7 @@ use hxai_hybrid::process::{CorrectionForm, ProcessConfig, ProcessModel, fit_proc
 use hxai_hybrid::stream::Estimator;
 use hxai_hybrid::{HybridModel, RecordInput};
 use hxai_signal::{Band, PhysicsConfig, Sos, WelchConfig};
-use hxai_symreg::{Model, SearchConfig, Table};
+use hxai_symreg::{Model, Par, SearchConfig, Table};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -83,6 +83,26 @@ fn table_of(names: Vec<String>, columns: &[Bound<'_, PyBytes>]) -> PyResult<Tabl
         )));
     }
     Table::new(names, cols).map_err(err)
+}
+
+/// Most threads `n_jobs` may ask for (the CLI's `--threads` bound).
+const MAX_THREADS: i64 = 1024;
+
+/// scikit-learn's `n_jobs` as the engine's [`Par`]: `None` is rayon's global pool (all
+/// cores, unless `RAYON_NUM_THREADS` says otherwise), `-1` a pool of every core the system
+/// reports, `n` from 1 to [`MAX_THREADS`] a pool of `n` threads built for the call; other
+/// values are a `ValueError`. Results never depend on it.
+fn par_of(n_jobs: Option<i64>) -> PyResult<Par> {
+    match n_jobs {
+        None => Ok(Par::Current),
+        Some(-1) => Ok(Par::threads(
+            std::thread::available_parallelism().map_or(1, usize::from),
+        )),
+        Some(n) if (1..=MAX_THREADS).contains(&n) => Ok(Par::threads(n as usize)),
+        Some(n) => Err(PyValueError::new_err(format!(
+            "n_jobs must be None, -1 (all cores) or 1 to {MAX_THREADS}, got {n}"
+        ))),
+    }
 }
 
 fn parse_json<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> PyResult<T> {
@@ -146,21 +166,25 @@ fn model_summary(m: &Model) -> Value {
     })
 }
 
-/// `sr_fit(names, columns, y, search_json)`: symbolic regression of `y` on the columns with
-/// the search settings `search_json` (a JSON object over `SearchConfig`'s defaults). Returns
+/// `sr_fit(names, columns, y, search_json, n_jobs=None)`: symbolic regression of `y` on the
+/// columns with the search settings `search_json` (a JSON object over `SearchConfig`'s
+/// defaults), on the threads of `n_jobs` ([`par_of`]). Returns
 /// JSON `{best, pareto: [...], evaluations, seconds}`, each model as [`model_summary`];
 /// `best` also has `template`, `params` and `reason` (`hxai_symreg::uncertainty`).
 #[pyfunction]
+#[pyo3(signature = (names, columns, y, search_json, n_jobs=None))]
 fn sr_fit(
     py: Python<'_>,
     names: Vec<String>,
     columns: Vec<Bound<'_, PyBytes>>,
     y: &[u8],
     search_json: &str,
+    n_jobs: Option<i64>,
 ) -> PyResult<String> {
     let data = table_of(names, &columns)?;
     let y = floats(y, "y")?;
-    let cfg: SearchConfig = with_overrides("search", search_json)?;
+    let mut cfg: SearchConfig = with_overrides("search", search_json)?;
+    cfg.par = par_of(n_jobs)?;
     let (res, unc) = py
         .detach(|| -> Result<_, hxai_symreg::SrError> {
             let res = hxai_symreg::search(&data, &y, &cfg, &mut |_| {})?;
@@ -220,19 +244,23 @@ struct ProcessSettings {
     search: Value,
 }
 
-/// `process_fit(names, columns, settings_json)`: the table workflow's `fit` (docs/hybrid-tables.md)
-/// on every row of the table (the caller splits, as scikit-learn does). The table holds the
-/// target column named in the settings. Returns the model file's JSON.
+/// `process_fit(names, columns, settings_json, n_jobs=None)`: the table workflow's `fit`
+/// (docs/hybrid-tables.md) on every row of the table (the caller splits, as scikit-learn
+/// does), on the threads of `n_jobs` ([`par_of`]). The table holds the target column named
+/// in the settings. Returns the model file's JSON.
 #[pyfunction]
+#[pyo3(signature = (names, columns, settings_json, n_jobs=None))]
 fn process_fit(
     py: Python<'_>,
     names: Vec<String>,
     columns: Vec<Bound<'_, PyBytes>>,
     settings_json: &str,
+    n_jobs: Option<i64>,
 ) -> PyResult<String> {
     let table = table_of(names, &columns)?;
     let s: ProcessSettings = parse_json(settings_json, "hybrid settings")?;
-    let search: SearchConfig = with_overrides("search", &s.search.to_string())?;
+    let mut search: SearchConfig = with_overrides("search", &s.search.to_string())?;
+    search.par = par_of(n_jobs)?;
     let mut cfg = ProcessConfig::new(&s.target, &s.physics);
     cfg.calibrate = s.calibrate;
     cfg.init = s.init;
@@ -617,11 +645,18 @@ type PyRecord<'py> = (
     Bound<'py, PyBytes>,
 );
 
-/// `simulate_tool(overrides_json)`: the machine simulator (`hxai simulate`) with
-/// `SimConfig`'s defaults and the given overrides; one tuple per record.
+/// `simulate_tool(overrides_json, n_jobs=None)`: the machine simulator (`hxai simulate`) with
+/// `SimConfig`'s defaults and the given overrides, records simulated on the threads of
+/// `n_jobs` ([`par_of`]); one tuple per record.
 #[pyfunction]
-fn simulate_tool<'py>(py: Python<'py>, overrides_json: &str) -> PyResult<Vec<PyRecord<'py>>> {
-    let cfg: hxai_sim::SimConfig = with_overrides("tool", overrides_json)?;
+#[pyo3(signature = (overrides_json, n_jobs=None))]
+fn simulate_tool<'py>(
+    py: Python<'py>,
+    overrides_json: &str,
+    n_jobs: Option<i64>,
+) -> PyResult<Vec<PyRecord<'py>>> {
+    let mut cfg: hxai_sim::SimConfig = with_overrides("tool", overrides_json)?;
+    cfg.par = par_of(n_jobs)?;
     let recs = py.detach(move || hxai_sim::simulate(&cfg)).map_err(err)?;
     Ok(recs
         .iter()

@@ -75,6 +75,25 @@ def test_defaults_are_the_engines():
     assert set(_SEARCH_KEYS) == set(rust), "a search setting is missing from the estimators"
 
 
+def test_n_jobs_is_a_parameter_and_changes_nothing(quadratic):
+    """The thread count is chosen per estimator (``n_jobs``, in get_params/set_params) and
+    the result does not depend on it: 1 and 2 threads give the same model, bit for bit."""
+    X, y = quadratic
+    assert SymbolicRegressor().get_params()["n_jobs"] is None
+    assert HybridRegressor("k*a").get_params()["n_jobs"] is None
+    one = SymbolicRegressor(**FAST, n_jobs=1).fit(X, y)
+    two = SymbolicRegressor(**FAST).set_params(n_jobs=2).fit(X, y)
+    assert two.get_params()["n_jobs"] == 2
+    assert one.equation_ == two.equation_ and one.model_json_ == two.model_json_
+    assert SymbolicRegressor(**FAST, n_jobs=-1).fit(X, y).model_json_ == one.model_json_
+    h1 = HybridRegressor("k*a^2", calibrate=["k"], **FAST, n_jobs=1).fit(X, y)
+    h2 = HybridRegressor("k*a^2", calibrate=["k"], **FAST, n_jobs=2).fit(X, y)
+    assert h1.model_json_ == h2.model_json_
+    for bad in (0, -2, 1.5, "2"):
+        with pytest.raises(ValueError, match="n_jobs"):
+            SymbolicRegressor(**FAST, n_jobs=bad).fit(X, y)
+
+
 def test_fit_dataframe_names_and_attributes(quadratic):
     X, y = quadratic
     m = SymbolicRegressor(**FAST).fit(X, y)

@@ -31,6 +31,17 @@ def test_simulate_tool_frame(records):
     assert {"accel_ms2", "probe_um", "command_um", "encoder_um"} <= set(records.columns)
 
 
+def test_simulate_n_jobs_changes_nothing():
+    """The records do not depend on the threads that simulate them."""
+    small = dict(amplitudes_um=[4.0, 8.0], frequencies_hz=[20.0], repeats=1, duration_s=0.5,
+                 fs_hz=2000.0, seed=3)
+    pd.testing.assert_frame_equal(
+        hxai.simulate(n_jobs=1, **small), hxai.simulate(n_jobs=2, **small)
+    )
+    with pytest.raises(ValueError, match="n_jobs"):
+        hxai.simulate(n_jobs=0, **small)
+
+
 def test_simulate_cases_and_bad_settings():
     r = hxai.simulate("roughness", n_rows=50, seed=2)
     assert len(r) == 50 and "Ra_um" in r.columns

@@ -5,12 +5,12 @@ use crate::matrix::RowMajor;
 use crate::matrix::{check_fit, check_predict};
 use crate::tree::{Limits, Tree, TreeData, argsort_columns, check_limits, grow};
 use crate::{BaselineError, Regressor};
-use hxai_table::Table;
+use hxai_table::{Par, Table};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-/// Bagged regression trees, built in parallel with rayon.
+/// Bagged regression trees, built in parallel with rayon (on the threads `par` chooses).
 ///
 /// Tree `t` draws its bootstrap sample from `ChaCha8Rng::seed_from_u64(seed)` on stream
 /// `t`, so every tree depends only on `(seed, t)` and the data: the forest is the same for
@@ -27,6 +27,9 @@ pub struct RandomForest {
     pub max_depth: Option<usize>,
     /// Minimum samples per leaf (default 1).
     pub min_samples_leaf: usize,
+    /// Threads that build the trees (default [`Par::Current`], the caller's pool); the
+    /// forest does not depend on it.
+    pub par: Par,
     trees: Vec<Tree>,
     fitted: Option<usize>,
 }
@@ -38,6 +41,7 @@ impl Default for RandomForest {
             seed: 42,
             max_depth: None,
             min_samples_leaf: 1,
+            par: Par::Current,
             trees: Vec::new(),
             fitted: None,
         }
@@ -87,22 +91,24 @@ impl Regressor for RandomForest {
             max_leaf_nodes: None,
         };
         let seed = self.seed;
-        self.trees = (0..self.n_trees)
-            .into_par_iter()
-            .map(|t| {
-                let mut rng = ChaCha8Rng::seed_from_u64(seed);
-                rng.set_stream(t as u64);
-                let mut w = vec![0.0; n];
-                for _ in 0..n {
-                    w[rng.gen_range(0..n)] += 1.0;
-                }
-                let sorted: Vec<Vec<usize>> = sorted_all
-                    .iter()
-                    .map(|l| l.iter().copied().filter(|&i| w[i] > 0.0).collect())
-                    .collect();
-                grow(TreeData { cols, y, w: &w }, sorted, limits)
-            })
-            .collect();
+        self.trees = self.par.run(|| {
+            (0..self.n_trees)
+                .into_par_iter()
+                .map(|t| {
+                    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+                    rng.set_stream(t as u64);
+                    let mut w = vec![0.0; n];
+                    for _ in 0..n {
+                        w[rng.gen_range(0..n)] += 1.0;
+                    }
+                    let sorted: Vec<Vec<usize>> = sorted_all
+                        .iter()
+                        .map(|l| l.iter().copied().filter(|&i| w[i] > 0.0).collect())
+                        .collect();
+                    grow(TreeData { cols, y, w: &w }, sorted, limits)
+                })
+                .collect()
+        });
         self.fitted = Some(x.n_cols());
         Ok(())
     }

@@ -11,7 +11,7 @@
 use crate::linear::{centre, linear_predict};
 use crate::matrix::{check_fit, check_predict};
 use crate::{BaselineError, Regressor};
-use hxai_table::Table;
+use hxai_table::{Par, Table};
 use rayon::prelude::*;
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -394,6 +394,9 @@ pub struct LassoCv {
     pub tol: f64,
     /// Maximum sweeps per solve (default 1000).
     pub max_iter: usize,
+    /// Threads that solve the folds (default [`Par::Current`], the caller's pool); the
+    /// result does not depend on it.
+    pub par: Par,
     alphas: Vec<f64>,
     mse_path: Vec<Vec<f64>>,
     model: Lasso,
@@ -407,6 +410,7 @@ impl Default for LassoCv {
             cv: 3,
             tol: 1e-4,
             max_iter: 1000,
+            par: Par::Current,
             alphas: Vec::new(),
             mse_path: Vec::new(),
             model: Lasso::new(1.0),
@@ -554,20 +558,22 @@ impl Regressor for LassoCv {
         } else {
             geomspace(alpha_max, alpha_max * self.eps, self.n_alphas)
         };
-        let per_fold: Vec<Vec<f64>> = folds
-            .par_iter()
-            .map(|f| {
-                fold_mse(
-                    x,
-                    y,
-                    &f.train,
-                    &f.test,
-                    &self.alphas,
-                    self.tol,
-                    self.max_iter,
-                )
-            })
-            .collect::<Result<_, _>>()?;
+        let per_fold: Vec<Vec<f64>> = self.par.run(|| {
+            folds
+                .par_iter()
+                .map(|f| {
+                    fold_mse(
+                        x,
+                        y,
+                        &f.train,
+                        &f.test,
+                        &self.alphas,
+                        self.tol,
+                        self.max_iter,
+                    )
+                })
+                .collect::<Result<_, _>>()
+        })?;
         self.mse_path = (0..self.alphas.len())
             .map(|a| per_fold.iter().map(|f| f[a]).collect())
             .collect();

@@ -49,7 +49,7 @@ pub use compare::{Comparison, compare};
 pub use cv::cross_validate;
 pub use error::BaselineError;
 pub use forest::RandomForest;
-pub use hxai_table::{Table, TableError};
+pub use hxai_table::{Par, Table, TableError};
 pub use lasso::{Lasso, LassoCv};
 pub use linear::LinearRegression;
 pub use symbolic::SymbolicRegressor;

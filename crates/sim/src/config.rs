@@ -3,6 +3,7 @@
 //! Every default and the reason for it is listed in `docs/simulator.md`.
 
 use crate::SimError;
+use hxai_table::Par;
 use serde::{Deserialize, Serialize};
 
 /// Closed-loop Z slide: second-order servo from command to slide position plus friction.
@@ -234,6 +235,10 @@ pub struct SimConfig {
     pub probe: ProbeParams,
     /// Encoder channel.
     pub encoder: EncoderParams,
+    /// Threads that simulate the records (default [`Par::Current`], the caller's pool).
+    /// Not part of any file (`serde(skip)`): the records do not depend on it.
+    #[serde(skip)]
+    pub par: Par,
 }
 
 impl Default for SimConfig {
@@ -253,6 +258,7 @@ impl Default for SimConfig {
             accel: AccelParams::default(),
             probe: ProbeParams::default(),
             encoder: EncoderParams::default(),
+            par: Par::Current,
         }
     }
 }

@@ -54,6 +54,7 @@ pub use config::{
     SimConfig, ToolParams,
 };
 pub use error::SimError;
+pub use hxai_table::Par;
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -125,21 +126,23 @@ pub fn simulate(cfg: &SimConfig) -> Result<Vec<SimRecord>, SimError> {
     simulate_with_progress(cfg, &|| {})
 }
 
-/// Simulates every record, in parallel, calling `progress` once per finished record (from
+/// Simulates every record, in parallel on the threads `cfg.par` chooses, calling `progress` once per finished record (from
 /// any thread). The result depends on the configuration only, never on the thread count.
 pub fn simulate_with_progress(
     cfg: &SimConfig,
     progress: &(dyn Fn() + Sync),
 ) -> Result<Vec<SimRecord>, SimError> {
     cfg.check()?;
-    record_plan(cfg)
-        .into_par_iter()
-        .map(|spec| {
-            let rec = simulate_one(cfg, &spec);
-            progress();
-            rec
-        })
-        .collect()
+    let plan = record_plan(cfg);
+    cfg.par.run(|| {
+        plan.into_par_iter()
+            .map(|spec| {
+                let rec = simulate_one(cfg, &spec);
+                progress();
+                rec
+            })
+            .collect()
+    })
 }
 
 /// Simulates a single record of the plan (validates the configuration first).

@@ -32,7 +32,8 @@
 //! evaluator already filled, and constants converge in a handful of iterations instead of
 //! the many epochs of gradient descent QLattice needs.
 //!
-//! Determinism: candidates are fitted in parallel with rayon, each with its own generator
+//! Determinism: candidates are fitted in parallel with rayon (on the threads
+//! [`SearchConfig::par`] chooses, by default the caller's pool), each with its own generator
 //! seeded from `(seed, round, index)`, and results are collected in proposal order, so the
 //! outcome is bit-identical for any thread count.
 //!
@@ -66,7 +67,7 @@ pub mod uncertainty;
 pub mod vmath;
 
 pub use error::SrError;
-pub use hxai_table::{Table, TableError, TableView};
+pub use hxai_table::{Par, Table, TableError, TableView};
 pub use model::Model;
 pub use ops::Op;
 pub use program::{ComplexityMeasure, Node, Program};

@@ -11,12 +11,12 @@
 //! `c*x1*x2 + c` and `c + c*x2*x1` are one structure. Structures that differ only in
 //! algebra beyond that (`x*(y + z)` against `x*y + x*z`) count as different.
 //!
-//! Runs are searched in parallel and collected in run order; each search is itself
+//! Runs are searched in parallel (on the threads `cfg.par` chooses) and collected in run order; each search is itself
 //! independent of the thread count, so the result depends only on the seed and the data.
 use crate::expr::Expr;
 use crate::ops::Op;
 use crate::search::SearchConfig;
-use crate::{Model, SrError, Table, search};
+use crate::{Model, Par, SrError, Table, search};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -133,43 +133,47 @@ pub fn stability(
     }
     let n = data.n_rows();
     let done = Mutex::new((0usize, progress));
-    let results: Vec<Result<(Model, Option<f64>), SrError>> = (0..runs)
-        .into_par_iter()
-        .map(|r| {
-            let mut rng =
-                ChaCha8Rng::seed_from_u64(cfg.seed ^ (r as u64 + 1).wrapping_mul(RUN_MIX));
-            let rows: Vec<usize> = (0..n).map(|_| rng.gen_range(0..n)).collect();
-            let mut drawn = vec![false; n];
-            for &i in &rows {
-                drawn[i] = true;
-            }
-            let oob: Vec<usize> = (0..n).filter(|&i| !drawn[i]).collect();
-            let train = data.select_rows(&rows)?;
-            let y: Vec<f64> = rows.iter().map(|&i| target[i]).collect();
-            let run_cfg = SearchConfig {
-                seed: cfg.seed.wrapping_add(r as u64 + 1),
-                ..cfg.clone()
-            };
-            let res = search(&train, &y, &run_cfg, &mut |_| {})?;
-            let r2 = if oob.len() >= 2 {
-                let test = data.select_rows(&oob)?;
-                let yt: Vec<f64> = oob.iter().map(|&i| target[i]).collect();
-                res.best
-                    .predict(&test)
-                    .ok()
-                    .and_then(|p| hxai_eval::r2(&yt, &p).ok())
-                    .filter(|v| v.is_finite())
-            } else {
-                None
-            };
-            if let Ok(mut g) = done.lock() {
-                g.0 += 1;
-                let k = g.0;
-                (g.1)(k, runs);
-            }
-            Ok((res.best, r2))
-        })
-        .collect();
+    // the runs share `cfg.par`'s pool; each search inside runs on it (`Par::Current`)
+    let results: Vec<Result<(Model, Option<f64>), SrError>> = cfg.par.run(|| {
+        (0..runs)
+            .into_par_iter()
+            .map(|r| {
+                let mut rng =
+                    ChaCha8Rng::seed_from_u64(cfg.seed ^ (r as u64 + 1).wrapping_mul(RUN_MIX));
+                let rows: Vec<usize> = (0..n).map(|_| rng.gen_range(0..n)).collect();
+                let mut drawn = vec![false; n];
+                for &i in &rows {
+                    drawn[i] = true;
+                }
+                let oob: Vec<usize> = (0..n).filter(|&i| !drawn[i]).collect();
+                let train = data.select_rows(&rows)?;
+                let y: Vec<f64> = rows.iter().map(|&i| target[i]).collect();
+                let run_cfg = SearchConfig {
+                    seed: cfg.seed.wrapping_add(r as u64 + 1),
+                    par: Par::Current,
+                    ..cfg.clone()
+                };
+                let res = search(&train, &y, &run_cfg, &mut |_| {})?;
+                let r2 = if oob.len() >= 2 {
+                    let test = data.select_rows(&oob)?;
+                    let yt: Vec<f64> = oob.iter().map(|&i| target[i]).collect();
+                    res.best
+                        .predict(&test)
+                        .ok()
+                        .and_then(|p| hxai_eval::r2(&yt, &p).ok())
+                        .filter(|v| v.is_finite())
+                } else {
+                    None
+                };
+                if let Ok(mut g) = done.lock() {
+                    g.0 += 1;
+                    let k = g.0;
+                    (g.1)(k, runs);
+                }
+                Ok((res.best, r2))
+            })
+            .collect()
+    });
     // counted in whole runs and divided once, so a feature in every run has share 1 exactly
     // (adding 1/runs twenty times gives 1.0000000000000002)
     let mut used: BTreeMap<String, usize> = data.names().iter().map(|n| (n.clone(), 0)).collect();

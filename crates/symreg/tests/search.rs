@@ -1,7 +1,8 @@
 //! Recovery, determinism, the paper's eq. 12-13, and bad input.
 #![allow(clippy::unwrap_used)]
 use hxai_symreg::{
-    Op, SearchConfig, SearchResult, SrError, Table, TableError, fit_structure, search,
+    Criterion, Op, Par, SearchConfig, SearchResult, SrError, Table, TableError, fit_structure,
+    search,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -106,6 +107,32 @@ fn identical_for_1_2_4_threads() {
     }
     assert_eq!(outs[0], outs[1]);
     assert_eq!(outs[0], outs[2]);
+}
+
+/// Invariant: the thread count chosen per call (`SearchConfig::par`) changes nothing: the
+/// same search with `Par` of 1 and of 2 threads gives bit-identical models (the best and
+/// the whole Pareto front, constants compared by their bits through the JSON form), with
+/// BIC and with cross-validation (whose fold refits also run in the pool).
+#[test]
+fn identical_for_par_of_1_and_2_threads() {
+    for criterion in [Criterion::Bic, Criterion::CrossValidation] {
+        let outs: Vec<(String, Vec<String>)> = [1, 2]
+            .into_iter()
+            .map(|threads| {
+                let cfg = SearchConfig {
+                    epochs: 2,
+                    candidates_per_epoch: 200,
+                    criterion,
+                    par: Par::threads(threads),
+                    ..SearchConfig::default()
+                };
+                let (res, _) = run_law(|x| x[0] * x[0] + (x[1]).cos(), 2, &cfg);
+                let front = res.pareto.iter().map(|m| m.to_json()).collect();
+                (res.best.to_json(), front)
+            })
+            .collect();
+        assert_eq!(outs[0], outs[1], "{criterion:?}");
+    }
 }
 
 fn eq12_data(n: usize, seed: u64) -> (Table, Vec<f64>) {

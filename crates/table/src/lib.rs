@@ -26,6 +26,9 @@
 //! and hands out column slices without copying; [`Table::select_rows`] copies an arbitrary
 //! set of rows (a shuffled split).
 //!
+//! [`Par`] also lives here: the thread count a caller gives a parallel call of `symreg`,
+//! `baselines` or `sim`, which all depend on this crate and on no common other.
+//!
 //! # Example
 //! ```
 //! use hxai_table::Table;
@@ -43,6 +46,9 @@
 //! ```
 #![deny(missing_docs)]
 
+mod par;
+
+pub use par::{Par, Pool};
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 

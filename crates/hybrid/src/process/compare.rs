@@ -6,7 +6,7 @@ use super::{
     search_training_rows,
 };
 use crate::HybridError;
-use hxai_baselines::{RandomForest, Regressor};
+use hxai_baselines::{Par, RandomForest, Regressor};
 use hxai_eval::{Metrics, Split, TTest};
 use hxai_symreg::Table;
 use serde::{Deserialize, Serialize};
@@ -91,11 +91,13 @@ fn forest_delta(
     split: &Split,
     delta: &[f64],
     seed: u64,
+    par: Par,
 ) -> Result<Vec<f64>, HybridError> {
     columns_of(table, features, "feature")?;
     let x = table.select_columns(features)?;
     let pick = |rows: &[usize]| -> Result<Table, HybridError> { Ok(x.select_rows(rows)?) };
     let mut forest = RandomForest::with_seed(seed);
+    forest.par = par;
     forest.fit(&pick(&split.train)?, delta)?;
     Ok(forest.predict(&pick(&split.test)?)?)
 }
@@ -145,7 +147,14 @@ fn predictions_on(
     preds.push(sym.best.predict(&test_table)?);
 
     let delta = deltas(cfg.correction, y, &physics, &split.train)?;
-    let d = forest_delta(table, &res.features, split, &delta, cfg.seed)?;
+    let d = forest_delta(
+        table,
+        &res.features,
+        split,
+        &delta,
+        cfg.seed,
+        cfg.search.par,
+    )?;
     names.push("physics_forest");
     preds.push(
         split

@@ -1,8 +1,8 @@
 //! Search settings: which strategy, which selection criterion, and every knob with its
 //! default and its check.
-use crate::SrError;
 use crate::ops::{Op, OpCosts, parse_operators};
 use crate::program::ComplexityMeasure;
+use crate::{Par, SrError};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -143,6 +143,11 @@ pub struct SearchConfig {
     /// Relative loss increase allowed when a constant is rounded to 1-3 significant digits
     /// (snaps to exact values such as 0, 1 or 1/2 are judged by the criterion instead).
     pub snap_tolerance: f64,
+    /// Threads of the search (and of [`crate::stability()`]'s runs): [`Par::Current`] by
+    /// default, the caller's pool. Not part of any file (`serde(skip)`): the result never
+    /// depends on it.
+    #[serde(skip)]
+    pub par: Par,
 }
 
 impl Default for SearchConfig {
@@ -167,6 +172,7 @@ impl Default for SearchConfig {
             lm_iterations: 25,
             snap_constants: true,
             snap_tolerance: 1e-3,
+            par: Par::Current,
         }
     }
 }

@@ -9,6 +9,7 @@ use super::selection::{SearchResult, finish};
 use super::strategy::{self, ROUNDS_PER_EPOCH, Step};
 use crate::program::Program;
 use crate::{SrError, Table};
+use hxai_table::Pool;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -35,7 +36,8 @@ pub struct Progress {
 
 /// Runs symbolic regression of `target` on the columns of `data`.
 ///
-/// Candidates are fitted in parallel on the current rayon thread pool; every random choice
+/// Candidates are fitted in parallel on the threads `cfg.par` chooses (by default the
+/// caller's rayon pool); every random choice
 /// comes from generators seeded by `(cfg.seed, round of the run, candidate index)` and results are
 /// collected in proposal order, so the result is bit-identical for any number of threads
 /// (unless `time_limit_s` stops the run).
@@ -60,6 +62,7 @@ pub fn search(
     let tables = Tables::for_search(ops, in_w, cfg, problem.op_costs.clone());
     let mut strategy = strategy::build(cfg.strategy, cfg.candidates_per_epoch, &tables);
     let mut state = LoopState::default();
+    let pool = cfg.par.pool();
     'epochs: for epoch in 0..cfg.epochs {
         for round in 0..ROUNDS_PER_EPOCH {
             let step = Step {
@@ -73,6 +76,7 @@ pub fn search(
                 &cands,
                 (epoch * ROUNDS_PER_EPOCH + round) as u64,
                 t0,
+                &pool,
             );
             for f in &fitted {
                 state.archive.offer(f);
@@ -95,7 +99,7 @@ pub fn search(
             best_loss: state.archive.best_loss(),
         });
     }
-    finish(&problem, data, &state.archive, state.evaluations, t0)
+    finish(&problem, data, &state.archive, state.evaluations, t0, &pool)
 }
 
 /// Whether the run has used up its `time_limit_s`.
@@ -139,6 +143,7 @@ impl LoopState {
         cands: &[Candidate],
         step: u64,
         t0: Instant,
+        pool: &Pool,
     ) -> (Vec<Fitted>, bool) {
         let cfg = problem.cfg;
         let mut fitted: Vec<Option<Fitted>> = vec![None; cands.len()];
@@ -159,10 +164,12 @@ impl LoopState {
                 timed_out = true;
                 break;
             }
-            let res: Vec<Fitted> = chunk
-                .par_iter()
-                .map(|&i| problem.fit(&cands[i], derive_seed(cfg.seed, step, i as u64)))
-                .collect();
+            let res: Vec<Fitted> = pool.install(|| {
+                chunk
+                    .par_iter()
+                    .map(|&i| problem.fit(&cands[i], derive_seed(cfg.seed, step, i as u64)))
+                    .collect()
+            });
             for (&i, f) in chunk.iter().zip(res) {
                 self.evaluations += 1;
                 self.cache.insert(f.program.clone(), f.clone());

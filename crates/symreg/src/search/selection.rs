@@ -9,6 +9,7 @@ use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::model::{Model, prune_snapped, snap_params};
 use crate::{SrError, Table};
+use hxai_table::Pool;
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
@@ -61,22 +62,25 @@ pub struct SearchResult {
 }
 
 /// Refits the archive's front and best model on all rows, snaps their constants, and picks
-/// the reported models.
+/// the reported models; the refits run in `pool`.
 pub(crate) fn finish(
     problem: &Problem,
     data: &Table,
     archive: &Archive,
     evaluations: u64,
     t0: Instant,
+    pool: &Pool,
 ) -> Result<SearchResult, SrError> {
     let reported = reported_fits(archive);
     if reported.is_empty() {
         return Err(SrError::NoModel);
     }
-    let refined: Vec<Model> = reported
-        .par_iter()
-        .map(|f| refine(problem, f, data))
-        .collect();
+    let refined: Vec<Model> = pool.install(|| {
+        reported
+            .par_iter()
+            .map(|f| refine(problem, f, data))
+            .collect()
+    });
     let mut models: Vec<Model> = refined
         .into_iter()
         .filter(|m| m.train_mse.is_finite())
@@ -90,7 +94,7 @@ pub(crate) fn finish(
             .then(a.train_mse.total_cmp(&b.train_mse))
     });
     let cv_se = if problem.cfg.criterion == Criterion::CrossValidation {
-        cross_validate_scores(problem, &mut models, data)?
+        cross_validate_scores(problem, &mut models, data, pool)?
     } else {
         Vec::new()
     };
@@ -229,6 +233,7 @@ fn cross_validate_scores(
     problem: &Problem,
     models: &mut [Model],
     data: &Table,
+    pool: &Pool,
 ) -> Result<Vec<f64>, SrError> {
     let cfg = problem.cfg;
     let n = problem.y.len();
@@ -239,10 +244,12 @@ fn cross_validate_scores(
     for (pos, &row) in order.iter().enumerate() {
         fold_of[row] = pos * k / n;
     }
-    let scored: Vec<(f64, f64)> = models
-        .par_iter()
-        .map(|m| cv_loss(m, data, &problem.y, &fold_of, k))
-        .collect::<Result<_, _>>()?;
+    let scored: Vec<(f64, f64)> = pool.install(|| {
+        models
+            .par_iter()
+            .map(|m| cv_loss(m, data, &problem.y, &fold_of, k))
+            .collect::<Result<_, _>>()
+    })?;
     let mut ses = Vec::with_capacity(models.len());
     for (m, (mean, se)) in models.iter_mut().zip(scored) {
         m.score = mean;
@@ -366,10 +373,10 @@ fn pareto_score_pick(pareto: &[Model]) -> Option<Model> {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use crate::Op;
     use crate::program::{Node, Program};
     use crate::search::archive::Candidate;
     use crate::search::config::SearchConfig;
+    use crate::{Op, Par};
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -401,7 +408,15 @@ mod tests {
             };
             archive.offer(&problem.fit(&c, 1));
         }
-        let res = finish(&problem, &data, &archive, 2, Instant::now()).unwrap();
+        let res = finish(
+            &problem,
+            &data,
+            &archive,
+            2,
+            Instant::now(),
+            &Par::Current.pool(),
+        )
+        .unwrap();
         assert_eq!(res.best.complexity, 1, "{}", res.best.equation());
         assert_eq!(res.best.features(), vec!["x0".to_string()]);
     }

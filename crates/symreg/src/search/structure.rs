@@ -49,5 +49,5 @@ pub fn fit_structure(
     let f = problem.fit(&cand, cfg.seed);
     let mut archive = Archive::default();
     archive.offer(&f);
-    finish(&problem, data, &archive, 1, Instant::now()).map(|r| r.best)
+    finish(&problem, data, &archive, 1, Instant::now(), &cfg.par.pool()).map(|r| r.best)
 }
