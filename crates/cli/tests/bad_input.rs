@@ -455,22 +455,9 @@ fn bad_flags_are_refused_at_once() {
             "--interval must lie strictly between 0 and 1",
         );
     }
-    refused(
-        &[
-            "displacement",
-            "--record",
-            &rec,
-            "--frequency-hz",
-            "20",
-            "--out",
-            out,
-            "--low-hz",
-            "100",
-            "--high-hz",
-            "10",
-        ],
-        "--low-hz 100 must be below --high-hz 10",
-    );
+    let mut inverted = record_commands(&rec, &model, out)[1].clone();
+    inverted.extend(["--low-hz", "100", "--high-hz", "10"]);
+    refused(&inverted, "--low-hz 100 must be below --high-hz 10");
     refused(&["simulate", "--out", &good], "the folder is not empty");
     refused(&["simulate", "--out", &rec], "is a file, not a folder");
 }
