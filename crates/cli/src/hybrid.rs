@@ -178,26 +178,56 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
 pub(crate) struct Loaded {
     pub(crate) table: Table,
     group_cells: Option<hxai_data::Column>,
-    /// Text columns left out (other than the group column).
-    text: Vec<String>,
+    /// Text columns left out (other than the group column), with their cells.
+    text: Vec<(String, Vec<String>)>,
+    /// Warnings about the table, said once the command has succeeded.
+    warnings: Vec<String>,
 }
 
 impl Loaded {
     /// Refuses a text column where numbers are needed (the library would only see it as
-    /// missing).
-    fn check_numeric(&self, c: &Common) -> Result<()> {
-        let mut wanted: Vec<String> = vec![c.target.clone()];
-        wanted.extend(c.features.iter().flatten().cloned());
-        wanted.extend(c.extrapolate.iter().cloned());
+    /// missing): one named by the target, `--features`, `--extrapolate` or the physics, and
+    /// one that would be a default feature but is numbers with an empty cell (a gap in the
+    /// data, not a text column: the row is named). A real text column left out of the
+    /// default features gets a warning instead of silence.
+    fn check_numeric(&mut self, c: &Common) -> Result<()> {
+        let mut named: Vec<String> = vec![c.target.clone()];
+        named.extend(c.features.iter().flatten().cloned());
+        named.extend(c.extrapolate.iter().cloned());
         if let Ok(p) = hxai_symreg::infix::parse(&c.physics) {
-            wanted.extend(p.names().into_iter().map(str::to_string));
+            named.extend(p.names().into_iter().map(str::to_string));
         }
-        if let Some(n) = wanted.iter().find(|n| self.text.contains(n)) {
-            bail!(
-                "column `{n}` of {} holds text, not numbers: hxai hybrid needs numeric columns (text is allowed only in the --group column)",
-                c.data.display()
-            );
+        let default_feature = |n: &str| {
+            c.features.is_none()
+                && !c.exclude.iter().any(|e| e.trim() == n)
+                && c.group.as_deref() != Some(n)
+        };
+        let mut left_out = Vec::new();
+        for (n, cells) in &self.text {
+            if !named.contains(n) && !default_feature(n) {
+                continue;
+            }
+            let numbers_with_gaps = cells
+                .iter()
+                .all(|v| v.trim().is_empty() || v.trim().parse::<f64>().is_ok());
+            if numbers_with_gaps && let Some(row) = cells.iter().position(|v| v.trim().is_empty()) {
+                bail!(
+                    "{}: row {}, column `{n}`: the cell is empty; hxai hybrid needs a number in every row of a column it uses (fill it, remove the row, or --exclude {n})",
+                    c.data.display(),
+                    row + 1
+                );
+            }
+            if named.contains(n) {
+                bail!(
+                    "column `{n}` of {} holds text, not numbers: hxai hybrid needs numeric columns (text is allowed only in the --group column)",
+                    c.data.display()
+                );
+            }
+            left_out.push(format!(
+                "column `{n}` holds text and is left out of the correction's features (--exclude {n} to say so)"
+            ));
         }
+        self.warnings.extend(left_out);
         Ok(())
     }
 }
@@ -233,7 +263,7 @@ pub(crate) fn read(path: &Path, group: Option<&str>) -> Result<Loaded> {
                 names.push(n.clone());
                 columns.push(codes);
             }
-            hxai_data::Column::Text(_) => text.push(n.clone()),
+            hxai_data::Column::Text(cells) => text.push((n.clone(), cells.clone())),
         }
     }
     let table = Table::new(names, columns)
@@ -242,6 +272,7 @@ pub(crate) fn read(path: &Path, group: Option<&str>) -> Result<Loaded> {
         table,
         group_cells,
         text,
+        warnings: Vec::new(),
     })
 }
 
@@ -291,9 +322,13 @@ fn config(c: &Common) -> Result<ProcessConfig> {
 /// What `fit` and `compare` start from: the configuration, the table (checked for text
 /// where numbers are needed) and the progress bar of the search.
 fn prepare(c: &Common) -> Result<(ProcessConfig, Loaded, ProgressBar)> {
-    let cfg = config(c)?;
-    let loaded = read(&c.data, cfg.group.as_deref())?;
+    let mut cfg = config(c)?;
+    let mut loaded = read(&c.data, cfg.group.as_deref())?;
     loaded.check_numeric(c)?;
+    // A text column is never a feature: excluding it is allowed and needs no word to the
+    // library, which sees the numeric columns only.
+    cfg.exclude
+        .retain(|e| !loaded.text.iter().any(|(n, _)| n == e));
     let b = bar(c.json, cfg.search.epochs);
     Ok((cfg, loaded, b))
 }
@@ -393,6 +428,7 @@ fn fit(a: FitArgs) -> Result<()> {
     let (cfg, loaded, b) = prepare(&a.common)?;
     let mut model = fit_process(&loaded.table, &cfg, &mut on_progress(&b))?;
     b.finish_and_clear();
+    crate::safety::warn(&loaded.warnings);
     if let Some(runs) = a.stability {
         let sb = if a.common.json {
             ProgressBar::hidden()
@@ -551,6 +587,7 @@ fn compare(a: CompareArgs) -> Result<()> {
     let (cfg, loaded, b) = prepare(&a.common)?;
     let c = compare_process(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
     b.finish_and_clear();
+    crate::safety::warn(&loaded.warnings);
     if a.common.json {
         println!("{}", serde_json::to_string_pretty(&c)?);
     } else {

@@ -454,3 +454,46 @@ fn models_of_the_other_kind_are_named() -> TestResult {
     std::fs::remove_dir_all(&dir)?;
     Ok(())
 }
+
+/// An empty cell in a numeric column that would be a feature is refused naming its row and
+/// column (before: the column was dropped from the features without a word); excluding the
+/// column lets the fit go on; a real text column left out of the default features is said
+/// on stderr.
+#[test]
+fn an_empty_cell_in_a_used_column_is_named() -> TestResult {
+    let (dir, csv) = scratch_table("gap", 60)?;
+    let text = std::fs::read_to_string(&csv)?;
+    // Empty the `v` cell of data row 5 (line 6 of the file).
+    let gapped: Vec<String> = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 5 {
+                let mut cells: Vec<&str> = l.split(',').collect();
+                cells[3] = "";
+                cells.join(",")
+            } else {
+                l.to_owned()
+            }
+        })
+        .collect();
+    std::fs::write(&csv, gapped.join("\n") + "\n")?;
+    let model = dir.join("m.json");
+    let o = hxai(&fit_args(s(&csv), s(&model)))?;
+    assert_eq!(o.status.code(), Some(1));
+    let err = common::stderr(&o);
+    assert!(
+        err.contains("row 5, column `v`: the cell is empty"),
+        "{err}"
+    );
+    let mut args = fit_args(s(&csv), s(&model));
+    args.extend(["--exclude", "v,batch"]);
+    let o = hxai(&args)?;
+    ok(&o, "fit without v");
+    assert!(!common::stderr(&o).contains("holds text"));
+    let o = hxai(&fit_args(s(&scratch_table("gap-text", 60)?.1), s(&model)))?;
+    ok(&o, "fit with a text column");
+    assert!(common::stderr(&o).contains("column `batch` holds text"));
+    std::fs::remove_dir_all(&dir)?;
+    Ok(())
+}
