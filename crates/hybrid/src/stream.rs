@@ -337,7 +337,7 @@ impl Estimator {
         self.sine.push(a);
         match self.features.push(a) {
             Ok(None) => {}
-            Ok(Some(f)) => self.report = Some(self.correct(&f.to_vec())?),
+            Ok(Some(f)) => self.report = Some(self.correct(&f.to_array())?),
             Err(_) => {
                 // Undefined features (a constant window): no correction until the next report.
                 self.report = None;

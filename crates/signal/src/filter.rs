@@ -183,6 +183,26 @@ impl Sos {
         ext.drain(..edge);
         Ok(ext)
     }
+
+    /// The magnitude of the frequency response at `freq_hz` for sampling rate `fs`:
+    /// `|H(e^{j 2 pi f / fs})|`, the product of the sections' magnitudes (what
+    /// `abs(scipy.signal.sosfreqz(sos, [f], fs=fs)[1])` returns). `filtfilt` applies the
+    /// filter twice, so its gain is the square of this.
+    pub fn gain(&self, freq_hz: f64, fs: f64) -> f64 {
+        let w = 2.0 * std::f64::consts::PI * freq_hz / fs;
+        // z^-1 = cos w - j sin w; |b0 + b1 z^-1 + b2 z^-2| / |a0 + a1 z^-1 + a2 z^-2|.
+        let (s1, c1) = w.sin_cos();
+        let (s2, c2) = (2.0 * w).sin_cos();
+        let poly = |p0: f64, p1: f64, p2: f64| {
+            let re = p0 + p1 * c1 + p2 * c2;
+            let im = -(p1 * s1 + p2 * s2);
+            re.hypot(im)
+        };
+        self.sections
+            .iter()
+            .map(|s| poly(s[0], s[1], s[2]) / poly(s[3], s[4], s[5]))
+            .product()
+    }
 }
 
 /// Transposed direct form II over `N` sections, sample-major, state in local arrays.
@@ -206,26 +226,4 @@ fn kernel<const N: usize>(secs: &[[f64; 6]], y: &mut [f64], state: &mut [[f64; 2
         *v = x;
     }
     state[..m].copy_from_slice(&z[..m]);
-}
-
-impl Sos {
-    /// The magnitude of the frequency response at `freq_hz` for sampling rate `fs`:
-    /// `|H(e^{j 2 pi f / fs})|`, the product of the sections' magnitudes (what
-    /// `abs(scipy.signal.sosfreqz(sos, [f], fs=fs)[1])` returns). `filtfilt` applies the
-    /// filter twice, so its gain is the square of this.
-    pub fn gain(&self, freq_hz: f64, fs: f64) -> f64 {
-        let w = 2.0 * std::f64::consts::PI * freq_hz / fs;
-        // z^-1 = cos w - j sin w; |b0 + b1 z^-1 + b2 z^-2| / |a0 + a1 z^-1 + a2 z^-2|.
-        let (s1, c1) = w.sin_cos();
-        let (s2, c2) = (2.0 * w).sin_cos();
-        let poly = |p0: f64, p1: f64, p2: f64| {
-            let re = p0 + p1 * c1 + p2 * c2;
-            let im = -(p1 * s1 + p2 * s2);
-            re.hypot(im)
-        };
-        self.sections
-            .iter()
-            .map(|s| poly(s[0], s[1], s[2]) / poly(s[3], s[4], s[5]))
-            .product()
-    }
 }
