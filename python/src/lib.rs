@@ -199,6 +199,7 @@ fn sr_fit(
     let doc = json!({
         "best": best,
         "pareto": res.pareto.iter().map(model_summary).collect::<Vec<_>>(),
+        "selection": hxai_symreg::SelectionReport::of(&res, &cfg),
         "evaluations": res.evaluations,
         "seconds": res.seconds,
     });

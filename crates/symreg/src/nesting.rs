@@ -53,10 +53,26 @@ pub const MAX_NESTING: usize = 60;
 
 /// Nesting constraints by operator name: outer -> inner -> most occurrences of inner on any
 /// path below outer (see the module docs). Serialised as that map (JSON
-/// `{"exp": {"exp": 0, "log": 1}}`); the empty map constrains nothing.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+/// `{"exp": {"exp": 0, "log": 1}}`); the empty map constrains nothing. Read from the map or
+/// from the text form (`"readable"`, `"none"`, `"readable,exp:log=0"`).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(transparent)]
 pub struct Nesting(pub BTreeMap<String, BTreeMap<String, usize>>);
+
+impl<'de> Deserialize<'de> for Nesting {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Form {
+            Text(String),
+            Map(BTreeMap<String, BTreeMap<String, usize>>),
+        }
+        match Form::deserialize(d)? {
+            Form::Text(t) => Nesting::parse(&t).map_err(serde::de::Error::custom),
+            Form::Map(m) => Ok(Nesting(m)),
+        }
+    }
+}
 
 impl Nesting {
     /// No constraint.
@@ -291,5 +307,7 @@ mod tests {
         let text = serde_json::to_string(&n).unwrap();
         assert!(text.starts_with("{\"cos\":{"), "{text}");
         assert_eq!(serde_json::from_str::<Nesting>(&text).unwrap(), n);
+        assert_eq!(serde_json::from_str::<Nesting>("\"readable\"").unwrap(), n);
+        assert!(serde_json::from_str::<Nesting>("\"exp:exp\"").is_err());
     }
 }
