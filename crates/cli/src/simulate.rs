@@ -27,8 +27,8 @@ pub enum CaseArg {
     /// Main cutting force: Kienzle's law plus rake-angle, speed and wear factors and scatter.
     #[value(name = "cutting_force")]
     CuttingForce,
-    /// Tool life in turning: Taylor's law (C/vc)^(1/n) times the feed's power law
-    /// (f/0.25)^-2.4, and scatter.
+    /// Tool life in turning: Taylor's law (C/vc)^(1/n) times the feed's power law of the
+    /// extended Taylor law, and scatter.
     #[value(name = "tool_life")]
     ToolLife,
 }
