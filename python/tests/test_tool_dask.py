@@ -50,7 +50,7 @@ def test_simulate_cases_and_bad_settings():
     assert "Fc_N" in hxai.simulate("cutting_force", n_rows=20).columns
     # tool_life (docs/cases.md section 3): with no scatter, measured over Taylor's law is
     # the documented feed power law.
-    d = hxai.defaults("tool_life")
+    d = hxai.sim.defaults("tool_life")
     t = hxai.simulate("tool_life", n_rows=30, noise_rel=0.0)
     taylor = (d["taylor_c_m_min"] / t["cutting_speed_m_min"]) ** (1.0 / d["taylor_n"])
     np.testing.assert_allclose(
