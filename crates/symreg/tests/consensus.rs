@@ -12,9 +12,14 @@ fn data() -> (Table, Vec<f64>) {
     let y: Vec<f64> = x1
         .iter()
         .enumerate()
-        .map(|(i, v)| (2.0 + 3.0 * (-0.5 * v).exp()) * (1.0 + 0.01 * (((i * 7919) % 13) as f64 - 6.0) / 6.0))
+        .map(|(i, v)| {
+            (2.0 + 3.0 * (-0.5 * v).exp()) * (1.0 + 0.01 * (((i * 7919) % 13) as f64 - 6.0) / 6.0)
+        })
         .collect();
-    let t = Table::new(vec!["x1".into(), "x2".into(), "x3".into()], vec![x1, x2, x3]);
+    let t = Table::new(
+        vec!["x1".into(), "x2".into(), "x3".into()],
+        vec![x1, x2, x3],
+    );
     (t.expect("table"), y)
 }
 
@@ -47,7 +52,12 @@ fn consensus_picks_a_stable_structure_whatever_the_threads() {
     assert_eq!(c.runs, 5);
     assert!(c.share >= STABLE_SHARE, "{c:?}");
     assert_eq!(c.nominated[0].template, c.structure);
-    assert_eq!(one.best.features(), vec!["x1".to_string()], "{}", one.best.equation());
+    assert_eq!(
+        one.best.features(),
+        vec!["x1".to_string()],
+        "{}",
+        one.best.equation()
+    );
     let report = SelectionReport::of(&one, &cfg());
     assert_eq!(report.method, "consensus");
     assert_eq!(report.share, Some(c.share));
@@ -68,7 +78,12 @@ fn one_search_reports_its_criterion_and_no_share() {
     let report = SelectionReport::of(&res, &cfg);
     assert_eq!(report.method, "bic");
     assert_eq!(report.share, None);
-    assert!(report.alternatives.iter().all(|a| a.structure != report.structure));
+    assert!(
+        report
+            .alternatives
+            .iter()
+            .all(|a| a.structure != report.structure)
+    );
     let too_many = SearchConfig {
         consensus_runs: 100_000,
         ..cfg
