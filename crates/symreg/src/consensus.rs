@@ -25,16 +25,11 @@
 //! however well it fits that draw; the price is accuracy where the true correction is more
 //! complex than anything the resamples agree on. It costs B + 1 searches.
 use crate::search::{SearchConfig, SearchResult, fit_structure_from, plain_search};
-use crate::stability::{StructureShare, structure_of};
+use crate::stability::{StructureShare, bootstrap_rows, structure_of};
 use crate::{Model, Progress, SrError, Table};
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::time::Instant;
-
-/// Mixing constant of the resample seeds (SplitMix64's increment), as in [`crate::stability()`].
-const RUN_MIX: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// Most structures a [`Consensus`] report lists besides the winner.
 pub const MAX_LISTED: usize = 5;
@@ -59,18 +54,6 @@ pub struct Consensus {
     pub nominated: Vec<StructureShare>,
 }
 
-/// The rows of bootstrap run `r` of `n` rows under `seed`, and the rows it left out.
-pub(crate) fn bootstrap_rows(seed: u64, r: usize, n: usize) -> (Vec<usize>, Vec<usize>) {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (r as u64 + 1).wrapping_mul(RUN_MIX));
-    let rows: Vec<usize> = (0..n).map(|_| rng.gen_range(0..n)).collect();
-    let mut drawn = vec![false; n];
-    for &i in &rows {
-        drawn[i] = true;
-    }
-    let oob = (0..n).filter(|&i| !drawn[i]).collect();
-    (rows, oob)
-}
-
 /// A nominated structure: in how many runs, and the first nomination's model.
 struct Nominee {
     runs: usize,
@@ -87,11 +70,6 @@ pub(crate) fn search(
 ) -> Result<SearchResult, SrError> {
     let t0 = Instant::now();
     let runs = cfg.consensus_runs;
-    if runs > MAX_CONSENSUS_RUNS {
-        return Err(SrError::InvalidConfig(format!(
-            "consensus_runs is {runs}: choose at most {MAX_CONSENSUS_RUNS}"
-        )));
-    }
     let one = SearchConfig {
         consensus_runs: 0,
         ..cfg.clone()
@@ -142,15 +120,13 @@ pub(crate) fn search(
             .then(a.0.cmp(&b.0))
     });
     let share = |k: usize| k as f64 / runs as f64;
-    let all_rows_fits: Vec<&Model> = std::iter::once(&full.best)
+    let all_rows_fits: Vec<(String, &Model)> = std::iter::once(&full.best)
         .chain(&full.alternatives)
         .chain(&full.pareto)
+        .map(|m| (structure_of(m), m))
         .collect();
-    let refit = |key: &str, nominee: &Nominee| match all_rows_fits
-        .iter()
-        .find(|m| structure_of(m) == key)
-    {
-        Some(m) => Ok((*m).clone()),
+    let refit = |key: &str, nominee: &Nominee| match all_rows_fits.iter().find(|(k, _)| k == key) {
+        Some((_, m)) => Ok((*m).clone()),
         None => fit_structure_from(data, target, &nominee.model, &one),
     };
     let stable: Vec<&(String, Nominee)> = ranked
@@ -203,11 +179,12 @@ pub(crate) fn search(
         .collect(),
     };
     // what the data cannot tell apart from the winner: the all-rows band, winner excluded
+    let mut seen = vec![key.clone()];
     let mut alternatives: Vec<Model> = Vec::new();
-    for m in std::iter::once(&full.best).chain(&full.alternatives) {
-        let k = structure_of(m);
-        if k != *key && !alternatives.iter().any(|a| structure_of(a) == k) {
-            alternatives.push(m.clone());
+    for (k, m) in all_rows_fits.iter().take(1 + full.alternatives.len()) {
+        if !seen.contains(k) {
+            seen.push(k.clone());
+            alternatives.push((*m).clone());
         }
     }
     Ok(SearchResult {

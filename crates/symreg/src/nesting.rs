@@ -33,17 +33,6 @@ use crate::program::{Node, Program};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-/// The transcendental operators of the search, those [`Nesting::readable()`] keeps apart.
-pub const TRANSCENDENTAL: [Op; 7] = [
-    Op::Exp,
-    Op::Log,
-    Op::Sin,
-    Op::Cos,
-    Op::Tanh,
-    Op::Gaussian,
-    Op::Gaussian2,
-];
-
 /// Number of operators ([`Op`] has 17 variants).
 const N_OPS: usize = 17;
 
@@ -83,10 +72,13 @@ impl Nesting {
     /// No transcendental inside a transcendental, except one `log` inside `exp` (a power
     /// law); see the module docs.
     pub fn readable() -> Self {
+        // the search's operators that are transcendental ([`Op::ALL`] leaves out the users'
+        // `pow` and `tan`)
+        let transcendental = || Op::ALL.into_iter().filter(|op| op.is_transcendental());
         let mut rules: BTreeMap<String, BTreeMap<String, usize>> = BTreeMap::new();
-        for outer in TRANSCENDENTAL {
+        for outer in transcendental() {
             let inner = rules.entry(outer.name().to_string()).or_default();
-            for op in TRANSCENDENTAL {
+            for op in transcendental() {
                 let max = usize::from(outer == Op::Exp && op == Op::Log);
                 inner.insert(op.name().to_string(), max);
             }

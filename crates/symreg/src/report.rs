@@ -2,7 +2,6 @@
 //! ignored, [`crate::stability::structure_of`]), how it was selected, the share of
 //! resamples that gave it back when that was measured, and the alternatives the data cannot
 //! tell apart from it.
-use crate::Model;
 use crate::search::{Criterion, SearchConfig, SearchResult};
 use crate::stability::{Stability, structure_of};
 use serde::{Deserialize, Serialize};
@@ -110,9 +109,4 @@ pub fn criterion_name(c: Criterion) -> &'static str {
         Criterion::ParetoScore => "pareto",
         Criterion::CrossValidation => "cv",
     }
-}
-
-/// The structure of `model`, for callers that only hold the model.
-pub fn structure(model: &Model) -> String {
-    structure_of(model)
 }

@@ -61,6 +61,20 @@ pub struct Stability {
     pub r2: Option<R2Spread>,
 }
 
+/// The rows of bootstrap run `r` of `n` rows under `seed` (drawn with replacement from the
+/// run's own generator), and the rows it left out (out-of-bag). [`crate::consensus`] draws
+/// its resamples here too, so its run `r` and this module's see the same rows.
+pub(crate) fn bootstrap_rows(seed: u64, r: usize, n: usize) -> (Vec<usize>, Vec<usize>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (r as u64 + 1).wrapping_mul(RUN_MIX));
+    let rows: Vec<usize> = (0..n).map(|_| rng.gen_range(0..n)).collect();
+    let mut drawn = vec![false; n];
+    for &i in &rows {
+        drawn[i] = true;
+    }
+    let oob = (0..n).filter(|&i| !drawn[i]).collect();
+    (rows, oob)
+}
+
 /// The structure of a model with its constants ignored (see the module docs).
 pub fn structure_of(model: &Model) -> String {
     let symbols: Vec<Option<String>> = vec![Some("c".to_string()); model.params.len()];
@@ -138,14 +152,7 @@ pub fn stability(
         (0..runs)
             .into_par_iter()
             .map(|r| {
-                let mut rng =
-                    ChaCha8Rng::seed_from_u64(cfg.seed ^ (r as u64 + 1).wrapping_mul(RUN_MIX));
-                let rows: Vec<usize> = (0..n).map(|_| rng.gen_range(0..n)).collect();
-                let mut drawn = vec![false; n];
-                for &i in &rows {
-                    drawn[i] = true;
-                }
-                let oob: Vec<usize> = (0..n).filter(|&i| !drawn[i]).collect();
+                let (rows, oob) = bootstrap_rows(cfg.seed, r, n);
                 let train = data.select_rows(&rows)?;
                 let y: Vec<f64> = rows.iter().map(|&i| target[i]).collect();
                 let run_cfg = SearchConfig {
