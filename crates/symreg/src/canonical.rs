@@ -68,7 +68,7 @@
 //! insertion.) So two equal expressions built in different orders read back the same form
 //! once both saturate. The form is then printed the usual way: `(-1)*a` is `-a`,
 //! `a*(1/b)` is `a/b`, `a + (-1)*b` is `a - b`; in a sum, negated terms come after the
-//! others and numbers last.
+//! others and numbers last, in a product numbers first.
 //!
 //! # The structure of a program
 //!
@@ -825,20 +825,25 @@ impl Pretty<'_> {
         acc.unwrap_or(Expr::Num(0.0))
     }
 
-    /// Factors of a product: a factor -1 is a sign, inverses are divisors.
+    /// Factors of a product: a factor -1 is a sign, numbers come first, inverses are
+    /// divisors.
     fn product(&self, t: &Term) -> Expr {
         let mut factors = Vec::new();
         Self::flatten(1, t, &mut factors);
         let mut negative = false;
+        let mut numbers: Vec<Expr> = Vec::new();
         let mut num: Vec<Expr> = Vec::new();
         let mut den: Vec<Expr> = Vec::new();
         for f in factors {
             match f {
                 Term::Num(v) if *v == -1.0 => negative = !negative,
+                Term::Num(_) | Term::Gen => numbers.push(self.expr(f)),
                 Term::Op(3, ch) if ch.len() == 1 => den.push(self.expr(&ch[0])),
                 other => num.push(self.expr(other)),
             }
         }
+        numbers.append(&mut num);
+        let num = numbers;
         let prod = |v: Vec<Expr>| {
             v.into_iter()
                 .reduce(|a, b| Expr::Bin(Op::Mul, Box::new(a), Box::new(b)))
