@@ -111,8 +111,9 @@
 //!   two equal expressions written differently may read back different forms, and a
 //!   structure may be counted twice. [`Canonical::saturated`] says whether it happened.
 //!   Measured on the random programs of `bench_programs` with complexity up to 10, with
-//!   affine inputs as in a search: 160 of 165 saturate under [`Effort::Full`] (median 450
-//!   us, 90th percentile 3 ms), 164 of 165 under [`Effort::Fast`] (median 70 us).
+//!   affine inputs as in a search: 160 of 165 saturate under [`Effort::Full`] (mean 0.92
+//!   ms per call, median about 0.4 ms), 164 of 165 under [`Effort::Fast`] (mean 73 us,
+//!   median about 55 us); `cargo bench -p hxai-symreg --bench canonical`.
 //! - The rules know nothing of trigonometric identities (`sin(x + pi/2)` is not
 //!   `cos(x)`; [`Expr::simplify`] handles that one in reports), of `exp(log(a)) = a` (it
 //!   holds for positive `a` only), of a sign pulled out of a sum inside an even or odd
@@ -131,7 +132,6 @@ use crate::ops::Op;
 use crate::program::{Node, Program};
 use egg::{Analysis, DidMerge, EGraph, Id, Language, Rewrite, Subst, define_language, rewrite};
 use std::cmp::Ordering;
-use std::collections::HashMap;
 use std::fmt;
 use std::str::FromStr;
 use std::sync::OnceLock;
@@ -318,8 +318,9 @@ pub enum Effort {
     /// Every rule but the four that multiply the forms of sums and products (a number over
     /// a sum and back, `(a*b)^2` for `a` not a number, `exp(a)*exp(b)`), up to 12
     /// iterations and 2,000 e-nodes: reordering, the shorthands, constant absorption in
-    /// sums, products, `exp`, `log`, `sqrt`, squares and inverses, at a fifth of the cost
-    /// (median 70 us against 450 us on programs of complexity up to 10 with affine inputs).
+    /// sums, products, `exp`, `log`, `sqrt`, squares and inverses, at a tenth of the cost
+    /// (mean 73 us against 0.92 ms per call on programs of complexity up to 10 with affine
+    /// inputs; docs/benchmarks.md).
     /// For use inside a search; it tells apart some structures `Full` identifies
     /// (`c*(x + c)` and `c*x + c`, `x - (y + z)` and `x - y - z`).
     Fast,
@@ -647,7 +648,12 @@ fn cost_cmp(a: &[Tok], b: &[Tok]) -> Ordering {
 /// The cheapest term of every class, as its prefix tokens (see the module docs), read from
 /// the class of `root`.
 fn extract(g: &Graph, root: Id, key: bool) -> Vec<Tok> {
-    let mut best: HashMap<Id, Vec<Tok>> = HashMap::new();
+    let slots = g
+        .classes()
+        .map(|c| usize::from(c.id) + 1)
+        .max()
+        .unwrap_or(0);
+    let mut best: Vec<Option<Vec<Tok>>> = vec![None; slots];
     let tok_of = |b: Bits| {
         let v = b.value();
         if key && !is_literal(v) {
@@ -656,39 +662,48 @@ fn extract(g: &Graph, root: Id, key: bool) -> Vec<Tok> {
             num_tok(v)
         }
     };
+    let mut cand: Vec<Tok> = Vec::new();
     loop {
         let mut changed = false;
         for class in g.classes() {
+            let slot = usize::from(class.id);
             for node in &class.nodes {
-                let cand = match node {
-                    Math::Num(b) => vec![tok_of(*b)],
-                    Math::Var(v) => vec![Tok::Var(v.0)],
+                cand.clear();
+                match node {
+                    Math::Num(b) => cand.push(tok_of(*b)),
+                    Math::Var(v) => cand.push(Tok::Var(v.0)),
                     _ => {
                         let ch = node.children();
-                        let Some(mut kids) = ch
-                            .iter()
-                            .map(|c| best.get(&g.find(*c)))
-                            .collect::<Option<Vec<_>>>()
-                        else {
+                        let mut kids: [&[Tok]; 2] = [&[], &[]];
+                        let mut known = true;
+                        for (k, c) in kids.iter_mut().zip(ch) {
+                            match &best[usize::from(g.find(*c))] {
+                                Some(t) => *k = t,
+                                None => known = false,
+                            }
+                        }
+                        if !known {
                             continue;
-                        };
+                        }
+                        let kids = &mut kids[..ch.len()];
+                        let len = 1 + kids.iter().map(|k| k.len()).sum::<usize>();
+                        if best[slot].as_ref().is_some_and(|cur| cur.len() < len) {
+                            continue;
+                        }
                         if matches!(node, Math::Add(_) | Math::Mul(_)) {
                             kids.sort_by(|a, b| cost_cmp(a, b));
                         }
-                        let mut t =
-                            Vec::with_capacity(1 + kids.iter().map(|k| k.len()).sum::<usize>());
-                        t.push(Tok::Op(tag(node).unwrap_or(0)));
-                        for k in kids {
-                            t.extend_from_slice(k);
+                        cand.push(Tok::Op(tag(node).unwrap_or(0)));
+                        for k in kids.iter() {
+                            cand.extend_from_slice(k);
                         }
-                        t
                     }
-                };
-                let better = best
-                    .get(&class.id)
+                }
+                let better = best[slot]
+                    .as_ref()
                     .is_none_or(|cur| cost_cmp(&cand, cur) == Ordering::Less);
                 if better {
-                    best.insert(class.id, cand);
+                    best[slot] = Some(cand.clone());
                     changed = true;
                 }
             }
@@ -697,7 +712,9 @@ fn extract(g: &Graph, root: Id, key: bool) -> Vec<Tok> {
             break;
         }
     }
-    best.remove(&g.find(root)).unwrap_or_default()
+    best.get_mut(usize::from(g.find(root)))
+        .and_then(Option::take)
+        .unwrap_or_default()
 }
 
 /// A term read back from tokens.
