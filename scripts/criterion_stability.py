@@ -26,7 +26,15 @@ TABLES = [
     ("roughness", "Ra_um", "1000*feed_mm^2/(32*nose_radius_mm) + Ra0", "Ra0", "Ra0=0"),
     ("cutting-force", "Fc_N", "kc*width_of_cut_mm*chip_thickness_mm^(1-mc)", "kc,mc",
      "kc=2220,mc=0.14"),
+    ("tool-life", "tool_life_min", "(C/cutting_speed_m_min)^(1/n)", "C,n", "C=500,n=0.25"),
 ]
+
+# `--criteria` values: a criterion of one search, or consensus selection over B resamples
+# (`consensus` = B of `--consensus-runs`, selecting by BIC among the stable structures).
+def selection_args(crit, b):
+    if crit == "consensus":
+        return ["--consensus", str(b)]
+    return ["--criterion", crit]
 
 
 def run(cmd):
@@ -37,7 +45,7 @@ def run(cmd):
     return p.stdout, time.time() - t
 
 
-def summary(case, criterion, model, stability, seconds):
+def summary(case, criterion, model, stability, seconds, correction=None, test=None):
     runs = stability["runs"]
     structures = stability["structures"]
     top = structures[0]["share"] if structures else float("nan")
@@ -46,8 +54,14 @@ def summary(case, criterion, model, stability, seconds):
     r2 = stability.get("r2") or {}
     r2_text = (f"{r2['mean']:.3f} ± {r2['sd']:.3f}"
                if r2.get("mean") is not None else "–")
-    return (f"| {case} | {criterion} | `{model}` | {len(structures)} of {runs} | {top:.2f} | "
-            f"{', '.join(common)} | {r2_text} | {seconds:.0f} |")
+    sel = (correction or {}).get("selection") or {}
+    own = sel.get("share")
+    own_text = f"{own:.2f}" if own is not None else "–"
+    cx = (correction or {}).get("complexity", "–")
+    test_text = f"{test:.4g}" if test is not None else "–"
+    return (f"| {case} | {criterion} | `{model}` | {cx} | {len(structures)} of {runs} | "
+            f"{top:.2f} | {own_text} | {', '.join(common)} | {r2_text} | {test_text} | "
+            f"{seconds:.0f} |")
 
 
 def main():
@@ -57,28 +71,34 @@ def main():
     ap.add_argument("--runs", type=int, default=20, help="bootstrap resamples per fit")
     ap.add_argument("--out", default="target/criterion-stability", help="work folder")
     ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--cases", default="tool,roughness,cutting-force")
+    ap.add_argument("--cases", default="tool,roughness,cutting-force,tool-life")
+    ap.add_argument("--criteria", default="bic,cv", help="bic, aic, pareto, cv, consensus")
+    ap.add_argument("--consensus-runs", type=int, default=10)
     a = ap.parse_args()
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     hx = [a.hxai]
     cases = a.cases.split(",")
-    print("| case | criterion | selected structure | distinct structures | share of the most "
-          "frequent | features in >= half the runs | out-of-bag R^2 | s |")
-    print("|---|---|---|---:|---:|---|---|---:|")
+    criteria = a.criteria.split(",")
+    print("| case | selection | selected structure | complexity | distinct structures | share of "
+          "the most frequent | share of the selected | features in >= half the runs | "
+          "out-of-bag R^2 | test: R^2 of delta (tool) or hybrid RMSE (tables) | s |")
+    print("|---|---|---|---:|---:|---:|---:|---|---|---:|---:|")
     if "tool" in cases:
         sim = out / "sim"
         if not (sim / "manifest.csv").exists():
             run(hx + ["simulate", "--out", str(sim), "--seed", "42"])
-        for crit in ["bic", "cv"]:
+        for crit in criteria:
             model = out / f"tool-{crit}.json"
             text, secs = run(hx + ["fit", "--data", str(sim), "--out", str(model), "--seed", "42",
-                                   "--criterion", crit, "--stability", str(a.runs), "--json",
-                                   "--threads", str(a.threads)])
+                                   "--stability", str(a.runs), "--json",
+                                   "--threads", str(a.threads)]
+                             + selection_args(crit, a.consensus_runs))
             j = json.loads(text)
             m = json.loads(model.read_text())
+            dt = (m["training"].get("delta_test") or {}).get("r2")
             print(summary("tool (paper)", crit, m["correction"]["equation"], j["stability"],
-                          secs), flush=True)
+                          secs, m["correction"], dt), flush=True)
     for name, target, physics, calibrate, init in TABLES:
         if name not in cases:
             continue
@@ -86,17 +106,19 @@ def main():
         if not table.exists():
             run(hx + ["simulate", "--case", name.replace("-", "_"), "--out", str(table),
                       "--seed", "42", "--rows", "400"])
-        for crit in ["bic", "cv"]:
+        for crit in criteria:
             model = out / f"{name}-{crit}.json"
             _, secs = run(hx + ["hybrid", "fit", "--data", str(table), "--target", target,
                                 "--physics", physics, "--calibrate", calibrate, "--init", init,
                                 "--correction", "multiplicative", "--exclude", "tool",
-                                "--max-complexity", "10", "--seed", "42", "--criterion", crit,
+                                "--max-complexity", "10", "--seed", "42",
                                 "--stability", str(a.runs), "--out", str(model),
-                                "--threads", str(a.threads)])
+                                "--threads", str(a.threads)]
+                          + selection_args(crit, a.consensus_runs))
             m = json.loads(model.read_text())
-            print(summary(name, crit, m["correction"]["equation"], m["stability"], secs),
-                  flush=True)
+            rmse = (m.get("scores") or {}).get("test", {}).get("hybrid", {}).get("rmse")
+            print(summary(name, crit, m["correction"]["equation"], m["stability"], secs,
+                          m["correction"], rmse), flush=True)
 
 
 if __name__ == "__main__":

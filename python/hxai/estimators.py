@@ -50,6 +50,8 @@ _SEARCH_KEYS = (
     "lm_iterations",
     "snap_constants",
     "snap_tolerance",
+    "nesting",
+    "consensus_runs",
 )
 
 _CRITERIA = {
@@ -96,6 +98,19 @@ def _search_json(est):
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
             raise ValueError(f"{k} must be a non-negative integer, got {v!r}")
         s[k] = int(v)
+    nest = s["nesting"]
+    if nest is None:
+        nest = "none"
+    if not isinstance(nest, (str, dict)):
+        raise ValueError(
+            f"nesting must be 'none', 'readable', rules like 'exp:exp=0' or a dict like "
+            f"{{'exp': {{'exp': 0}}}}, got {nest!r}"
+        )
+    s["nesting"] = nest
+    v = s["consensus_runs"]
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
+        raise ValueError(f"consensus_runs must be a non-negative integer, got {v!r}")
+    s["consensus_runs"] = int(v)
     if s["max_evaluations"] is not None:
         s["max_evaluations"] = int(s["max_evaluations"])
     for k in ("complexity_penalty", "snap_tolerance"):
@@ -203,6 +218,8 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         lm_iterations=25,
         snap_constants=True,
         snap_tolerance=1e-3,
+        nesting="none",
+        consensus_runs=0,
         n_jobs=None,
     ):
         self._set_search(locals())
@@ -233,6 +250,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.template_ = best["template"]
         self.params_ = _params_frame(best["params"])
         self.evaluations_ = doc["evaluations"]
+        self.selection_ = doc["selection"]
         return self
 
     def predict(self, X):
@@ -296,6 +314,8 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         lm_iterations=25,
         snap_constants=True,
         snap_tolerance=1e-3,
+        nesting="readable",
+        consensus_runs=0,
         n_jobs=None,
     ):
         self.physics = physics
@@ -367,6 +387,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.latex_ = corr["latex"]
         self.complexity_ = corr["complexity"]
         self.features_ = list(corr["features"])
+        self.selection_ = corr.get("selection")
         return self
 
     def _parts(self, X):

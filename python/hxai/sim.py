@@ -8,7 +8,7 @@ import pandas as pd
 from . import _hxai
 from ._arrays import from_bytes
 
-CASES = ("tool", "roughness", "cutting_force")
+CASES = ("tool", "roughness", "cutting_force", "tool_life")
 
 
 def _jsonable(v):
@@ -34,8 +34,9 @@ def simulate(case="tool", n_jobs=None, **settings):
       e.g. ``simulate(amplitudes_um=[5.0], frequencies_hz=[20.0], repeats=1, fs_hz=2000.0)``.
       One row per sample: ``record``, ``amplitude_um``, ``frequency_hz``, ``repeat``,
       ``fs_hz``, ``time_s``, ``accel_ms2``, ``probe_um``, ``command_um``, ``encoder_um``.
-    - ``case="roughness"`` or ``"cutting_force"``: the table cases (``hxai simulate --case``,
-      docs/cases.md), e.g. ``simulate("roughness", n_rows=200, seed=1)``; one row per cut.
+    - ``case="roughness"``, ``"cutting_force"`` or ``"tool_life"``: the table cases
+      (``hxai simulate --case``, docs/cases.md), e.g. ``simulate("roughness", n_rows=200,
+      seed=1)``; one row per cut (per tool-life test for ``tool_life``).
 
     ``n_jobs``: threads that simulate the tool case's records (``None``, the default: every
     core; ``-1``: every core in a pool of its own; a positive int: that many); the table

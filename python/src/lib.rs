@@ -110,7 +110,8 @@ fn parse_json<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> PyResul
 }
 
 /// `defaults(what)`: the Rust defaults as JSON, for `search` (symbolic regression),
-/// `tool` (the machine simulator), `roughness` and `cutting_force` (the table cases).
+/// `tool` (the machine simulator), `roughness`, `cutting_force` and `tool_life` (the table
+/// cases).
 #[pyfunction]
 fn defaults(what: &str) -> PyResult<String> {
     let v = default_value(what)?;
@@ -123,6 +124,7 @@ fn default_value(what: &str) -> PyResult<Value> {
         "tool" => serde_json::to_value(hxai_sim::SimConfig::default()),
         "roughness" => serde_json::to_value(hxai_sim::cases::RoughnessConfig::default()),
         "cutting_force" => serde_json::to_value(hxai_sim::cases::CuttingForceConfig::default()),
+        "tool_life" => serde_json::to_value(hxai_sim::cases::ToolLifeConfig::default()),
         other => {
             return Err(PyValueError::new_err(format!(
                 "unknown case `{other}`: the cases are tool, {}",
@@ -199,6 +201,7 @@ fn sr_fit(
     let doc = json!({
         "best": best,
         "pareto": res.pareto.iter().map(model_summary).collect::<Vec<_>>(),
+        "selection": hxai_symreg::SelectionReport::of(&res, &cfg),
         "evaluations": res.evaluations,
         "seconds": res.seconds,
     });
@@ -678,7 +681,7 @@ fn simulate_tool<'py>(
 }
 
 /// `simulate_case(name, overrides_json)` -> `(names, columns)`: a table case
-/// (`roughness`, `cutting_force`) with its defaults and the given overrides.
+/// (`roughness`, `cutting_force`, `tool_life`) with its defaults and the given overrides.
 #[pyfunction]
 fn simulate_case<'py>(
     py: Python<'py>,
@@ -693,6 +696,10 @@ fn simulate_case<'py>(
         "cutting_force" => {
             let c: hxai_sim::cases::CuttingForceConfig = with_overrides(name, overrides_json)?;
             py.detach(move || hxai_sim::cases::cutting_force(&c))
+        }
+        "tool_life" => {
+            let c: hxai_sim::cases::ToolLifeConfig = with_overrides(name, overrides_json)?;
+            py.detach(move || hxai_sim::cases::tool_life(&c))
         }
         other => {
             return Err(PyValueError::new_err(format!(

@@ -68,6 +68,12 @@ def test_defaults_are_the_engines():
             if k == "operators" and isinstance(est, HybridRegressor):
                 # a correction searches the paper's operators (SearchConfig::paper())
                 want = list(PAPER_OPERATORS)
+            if k == "nesting":
+                # the estimators name the engine's presets: `none` is the empty map (the
+                # engine's default, `hxai sr`'s), a correction searches `readable`
+                # (SearchConfig::paper()); a test in test_selection.py checks both are read
+                want = "readable" if isinstance(est, HybridRegressor) else "none"
+                assert rust[k] == {}
             if k == "complexity_per_input" and isinstance(est, SymbolicRegressor):
                 # `hxai sr`'s value, not the engine's: the estimator gives `hxai sr`'s result
                 want = SR_COMPLEXITY_PER_INPUT

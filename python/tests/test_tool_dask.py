@@ -48,6 +48,14 @@ def test_simulate_cases_and_bad_settings():
     again = hxai.simulate("roughness", n_rows=50, seed=2)
     pd.testing.assert_frame_equal(r, again)
     assert "Fc_N" in hxai.simulate("cutting_force", n_rows=20).columns
+    # tool_life (docs/cases.md section 3): with no scatter, measured over Taylor's law is
+    # the documented feed power law.
+    d = hxai.sim.defaults("tool_life")
+    t = hxai.simulate("tool_life", n_rows=30, noise_rel=0.0)
+    taylor = (d["taylor_c_m_min"] / t["cutting_speed_m_min"]) ** (1.0 / d["taylor_n"])
+    np.testing.assert_allclose(
+        t["tool_life_min"] / taylor, (t["feed_mm"] / 0.25) ** -2.4, rtol=1e-12
+    )
     with pytest.raises(ValueError, match="unknown setting `rows`"):
         hxai.simulate("roughness", rows=10)
     with pytest.raises(ValueError, match="unknown case"):

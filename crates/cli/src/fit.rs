@@ -49,6 +49,16 @@ pub struct Args {
     /// Largest equation complexity (default: the search's default).
     #[arg(long)]
     pub max_complexity: Option<usize>,
+    /// Which operator may appear inside which: `readable` (the default of corrections: no
+    /// exp, log, sin, cos, tanh or gaussian inside another, except a power law
+    /// `exp(a*log(x))`), `none`, or rules `OUTER:INNER=MAX` (e.g. `readable,exp:log=0`).
+    #[arg(long)]
+    pub nesting: Option<String>,
+    /// Consensus selection: also search N bootstrap resamples of the rows and select the
+    /// structure most of them give back among their near-best models, refitted on all rows
+    /// (0, the default, selects by --criterion from one search).
+    #[arg(long)]
+    pub consensus: Option<usize>,
     /// Complexity of operators, as comma-separated NAME=INTEGER (e.g. `sqrt=2,exp=2`);
     /// operators not named count 1.
     #[arg(long, value_delimiter = ',')]
@@ -134,6 +144,12 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     if let Some(c) = args.complexity_per_input {
         search.complexity_per_input = c;
     }
+    if let Some(n) = &args.nesting {
+        search.nesting = hxai_symreg::Nesting::parse(n)?;
+    }
+    if let Some(b) = args.consensus {
+        search.consensus_runs = b;
+    }
     search.check()?;
     let cfg = FitConfig {
         window: WindowConfig {
@@ -152,7 +168,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let samples_bar = bar(inputs.len() as u64, "samples");
     let search_bar = bar(cfg.search.epochs as u64, "search");
     search_bar.set_position(0);
-    let out = hxai_hybrid::fit(&inputs, &cfg, &mut |p| match p {
+    let mut out = hxai_hybrid::fit(&inputs, &cfg, &mut |p| match p {
         FitProgress::Samples { done, .. } => {
             samples_bar.set_position(done as u64);
             if done == inputs.len() {
@@ -183,6 +199,9 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         }
         None => None,
     };
+    if let (Some(st), Some(sel)) = (&stability, out.model.correction.selection.take()) {
+        out.model.correction.selection = Some(sel.with_stability(st));
+    }
     let json = out.model.to_json().context("cannot serialise the model")?;
     let model_file = hxai_data::stage_text(&args.out, &json)
         .with_context(|| format!("cannot write the model to {}", args.out.display()))?;
@@ -227,6 +246,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
                 "features": m.correction.features,
                 "template": m.correction.uncertainty.as_ref().map(|u| &u.template),
                 "params": m.correction.uncertainty.as_ref().map(|u| serde_json::to_value(u).map(|mut v| v["params"].take())).transpose()?,
+                "selection": m.correction.selection,
             },
             "stability": stability,
             "split": { "kind": m.split.kind, "train": m.split.train, "test": m.split.test },
@@ -264,6 +284,9 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             );
             println!("delta on train: {}", fmt(&t.delta_train));
             println!("delta on test:  {}", fmt(&t.delta_test));
+            if let Some(sel) = &m.correction.selection {
+                crate::sr::print_selection(sel);
+            }
             if let Some(st) = &stability {
                 crate::sr::print_stability(st);
             }

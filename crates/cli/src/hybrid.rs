@@ -91,6 +91,16 @@ struct Common {
     /// Largest complexity of the correction (input leaves + operators).
     #[arg(long, default_value_t = 10)]
     max_complexity: usize,
+    /// Which operator may appear inside which: `readable` (the default of corrections: no
+    /// exp, log, sin, cos, tanh or gaussian inside another, except a power law
+    /// `exp(a*log(x))`), `none`, or rules `OUTER:INNER=MAX` (e.g. `readable,exp:log=0`).
+    #[arg(long)]
+    nesting: Option<String>,
+    /// Consensus selection: also search N bootstrap resamples of the rows and select the
+    /// structure most of them give back among their near-best models, refitted on all rows
+    /// (0, the default, selects by --criterion from one search).
+    #[arg(long)]
+    consensus: Option<usize>,
     /// How the correction's equation is chosen among the search's candidates (see
     /// `hxai sr --help`).
     #[arg(long, value_enum, default_value_t = crate::strategy::CriterionArg::Bic)]
@@ -316,6 +326,12 @@ fn config(c: &Common) -> Result<ProcessConfig> {
     cfg.search.max_complexity = c.max_complexity;
     cfg.search.criterion = c.criterion.into();
     cfg.search.cv_folds = c.cv_folds;
+    if let Some(n) = &c.nesting {
+        cfg.search.nesting = hxai_symreg::Nesting::parse(n)?;
+    }
+    if let Some(b) = c.consensus {
+        cfg.search.consensus_runs = b;
+    }
     Ok(cfg)
 }
 
@@ -444,6 +460,9 @@ fn fit(a: FitArgs) -> Result<()> {
             &mut move |done, _| sbb.set_position(done as u64),
         )?);
         sb.finish_and_clear();
+        if let (Some(st), Some(sel)) = (&model.stability, model.correction.selection.take()) {
+            model.correction.selection = Some(sel.with_stability(st));
+        }
     }
     let json = model.to_json();
     hxai_data::write_text(&a.out, &json)
@@ -452,6 +471,9 @@ fn fit(a: FitArgs) -> Result<()> {
         println!("{json}");
     } else {
         print_model(&model);
+        if let Some(sel) = &model.correction.selection {
+            crate::sr::print_selection(sel);
+        }
         if let Some(st) = &model.stability {
             crate::sr::print_stability(st);
         }

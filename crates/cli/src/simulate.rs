@@ -27,6 +27,10 @@ pub enum CaseArg {
     /// Main cutting force: Kienzle's law plus rake-angle, speed and wear factors and scatter.
     #[value(name = "cutting_force")]
     CuttingForce,
+    /// Tool life in turning: Taylor's law (C/vc)^(1/n) times the feed's power law of the
+    /// extended Taylor law, and scatter.
+    #[value(name = "tool_life")]
+    ToolLife,
 }
 
 impl CaseArg {
@@ -34,6 +38,7 @@ impl CaseArg {
         match self {
             CaseArg::Roughness => "roughness",
             CaseArg::CuttingForce => "cutting_force",
+            CaseArg::ToolLife => "tool_life",
         }
     }
 }

@@ -32,6 +32,16 @@ pub struct Args {
     /// tanh abs gaussian gaussian2 (default: all of them, the paper's and feyn's sets).
     #[arg(long, value_delimiter = ',')]
     pub operators: Option<Vec<String>>,
+    /// Which operator may appear inside which: `none` (the default of `sr`), `readable`
+    /// (no exp, log, sin, cos, tanh or gaussian inside another, except a power law
+    /// `exp(a*log(x))`), or rules `OUTER:INNER=MAX` (e.g. `readable,exp:log=0`).
+    #[arg(long)]
+    pub nesting: Option<String>,
+    /// Consensus selection: also search N bootstrap resamples of the rows and select the
+    /// structure most of them give back among their near-best models, refitted on all rows
+    /// (0, the default, selects by --criterion from one search).
+    #[arg(long, default_value_t = 0)]
+    pub consensus: usize,
     /// Complexity of operators, as comma-separated NAME=INTEGER (e.g. `sqrt=2,exp=2`);
     /// operators not named count 1.
     #[arg(long, value_delimiter = ',')]
@@ -93,6 +103,29 @@ fn summary(m: &Model, data: &Table, y: &[f64]) -> Result<Value> {
     }))
 }
 
+/// Prints how a model was selected: its structure's share over resamples when measured, and
+/// the alternatives the data cannot tell apart from it.
+#[allow(clippy::print_stdout)]
+pub fn print_selection(sel: &hxai_symreg::SelectionReport) {
+    let share = |s: Option<f64>| s.map(|v| format!("{:.0} %", 100.0 * v));
+    match (share(sel.share), sel.runs) {
+        (Some(s), Some(runs)) => println!(
+            "selected by {}: structure {} (given back by {s} of {runs} resamples)",
+            sel.method, sel.structure
+        ),
+        _ => println!("selected by {}: structure {}", sel.method, sel.structure),
+    }
+    if !sel.alternatives.is_empty() {
+        println!("the data cannot tell these apart from it (cross-validated loss within one SE):");
+        for a in &sel.alternatives {
+            let s = share(a.share)
+                .map(|s| format!("  [{s}]"))
+                .unwrap_or_default();
+            println!("  {:>3}  {}{s}", a.complexity, a.equation);
+        }
+    }
+}
+
 /// Prints a stability report: the five most frequent structures, the features used, the
 /// out-of-bag R^2.
 #[allow(clippy::print_stdout)]
@@ -149,6 +182,10 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     }
     cfg.operator_complexity = crate::strategy::operator_complexity(&args.operator_complexity)?;
     cfg.complexity_per_input = args.complexity_per_input;
+    if let Some(n) = &args.nesting {
+        cfg.nesting = hxai_symreg::Nesting::parse(n)?;
+    }
+    cfg.consensus_runs = args.consensus;
     let bar = if args.json {
         indicatif::ProgressBar::hidden()
     } else {
@@ -190,9 +227,14 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         }
         None => None,
     };
+    let mut selection = hxai_symreg::SelectionReport::of(&res, &cfg);
+    if let Some(st) = &stability {
+        selection = selection.with_stability(st);
+    }
     if args.json {
         let mut doc = json!({
             "best": best,
+            "selection": selection,
             "pareto": pareto,
             "evaluations": res.evaluations,
             "seconds": res.seconds,
@@ -224,6 +266,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             );
         }
         println!("{} models in {:.2} s", res.evaluations, res.seconds);
+        print_selection(&selection);
         if let Some(st) = &stability {
             print_stability(st);
         }

@@ -1,7 +1,7 @@
 //! `hxai simulate --case NAME --out TABLE`: the process tables of docs/cases.md.
 
 use hxai_data::read_table;
-use hxai_sim::cases::{RoughnessConfig, roughness};
+use hxai_sim::cases::{CASE_NAMES, RoughnessConfig, generate_case, roughness};
 use std::path::Path;
 use std::process::Output;
 
@@ -59,6 +59,45 @@ fn writes_the_roughness_table_as_csv_and_parquet() -> TestResult {
                 .collect();
             assert!(left.is_empty());
         }
+        Ok(())
+    })
+}
+
+/// Every case of the library is a `--case` value, and the table it writes is the library's
+/// (tool_life, issue 23, included by name: its columns are the documented ones).
+#[test]
+fn every_library_case_is_a_case_value() -> TestResult {
+    assert!(CASE_NAMES.contains(&"tool_life"));
+    in_scratch("all", "t.parquet", |_, out| {
+        for name in CASE_NAMES {
+            let o = simulate(
+                name,
+                out,
+                &["--rows", "12", "--seed", "3", "--force", "--json"],
+            )?;
+            assert!(o.status.success(), "{name}: {}", text(&o));
+            let doc: serde_json::Value = serde_json::from_slice(&o.stdout)?;
+            assert_eq!(doc["case"], name);
+            assert_eq!(
+                read_table(out)?,
+                generate_case(name, Some(12), Some(3))?,
+                "{name}"
+            );
+        }
+        let o = simulate("tool_life", out, &["--rows", "12", "--force"])?;
+        assert!(o.status.success(), "{}", text(&o));
+        let t = read_table(out)?;
+        assert_eq!(
+            t.names(),
+            [
+                "cutting_speed_m_min",
+                "feed_mm",
+                "coolant_temp_C",
+                "workpiece_diameter_mm",
+                "tool",
+                "tool_life_min"
+            ]
+        );
         Ok(())
     })
 }

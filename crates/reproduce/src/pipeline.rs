@@ -217,6 +217,8 @@ pub fn compute(
             .iter()
             .map(|m| (m.complexity(), m.equation()))
             .collect(),
+        selection: hxai_symreg::SelectionReport::of(&fit.search, &search)
+            .with_stability(&stability),
         test: sym_score,
     };
     let results = Results {

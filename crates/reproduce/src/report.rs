@@ -215,6 +215,7 @@ pub fn markdown(r: &Results) -> String {
     for (c, e) in &sym.pareto {
         let _ = writeln!(s, "- {c}: `{e}`");
     }
+    selection_section(&mut s, &sym.selection);
     stability_section(&mut s, &r.stability);
 
     // CV.
@@ -379,6 +380,45 @@ pub fn samples_csv(c: &Computed) -> Result<String, crate::ReproduceError> {
         s.push('\n');
     }
     Ok(s)
+}
+
+/// The selected structure's share over the stability runs and the alternatives the data
+/// cannot tell apart from it (`selection` of docs/interfaces.md).
+fn selection_section(s: &mut String, sel: &hxai_symreg::SelectionReport) {
+    let share = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{:.0} %", 100.0 * v));
+    let _ = writeln!(
+        s,
+        "
+Selected by `{}`; its structure `{}` is given back by {} of the {} stability runs below.",
+        sel.method,
+        sel.structure,
+        share(sel.share),
+        sel.runs.unwrap_or(0)
+    );
+    if sel.alternatives.is_empty() {
+        let _ = writeln!(
+            s,
+            "No other model of the search has a cross-validated loss within one standard error of the lowest."
+        );
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "
+The data cannot tell these apart from it (cross-validated loss within one standard error of the lowest):
+
+| complexity | equation | share of stability runs |
+|---|---|---|"
+    );
+    for a in &sel.alternatives {
+        let _ = writeln!(
+            s,
+            "| {} | `{}` | {} |",
+            a.complexity,
+            a.equation,
+            share(a.share)
+        );
+    }
 }
 
 /// How much of the selected equation is more than one draw: the search rerun on bootstrap

@@ -190,6 +190,9 @@ pub struct SymbolicSummary {
     pub evaluations: u64,
     /// The Pareto front: (complexity, equation).
     pub pareto: Vec<(usize, String)>,
+    /// How it was selected, its structure's share over the stability runs and the
+    /// alternatives the data cannot tell apart from it.
+    pub selection: hxai_symreg::SelectionReport,
     /// Test scores on delta (RMSE and MAE in um).
     pub test: Metrics,
 }

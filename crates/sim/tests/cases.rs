@@ -1,10 +1,11 @@
-//! Property tests of the two table generators of issue 13 (roughness, cutting force).
+//! Property tests of the table generators: roughness and cutting force (issue 13), tool life
+//! (issue 23).
 #![allow(clippy::unwrap_used)]
 
 use hxai_sim::SimError;
 use hxai_sim::cases::{
-    CASE_NAMES, CuttingForceConfig, RoughnessConfig, cutting_force, cutting_force::HANDBOOK_KC11,
-    generate_case, roughness,
+    CASE_NAMES, CuttingForceConfig, RoughnessConfig, ToolLifeConfig, cutting_force,
+    cutting_force::HANDBOOK_KC11, generate_case, roughness, tool_life,
 };
 use proptest::prelude::*;
 
@@ -31,6 +32,19 @@ fn force(seed: u64, n: usize) -> CuttingForceConfig {
         n_rows: n,
         ..CuttingForceConfig::default()
     }
+}
+
+fn life(seed: u64, n: usize) -> ToolLifeConfig {
+    ToolLifeConfig {
+        seed,
+        n_rows: n,
+        ..ToolLifeConfig::default()
+    }
+}
+
+/// Taylor's law `(C / vc)^(1/n)` with the configuration's constants, on row `i`.
+fn taylor(c: &ToolLifeConfig, t: &hxai_table::Table, i: usize) -> f64 {
+    (c.taylor_c_m_min / col(t, "cutting_speed_m_min")[i]).powf(1.0 / c.taylor_n)
 }
 
 proptest! {
@@ -270,5 +284,157 @@ fn named_cases_use_the_defaults() {
             ..RoughnessConfig::default()
         })
         .unwrap()
+    );
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    // Invariant: the tool-life table is a pure function of its configuration, another seed
+    // gives other data, and a row does not depend on how many rows are asked for.
+    #[test]
+    fn tool_life_is_deterministic_per_row(seed in any::<u64>(), n in 1usize..60, extra in 1usize..60) {
+        let a = tool_life(&life(seed, n)).unwrap();
+        prop_assert_eq!(&a, &tool_life(&life(seed, n)).unwrap());
+        let b = tool_life(&life(seed.wrapping_add(1), n)).unwrap();
+        prop_assert_ne!(col(&a, "tool_life_min"), col(&b, "tool_life_min"));
+        let long = tool_life(&life(seed, n + extra)).unwrap();
+        for name in a.names() {
+            prop_assert_eq!(col(&a, name), &col(&long, name)[..n]);
+        }
+    }
+
+    // Invariant: with the feed effect and the scatter off, the target is Taylor's law
+    // exactly (relative 1e-12).
+    #[test]
+    fn tool_life_physics_only_is_taylors_law(seed in any::<u64>(), n in 1usize..100) {
+        let c = ToolLifeConfig { seed, n_rows: n, ..ToolLifeConfig::physics_only() };
+        let t = tool_life(&c).unwrap();
+        for i in 0..n {
+            let law = taylor(&c, &t, i);
+            let got = col(&t, "tool_life_min")[i];
+            prop_assert!((got - law).abs() <= 1e-12 * law, "row {}: {} vs {}", i, got, law);
+        }
+    }
+
+    // Invariant (the documented hidden truth): with no scatter, measured over Taylor's law is
+    // `(f / 0.25)^(-0.6 / 0.25)` = `(f / 0.25)^-2.4`, a function of the feed alone, to 1e-12
+    // relative; inputs stay in their ranges.
+    #[test]
+    fn tool_life_truth_is_the_feed_power_law(seed in any::<u64>(), n in 1usize..200) {
+        let c = ToolLifeConfig { seed, n_rows: n, noise_rel: 0.0, ..ToolLifeConfig::default() };
+        prop_assert_eq!(c.feed_life_exponent(), 0.6 / 0.25);
+        let t = tool_life(&c).unwrap();
+        prop_assert!(within(&t, "cutting_speed_m_min", [150.0, 350.0]));
+        prop_assert!(within(&t, "feed_mm", [0.1, 0.4]));
+        prop_assert!(within(&t, "coolant_temp_C", [18.0, 28.0]));
+        prop_assert!(within(&t, "workpiece_diameter_mm", [30.0, 120.0]));
+        for i in 0..n {
+            let f = col(&t, "feed_mm")[i];
+            let ratio = col(&t, "tool_life_min")[i] / taylor(&c, &t, i);
+            let truth = (f / 0.25).powf(-2.4);
+            prop_assert!((ratio - truth).abs() <= 1e-12 * truth, "row {}: {} vs {}", i, ratio, truth);
+            prop_assert_eq!(col(&t, "tool")[i], (i % 10 + 1) as f64);
+        }
+    }
+}
+
+/// With the default scatter the measured/true ratio is log-normal with sd `noise_rel`: on
+/// 4000 rows the sample sd of its log is within 5 % of 0.3 and its mean near 0.
+#[test]
+fn tool_life_scatter_has_the_documented_size() {
+    let c = ToolLifeConfig {
+        n_rows: 4000,
+        ..ToolLifeConfig::default()
+    };
+    let t = tool_life(&c).unwrap();
+    let logs: Vec<f64> = (0..t.n_rows())
+        .map(|i| {
+            let f = col(&t, "feed_mm")[i];
+            (col(&t, "tool_life_min")[i] / (taylor(&c, &t, i) * c.feed_factor(f))).ln()
+        })
+        .collect();
+    let n = logs.len() as f64;
+    let mean = logs.iter().sum::<f64>() / n;
+    let sd = (logs.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+    assert!(mean.abs() < 0.03, "mean log ratio {mean}");
+    assert!((sd / 0.3 - 1.0).abs() < 0.05, "sd of log ratio {sd}");
+}
+
+#[test]
+fn tool_life_bad_settings_are_refused_by_name() {
+    let cases: [(&str, ToolLifeConfig); 8] = [
+        (
+            "n_rows",
+            ToolLifeConfig {
+                n_rows: 0,
+                ..ToolLifeConfig::default()
+            },
+        ),
+        (
+            "n_tools",
+            ToolLifeConfig {
+                n_tools: 0,
+                ..ToolLifeConfig::default()
+            },
+        ),
+        (
+            "taylor_c_m_min",
+            ToolLifeConfig {
+                taylor_c_m_min: -1.0,
+                ..ToolLifeConfig::default()
+            },
+        ),
+        (
+            "taylor_n",
+            ToolLifeConfig {
+                taylor_n: 0.0,
+                ..ToolLifeConfig::default()
+            },
+        ),
+        (
+            "feed_ref_mm",
+            ToolLifeConfig {
+                feed_ref_mm: f64::NAN,
+                ..ToolLifeConfig::default()
+            },
+        ),
+        (
+            "feed_exponent",
+            ToolLifeConfig {
+                feed_exponent: -0.1,
+                ..ToolLifeConfig::default()
+            },
+        ),
+        (
+            "feed_mm",
+            ToolLifeConfig {
+                feed_mm: [0.4, 0.1],
+                ..ToolLifeConfig::default()
+            },
+        ),
+        (
+            "noise_rel",
+            ToolLifeConfig {
+                noise_rel: 1.5,
+                ..ToolLifeConfig::default()
+            },
+        ),
+    ];
+    for (want, c) in cases {
+        match tool_life(&c).unwrap_err() {
+            SimError::InvalidParameter { name, .. } => assert_eq!(name, want),
+            other => panic!("{want}: {other}"),
+        }
+    }
+    let e = tool_life(&ToolLifeConfig {
+        cutting_speed_m_min: [0.0, 300.0],
+        ..ToolLifeConfig::default()
+    })
+    .unwrap_err();
+    assert!(e.to_string().contains("cutting_speed_m_min"), "{e}");
+    assert_eq!(
+        generate_case("tool_life", Some(5), Some(9)).unwrap(),
+        tool_life(&life(9, 5)).unwrap()
     );
 }

@@ -53,14 +53,17 @@
 #[doc(hidden)]
 pub mod bench_programs;
 pub mod canonical;
+pub mod consensus;
 mod error;
 pub mod eval;
 pub mod expr;
 pub mod fit;
 pub mod infix;
 mod model;
+pub mod nesting;
 pub mod ops;
 pub mod program;
+pub mod report;
 pub mod search;
 pub mod stability;
 mod sympy_names;
@@ -70,8 +73,10 @@ pub mod vmath;
 pub use error::SrError;
 pub use hxai_table::{Par, Table, TableError, TableView};
 pub use model::Model;
+pub use nesting::Nesting;
 pub use ops::Op;
 pub use program::{ComplexityMeasure, Node, Program};
+pub use report::{Alternative, SelectionReport};
 pub use search::{
     Criterion, DEFAULT_OPERATORS, PAPER_OPERATORS, Progress, SearchConfig, SearchResult, Strategy,
     fit_structure, search,

@@ -351,6 +351,7 @@ pub fn fit(
         correction: CorrectionInfo {
             uncertainty: Some(result.best.uncertainty(&train_table, &train_delta)?),
             pareto: Some(ParetoMember::front(&result.pareto)),
+            selection: Some(hxai_symreg::SelectionReport::of(&result, &cfg.search)),
             ..CorrectionInfo::symbolic(result.best.clone())
         },
         split: SplitInfo {

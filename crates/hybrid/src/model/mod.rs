@@ -111,6 +111,11 @@ pub struct CorrectionInfo {
     /// in files written before it was stored.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pareto: Option<Vec<ParetoMember>>,
+    /// How the correction was selected, its structure's share over resamples (consensus or
+    /// stability runs) and the alternatives the data cannot tell apart from it
+    /// ([`hxai_symreg::SelectionReport`]); absent in files written before it was stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub selection: Option<hxai_symreg::SelectionReport>,
 }
 
 impl CorrectionInfo {
@@ -126,6 +131,7 @@ impl CorrectionInfo {
             model: Some(model),
             uncertainty: None,
             pareto: None,
+            selection: None,
         }
     }
 
@@ -141,6 +147,7 @@ impl CorrectionInfo {
             model: None,
             uncertainty: None,
             pareto: None,
+            selection: None,
         }
     }
 }

@@ -148,6 +148,7 @@ pub(crate) fn fit_inner(
         "correction".to_string()
     };
     let (ft, found) = search_training_rows(table, &res, cfg, split, &delta, task, label, progress)?;
+    let selection = hxai_symreg::SelectionReport::of(&found, &cfg.search_config());
     let mut correction = found.best;
     let y_train = gather(y_all, &split.train);
 
@@ -170,6 +171,7 @@ pub(crate) fn fit_inner(
         joint,
     };
     let mut model = model_of(job, &res, &ft, &found.pareto, fitted, y_all, &y_train)?;
+    model.correction.selection = Some(selection);
     model.scores = scores_of(&model, table, y_all, split)?;
     Ok(model)
 }
@@ -316,6 +318,7 @@ fn model_of(
             model: correction,
             uncertainty: Some(correction_uncertainty),
             pareto: Some(crate::explain::ParetoMember::front(pareto)),
+            selection: None,
         },
         hybrid: EquationInfo {
             uncertainty: Some(hybrid_uncertainty),

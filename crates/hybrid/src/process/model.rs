@@ -65,6 +65,11 @@ pub struct CorrectionInfo {
     /// written before it was stored.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pareto: Option<Vec<crate::explain::ParetoMember>>,
+    /// How the correction was selected, its structure's share over resamples (consensus or
+    /// stability runs) and the alternatives the data cannot tell apart from it
+    /// ([`hxai_symreg::SelectionReport`]); absent in files written before it was stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub selection: Option<hxai_symreg::SelectionReport>,
 }
 
 /// An equation in three forms.

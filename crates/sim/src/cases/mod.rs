@@ -1,10 +1,11 @@
-//! Two more manufacturing processes as seeded table generators (issue 13): finish-turning
-//! surface roughness ([`roughness()`]) and the main cutting force in turning
-//! ([`cutting_force()`]).
+//! Three more manufacturing processes as seeded table generators: finish-turning surface
+//! roughness ([`roughness()`]) and the main cutting force in turning ([`cutting_force()`])
+//! (issue 13), and tool life in turning ([`tool_life()`], issue 23: the case whose hidden
+//! truth is one short closed form in one column).
 //!
 //! Each generator starts from the law an engineer would write down (the *physics*: the
-//! kinematic roughness `Ra = f^2 / (32 r)`, Kienzle's force law `Fc = kc1.1 b h^(1 - mc)`)
-//! and adds effects the machining literature reports, with magnitudes in their published
+//! kinematic roughness `Ra = f^2 / (32 r)`, Kienzle's force law `Fc = kc1.1 b h^(1 - mc)`,
+//! Taylor's tool-life law `T = (C / vc)^(1/n)`) and adds effects the machining literature reports, with magnitudes in their published
 //! ranges, plus measurement scatter and distractor columns. The hidden truths and their
 //! sources are written out in `docs/cases.md`, so a reader can judge whether a correction
 //! found by symbolic regression is physically sensible. Every effect has its own switch in
@@ -18,9 +19,11 @@
 
 pub mod cutting_force;
 pub mod roughness;
+pub mod tool_life;
 
 pub use cutting_force::{CuttingForceConfig, cutting_force};
 pub use roughness::{RoughnessConfig, roughness};
+pub use tool_life::{ToolLifeConfig, tool_life};
 
 use crate::SimError;
 use rand::{Rng, SeedableRng};
@@ -28,9 +31,9 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 
 /// The generators by name, as `hxai simulate --case NAME` accepts them.
-pub const CASE_NAMES: [&str; 2] = ["roughness", "cutting_force"];
+pub const CASE_NAMES: [&str; 3] = ["roughness", "cutting_force", "tool_life"];
 
-/// Seed of both generators' default configurations.
+/// Seed of every generator's default configuration.
 pub const DEFAULT_SEED: u64 = 42;
 
 /// Largest table a generator will build (rows).
@@ -66,6 +69,11 @@ pub fn generate_case(
             let mut c = CuttingForceConfig::default();
             override_rows_and_seed((&mut c.n_rows, &mut c.seed), rows, seed);
             cutting_force(&c)
+        }
+        "tool_life" => {
+            let mut c = ToolLifeConfig::default();
+            override_rows_and_seed((&mut c.n_rows, &mut c.seed), rows, seed);
+            tool_life(&c)
         }
         other => Err(SimError::UnknownCase {
             name: other.to_string(),

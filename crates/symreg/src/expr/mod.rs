@@ -323,3 +323,50 @@ mod tests {
         );
     }
 }
+
+#[cfg(test)]
+mod power_law_tests {
+    use super::*;
+
+    fn num(v: f64) -> Box<Expr> {
+        Box::new(Expr::Num(v))
+    }
+
+    // exp(a log(u) + b) prints as the power law e^b u^a, and keeps its values where u > 0
+    #[test]
+    fn an_exponential_of_a_scaled_log_prints_as_a_power() {
+        let u = Expr::Bin(
+            Op::Add,
+            Box::new(Expr::Bin(
+                Op::Mul,
+                num(2.0),
+                Box::new(Expr::Var("f".into())),
+            )),
+            num(1.0),
+        );
+        let arg = Expr::Bin(
+            Op::Add,
+            Box::new(Expr::Bin(
+                Op::Mul,
+                num(-0.5),
+                Box::new(Expr::Un(Op::Log, Box::new(u))),
+            )),
+            num(0.3),
+        );
+        let e = Expr::Un(Op::Exp, Box::new(arg));
+        let s = e.clone().simplify();
+        let text = s.to_text(None, true);
+        assert!(!text.contains("exp") && text.contains("**"), "{text}");
+        for f in [0.1, 0.7, 3.0] {
+            let look = |_: &str| f;
+            let (a, b) = (e.eval(&look), s.eval(&look));
+            assert!((a - b).abs() <= 1e-12 * a.abs(), "{f}: {a} vs {b}");
+        }
+        // a plain log inside exp is the base itself
+        let plain = Expr::Un(
+            Op::Exp,
+            Box::new(Expr::Un(Op::Log, Box::new(Expr::Var("f".into())))),
+        );
+        assert_eq!(plain.simplify().to_text(None, true), "f");
+    }
+}

@@ -86,6 +86,42 @@ fn shift_trig(op: Op, u: Expr, k: i64) -> Expr {
     if q >= 2 { Expr::Neg(Box::new(e)) } else { e }
 }
 
+/// `exp(a log(u) + b)` as the power law `e^b u^a` (`u^a` when `b` is absent, `u` when `a`
+/// is 1), given the simplified argument `a log(u) + b`; `None` for any other argument. The
+/// two agree wherever the exponential form is defined (`u > 0`); this is how the search
+/// writes `c f^a`, and how an engineer reads it.
+fn power_law(arg: &Expr) -> Option<Expr> {
+    use Expr::{Bin, Num, Un};
+    let (scaled_log, b) = match arg {
+        Bin(Op::Add, x, c) | Bin(Op::Add, c, x) if matches!(**c, Num(_)) => {
+            let Num(b) = **c else { return None };
+            (&**x, b)
+        }
+        Bin(Op::Sub, x, c) => {
+            let Num(b) = **c else { return None };
+            (&**x, -b)
+        }
+        other => (other, 0.0),
+    };
+    let (a, u) = match scaled_log {
+        Un(Op::Log, u) => (1.0, u),
+        Bin(Op::Mul, c, l) | Bin(Op::Mul, l, c) if matches!(**c, Num(_)) => {
+            let (Num(a), Un(Op::Log, u)) = (&**c, &**l) else {
+                return None;
+            };
+            (*a, u)
+        }
+        _ => return None,
+    };
+    let base = (**u).clone();
+    let power = if a == 1.0 {
+        base
+    } else {
+        Bin(Op::Pow, Box::new(base), Box::new(Num(a)))
+    };
+    Some(Bin(Op::Mul, Box::new(Num(vmath::exp(b))), Box::new(power)).simplify())
+}
+
 impl Expr {
     /// Value-preserving simplification (for finite values): folds constants, drops `*1`,
     /// `+0`, `0*x`, merges nested numeric factors and offsets, turns `x + (-c)` into `x - c`.
@@ -103,6 +139,11 @@ impl Expr {
                 // sin(u - pi/2) is -cos(u)
                 if let (Op::Sin | Op::Cos, Some((u, k))) = (op, split_phase(&a)) {
                     return shift_trig(op, u.clone(), k).simplify();
+                }
+                if op == Op::Exp
+                    && let Some(power) = power_law(&a)
+                {
+                    return power;
                 }
                 match (op, a) {
                     (_, Num(v)) => Num(op.apply1(v)),

@@ -1,5 +1,6 @@
 //! Search settings: which strategy, which selection criterion, and every knob with its
 //! default and its check.
+use crate::nesting::Nesting;
 use crate::ops::{Op, OpCosts, parse_operators};
 use crate::program::ComplexityMeasure;
 use crate::{Par, SrError};
@@ -143,6 +144,13 @@ pub struct SearchConfig {
     /// Relative loss increase allowed when a constant is rounded to 1-3 significant digits
     /// (snaps to exact values such as 0, 1 or 1/2 are judged by the criterion instead).
     pub snap_tolerance: f64,
+    /// Which operator may appear inside which ([`Nesting`]): none constrained by default
+    /// (`hxai sr`), [`Nesting::readable()`] for hybrid corrections ([`SearchConfig::paper`]).
+    /// Candidates that break a constraint are never fitted.
+    pub nesting: Nesting,
+    /// Consensus selection over this many bootstrap searches ([`crate::consensus`]); 0
+    /// (the default) runs one search and selects by `criterion`.
+    pub consensus_runs: usize,
     /// Threads of the search (and of [`crate::stability()`]'s runs): [`Par::Current`] by
     /// default, the caller's pool. Not part of any file (`serde(skip)`): the result never
     /// depends on it.
@@ -172,17 +180,21 @@ impl Default for SearchConfig {
             lm_iterations: 25,
             snap_constants: true,
             snap_tolerance: 1e-3,
+            nesting: Nesting::none(),
+            consensus_runs: 0,
             par: Par::Current,
         }
     }
 }
 
 impl SearchConfig {
-    /// The defaults with the paper's operators ([`PAPER_OPERATORS`]): what hybrid
-    /// corrections (`hxai fit`, `hxai hybrid`, `hxai compare`, the reproduction) search with.
+    /// The defaults with the paper's operators ([`PAPER_OPERATORS`]) and no transcendental
+    /// function inside another ([`Nesting::readable()`]): what hybrid corrections (`hxai
+    /// fit`, `hxai hybrid`, `hxai compare`, the reproduction) search with.
     pub fn paper() -> Self {
         Self {
             operators: PAPER_OPERATORS.iter().map(|s| s.to_string()).collect(),
+            nesting: Nesting::readable(),
             ..Self::default()
         }
     }
@@ -218,6 +230,7 @@ impl SearchConfig {
     pub fn check(&self) -> Result<Vec<Op>, SrError> {
         let ops = parse_operators(&self.operators)?;
         self.op_costs()?;
+        self.nesting.rules()?;
         if self.max_complexity == 0 || self.max_complexity > MAX_COMPLEXITY_LIMIT {
             return Err(SrError::InvalidConfig(format!(
                 "max_complexity is {}: choose 1 to {MAX_COMPLEXITY_LIMIT}",
@@ -246,6 +259,13 @@ impl SearchConfig {
             return Err(SrError::InvalidConfig(
                 "time_limit_s must be a positive number of seconds".into(),
             ));
+        }
+        if self.consensus_runs > crate::consensus::MAX_CONSENSUS_RUNS {
+            return Err(SrError::InvalidConfig(format!(
+                "consensus_runs is {}: choose 0 (one search) to {}",
+                self.consensus_runs,
+                crate::consensus::MAX_CONSENSUS_RUNS
+            )));
         }
         if self.max_evaluations == Some(0) {
             return Err(SrError::InvalidConfig(

@@ -137,6 +137,21 @@ impl<'a> Problem<'a> {
         }
     }
 
+    /// A candidate turned down without fitting (infinite loss and score), as [`Problem::fit`]
+    /// rejects one, so the strategy that proposed it learns it is no good.
+    pub(crate) fn rejected(&self, c: &Candidate) -> Fitted {
+        let prog = &c.program;
+        Fitted {
+            program: prog.clone(),
+            params: vec![0.0; prog.n_params()],
+            mse: f64::INFINITY,
+            score: f64::INFINITY,
+            complexity: prog.complexity_with(self.cfg.complexity_measure, &self.op_costs),
+            source: c.source,
+            tag: c.tag,
+        }
+    }
+
     /// Fits one candidate on the fitting rows: from its warm start if it has one, else from
     /// the canonical start and one random start drawn from `seed`; keeps the better.
     /// Non-finite fits, and structures with at least as many parameters as rows, are

@@ -3,7 +3,8 @@
 //!
 //! One file per job:
 //! - `config`: [`SearchConfig`], [`Strategy`], [`Criterion`] and their checks;
-//! - `run`: [`search()`], the main loop, and [`Progress`];
+//! - `run`: [`search()`] (one search, or the consensus of [`crate::consensus`]), the main
+//!   loop, and [`Progress`];
 //! - `fitting`: the rows a search fits on, one candidate's fit, the criterion, the seeds;
 //! - `mutual_information`: the inputs' prior weights;
 //! - `generate`, `field`, `qlattice`, `genetic`, `strategy`: proposing candidates (path
@@ -33,6 +34,8 @@ mod strategy;
 mod structure;
 
 pub use config::{Criterion, DEFAULT_OPERATORS, PAPER_OPERATORS, SearchConfig, Strategy};
+pub(crate) use run::plain_search;
 pub use run::{Progress, search};
 pub use selection::SearchResult;
 pub use structure::fit_structure;
+pub(crate) use structure::fit_structure_from;

@@ -7,6 +7,7 @@ use super::generate::Tables;
 use super::mutual_information::input_priors;
 use super::selection::{SearchResult, finish};
 use super::strategy::{self, ROUNDS_PER_EPOCH, Step};
+use crate::nesting::NestingRules;
 use crate::program::Program;
 use crate::{SrError, Table};
 use hxai_table::Pool;
@@ -34,7 +35,9 @@ pub struct Progress {
     pub best_loss: f64,
 }
 
-/// Runs symbolic regression of `target` on the columns of `data`.
+/// Runs symbolic regression of `target` on the columns of `data`: one search, or with
+/// [`SearchConfig::consensus_runs`] > 0 the consensus of that many bootstrap searches
+/// ([`crate::consensus`]).
 ///
 /// Candidates are fitted in parallel on the threads `cfg.par` chooses (by default the
 /// caller's rayon pool); every random choice
@@ -51,8 +54,23 @@ pub fn search(
     cfg: &SearchConfig,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<SearchResult, SrError> {
+    if cfg.consensus_runs > 0 {
+        cfg.check()?;
+        return crate::consensus::search(data, target, cfg, progress);
+    }
+    plain_search(data, target, cfg, progress)
+}
+
+/// One search, whatever [`SearchConfig::consensus_runs`] says.
+pub(crate) fn plain_search(
+    data: &Table,
+    target: &[f64],
+    cfg: &SearchConfig,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<SearchResult, SrError> {
     let t0 = Instant::now();
     let ops = cfg.check()?;
+    let nesting = cfg.nesting.rules()?;
     check_target(data, target)?;
     let y_var = search_target_variance(target)?;
     // One generator draws the fitting rows, then every proposal and update, in that order.
@@ -73,6 +91,7 @@ pub fn search(
             let budget_spent = state.cut_to_budget(&mut cands, cfg.max_evaluations);
             let (fitted, timed_out) = state.fit_epoch(
                 &problem,
+                &nesting,
                 &cands,
                 (epoch * ROUNDS_PER_EPOCH + round) as u64,
                 t0,
@@ -133,13 +152,15 @@ impl LoopState {
     }
 
     /// The fits of this round's candidates (`step` numbers the round in the run), in
-    /// proposal order: cached structures reused,
+    /// proposal order: structures that break the nesting constraints rejected unfitted (and
+    /// not counted as evaluations), cached structures reused,
     /// the first occurrence of each new structure fitted (in parallel, seeded by its
     /// index), later duplicates given that fit. Also returns whether the time limit cut the
     /// epoch short (the unfitted candidates are then left out).
     fn fit_epoch(
         &mut self,
         problem: &Problem,
+        nesting: &NestingRules,
         cands: &[Candidate],
         step: u64,
         t0: Instant,
@@ -151,7 +172,9 @@ impl LoopState {
         {
             let mut seen: HashMap<&Program, usize> = HashMap::new();
             for (i, c) in cands.iter().enumerate() {
-                if let Some(f) = self.cache.get(&c.program) {
+                if !nesting.allows(&c.program) {
+                    fitted[i] = Some(problem.rejected(c));
+                } else if let Some(f) = self.cache.get(&c.program) {
                     fitted[i] = Some(f.relabelled(c));
                 } else if seen.insert(&c.program, i).is_none() {
                     todo.push(i);

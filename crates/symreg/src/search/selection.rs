@@ -55,6 +55,16 @@ pub struct SearchResult {
     pub best: Model,
     /// Best model at each complexity that lowers the loss, by increasing complexity.
     pub pareto: Vec<Model>,
+    /// The models the data cannot tell apart from the best: every other reported model
+    /// whose cross-validated loss (`cv_folds` seeded folds of all rows, the constants
+    /// refitted on each) is within one standard error of the lowest, simplest first, one
+    /// per structure. Computed whatever the criterion; empty in files written before it.
+    #[serde(default)]
+    pub alternatives: Vec<Model>,
+    /// With [`SearchConfig::consensus_runs`](crate::SearchConfig::consensus_runs) > 0, how
+    /// the structure of `best` was voted for ([`crate::consensus`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub consensus: Option<crate::consensus::Consensus>,
     /// Models fitted.
     pub evaluations: u64,
     /// Wall time in seconds.
@@ -93,21 +103,25 @@ pub(crate) fn finish(
             .cmp(&b.complexity)
             .then(a.train_mse.total_cmp(&b.train_mse))
     });
-    let cv_se = if problem.cfg.criterion == Criterion::CrossValidation {
-        cross_validate_scores(problem, &mut models, data, pool)?
-    } else {
-        Vec::new()
-    };
+    let cv = cross_validate(problem, &models, data, pool)?;
+    if problem.cfg.criterion == Criterion::CrossValidation {
+        for (m, (mean, _)) in models.iter_mut().zip(&cv) {
+            m.score = *mean;
+        }
+    }
     let pareto = pareto_front(&models);
     let best = match problem.cfg.criterion {
         Criterion::ParetoScore => pareto_score_pick(&pareto),
-        Criterion::CrossValidation => one_standard_error_pick(&models, &cv_se),
+        Criterion::CrossValidation => one_standard_error_pick(&models, &cv),
         Criterion::Bic | Criterion::Aic => simplest_within_one_charge(problem, &models),
     }
     .ok_or(SrError::NoModel)?;
+    let alternatives = within_one_standard_error(&models, &cv, &best);
     Ok(SearchResult {
         best,
         pareto,
+        alternatives,
+        consensus: None,
         evaluations,
         seconds: t0.elapsed().as_secs_f64(),
     })
@@ -225,16 +239,15 @@ fn simplest_within_one_charge(problem: &Problem, models: &[Model]) -> Option<Mod
         .cloned()
 }
 
-/// Under [`Criterion::CrossValidation`]: replaces each model's `score` by its mean
-/// held-out squared error over `cv_folds` seeded folds of all rows, and returns each
-/// mean's standard error. Each fold refits every constant of the structure from the
+/// Each model's mean held-out squared error over `cv_folds` seeded folds of all rows, and
+/// the mean's standard error. Each fold refits every constant of the structure from the
 /// model's own (all-rows) values; a fold whose refit fails scores infinity.
-fn cross_validate_scores(
+fn cross_validate(
     problem: &Problem,
-    models: &mut [Model],
+    models: &[Model],
     data: &Table,
     pool: &Pool,
-) -> Result<Vec<f64>, SrError> {
+) -> Result<Vec<(f64, f64)>, SrError> {
     let cfg = problem.cfg;
     let n = problem.y.len();
     let k = cfg.cv_folds.min(n);
@@ -244,18 +257,49 @@ fn cross_validate_scores(
     for (pos, &row) in order.iter().enumerate() {
         fold_of[row] = pos * k / n;
     }
-    let scored: Vec<(f64, f64)> = pool.install(|| {
+    pool.install(|| {
         models
             .par_iter()
             .map(|m| cv_loss(m, data, &problem.y, &fold_of, k))
             .collect::<Result<_, _>>()
-    })?;
-    let mut ses = Vec::with_capacity(models.len());
-    for (m, (mean, se)) in models.iter_mut().zip(scored) {
-        m.score = mean;
-        ses.push(se);
+    })
+}
+
+/// The lowest cross-validated loss of `cv` (mean, standard error per model) plus its
+/// standard error: the band of the one-standard-error rule (infinite when no loss is
+/// finite, so nothing is within it).
+fn one_standard_error_limit(cv: &[(f64, f64)]) -> f64 {
+    cv.iter()
+        .filter(|(mean, _)| mean.is_finite())
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map_or(f64::NEG_INFINITY, |(mean, se)| mean + se)
+}
+
+/// The models other than `best` whose cross-validated loss is within one standard error of
+/// the lowest, simplest first (ties by loss), one per structure (`best`'s excluded).
+fn within_one_standard_error(models: &[Model], cv: &[(f64, f64)], best: &Model) -> Vec<Model> {
+    let limit = one_standard_error_limit(cv);
+    let mut seen = vec![crate::stability::structure_of(best)];
+    let mut band: Vec<(&Model, f64)> = models
+        .iter()
+        .zip(cv)
+        .filter(|(_, (mean, _))| *mean <= limit)
+        .map(|(m, (mean, _))| (m, *mean))
+        .collect();
+    band.sort_by(|a, b| {
+        a.0.complexity
+            .cmp(&b.0.complexity)
+            .then(a.1.total_cmp(&b.1))
+    });
+    let mut out = Vec::new();
+    for (m, _) in band {
+        let key = crate::stability::structure_of(m);
+        if !seen.contains(&key) {
+            seen.push(key);
+            out.push(m.clone());
+        }
     }
-    Ok(ses)
+    out
 }
 
 /// Mean and standard error of one model's held-out MSE over the folds.
@@ -325,17 +369,14 @@ fn cv_loss(
 /// The one-standard-error rule (Hastie, Tibshirani and Friedman, *The Elements of
 /// Statistical Learning*, 7.10): the simplest model whose cross-validated error is within
 /// one standard error of the lowest.
-/// `se[i]` is the standard error of `models[i].score`.
-fn one_standard_error_pick(models: &[Model], se: &[f64]) -> Option<Model> {
-    let (best, best_se) = models
-        .iter()
-        .zip(se)
-        .filter(|(m, _)| m.score.is_finite())
-        .min_by(|a, b| a.0.score.total_cmp(&b.0.score))?;
-    let limit = best.score + best_se;
+/// `cv[i]` is the mean and standard error of `models[i]`'s held-out loss.
+fn one_standard_error_pick(models: &[Model], cv: &[(f64, f64)]) -> Option<Model> {
+    let limit = one_standard_error_limit(cv);
     models
         .iter()
-        .filter(|m| m.score <= limit)
+        .zip(cv)
+        .filter(|(_, (mean, _))| *mean <= limit)
+        .map(|(m, _)| m)
         .min_by(|a, b| {
             a.complexity
                 .cmp(&b.complexity)

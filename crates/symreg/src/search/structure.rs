@@ -22,6 +22,55 @@ pub fn fit_structure(
     cfg: &SearchConfig,
 ) -> Result<Model, SrError> {
     cfg.check()?;
+    fit_from(data, target, program, None, cfg)
+}
+
+/// [`fit_structure`] of `model`'s structure, starting from its constants only (a model
+/// found on other rows of the same columns, as [`crate::consensus`] refits its winner).
+pub(crate) fn fit_structure_from(
+    data: &Table,
+    target: &[f64],
+    model: &Model,
+    cfg: &SearchConfig,
+) -> Result<Model, SrError> {
+    cfg.check()?;
+    let names = data.names();
+    let remap: Option<Vec<u16>> = model
+        .feature_names
+        .iter()
+        .map(|f| {
+            names
+                .iter()
+                .position(|n| n == f)
+                .and_then(|j| u16::try_from(j).ok())
+        })
+        .collect();
+    let Some(remap) = remap else {
+        return Err(SrError::MalformedModel(
+            "the model uses a column the data does not have".into(),
+        ));
+    };
+    let mut program = model.program.clone();
+    for n in &mut program.nodes {
+        if let crate::program::Node::Var(j) = n {
+            *j = remap.get(*j as usize).copied().unwrap_or(*j);
+        }
+    }
+    if program.n_params() != model.params.len() {
+        return Err(SrError::MalformedModel(
+            "the model's constants do not match its program".into(),
+        ));
+    }
+    fit_from(data, target, &program, Some(model.params.clone()), cfg)
+}
+
+fn fit_from(
+    data: &Table,
+    target: &[f64],
+    program: &Program,
+    params: Option<Vec<f64>>,
+    cfg: &SearchConfig,
+) -> Result<Model, SrError> {
     if !program.is_valid() || program.vars().iter().any(|&j| j as usize >= data.n_cols()) {
         return Err(SrError::MalformedModel(
             "the program is not a valid expression over the data's columns".into(),
@@ -42,7 +91,7 @@ pub fn fit_structure(
     let problem = Problem::all_rows(data, target, y_var, cfg);
     let cand = Candidate {
         program: program.clone(),
-        params: None,
+        params,
         source: 0,
         tag: 0,
     };

@@ -1,0 +1,221 @@
+//! Consensus selection: the structure the data gives back most often.
+//!
+//! One search picks one structure, and on noisy data a resample of the rows often picks
+//! another that fits as well: the choice among the near-best is a draw. Consensus selection
+//! ([`SearchConfig::consensus_runs`] = B > 0) turns the draw into a vote:
+//! 1. the search runs once on all rows (its Pareto front and its near-best models are
+//!    reported as usual);
+//! 2. it runs again on B bootstrap resamples of the rows (run `r` draws its rows from a
+//!    generator seeded by the seed and `r`, and searches with seed `seed + r + 1`, as
+//!    [`crate::stability()`] does), one after the other, each search parallel inside;
+//! 3. each run nominates the structures it found: its selected model, its
+//!    [`SearchResult::alternatives`] and every member of its Pareto front, each structure
+//!    once per run ([`crate::stability::structure_of`]);
+//! 4. the structures nominated by at least half the runs ([`STABLE_SHARE`]) are the stable
+//!    ones; each is refitted on all rows (the all-rows search's own fit when it found the
+//!    structure, else the constants of the run that nominated it first, refitted from
+//!    there) and scored by the criterion on all rows; the best-scoring stable structure
+//!    wins (ties: the simpler, then by text). When no structure is stable, the most
+//!    nominated one wins.
+//!
+//! The report ([`Consensus`]) gives the winner's share (runs nominating it / B) and the
+//! most nominated structures. This is stability selection (Meinshausen and Bühlmann 2010)
+//! applied to whole structures: first keep what the data gives back, then choose by fit
+//! among what is kept. A structure that only one draw of the rows supports cannot win
+//! however well it fits that draw; the price is accuracy where the true correction is more
+//! complex than anything the resamples agree on. It costs B + 1 searches.
+use crate::search::{SearchConfig, SearchResult, fit_structure_from, plain_search};
+use crate::stability::{StructureShare, structure_of};
+use crate::{Model, Progress, SrError, Table};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// Mixing constant of the resample seeds (SplitMix64's increment), as in [`crate::stability()`].
+const RUN_MIX: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// Most structures a [`Consensus`] report lists besides the winner.
+pub const MAX_LISTED: usize = 5;
+
+/// Share of the runs that must nominate a structure for it to count as stable.
+pub const STABLE_SHARE: f64 = 0.5;
+
+/// Largest number of consensus runs accepted.
+pub const MAX_CONSENSUS_RUNS: usize = 1000;
+
+/// What consensus selection reports (JSON `consensus` in a search result).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Consensus {
+    /// Bootstrap runs (B).
+    pub runs: usize,
+    /// The winning structure, every constant written `c`.
+    pub structure: String,
+    /// Share of runs that nominated it (0 to 1).
+    pub share: f64,
+    /// The winner, then the most nominated other structures (at most [`MAX_LISTED`]);
+    /// shares do not sum to 1, since a run nominates every structure it found.
+    pub nominated: Vec<StructureShare>,
+}
+
+/// The rows of bootstrap run `r` of `n` rows under `seed`, and the rows it left out.
+pub(crate) fn bootstrap_rows(seed: u64, r: usize, n: usize) -> (Vec<usize>, Vec<usize>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (r as u64 + 1).wrapping_mul(RUN_MIX));
+    let rows: Vec<usize> = (0..n).map(|_| rng.gen_range(0..n)).collect();
+    let mut drawn = vec![false; n];
+    for &i in &rows {
+        drawn[i] = true;
+    }
+    let oob = (0..n).filter(|&i| !drawn[i]).collect();
+    (rows, oob)
+}
+
+/// A nominated structure: in how many runs, and the first nomination's model.
+struct Nominee {
+    runs: usize,
+    model: Model,
+}
+
+/// The consensus search of the module docs (`cfg.consensus_runs` > 0). `progress` sees
+/// the epochs of the B + 1 searches as one count.
+pub(crate) fn search(
+    data: &Table,
+    target: &[f64],
+    cfg: &SearchConfig,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<SearchResult, SrError> {
+    let t0 = Instant::now();
+    let runs = cfg.consensus_runs;
+    if runs > MAX_CONSENSUS_RUNS {
+        return Err(SrError::InvalidConfig(format!(
+            "consensus_runs is {runs}: choose at most {MAX_CONSENSUS_RUNS}"
+        )));
+    }
+    let one = SearchConfig {
+        consensus_runs: 0,
+        ..cfg.clone()
+    };
+    let total = cfg.epochs * (runs + 1);
+    let mut report = |done: usize, p: &Progress| {
+        progress(&Progress {
+            epoch: done * cfg.epochs + p.epoch,
+            epochs: total,
+            ..p.clone()
+        });
+    };
+    let full = plain_search(data, target, &one, &mut |p| report(0, p))?;
+    let mut evaluations = full.evaluations;
+    let n = data.n_rows();
+    let mut nominees: BTreeMap<String, Nominee> = BTreeMap::new();
+    for r in 0..runs {
+        let (rows, _) = bootstrap_rows(cfg.seed, r, n);
+        let train = data.select_rows(&rows)?;
+        let y: Vec<f64> = rows.iter().map(|&i| target[i]).collect();
+        let run_cfg = SearchConfig {
+            seed: cfg.seed.wrapping_add(r as u64 + 1),
+            ..one.clone()
+        };
+        let res = plain_search(&train, &y, &run_cfg, &mut |p| report(r + 1, p))?;
+        evaluations += res.evaluations;
+        let mut this_run: Vec<String> = Vec::new();
+        for m in std::iter::once(res.best)
+            .chain(res.alternatives)
+            .chain(res.pareto)
+        {
+            let key = structure_of(&m);
+            if this_run.contains(&key) {
+                continue;
+            }
+            this_run.push(key.clone());
+            nominees
+                .entry(key)
+                .or_insert(Nominee { runs: 0, model: m })
+                .runs += 1;
+        }
+    }
+    let mut ranked: Vec<(String, Nominee)> = nominees.into_iter().collect();
+    ranked.sort_by(|a, b| {
+        b.1.runs
+            .cmp(&a.1.runs)
+            .then(a.1.model.complexity.cmp(&b.1.model.complexity))
+            .then(a.0.cmp(&b.0))
+    });
+    let share = |k: usize| k as f64 / runs as f64;
+    let all_rows_fits: Vec<&Model> = std::iter::once(&full.best)
+        .chain(&full.alternatives)
+        .chain(&full.pareto)
+        .collect();
+    let refit = |key: &str, nominee: &Nominee| match all_rows_fits
+        .iter()
+        .find(|m| structure_of(m) == key)
+    {
+        Some(m) => Ok((*m).clone()),
+        None => fit_structure_from(data, target, &nominee.model, &one),
+    };
+    let stable: Vec<&(String, Nominee)> = ranked
+        .iter()
+        .filter(|(_, nom)| share(nom.runs) >= STABLE_SHARE)
+        .collect();
+    let mut winner: Option<(Model, &String, usize)> = None;
+    for (key, nom) in &stable {
+        let m = refit(key, nom)?;
+        let better = winner.as_ref().is_none_or(|(w, wk, _)| {
+            m.score
+                .total_cmp(&w.score)
+                .then(m.complexity.cmp(&w.complexity))
+                .then(key.cmp(wk))
+                .is_lt()
+        });
+        if m.score.is_finite() && better {
+            winner = Some((m, key, nom.runs));
+        }
+    }
+    let (best, key, votes) = match winner {
+        Some(w) => w,
+        None => {
+            let Some((key, nom)) = ranked.first() else {
+                // no nomination: the all-rows search stands
+                return Ok(full);
+            };
+            (refit(key, nom)?, key, nom.runs)
+        }
+    };
+    let key = key.clone();
+    let consensus = Consensus {
+        runs,
+        structure: key.clone(),
+        share: share(votes),
+        nominated: std::iter::once(StructureShare {
+            template: key.clone(),
+            share: share(votes),
+        })
+        .chain(
+            ranked
+                .iter()
+                .filter(|(k, _)| *k != key)
+                .take(MAX_LISTED)
+                .map(|(k, nom)| StructureShare {
+                    template: k.clone(),
+                    share: share(nom.runs),
+                }),
+        )
+        .collect(),
+    };
+    // what the data cannot tell apart from the winner: the all-rows band, winner excluded
+    let mut alternatives: Vec<Model> = Vec::new();
+    for m in std::iter::once(&full.best).chain(&full.alternatives) {
+        let k = structure_of(m);
+        if k != *key && !alternatives.iter().any(|a| structure_of(a) == k) {
+            alternatives.push(m.clone());
+        }
+    }
+    Ok(SearchResult {
+        best,
+        pareto: full.pareto,
+        alternatives,
+        consensus: Some(consensus),
+        evaluations,
+        seconds: t0.elapsed().as_secs_f64(),
+    })
+}

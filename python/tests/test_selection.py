@@ -1,0 +1,63 @@
+"""Readable equations: nesting constraints, consensus selection and the selection report
+(`selection_`), as docs/python.md describes them."""
+import json
+
+import pytest
+
+import hxai
+from hxai import HybridRegressor, SymbolicRegressor
+from hxai._hxai import defaults
+from conftest import FAST
+
+TRANSCENDENTAL = ("exp(", "log(", "sin(", "cos(", "tanh(")
+
+
+def test_every_nesting_form_is_read_and_a_bad_one_refused(quadratic):
+    X, y = quadratic
+    for form in ("none", "readable", "readable,exp:log=0", {"exp": {"exp": 0}}):
+        est = SymbolicRegressor(**FAST, nesting=form).fit(X, y)
+        assert est.selection_["method"] == "bic"
+        assert est.selection_["share"] is None
+    with pytest.raises(ValueError, match="nesting"):
+        SymbolicRegressor(**FAST, nesting="exp:exp").fit(X, y)
+    with pytest.raises(ValueError, match="nesting"):
+        SymbolicRegressor(**FAST, nesting=3).fit(X, y)
+    # the engine's own default is no constraint, which `none` names
+    assert json.loads(defaults("search"))["nesting"] == {}
+
+
+def test_a_correction_is_readable_and_consensus_reports_its_share():
+    X = hxai.simulate("roughness", n_rows=160, seed=5)
+    y = X.pop("Ra_um")
+    est = HybridRegressor(
+        "1000*feed_mm^2/(32*nose_radius_mm) + Ra0",
+        calibrate=["Ra0"],
+        init={"Ra0": 0.0},
+        correction="multiplicative",
+        exclude=["tool"],
+        consensus_runs=3,
+        **FAST,
+    ).fit(X, y)
+    sel = est.selection_
+    assert sel["method"] == "consensus"
+    assert sel["runs"] == 3 and 0.0 < sel["share"] <= 1.0
+    assert len(sel["alternatives"]) <= 3
+    model = json.loads(est.model_json_)
+    assert model["correction"]["selection"] == sel
+    # readable by default: no transcendental call inside another one's argument
+    text = est.sympy_
+    for f in TRANSCENDENTAL:
+        start = text.find(f)
+        while start >= 0:
+            depth, i = 0, start + len(f) - 1
+            inner = ""
+            while i < len(text):
+                depth += {"(": 1, ")": -1}.get(text[i], 0)
+                inner += text[i]
+                if depth == 0:
+                    break
+                i += 1
+            assert not any(g in inner for g in TRANSCENDENTAL if g != "log(" or f != "exp("), text
+            start = text.find(f, start + 1)
+    with pytest.raises(ValueError, match="consensus_runs"):
+        HybridRegressor("k*feed_mm", calibrate=["k"], consensus_runs=-1).fit(X, y)
