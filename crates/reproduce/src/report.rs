@@ -428,7 +428,8 @@ fn stability_section(s: &mut String, st: &hxai_symreg::Stability) {
         s,
         "\nStability over {} bootstrap resamples of the training windows (`hxai fit \
          --stability {}`; each run is the whole search with its own seed; structures compared \
-         with every constant written `c`):\n",
+         by their canonical form, equal up to constants and algebra, every constant written \
+         `c`):\n",
         st.runs, st.runs
     );
     let mut features: Vec<(&String, &f64)> = st.features.iter().collect();

@@ -52,6 +52,7 @@
 
 #[doc(hidden)]
 pub mod bench_programs;
+pub mod canonical;
 pub mod consensus;
 mod error;
 pub mod eval;

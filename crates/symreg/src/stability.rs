@@ -6,15 +6,18 @@
 //! `(seed, run)`) and reports how often each feature is used, how often each structure is
 //! selected, and the spread of R^2 on the rows each resample left out (out-of-bag).
 //!
-//! Structures are compared with constants ignored: every parameter of the program is
-//! written as `c`, and the operands of `+` and `*` are put in a canonical order, so
-//! `c*x1*x2 + c` and `c + c*x2*x1` are one structure. Structures that differ only in
-//! algebra beyond that (`x*(y + z)` against `x*y + x*z`) count as different.
+//! Structures are compared up to their constants and their algebra: [`structure_of`] is
+//! the canonical form of [`crate::canonical`] (equality saturation), printed with every
+//! constant written `c`. So `c*x1*x2 + c` and `c + c*x2*x1` are one structure, and so are
+//! `x*(c*(c*y))` and `c*x*y`, `gaussian(x)` and `exp(-x^2)`, `c*exp(c + x)` and
+//! `c*exp(x)`, `sub(x, y)` and `add(x, y)` when inputs carry their own scale (`c*x - c*y`
+//! is `c*x + c*y` with another constant). Structures equal only through rules the canonical
+//! form does not have (expanding a product of sums: `x*(y + z)` against `x*y + x*z`;
+//! trigonometric identities) count as different; so, rarely, do structures whose e-graph
+//! hit its size limit (see [`crate::canonical`]'s limits).
 //!
 //! Runs are searched in parallel (on the threads `cfg.par` chooses) and collected in run order; each search is itself
 //! independent of the thread count, so the result depends only on the seed and the data.
-use crate::expr::Expr;
-use crate::ops::Op;
 use crate::search::SearchConfig;
 use crate::{Model, Par, SrError, Table, search};
 use rand::{Rng, SeedableRng};
@@ -75,49 +78,11 @@ pub(crate) fn bootstrap_rows(seed: u64, r: usize, n: usize) -> (Vec<usize>, Vec<
     (rows, oob)
 }
 
-/// The structure of a model with its constants ignored (see the module docs).
+/// The structure of a model with its constants ignored (see the module docs): its
+/// program's [`crate::canonical::structure_key`], sympy-readable text with every constant
+/// written `c`.
 pub fn structure_of(model: &Model) -> String {
-    let symbols: Vec<Option<String>> = vec![Some("c".to_string()); model.params.len()];
-    let e = Expr::from_program_with_symbols(
-        &model.program,
-        &model.params,
-        &model.feature_names,
-        &symbols,
-    );
-    canonical(e).to_text(None, true)
-}
-
-/// Sorts the operands of `+` and `*` chains by their text.
-fn canonical(e: Expr) -> Expr {
-    match e {
-        Expr::Bin(op @ (Op::Add | Op::Mul), a, b) => {
-            let mut terms = Vec::new();
-            flatten(op, Expr::Bin(op, a, b), &mut terms);
-            let mut terms: Vec<(String, Expr)> = terms
-                .into_iter()
-                .map(canonical)
-                .map(|t| (t.to_text(None, true), t))
-                .collect();
-            terms.sort_by(|x, y| x.0.cmp(&y.0));
-            let mut it = terms.into_iter().map(|(_, t)| t);
-            let first = it.next().unwrap_or(Expr::Num(0.0));
-            it.fold(first, |acc, t| Expr::Bin(op, Box::new(acc), Box::new(t)))
-        }
-        Expr::Bin(op, a, b) => Expr::Bin(op, Box::new(canonical(*a)), Box::new(canonical(*b))),
-        Expr::Un(op, a) => Expr::Un(op, Box::new(canonical(*a))),
-        Expr::Neg(a) => Expr::Neg(Box::new(canonical(*a))),
-        other => other,
-    }
-}
-
-fn flatten(op: Op, e: Expr, out: &mut Vec<Expr>) {
-    match e {
-        Expr::Bin(o, a, b) if o == op => {
-            flatten(op, *a, out);
-            flatten(op, *b, out);
-        }
-        other => out.push(other),
-    }
+    crate::canonical::structure_key(&model.program, &model.feature_names)
 }
 
 /// Reruns the search on `runs` bootstrap resamples of the rows of `data` (see the module

@@ -95,3 +95,37 @@ fn structures_ignore_constants() {
         hxai_symreg::stability::structure_of(&b)
     );
 }
+
+/// Structures equal up to their algebra are one too (issue 23): a constant factor inside is
+/// absorbed by the output scale, and with affine inputs a difference is a sum.
+#[test]
+fn structures_are_compared_by_their_canonical_form() {
+    use hxai_symreg::stability::structure_of;
+    use hxai_symreg::{Model, Node, Op, Program};
+    let names = || vec!["x1".to_string(), "x2".to_string()];
+    let model = |nodes: Vec<Node>, affine: bool| {
+        let program = Program { nodes, affine };
+        let params = vec![0.7; program.n_params()];
+        Model::new(names(), program, params).expect("model")
+    };
+    let (x1, x2, c) = (Node::Var(0), Node::Var(1), Node::Const);
+    let op = Node::Op;
+    // x1*(c*x2) and x1*x2, no affine inputs
+    let a = model(vec![x1, c, x2, op(Op::Mul), op(Op::Mul)], false);
+    let b = model(vec![x1, x2, op(Op::Mul)], false);
+    assert_eq!(structure_of(&a), structure_of(&b));
+    assert_eq!(structure_of(&b), "c*x1*x2 + c");
+    // sub(x1, x2) and add(x2, x1) with affine inputs
+    let a = model(vec![x1, x2, op(Op::Sub)], true);
+    let b = model(vec![x2, x1, op(Op::Add)], true);
+    assert_eq!(structure_of(&a), structure_of(&b));
+    // exp(x1 + c) and exp(x1)
+    let a = model(vec![x1, c, op(Op::Add), op(Op::Exp)], false);
+    let b = model(vec![x1, op(Op::Exp)], false);
+    assert_eq!(structure_of(&a), structure_of(&b));
+    assert_eq!(structure_of(&b), "c*exp(x1) + c");
+    // different structures stay apart
+    let a = model(vec![x1, op(Op::Exp)], false);
+    let b = model(vec![x1, op(Op::Square), op(Op::Exp)], false);
+    assert_ne!(structure_of(&a), structure_of(&b));
+}
