@@ -42,6 +42,11 @@ pub struct Args {
     /// (0, the default, selects by --criterion from one search).
     #[arg(long, default_value_t = 0)]
     pub consensus: usize,
+    /// Fit a candidate again when an algebraically equal structure (same canonical form)
+    /// was fitted earlier in the search; by default it takes the earlier fit. For
+    /// measuring what the skip saves (`duplicate_structures` in `--json`).
+    #[arg(long)]
+    pub refit_equivalent: bool,
     /// Complexity of operators, as comma-separated NAME=INTEGER (e.g. `sqrt=2,exp=2`);
     /// operators not named count 1.
     #[arg(long, value_delimiter = ',')]
@@ -175,6 +180,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         criterion: args.criterion.into(),
         cv_folds: args.cv_folds,
         complexity_penalty: args.complexity_penalty,
+        skip_equivalent: !args.refit_equivalent,
         ..SearchConfig::default()
     };
     if let Some(ops) = args.operators {
@@ -237,6 +243,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             "selection": selection,
             "pareto": pareto,
             "evaluations": res.evaluations,
+            "duplicate_structures": res.duplicate_structures,
             "seconds": res.seconds,
         });
         if let (Some(s), Some(obj)) = (&stability, doc.as_object_mut()) {

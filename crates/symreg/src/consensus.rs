@@ -84,6 +84,7 @@ pub(crate) fn search(
     };
     let full = plain_search(data, target, &one, &mut |p| report(0, p))?;
     let mut evaluations = full.evaluations;
+    let mut duplicate_structures = full.duplicate_structures;
     let n = data.n_rows();
     let mut nominees: BTreeMap<String, Nominee> = BTreeMap::new();
     for r in 0..runs {
@@ -96,6 +97,7 @@ pub(crate) fn search(
         };
         let res = plain_search(&train, &y, &run_cfg, &mut |p| report(r + 1, p))?;
         evaluations += res.evaluations;
+        duplicate_structures += res.duplicate_structures;
         let mut this_run: Vec<String> = Vec::new();
         for m in std::iter::once(res.best)
             .chain(res.alternatives)
@@ -193,6 +195,7 @@ pub(crate) fn search(
         alternatives,
         consensus: Some(consensus),
         evaluations,
+        duplicate_structures,
         seconds: t0.elapsed().as_secs_f64(),
     })
 }

@@ -151,6 +151,12 @@ pub struct SearchConfig {
     /// Consensus selection over this many bootstrap searches ([`crate::consensus`]); 0
     /// (the default) runs one search and selects by `criterion`.
     pub consensus_runs: usize,
+    /// Skip a candidate whose structure is algebraically equal to one already fitted in
+    /// this search (same [`crate::canonical::Effort::Fast`] structure key), giving it the
+    /// earlier fit: true by default. False fits it again (the search before this setting;
+    /// [`SearchResult::duplicate_structures`](crate::SearchResult::duplicate_structures)
+    /// counts such candidates either way).
+    pub skip_equivalent: bool,
     /// Threads of the search (and of [`crate::stability()`]'s runs): [`Par::Current`] by
     /// default, the caller's pool. Not part of any file (`serde(skip)`): the result never
     /// depends on it.
@@ -182,6 +188,7 @@ impl Default for SearchConfig {
             snap_tolerance: 1e-3,
             nesting: Nesting::none(),
             consensus_runs: 0,
+            skip_equivalent: true,
             par: Par::Current,
         }
     }

@@ -7,6 +7,7 @@ use super::generate::Tables;
 use super::mutual_information::input_priors;
 use super::selection::{SearchResult, finish};
 use super::strategy::{self, ROUNDS_PER_EPOCH, Step};
+use crate::canonical::{self, Effort};
 use crate::nesting::NestingRules;
 use crate::program::Program;
 use crate::{SrError, Table};
@@ -118,7 +119,14 @@ pub(crate) fn plain_search(
             best_loss: state.archive.best_loss(),
         });
     }
-    finish(&problem, data, &state.archive, state.evaluations, t0, &pool)
+    finish(
+        &problem,
+        data,
+        &state.archive,
+        (state.evaluations, state.duplicate_structures),
+        t0,
+        &pool,
+    )
 }
 
 /// Whether the run has used up its `time_limit_s`.
@@ -134,8 +142,12 @@ struct LoopState {
     archive: Archive,
     /// Every structure fitted so far: a structure is fitted once per search.
     cache: HashMap<Program, Fitted>,
-    /// Models fitted so far (cache hits not counted).
+    /// The first program fitted of each structure key ([`Effort::Fast`]).
+    structures: HashMap<String, Program>,
+    /// Models fitted so far (cache hits and skipped equivalents not counted).
     evaluations: u64,
+    /// Candidates whose structure key had been fitted under another program.
+    duplicate_structures: u64,
 }
 
 impl LoopState {
@@ -153,10 +165,12 @@ impl LoopState {
 
     /// The fits of this round's candidates (`step` numbers the round in the run), in
     /// proposal order: structures that break the nesting constraints rejected unfitted (and
-    /// not counted as evaluations), cached structures reused,
-    /// the first occurrence of each new structure fitted (in parallel, seeded by its
-    /// index), later duplicates given that fit. Also returns whether the time limit cut the
-    /// epoch short (the unfitted candidates are then left out).
+    /// not counted as evaluations), cached programs reused, and, under
+    /// [`SearchConfig::skip_equivalent`], a program whose structure key
+    /// ([`Effort::Fast`]) was fitted under another program given that fit; the first
+    /// occurrence of each new structure fitted (in parallel, seeded by its index), later
+    /// duplicates given that fit. Also returns whether the time limit cut the epoch short
+    /// (the unfitted candidates are then left out).
     fn fit_epoch(
         &mut self,
         problem: &Problem,
@@ -168,8 +182,11 @@ impl LoopState {
     ) -> (Vec<Fitted>, bool) {
         let cfg = problem.cfg;
         let mut fitted: Vec<Option<Fitted>> = vec![None; cands.len()];
+        // candidates to fit, and for each skipped equivalent the program whose fit it takes
         let mut todo: Vec<usize> = Vec::new();
+        let mut takes: Vec<(usize, Program)> = Vec::new();
         {
+            let mut fresh: Vec<usize> = Vec::new();
             let mut seen: HashMap<&Program, usize> = HashMap::new();
             for (i, c) in cands.iter().enumerate() {
                 if !nesting.allows(&c.program) {
@@ -177,7 +194,33 @@ impl LoopState {
                 } else if let Some(f) = self.cache.get(&c.program) {
                     fitted[i] = Some(f.relabelled(c));
                 } else if seen.insert(&c.program, i).is_none() {
-                    todo.push(i);
+                    fresh.push(i);
+                }
+            }
+            let keys: Vec<String> = pool.install(|| {
+                fresh
+                    .par_iter()
+                    .map(|&i| {
+                        canonical::structure_with(&cands[i].program, &[], Effort::Fast)
+                            .expr
+                            .to_text(None, true)
+                    })
+                    .collect()
+            });
+            for (i, key) in fresh.into_iter().zip(keys) {
+                match self.structures.get(&key) {
+                    Some(first) => {
+                        self.duplicate_structures += 1;
+                        if cfg.skip_equivalent {
+                            takes.push((i, first.clone()));
+                        } else {
+                            todo.push(i);
+                        }
+                    }
+                    None => {
+                        self.structures.insert(key, cands[i].program.clone());
+                        todo.push(i);
+                    }
                 }
             }
         }
@@ -197,6 +240,13 @@ impl LoopState {
                 self.evaluations += 1;
                 self.cache.insert(f.program.clone(), f.clone());
                 fitted[i] = Some(f);
+            }
+        }
+        // skipped equivalents take the fit of the structure's first program (unless the
+        // time limit left that unfitted)
+        for (i, first) in takes {
+            if let Some(f) = self.cache.get(&first) {
+                fitted[i] = Some(f.relabelled(&cands[i]));
             }
         }
         // duplicates within the epoch take the fit of their first occurrence

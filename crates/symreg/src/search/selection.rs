@@ -67,20 +67,30 @@ pub struct SearchResult {
     pub consensus: Option<crate::consensus::Consensus>,
     /// Models fitted.
     pub evaluations: u64,
+    /// Candidates whose structure was algebraically equal to one fitted earlier in the
+    /// search (the same [`crate::canonical::Effort::Fast`] structure key, though not the
+    /// same program): given that fit under
+    /// [`SearchConfig::skip_equivalent`](crate::SearchConfig::skip_equivalent) (not in
+    /// `evaluations`), fitted again without it (in `evaluations`). 0 in files written
+    /// before it was counted.
+    #[serde(default)]
+    pub duplicate_structures: u64,
     /// Wall time in seconds.
     pub seconds: f64,
 }
 
 /// Refits the archive's front and best model on all rows, snaps their constants, and picks
-/// the reported models; the refits run in `pool`.
+/// the reported models; the refits run in `pool`. `counts` are the search's evaluations
+/// and duplicate structures.
 pub(crate) fn finish(
     problem: &Problem,
     data: &Table,
     archive: &Archive,
-    evaluations: u64,
+    counts: (u64, u64),
     t0: Instant,
     pool: &Pool,
 ) -> Result<SearchResult, SrError> {
+    let (evaluations, duplicate_structures) = counts;
     let reported = reported_fits(archive);
     if reported.is_empty() {
         return Err(SrError::NoModel);
@@ -123,6 +133,7 @@ pub(crate) fn finish(
         alternatives,
         consensus: None,
         evaluations,
+        duplicate_structures,
         seconds: t0.elapsed().as_secs_f64(),
     })
 }

@@ -98,5 +98,13 @@ fn fit_from(
     let f = problem.fit(&cand, cfg.seed);
     let mut archive = Archive::default();
     archive.offer(&f);
-    finish(&problem, data, &archive, 1, Instant::now(), &cfg.par.pool()).map(|r| r.best)
+    finish(
+        &problem,
+        data,
+        &archive,
+        (1, 0),
+        Instant::now(),
+        &cfg.par.pool(),
+    )
+    .map(|r| r.best)
 }
