@@ -464,7 +464,7 @@ mod tests {
             &problem,
             &data,
             &archive,
-            2,
+            (2, 0),
             Instant::now(),
             &Par::Current.pool(),
         )
