@@ -260,3 +260,60 @@ impl LoopState {
         (fitted.into_iter().flatten().collect(), timed_out)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use crate::Op;
+    use crate::nesting::Nesting;
+    use crate::program::Node;
+
+    // `x0 + x1`, `x1 + x0` and `x0 + x1` again, over two rounds: the exact repeat is a cache
+    // hit either way; the reordered one is a duplicate structure, fitted again only when
+    // `skip_equivalent` is off.
+    #[test]
+    fn an_equal_structure_takes_the_earlier_fit_unless_told_otherwise() {
+        let x0: Vec<f64> = (0..50).map(|i| 1.0 + i as f64 / 10.0).collect();
+        let x1: Vec<f64> = (0..50).map(|i| ((i * 7) % 11) as f64).collect();
+        let y: Vec<f64> = x0.iter().zip(&x1).map(|(a, b)| a + 2.0 * b).collect();
+        let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+        let cand = |nodes: Vec<Node>, tag: u32| {
+            Candidate::new(
+                Program {
+                    nodes,
+                    affine: true,
+                },
+                None,
+                tag,
+            )
+        };
+        let ab = vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)];
+        let ba = vec![Node::Var(1), Node::Var(0), Node::Op(Op::Add)];
+        for skip in [true, false] {
+            let cfg = SearchConfig {
+                skip_equivalent: skip,
+                ..SearchConfig::default()
+            };
+            let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
+            let rules = Nesting::none().rules().unwrap();
+            let pool = cfg.par.pool();
+            let mut state = LoopState::default();
+            let t0 = Instant::now();
+            let first = [cand(ab.clone(), 0)];
+            let (f1, _) = state.fit_epoch(&problem, &rules, &first, 0, t0, &pool);
+            let second = [cand(ba.clone(), 1), cand(ab.clone(), 2)];
+            let (f2, _) = state.fit_epoch(&problem, &rules, &second, 1, t0, &pool);
+            assert_eq!(f2.len(), 2);
+            assert_eq!(state.duplicate_structures, 1, "skip {skip}");
+            assert_eq!(state.evaluations, if skip { 1 } else { 2 }, "skip {skip}");
+            assert_eq!(f2[1].mse, f1[0].mse, "the exact repeat is a cache hit");
+            assert_eq!(f2[0].tag, 1, "the fit is credited to the proposal");
+            if skip {
+                assert_eq!(f2[0].program, f1[0].program, "the earlier program's fit");
+            } else {
+                assert_eq!(f2[0].program.nodes, ba);
+            }
+        }
+    }
+}

@@ -8,6 +8,7 @@ use super::fitting::Problem;
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::model::{Model, prune_snapped, snap_params};
+use crate::stability::structure_of;
 use crate::{SrError, Table};
 use hxai_table::Pool;
 use rand::SeedableRng;
@@ -15,6 +16,7 @@ use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 
 /// Levenberg-Marquardt iterations of the final refit on all rows: twice the search's
@@ -113,6 +115,7 @@ pub(crate) fn finish(
             .cmp(&b.complexity)
             .then(a.train_mse.total_cmp(&b.train_mse))
     });
+    distinct_structures(&mut models, pool);
     let cv = cross_validate(problem, &models, data, pool)?;
     if problem.cfg.criterion == Criterion::CrossValidation {
         for (m, (mean, _)) in models.iter_mut().zip(&cv) {
@@ -136,6 +139,29 @@ pub(crate) fn finish(
         duplicate_structures,
         seconds: t0.elapsed().as_secs_f64(),
     })
+}
+
+/// Keeps one of `models` (sorted by complexity) per canonical structure
+/// ([`crate::stability::structure_of`]): the one with the lowest training loss, the simplest
+/// on a tie (within a relative `1e-9`). Programs the algebra proves equal are one model; a
+/// longer spelling is kept only where its constants happened to fit better.
+fn distinct_structures(models: &mut Vec<Model>, pool: &Pool) {
+    let keys: Vec<String> = pool.install(|| models.par_iter().map(structure_of).collect());
+    let mut chosen: HashMap<&str, usize> = HashMap::new();
+    for (i, k) in keys.iter().enumerate() {
+        match chosen.get(k.as_str()) {
+            Some(&j) if models[i].train_mse >= models[j].train_mse * (1.0 - 1e-9) => {}
+            _ => {
+                chosen.insert(k, i);
+            }
+        }
+    }
+    let keep: HashSet<usize> = chosen.into_values().collect();
+    let mut i = 0;
+    models.retain(|_| {
+        i += 1;
+        keep.contains(&(i - 1))
+    });
 }
 
 /// The archive's front plus its best-scoring model when that is not on the front.
@@ -471,5 +497,59 @@ mod tests {
         .unwrap();
         assert_eq!(res.best.complexity, 1, "{}", res.best.equation());
         assert_eq!(res.best.features(), vec!["x0".to_string()]);
+    }
+
+    // `x0 + x1` and `x1 + x0` are one structure: of the two, the one that fits better is
+    // kept, the simpler on a tie; a structure of its own is always kept.
+    #[test]
+    fn programs_equal_by_algebra_are_reported_once() {
+        let mut rng = ChaCha8Rng::seed_from_u64(6);
+        let x0: Vec<f64> = (0..200).map(|_| rng.gen_range(1.0..3.0)).collect();
+        let x1: Vec<f64> = (0..200).map(|_| rng.gen_range(-2.0..2.0)).collect();
+        let y: Vec<f64> = x0
+            .iter()
+            .zip(&x1)
+            .map(|(a, b)| 2.3 * a + 0.7 * b + a.sin())
+            .collect();
+        let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+        let cfg = SearchConfig::default();
+        let problem = Problem::all_rows(&data, &y, super::super::fitting::variance(&y), &cfg);
+        let model = |nodes: Vec<Node>| {
+            let c = Candidate {
+                program: Program {
+                    nodes,
+                    affine: true,
+                },
+                params: None,
+                source: 0,
+                tag: 0,
+            };
+            refine(&problem, &problem.fit(&c, 1), &data)
+        };
+        let a = model(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)]);
+        let b = model(vec![Node::Var(1), Node::Var(0), Node::Op(Op::Add)]);
+        let other = model(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Mul)]);
+        assert_eq!(structure_of(&a), structure_of(&b));
+        let pool = Par::Current.pool();
+        let kept = |b_mse: f64| {
+            let mut b = b.clone();
+            b.complexity = a.complexity + 1;
+            b.train_mse = b_mse;
+            let mut models = vec![a.clone(), b, other.clone()];
+            distinct_structures(&mut models, &pool);
+            models
+                .iter()
+                .map(|m| (m.complexity, structure_of(m)))
+                .collect::<Vec<_>>()
+        };
+        let (ca, sa, so) = (a.complexity, structure_of(&a), structure_of(&other));
+        assert_eq!(
+            kept(a.train_mse),
+            vec![(ca, sa.clone()), (other.complexity, so.clone())]
+        );
+        assert_eq!(
+            kept(a.train_mse * 0.5),
+            vec![(ca + 1, sa), (other.complexity, so)]
+        );
     }
 }
