@@ -41,6 +41,9 @@ enum CorrectionArg {
     Additive,
     /// y = f_p (1 + delta).
     Multiplicative,
+    /// y = f_p exp(delta), delta found on the log scale: for scatter that grows with the
+    /// quantity (log-normal) and power-law corrections. Target and physics must be positive.
+    Log,
 }
 
 /// Options shared by `fit` and `compare`.
@@ -316,6 +319,7 @@ fn config(c: &Common) -> Result<ProcessConfig> {
     cfg.correction = match c.correction {
         CorrectionArg::Additive => CorrectionForm::Additive,
         CorrectionArg::Multiplicative => CorrectionForm::Multiplicative,
+        CorrectionArg::Log => CorrectionForm::Log,
     };
     cfg.group = c.group.clone();
     cfg.test_fraction = c.test_fraction;

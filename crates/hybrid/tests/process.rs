@@ -159,14 +159,16 @@ fn a_parameter_used_twice_is_one_unknown() {
 }
 
 /// The hybrid's one equation (sympy text, full precision) reproduces `predict` to 1e-9
-/// relative on every row, for both correction forms and with the joint refit.
+/// relative on every row, for every correction form and with the joint refit.
 #[test]
 fn hybrid_equation_reproduces_predict() {
     let t = roughness(300, 1e-4, 1);
     for (form, joint) in [
         (CorrectionForm::Additive, false),
         (CorrectionForm::Multiplicative, false),
+        (CorrectionForm::Log, false),
         (CorrectionForm::Additive, true),
+        (CorrectionForm::Log, true),
     ] {
         let mut cfg = cfg_roughness();
         cfg.correction = form;
@@ -192,6 +194,7 @@ fn hybrid_equation_reproduces_predict() {
             let want = match form {
                 CorrectionForm::Additive => ph + d,
                 CorrectionForm::Multiplicative => ph * (1.0 + d),
+                CorrectionForm::Log => ph * d.exp(),
             };
             assert_eq!(*h, want);
         }

@@ -1,9 +1,8 @@
 //! Every way of modelling the target on the same splits (`hxai hybrid compare`).
-use super::model::columns_of;
+use super::model::{columns_of, combine_values};
 use super::{
-    CorrectionForm, ProcessConfig, ProcessModel, ProcessProgress, SplitJob, calibrate_physics,
-    check_rows, deltas, fit_inner, gather, physics_values, process_split, resolve,
-    search_training_rows,
+    ProcessConfig, ProcessModel, ProcessProgress, SplitJob, calibrate_physics, check_rows, deltas,
+    fit_inner, gather, physics_values, process_split, resolve, search_training_rows,
 };
 use crate::HybridError;
 use hxai_baselines::{Par, RandomForest, Regressor};
@@ -161,10 +160,7 @@ fn predictions_on(
             .test
             .iter()
             .zip(&d)
-            .map(|(&i, d)| match cfg.correction {
-                CorrectionForm::Additive => physics[i] + d,
-                CorrectionForm::Multiplicative => physics[i] * (1.0 + d),
-            })
+            .map(|(&i, &d)| combine_values(cfg.correction, physics[i], d))
             .collect(),
     );
 

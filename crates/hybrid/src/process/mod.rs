@@ -74,14 +74,20 @@ pub enum CorrectionForm {
     /// `y = f_p (1 + delta)`, `delta = y / f_p - 1`, for laws whose error scales with
     /// the prediction.
     Multiplicative,
+    /// `y = f_p exp(delta)`, `delta = ln(y / f_p)`: multiplicative, with the correction
+    /// found on the log scale, for scatter that grows with the quantity (log-normal, as
+    /// tool life and wear scatter) and for power-law corrections, which are linear in the
+    /// logarithms there. Every target and physics value must be positive.
+    Log,
 }
 
 impl CorrectionForm {
-    /// `additive` or `multiplicative`.
+    /// `additive`, `multiplicative` or `log`.
     pub fn name(self) -> &'static str {
         match self {
             CorrectionForm::Additive => "additive",
             CorrectionForm::Multiplicative => "multiplicative",
+            CorrectionForm::Log => "log",
         }
     }
 }

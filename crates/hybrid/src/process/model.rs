@@ -316,6 +316,10 @@ pub(crate) fn combine(phys: &Compiled, corr: &Model, kind: CorrectionForm) -> Co
             nodes.push(Node::Op(Op::Add));
             nodes.push(Node::Op(Op::Mul));
         }
+        CorrectionForm::Log => {
+            nodes.push(Node::Op(Op::Exp));
+            nodes.push(Node::Op(Op::Mul));
+        }
     }
     Combined {
         program: Program {
@@ -373,6 +377,7 @@ pub(crate) fn combine_values(kind: CorrectionForm, physics: f64, delta: f64) -> 
     match kind {
         CorrectionForm::Additive => physics + delta,
         CorrectionForm::Multiplicative => physics * (1.0 + delta),
+        CorrectionForm::Log => physics * delta.exp(),
     }
 }
 

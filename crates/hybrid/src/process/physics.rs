@@ -94,6 +94,25 @@ pub(crate) fn deltas(
                     Ok(y[i] / physics[i] - 1.0)
                 }
             }
+            CorrectionForm::Log => {
+                if y[i] > 0.0 && physics[i] > 0.0 {
+                    Ok((y[i] / physics[i]).ln())
+                } else {
+                    let why = if physics[i] > 0.0 {
+                        format!(
+                            "but the target there is {}: the log correction ln(y / f_p) needs a positive target; use --correction multiplicative or additive",
+                            y[i]
+                        )
+                    } else {
+                        "so the log correction ln(y / f_p) is undefined: use --correction additive".into()
+                    };
+                    Err(HybridError::BadPhysics {
+                        row: i,
+                        value: physics[i],
+                        why,
+                    })
+                }
+            }
         })
         .collect()
 }

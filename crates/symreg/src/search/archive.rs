@@ -72,21 +72,55 @@ pub(crate) struct Archive {
     pub by_complexity: Vec<Option<Fitted>>,
     /// Best by score.
     pub best: Option<Fitted>,
+    /// At each complexity, the next best distinct programs by loss after the one in
+    /// `by_complexity` (at most `runners_up_kept`), so that selection can choose among
+    /// structures that fit alike ([`SearchConfig::runners_up`](crate::SearchConfig::runners_up)).
+    pub runners_up: Vec<Vec<Fitted>>,
+    /// How many runners-up are kept at each complexity (0: none).
+    pub runners_up_kept: usize,
 }
 
 impl Archive {
-    /// Keeps `f` if it has the lowest loss at its complexity or the lowest score overall;
-    /// rejected fits (non-finite score) are ignored.
+    /// An empty archive that keeps `runners_up` programs at each complexity besides the best.
+    pub(crate) fn with_runners_up(runners_up: usize) -> Self {
+        Self {
+            runners_up_kept: runners_up,
+            ..Self::default()
+        }
+    }
+
+    /// Keeps `f` if it has the lowest loss at its complexity or the lowest score overall,
+    /// or among the runners-up at its complexity; rejected fits (non-finite score) are
+    /// ignored.
     pub(crate) fn offer(&mut self, f: &Fitted) {
         if !f.score.is_finite() {
             return;
         }
         if self.by_complexity.len() <= f.complexity {
             self.by_complexity.resize(f.complexity + 1, None);
+            self.runners_up.resize(f.complexity + 1, Vec::new());
         }
         let slot = &mut self.by_complexity[f.complexity];
-        if slot.as_ref().is_none_or(|s| f.mse < s.mse) {
-            *slot = Some(f.clone());
+        let displaced = match slot {
+            Some(s) if s.program == f.program => None,
+            Some(s) if f.mse < s.mse => slot.replace(f.clone()),
+            Some(_) => Some(f.clone()),
+            None => {
+                *slot = Some(f.clone());
+                None
+            }
+        };
+        if let Some(r) = displaced
+            && self.runners_up_kept > 0
+        {
+            let list = &mut self.runners_up[r.complexity];
+            if !list.iter().any(|x| x.program == r.program) {
+                let at = list.partition_point(|x| x.mse <= r.mse);
+                if at < self.runners_up_kept {
+                    list.insert(at, r);
+                    list.truncate(self.runners_up_kept);
+                }
+            }
         }
         if self.best.as_ref().is_none_or(|b| f.score < b.score) {
             self.best = Some(f.clone());
@@ -104,11 +138,64 @@ impl Archive {
         out
     }
 
+    /// The runners-up at the complexities of the front (see [`Archive::runners_up`]).
+    pub(crate) fn front_runners_up(&self) -> Vec<Fitted> {
+        self.front()
+            .iter()
+            .flat_map(|f| self.runners_up.get(f.complexity).into_iter().flatten())
+            .cloned()
+            .collect()
+    }
+
     /// Lowest training loss on the front (infinite while the archive is empty).
     pub(crate) fn best_loss(&self) -> f64 {
         self.front()
             .iter()
             .map(|f| f.mse)
             .fold(f64::INFINITY, f64::min)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::program::Node;
+
+    fn fit(var: u16, mse: f64) -> Fitted {
+        Fitted {
+            program: Program {
+                nodes: vec![Node::Var(var)],
+                affine: true,
+            },
+            params: vec![1.0; 4],
+            mse,
+            score: mse,
+            complexity: 1,
+            source: 0,
+            tag: 0,
+        }
+    }
+
+    #[test]
+    fn the_runners_up_are_the_next_best_distinct_programs() {
+        let mut a = Archive::with_runners_up(2);
+        for f in [
+            fit(0, 1.0),
+            fit(1, 2.0),
+            fit(0, 1.0),
+            fit(2, 0.5),
+            fit(3, 3.0),
+        ] {
+            a.offer(&f);
+        }
+        let best = a.by_complexity[1].as_ref().map(|f| f.program.nodes.clone());
+        assert_eq!(best, Some(vec![Node::Var(2)]));
+        let runners: Vec<_> = a.front_runners_up().iter().map(|f| f.mse).collect();
+        assert_eq!(runners, vec![1.0, 2.0], "x0 once, x3 beyond the two kept");
+        let mut none = Archive::default();
+        for f in [fit(0, 1.0), fit(1, 2.0)] {
+            none.offer(&f);
+        }
+        assert!(none.front_runners_up().is_empty());
     }
 }

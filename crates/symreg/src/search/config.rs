@@ -12,6 +12,10 @@ use std::collections::BTreeMap;
 /// parameters per leaf) small enough for the dense Cholesky solve of [`crate::fit`].
 pub(crate) const MAX_COMPLEXITY_LIMIT: usize = 60;
 
+/// Most runners-up kept at each complexity ([`SearchConfig::runners_up`]): each is refitted
+/// on all rows and cross-validated at the end of a search.
+pub(crate) const MAX_RUNNERS_UP: usize = 20;
+
 /// Fewest rows a search runs on, and the smallest `max_fit_rows`. The simplest model has
 /// four parameters (output scale and offset, one input's weight and bias); twice that many
 /// rows leaves the fit residual degrees of freedom, so a criterion can tell models apart.
@@ -157,6 +161,13 @@ pub struct SearchConfig {
     /// [`SearchResult::duplicate_structures`](crate::SearchResult::duplicate_structures)
     /// counts such candidates either way).
     pub skip_equivalent: bool,
+    /// Distinct programs kept at each complexity besides the one that fits best, and
+    /// offered to selection with it: 0 for `hxai sr` (one model per complexity), 3 for
+    /// hybrid corrections ([`SearchConfig::paper`]), where several short structures fit
+    /// alike within the noise and selection then prefers the plainest
+    /// ([`crate::search::plainness`]) instead of the one that happened to fit a little
+    /// better on these rows. At most 20.
+    pub runners_up: usize,
     /// Threads of the search (and of [`crate::stability()`]'s runs): [`Par::Current`] by
     /// default, the caller's pool. Not part of any file (`serde(skip)`): the result never
     /// depends on it.
@@ -189,6 +200,7 @@ impl Default for SearchConfig {
             nesting: Nesting::none(),
             consensus_runs: 0,
             skip_equivalent: true,
+            runners_up: 0,
             par: Par::Current,
         }
     }
@@ -202,6 +214,7 @@ impl SearchConfig {
         Self {
             operators: PAPER_OPERATORS.iter().map(|s| s.to_string()).collect(),
             nesting: Nesting::readable(),
+            runners_up: 3,
             ..Self::default()
         }
     }
@@ -272,6 +285,12 @@ impl SearchConfig {
                 "consensus_runs is {}: choose 0 (one search) to {}",
                 self.consensus_runs,
                 crate::consensus::MAX_CONSENSUS_RUNS
+            )));
+        }
+        if self.runners_up > MAX_RUNNERS_UP {
+            return Err(SrError::InvalidConfig(format!(
+                "runners_up is {}: choose 0 to {MAX_RUNNERS_UP}",
+                self.runners_up
             )));
         }
         if self.max_evaluations == Some(0) {

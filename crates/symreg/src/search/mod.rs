@@ -36,6 +36,6 @@ mod structure;
 pub use config::{Criterion, DEFAULT_OPERATORS, PAPER_OPERATORS, SearchConfig, Strategy};
 pub(crate) use run::plain_search;
 pub use run::{Progress, search};
-pub use selection::SearchResult;
+pub use selection::{SearchResult, plainness};
 pub use structure::fit_structure;
 pub(crate) use structure::fit_structure_from;

@@ -80,7 +80,10 @@ pub(crate) fn plain_search(
     let in_w = input_priors(&problem.fit_cols(), &problem.fit_y);
     let tables = Tables::for_search(ops, in_w, cfg, problem.op_costs.clone());
     let mut strategy = strategy::build(cfg.strategy, cfg.candidates_per_epoch, &tables);
-    let mut state = LoopState::default();
+    let mut state = LoopState {
+        archive: Archive::with_runners_up(cfg.runners_up),
+        ..LoopState::default()
+    };
     let pool = cfg.par.pool();
     'epochs: for epoch in 0..cfg.epochs {
         for round in 0..ROUNDS_PER_EPOCH {
@@ -142,7 +145,7 @@ struct LoopState {
     archive: Archive,
     /// Every structure fitted so far: a structure is fitted once per search.
     cache: HashMap<Program, Fitted>,
-    /// The first program fitted of each structure key ([`Effort::Fast`]).
+    /// The simplest program fitted of each structure key ([`Effort::Fast`]).
     structures: HashMap<String, Program>,
     /// Models fitted so far (cache hits and skipped equivalents not counted).
     evaluations: u64,
@@ -167,7 +170,7 @@ impl LoopState {
     /// proposal order: structures that break the nesting constraints rejected unfitted (and
     /// not counted as evaluations), cached programs reused, and, under
     /// [`SearchConfig::skip_equivalent`], a program whose structure key
-    /// ([`Effort::Fast`]) was fitted under another program given that fit; the first
+    /// ([`Effort::Fast`]) was fitted under another program no more complex given that fit; the first
     /// occurrence of each new structure fitted (in parallel, seeded by its index), later
     /// duplicates given that fit. Also returns whether the time limit cut the epoch short
     /// (the unfitted candidates are then left out).
@@ -207,8 +210,17 @@ impl LoopState {
                     })
                     .collect()
             });
+            let complexity =
+                |p: &Program| p.complexity_with(cfg.complexity_measure, &problem.op_costs);
             for (i, key) in fresh.into_iter().zip(keys) {
+                let program = &cands[i].program;
                 match self.structures.get(&key) {
+                    // a shorter spelling of a fitted structure is fitted and spells it from
+                    // now on, so that the search keeps the simplest form of each structure
+                    Some(first) if complexity(program) < complexity(first) => {
+                        self.structures.insert(key, program.clone());
+                        todo.push(i);
+                    }
                     Some(first) => {
                         self.duplicate_structures += 1;
                         if cfg.skip_equivalent {
@@ -218,7 +230,7 @@ impl LoopState {
                         }
                     }
                     None => {
-                        self.structures.insert(key, cands[i].program.clone());
+                        self.structures.insert(key, program.clone());
                         todo.push(i);
                     }
                 }
@@ -315,5 +327,45 @@ mod tests {
                 assert_eq!(f2[0].program.nodes, ba);
             }
         }
+    }
+
+    // a shorter spelling of a fitted structure is fitted, not skipped: `(x0 + x1) + c`
+    // first, then `x0 + x1`
+    #[test]
+    fn a_shorter_spelling_is_fitted() {
+        let x0: Vec<f64> = (0..50).map(|i| 1.0 + i as f64 / 10.0).collect();
+        let x1: Vec<f64> = (0..50).map(|i| ((i * 7) % 11) as f64).collect();
+        let y: Vec<f64> = x0.iter().zip(&x1).map(|(a, b)| a + 2.0 * b).collect();
+        let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+        let cfg = SearchConfig::default();
+        let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
+        let rules = Nesting::none().rules().unwrap();
+        let pool = cfg.par.pool();
+        let mut state = LoopState::default();
+        let t0 = Instant::now();
+        let prog = |nodes: Vec<Node>| Program {
+            nodes,
+            affine: true,
+        };
+        let long = prog(vec![
+            Node::Var(0),
+            Node::Var(1),
+            Node::Op(Op::Add),
+            Node::Const,
+            Node::Op(Op::Add),
+        ]);
+        let short = prog(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)]);
+        let key = |p: &Program| {
+            canonical::structure_with(p, &[], Effort::Fast)
+                .expr
+                .to_text(None, true)
+        };
+        assert_eq!(key(&long), key(&short), "one structure");
+        let c = |p: &Program| Candidate::new(p.clone(), None, 0);
+        state.fit_epoch(&problem, &rules, &[c(&long)], 0, t0, &pool);
+        let (f, _) = state.fit_epoch(&problem, &rules, &[c(&short), c(&long)], 1, t0, &pool);
+        assert_eq!(state.evaluations, 2);
+        assert_eq!(state.duplicate_structures, 0, "the long one is a cache hit");
+        assert_eq!(f[0].program, short);
     }
 }

@@ -8,6 +8,8 @@ use super::fitting::Problem;
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::model::{Model, prune_snapped, snap_params};
+use crate::ops::Op;
+use crate::program::Node;
 use crate::stability::structure_of;
 use crate::{SrError, Table};
 use hxai_table::Pool;
@@ -16,7 +18,7 @@ use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::time::Instant;
 
 /// Levenberg-Marquardt iterations of the final refit on all rows: twice the search's
@@ -141,38 +143,52 @@ pub(crate) fn finish(
     })
 }
 
-/// Keeps one of `models` (sorted by complexity) per canonical structure
-/// ([`crate::stability::structure_of`]): the one with the lowest training loss, the simplest
-/// on a tie (within a relative `1e-9`). Programs the algebra proves equal are one model; a
-/// longer spelling is kept only where its constants happened to fit better.
+/// Keeps the first of `models` (sorted by complexity, then loss) of each canonical
+/// structure ([`crate::stability::structure_of`]): programs the algebra proves equal are
+/// one model, written the shortest way. (A longer spelling can fit a little better where
+/// its constants snapped differently; it is still the same structure.)
 fn distinct_structures(models: &mut Vec<Model>, pool: &Pool) {
     let keys: Vec<String> = pool.install(|| models.par_iter().map(structure_of).collect());
-    let mut chosen: HashMap<&str, usize> = HashMap::new();
-    for (i, k) in keys.iter().enumerate() {
-        match chosen.get(k.as_str()) {
-            Some(&j) if models[i].train_mse >= models[j].train_mse * (1.0 - 1e-9) => {}
-            _ => {
-                chosen.insert(k, i);
-            }
-        }
-    }
-    let keep: HashSet<usize> = chosen.into_values().collect();
-    let mut i = 0;
-    models.retain(|_| {
-        i += 1;
-        keep.contains(&(i - 1))
-    });
+    let mut seen: HashSet<String> = HashSet::new();
+    let mut keep = keys.into_iter().map(|k| seen.insert(k));
+    models.retain(|_| keep.next().unwrap_or(true));
 }
 
 /// The archive's front plus its best-scoring model when that is not on the front.
 fn reported_fits(archive: &Archive) -> Vec<Fitted> {
     let mut reported: Vec<Fitted> = archive.front();
-    if let Some(b) = &archive.best
-        && !reported.iter().any(|f| f.program == b.program)
+    for f in archive
+        .best
+        .iter()
+        .cloned()
+        .chain(archive.front_runners_up())
     {
-        reported.push(b.clone());
+        if !reported.iter().any(|r| r.program == f.program) {
+            reported.push(f);
+        }
     }
     reported
+}
+
+/// How plain a model reads: the sum over its operators of a rank, arithmetic 0; powers,
+/// roots, `exp` and `log` (the power laws and exponentials of engineering laws) 1; `abs`
+/// and the periodic and sigmoid functions 2; the gaussian 3 and the two-input gaussian 4.
+/// Selection breaks ties of complexity by it, before the criterion's score.
+pub fn plainness(m: &Model) -> usize {
+    m.program
+        .nodes
+        .iter()
+        .map(|n| match n {
+            Node::Op(op) => match op {
+                Op::Add | Op::Sub | Op::Mul | Op::Div => 0,
+                Op::Exp | Op::Log | Op::Sqrt | Op::Square | Op::Inverse | Op::Pow => 1,
+                Op::Gaussian => 3,
+                Op::Gaussian2 => 4,
+                _ => 2,
+            },
+            _ => 0,
+        })
+        .sum()
 }
 
 /// One reported fit refitted on all rows (keeping the search's constants if the refit
@@ -271,6 +287,7 @@ fn simplest_within_one_charge(problem: &Problem, models: &[Model]) -> Option<Mod
         .min_by(|a, b| {
             a.complexity
                 .cmp(&b.complexity)
+                .then(plainness(a).cmp(&plainness(b)))
                 .then(a.score.total_cmp(&b.score))
         })
         .cloned()
@@ -417,6 +434,7 @@ fn one_standard_error_pick(models: &[Model], cv: &[(f64, f64)]) -> Option<Model>
         .min_by(|a, b| {
             a.complexity
                 .cmp(&b.complexity)
+                .then(plainness(a).cmp(&plainness(b)))
                 .then(a.score.total_cmp(&b.score))
         })
         .cloned()
@@ -499,8 +517,8 @@ mod tests {
         assert_eq!(res.best.features(), vec!["x0".to_string()]);
     }
 
-    // `x0 + x1` and `x1 + x0` are one structure: of the two, the one that fits better is
-    // kept, the simpler on a tie; a structure of its own is always kept.
+    // `x0 + x1` and `x1 + x0` are one structure: the simpler is kept, even where the other
+    // fits better; a structure of its own is always kept.
     #[test]
     fn programs_equal_by_algebra_are_reported_once() {
         let mut rng = ChaCha8Rng::seed_from_u64(6);
@@ -549,7 +567,7 @@ mod tests {
         );
         assert_eq!(
             kept(a.train_mse * 0.5),
-            vec![(ca + 1, sa), (other.complexity, so)]
+            vec![(ca, sa), (other.complexity, so)]
         );
     }
 }
