@@ -268,7 +268,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     ``physics`` is infix text over the columns of ``X`` and named parameters: a name is a
     column if ``X`` has it, else a parameter, which must be calibrated (``calibrate``,
     starting values ``init``, default 1) or fixed (``set``). ``correction`` is ``additive``
-    (``y = f_p + delta``) or ``multiplicative`` (``y = f_p (1 + delta)``); ``delta`` is found
+    (``y = f_p + delta``), ``multiplicative`` (``y = f_p (1 + delta)``) or ``log``
+    (``y = f_p exp(delta)``, ``delta`` found on the log scale: for scatter that grows with
+    the quantity and for power-law corrections; ``y`` and the physics must be positive); ``delta`` is found
     by symbolic regression on ``features`` (default: every column not in ``exclude``) with
     the search settings. ``joint`` refits physics parameters and correction constants
     together. ``fit`` uses every row it is given (split before, as with any estimator).
@@ -346,9 +348,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         """Calibrates the physics on ``(X, y)`` and learns its correction. Returns ``self``."""
         if not isinstance(self.physics, str) or not self.physics.strip():
             raise ValueError("physics: give the physics equation as text, e.g. 'k*f^2/(32*r)'")
-        if self.correction not in ("additive", "multiplicative"):
+        if self.correction not in ("additive", "multiplicative", "log"):
             raise ValueError(
-                f"correction `{self.correction}`: use additive or multiplicative"
+                f"correction `{self.correction}`: use additive, multiplicative or log"
             )
         search = json.loads(_search_json(self))
         n_jobs = _n_jobs(self)

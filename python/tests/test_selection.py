@@ -61,3 +61,26 @@ def test_a_correction_is_readable_and_consensus_reports_its_share():
             start = text.find(f, start + 1)
     with pytest.raises(ValueError, match="consensus_runs"):
         HybridRegressor("k*feed_mm", calibrate=["k"], consensus_runs=-1).fit(X, y)
+
+
+def test_log_correction_recovers_a_power_law_on_log_normal_scatter():
+    # y = (200 / v)^2 * f^-1.5 * exp(0.1 z): the log form's correction is a function of f
+    # alone, and the hybrid follows y on the log scale
+    np = pytest.importorskip("numpy")
+    pd = pytest.importorskip("pandas")
+    rng = np.random.default_rng(3)
+    n = 300
+    v = rng.uniform(100, 300, n)
+    f = rng.uniform(0.1, 0.4, n)
+    y = (200 / v) ** 2 * f ** -1.5 * np.exp(0.1 * rng.standard_normal(n))
+    X = pd.DataFrame({"v": v, "f": f})
+    m = HybridRegressor(
+        "(C/v)^2", calibrate=["C"], init={"C": 150.0}, correction="log", features=["f"], **FAST
+    ).fit(X, y)
+    assert m.features_ == ["f"]
+    pred = m.predict(X)
+    assert np.all(pred > 0)
+    assert np.corrcoef(np.log(pred), np.log(y))[0, 1] > 0.95
+    assert json.loads(m.model_json_)["correction"]["kind"] == "log"
+    with pytest.raises(ValueError, match="correction"):
+        HybridRegressor("(C/v)^2", calibrate=["C"], correction="logarithmic").fit(X, y)
