@@ -171,7 +171,7 @@ pub enum ReproduceError {
 pub struct Reproduction {
     /// Every number of the tables.
     pub results: results::Results,
-    /// The section "Beyond the paper" (the hybrid of any process on two more processes).
+    /// The section "Beyond the paper" (the hybrid of any process on three more processes).
     pub beyond: beyond::BeyondResults,
     /// Output files, `(file name inside docs/results, content)`.
     pub files: Vec<(String, String)>,

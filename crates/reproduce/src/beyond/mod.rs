@@ -1,5 +1,5 @@
-//! "Beyond the paper: the framework on two more processes": the hybrid of any process
-//! (`hxai_hybrid::process`) on the roughness and cutting-force tables of `hxai_sim::cases`
+//! "Beyond the paper: the framework on three more processes": the hybrid of any process
+//! (`hxai_hybrid::process`) on the roughness, cutting-force and tool-life tables of `hxai_sim::cases`
 //! (hidden truths in `docs/cases.md`).
 //!
 //! Per case: [`compare_process`](hxai_hybrid::process::compare_process) at a random split
@@ -32,8 +32,8 @@ pub use results::{
 use crate::{ReproduceConfig, ReproduceError};
 use hxai_hybrid::process::{CorrectionForm, ProcessConfig};
 use hxai_sim::cases::{
-    CuttingForceConfig, RoughnessConfig, cutting_force, cutting_force::HANDBOOK_KC11,
-    cutting_force::HANDBOOK_MC, roughness,
+    CuttingForceConfig, RoughnessConfig, ToolLifeConfig, cutting_force,
+    cutting_force::HANDBOOK_KC11, cutting_force::HANDBOOK_MC, roughness, tool_life,
 };
 use hxai_table::Table;
 
@@ -77,6 +77,11 @@ fn specs(rows: usize, seed: u64) -> Result<Vec<CaseSpec>, ReproduceError> {
         n_rows: rows,
         seed,
         ..CuttingForceConfig::default()
+    })?;
+    let life = tool_life(&ToolLifeConfig {
+        n_rows: rows,
+        seed,
+        ..ToolLifeConfig::default()
     })?;
     Ok(vec![
         CaseSpec {
@@ -126,6 +131,31 @@ fn specs(rows: usize, seed: u64) -> Result<Vec<CaseSpec>, ReproduceError> {
                 ("tool", IDENTIFIER),
             ],
             table: force,
+        },
+        CaseSpec {
+            name: "tool_life",
+            title: "Tool life in turning (Taylor)",
+            target: "tool_life_min",
+            unit: "min",
+            physics: tool_life::PHYSICS,
+            init: vec![
+                ("C", tool_life::HANDBOOK_C),
+                ("n", tool_life::HANDBOOK_N),
+            ],
+            // Tool life scatters log-normally from edge to edge, and the extended Taylor
+            // law's further factors are powers: the log form.
+            form: CorrectionForm::Log,
+            exclude: vec!["tool"],
+            // The feed is what Taylor's law leaves out: does the correction extrapolate?
+            extrapolate: "feed_mm",
+            roles: vec![
+                ("cutting_speed_m_min", "Taylor's law"),
+                ("feed_mm", "extended Taylor law (the whole correction)"),
+                ("coolant_temp_C", DISTRACTOR),
+                ("workpiece_diameter_mm", DISTRACTOR),
+                ("tool", IDENTIFIER),
+            ],
+            table: life,
         },
     ])
 }
