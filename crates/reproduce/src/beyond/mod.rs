@@ -138,10 +138,7 @@ fn specs(rows: usize, seed: u64) -> Result<Vec<CaseSpec>, ReproduceError> {
             target: "tool_life_min",
             unit: "min",
             physics: tool_life::PHYSICS,
-            init: vec![
-                ("C", tool_life::HANDBOOK_C),
-                ("n", tool_life::HANDBOOK_N),
-            ],
+            init: vec![("C", tool_life::HANDBOOK_C), ("n", tool_life::HANDBOOK_N)],
             // Tool life scatters log-normally from edge to edge, and the extended Taylor
             // law's further factors are powers: the log form.
             form: CorrectionForm::Log,
