@@ -52,6 +52,8 @@ _SEARCH_KEYS = (
     "snap_tolerance",
     "nesting",
     "consensus_runs",
+    "skip_equivalent",
+    "runners_up",
 )
 
 _CRITERIA = {
@@ -111,6 +113,11 @@ def _search_json(est):
     if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
         raise ValueError(f"consensus_runs must be a non-negative integer, got {v!r}")
     s["consensus_runs"] = int(v)
+    v = s["runners_up"]
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
+        raise ValueError(f"runners_up must be a non-negative integer, got {v!r}")
+    s["runners_up"] = int(v)
+    s["skip_equivalent"] = bool(s["skip_equivalent"])
     if s["max_evaluations"] is not None:
         s["max_evaluations"] = int(s["max_evaluations"])
     for k in ("complexity_penalty", "snap_tolerance"):
@@ -220,6 +227,8 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         snap_tolerance=1e-3,
         nesting="none",
         consensus_runs=0,
+        skip_equivalent=True,
+        runners_up=0,
         n_jobs=None,
     ):
         self._set_search(locals())
@@ -318,6 +327,8 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         snap_tolerance=1e-3,
         nesting="readable",
         consensus_runs=0,
+        skip_equivalent=True,
+        runners_up=3,
         n_jobs=None,
     ):
         self.physics = physics

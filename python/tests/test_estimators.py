@@ -74,6 +74,9 @@ def test_defaults_are_the_engines():
                 # (SearchConfig::paper()); a test in test_selection.py checks both are read
                 want = "readable" if isinstance(est, HybridRegressor) else "none"
                 assert rust[k] == {}
+            if k == "runners_up" and isinstance(est, HybridRegressor):
+                # a correction keeps three runners-up per complexity (SearchConfig::paper())
+                want = 3
             if k == "complexity_per_input" and isinstance(est, SymbolicRegressor):
                 # `hxai sr`'s value, not the engine's: the estimator gives `hxai sr`'s result
                 want = SR_COMPLEXITY_PER_INPUT
