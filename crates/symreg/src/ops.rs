@@ -213,6 +213,19 @@ impl Op {
         }
     }
 
+    /// How plainly the operator reads in an engineering law (lower is plainer): arithmetic 0;
+    /// powers, roots, `exp` and `log` (power laws and exponentials) 1; `abs` and the
+    /// periodic and sigmoid functions 2; the gaussian 3, the two-input gaussian 4.
+    pub fn plainness(self) -> usize {
+        match self {
+            Op::Add | Op::Sub | Op::Mul | Op::Div => 0,
+            Op::Exp | Op::Log | Op::Sqrt | Op::Square | Op::Inverse | Op::Pow => 1,
+            Op::Abs | Op::Sin | Op::Cos | Op::Tanh | Op::Tan => 2,
+            Op::Gaussian => 3,
+            Op::Gaussian2 => 4,
+        }
+    }
+
     /// Whether evaluating the operator costs a transcendental function call.
     pub fn is_transcendental(self) -> bool {
         matches!(

@@ -138,6 +138,14 @@ fn time_is_up(cfg: &SearchConfig, t0: Instant) -> bool {
         .is_some_and(|t| t0.elapsed().as_secs_f64() > t)
 }
 
+/// The key by which a search tells structures apart: the program's canonical structure
+/// at [`Effort::Fast`], cheap enough to compute for every new candidate.
+fn search_key(program: &Program) -> String {
+    canonical::structure_with(program, &[], Effort::Fast)
+        .expr
+        .to_text(None, true)
+}
+
 /// What the loop carries from epoch to epoch.
 #[derive(Default)]
 struct LoopState {
@@ -203,11 +211,7 @@ impl LoopState {
             let keys: Vec<String> = pool.install(|| {
                 fresh
                     .par_iter()
-                    .map(|&i| {
-                        canonical::structure_with(&cands[i].program, &[], Effort::Fast)
-                            .expr
-                            .to_text(None, true)
-                    })
+                    .map(|&i| search_key(&cands[i].program))
                     .collect()
             });
             let complexity =
@@ -355,12 +359,7 @@ mod tests {
             Node::Op(Op::Add),
         ]);
         let short = prog(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)]);
-        let key = |p: &Program| {
-            canonical::structure_with(p, &[], Effort::Fast)
-                .expr
-                .to_text(None, true)
-        };
-        assert_eq!(key(&long), key(&short), "one structure");
+        assert_eq!(search_key(&long), search_key(&short), "one structure");
         let c = |p: &Program| Candidate::new(p.clone(), None, 0);
         state.fit_epoch(&problem, &rules, &[c(&long)], 0, t0, &pool);
         let (f, _) = state.fit_epoch(&problem, &rules, &[c(&short), c(&long)], 1, t0, &pool);

@@ -8,7 +8,6 @@ use super::fitting::Problem;
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::model::{Model, prune_snapped, snap_params};
-use crate::ops::Op;
 use crate::program::Node;
 use crate::stability::structure_of;
 use crate::{SrError, Table};
@@ -170,22 +169,14 @@ fn reported_fits(archive: &Archive) -> Vec<Fitted> {
     reported
 }
 
-/// How plain a model reads: the sum over its operators of a rank, arithmetic 0; powers,
-/// roots, `exp` and `log` (the power laws and exponentials of engineering laws) 1; `abs`
-/// and the periodic and sigmoid functions 2; the gaussian 3 and the two-input gaussian 4.
-/// Selection breaks ties of complexity by it, before the criterion's score.
+/// How plain a model reads: the sum of [`crate::Op::plainness`] over its operators. Selection
+/// breaks ties of complexity by it, before the criterion's score.
 pub fn plainness(m: &Model) -> usize {
     m.program
         .nodes
         .iter()
         .map(|n| match n {
-            Node::Op(op) => match op {
-                Op::Add | Op::Sub | Op::Mul | Op::Div => 0,
-                Op::Exp | Op::Log | Op::Sqrt | Op::Square | Op::Inverse | Op::Pow => 1,
-                Op::Gaussian => 3,
-                Op::Gaussian2 => 4,
-                _ => 2,
-            },
+            Node::Op(op) => op.plainness(),
             _ => 0,
         })
         .sum()
@@ -476,6 +467,15 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
+    /// The fit of the program `nodes` (affine inputs) on `problem`'s rows.
+    fn fit_of(problem: &Problem, nodes: Vec<Node>) -> Fitted {
+        let program = Program {
+            nodes,
+            affine: true,
+        };
+        problem.fit(&Candidate::new(program, None, 0), 1)
+    }
+
     // The pick ranks models by their complexity after snapping: `add(x0, x1)`, whose x1
     // weight snaps to 0, is the law `x0` (complexity 1) and beats `abs(x0)` (complexity 2),
     // which fits as well. With the count taken before snapping (3) `abs(x0)` won.
@@ -493,16 +493,7 @@ mod tests {
             vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)],
             vec![Node::Var(0), Node::Op(Op::Abs)],
         ] {
-            let c = Candidate {
-                program: Program {
-                    nodes,
-                    affine: true,
-                },
-                params: None,
-                source: 0,
-                tag: 0,
-            };
-            archive.offer(&problem.fit(&c, 1));
+            archive.offer(&fit_of(&problem, nodes));
         }
         let res = finish(
             &problem,
@@ -532,18 +523,7 @@ mod tests {
         let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
         let cfg = SearchConfig::default();
         let problem = Problem::all_rows(&data, &y, super::super::fitting::variance(&y), &cfg);
-        let model = |nodes: Vec<Node>| {
-            let c = Candidate {
-                program: Program {
-                    nodes,
-                    affine: true,
-                },
-                params: None,
-                source: 0,
-                tag: 0,
-            };
-            refine(&problem, &problem.fit(&c, 1), &data)
-        };
+        let model = |nodes: Vec<Node>| refine(&problem, &fit_of(&problem, nodes), &data);
         let a = model(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)]);
         let b = model(vec![Node::Var(1), Node::Var(0), Node::Op(Op::Add)]);
         let other = model(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Mul)]);
