@@ -5,6 +5,7 @@
 //! `hxai_hybrid::process`.
 use crate::Global;
 use anyhow::{Context, Result, bail};
+use hxai_hybrid::IntervalMethod;
 use hxai_hybrid::process::{
     Comparison, CorrectionForm, ProcessConfig, ProcessModel, ProcessProgress, compare_process,
     fit_process,
@@ -44,6 +45,38 @@ enum CorrectionArg {
     /// y = f_p exp(delta), delta found on the log scale: for scatter that grows with the
     /// quantity (log-normal) and power-law corrections. Target and physics must be positive.
     Log,
+}
+
+/// `--interval-method` values.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum IntervalMethodArg {
+    /// CV+ over the folds of the fit, scores normalised by the local scale (the default
+    /// where the model file stores its calibration).
+    Conformal,
+    /// Split conformal: one fold's model, calibrated on that fold's rows.
+    Split,
+    /// The delta method with a constant residual variance (the default for model files
+    /// without conformal calibration).
+    Delta,
+}
+
+impl From<IntervalMethodArg> for IntervalMethod {
+    fn from(m: IntervalMethodArg) -> Self {
+        match m {
+            IntervalMethodArg::Conformal => IntervalMethod::Conformal,
+            IntervalMethodArg::Split => IntervalMethod::Split,
+            IntervalMethodArg::Delta => IntervalMethod::Delta,
+        }
+    }
+}
+
+/// The method asked for, else the model's default (conformal where it stores the
+/// calibration, else delta).
+fn method_of(asked: Option<IntervalMethodArg>, model: &ProcessModel) -> IntervalMethod {
+    asked
+        .map(IntervalMethod::from)
+        .or_else(|| model.default_interval_method())
+        .unwrap_or(IntervalMethod::Delta)
 }
 
 /// Options shared by `fit` and `compare`.
@@ -115,6 +148,11 @@ struct Common {
     /// structure is chosen (the two-stage values are reported too).
     #[arg(long)]
     joint: bool,
+    /// Folds of the CV+ calibration of conformal prediction intervals, stored in the model
+    /// file (each fold refits the hybrid's constants, not its structure); 0 fits without
+    /// them (the delta method is then the only interval).
+    #[arg(long, default_value_t = hxai_hybrid::process::DEFAULT_CONFORMAL_FOLDS)]
+    conformal_folds: usize,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     json: bool,
@@ -140,6 +178,13 @@ struct CompareArgs {
     /// Folds of the cross-validation (0 to skip it).
     #[arg(long, default_value_t = 5)]
     folds: usize,
+    /// Nominal level of the hybrid's prediction intervals whose coverage on the test rows
+    /// is reported.
+    #[arg(long, default_value_t = hxai_hybrid::DEFAULT_INTERVAL)]
+    interval: f64,
+    /// How the prediction intervals are made (default: conformal where the model has it).
+    #[arg(long, value_enum)]
+    interval_method: Option<IntervalMethodArg>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -158,6 +203,10 @@ struct PredictArgs {
     /// hybrid_lo and hybrid_hi.
     #[arg(long)]
     interval: Option<f64>,
+    /// How the prediction intervals are made (default: conformal where the model file
+    /// stores its calibration, else delta).
+    #[arg(long, value_enum, requires = "interval")]
+    interval_method: Option<IntervalMethodArg>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -171,6 +220,10 @@ struct EvaluateArgs {
     /// Nominal level of the prediction intervals whose coverage is reported.
     #[arg(long, default_value_t = hxai_hybrid::DEFAULT_INTERVAL)]
     interval: f64,
+    /// How the prediction intervals are made (default: conformal where the model file
+    /// stores its calibration, else delta).
+    #[arg(long, value_enum)]
+    interval_method: Option<IntervalMethodArg>,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     json: bool,
@@ -326,6 +379,7 @@ fn config(c: &Common) -> Result<ProcessConfig> {
     cfg.extrapolate = c.extrapolate.clone();
     cfg.seed = c.seed;
     cfg.joint = c.joint;
+    cfg.conformal_folds = c.conformal_folds;
     cfg.search.epochs = c.epochs;
     cfg.search.max_complexity = c.max_complexity;
     cfg.search.criterion = c.criterion.into();
@@ -510,7 +564,11 @@ fn predict(a: PredictArgs) -> Result<()> {
     let loaded = read(&a.data, model.group.as_deref())?;
     let p = model.predict(&loaded.table)?;
     let bounds = match a.interval {
-        Some(level) => Some(model.intervals(&loaded.table, level)?),
+        Some(level) => Some(model.intervals_with(
+            &loaded.table,
+            level,
+            method_of(a.interval_method, &model),
+        )?),
         None => None,
     };
     let mut t = hxai_data::MixedTable::default();
@@ -548,7 +606,10 @@ fn evaluate(a: EvaluateArgs) -> Result<()> {
     crate::safety::check_level(a.interval, "--interval")?;
     let model = load_model(&a.model)?;
     let loaded = read(&a.data, model.group.as_deref())?;
-    let e = model.evaluate_at(&loaded.table, a.interval)?;
+    let e = match (a.interval_method, model.default_interval_method()) {
+        (None, None) => model.evaluate_at(&loaded.table, a.interval)?,
+        (asked, _) => model.evaluate_with(&loaded.table, a.interval, method_of(asked, &model))?,
+    };
     if a.json {
         println!("{}", serde_json::to_string_pretty(&e)?);
     } else {
@@ -563,15 +624,23 @@ fn evaluate(a: EvaluateArgs) -> Result<()> {
             e.t_test.p_value
         );
         if let Some(iv) = e.interval {
-            println!(
-                "prediction intervals at {:.1} %: coverage {:.1} % of {} rows",
-                100.0 * iv.nominal,
-                100.0 * iv.coverage,
-                iv.n
-            );
+            print_interval(&iv, "rows");
         }
     }
     Ok(())
+}
+
+#[allow(clippy::print_stdout)]
+fn print_interval(iv: &hxai_hybrid::IntervalReport, what: &str) {
+    println!(
+        "prediction intervals ({}) at {:.1} %: coverage {:.1} % of {} {what}, median width {}",
+        iv.method.name(),
+        100.0 * iv.nominal,
+        100.0 * iv.coverage,
+        iv.n,
+        iv.median_width
+            .map_or_else(|| "(none)".to_string(), |w| format!("{w:.4e}"))
+    );
 }
 
 #[allow(clippy::print_stdout)]
@@ -605,14 +674,22 @@ fn print_comparison(c: &Comparison) {
             t.model, t.baseline, t.test.statistic, t.test.p_value
         );
     }
+    if let Some(iv) = &c.interval {
+        print_interval(iv, "test rows");
+    }
     println!("hybrid: {} = {}", c.target, c.hybrid.hybrid.equation);
 }
 
 #[allow(clippy::print_stdout)]
 fn compare(a: CompareArgs) -> Result<()> {
+    crate::safety::check_level(a.interval, "--interval")?;
     let (cfg, loaded, b) = prepare(&a.common)?;
-    let c = compare_process(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
+    let mut c = compare_process(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
     b.finish_and_clear();
+    if a.interval_method.is_some() || a.interval != hxai_hybrid::DEFAULT_INTERVAL {
+        let method = method_of(a.interval_method, &c.hybrid);
+        c.interval = c.hybrid.test_interval(&loaded.table, a.interval, method)?;
+    }
     crate::safety::warn(&loaded.warnings);
     if a.common.json {
         println!("{}", serde_json::to_string_pretty(&c)?);

@@ -497,3 +497,109 @@ fn an_empty_cell_in_a_used_column_is_named() -> TestResult {
     std::fs::remove_dir_all(&dir)?;
     Ok(())
 }
+
+/// Issue 28: `--interval-method` on evaluate, predict and compare; the model file's
+/// `conformal`; `interval` {`method`, `nominal`, `coverage`, `n`, `median_width`}.
+#[test]
+fn interval_methods_are_chosen_and_reported() -> TestResult {
+    let (dir, data) = scratch_table("interval-methods", 160)?;
+    let model = dir.join("model.json");
+    let out = hxai(&fit_args(s(&data), s(&model)))?;
+    ok(&out, "fit");
+    let file: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model)?)?;
+    assert_eq!(file["conformal"]["folds"], 5);
+    assert_eq!(file["conformal"]["scale"], "linear");
+    assert_eq!(
+        file["conformal"]["scores"].as_array().map(Vec::len),
+        file["split"]["train"].as_array().map(Vec::len)
+    );
+    for (asked, method) in [
+        (None, "conformal"),
+        (Some("conformal"), "conformal"),
+        (Some("split"), "split"),
+        (Some("delta"), "delta"),
+    ] {
+        let mut extra = vec!["--json", "--interval", "0.9"];
+        if let Some(m) = asked {
+            extra.extend_from_slice(&["--interval-method", m]);
+        }
+        let mut args = vec!["hybrid"];
+        args.extend(evaluate_args(s(&model), s(&data), &extra));
+        let out = hxai(&args)?;
+        ok(&out, method);
+        let ev: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+        let iv = &ev["interval"];
+        assert_eq!(iv["method"], method, "{ev}");
+        assert_eq!(iv["nominal"], 0.9, "{ev}");
+        assert_eq!(iv["n"], 160, "{ev}");
+        assert!(iv["coverage"].as_f64().is_some(), "{ev}");
+        assert!(iv["median_width"].as_f64().ok_or("width")? >= 0.0, "{ev}");
+    }
+    // predict with a method: finite bands, lower end first (split conformal's band is
+    // centred on the first fold's refit, so on a noise-free table it need not hold the
+    // full fit's prediction)
+    let pred = dir.join("pred.csv");
+    let mut args = predict_args(&model, &data, &pred);
+    args.extend_from_slice(&["--interval", "0.9", "--interval-method", "split"]);
+    ok(&hxai(&args)?, "predict --interval-method split");
+    let written = std::fs::read_to_string(&pred)?;
+    let mut lines = written.lines();
+    assert_eq!(
+        lines.next(),
+        Some("physics,correction,hybrid,hybrid_lo,hybrid_hi")
+    );
+    for line in lines {
+        let v: Vec<f64> = line.split(',').filter_map(|x| x.parse().ok()).collect();
+        assert!(v.len() == 5 && v[3] <= v[4], "{line}");
+    }
+    // a level outside (0, 1): one line naming the flag
+    let mut args = vec!["hybrid"];
+    args.extend(evaluate_args(
+        s(&model),
+        s(&data),
+        &["--interval", "1.5", "--interval-method", "conformal"],
+    ));
+    let out = hxai(&args)?;
+    assert!(!out.status.success());
+    assert!(
+        common::stderr(&out).contains("--interval"),
+        "{}",
+        common::stderr(&out)
+    );
+    // without conformal folds: delta by default, conformal refused with what to do
+    let plain = dir.join("plain.json");
+    let mut args = fit_args(s(&data), s(&plain));
+    args.extend_from_slice(&["--conformal-folds", "0"]);
+    ok(&hxai(&args)?, "fit --conformal-folds 0");
+    let mut args = vec!["hybrid"];
+    args.extend(evaluate_args(s(&plain), s(&data), &["--json"]));
+    let out = hxai(&args)?;
+    ok(&out, "evaluate, no conformal");
+    let ev: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+    assert_eq!(ev["interval"]["method"], "delta", "{ev}");
+    let mut args = vec!["hybrid"];
+    args.extend(evaluate_args(
+        s(&plain),
+        s(&data),
+        &["--interval-method", "conformal"],
+    ));
+    let out = hxai(&args)?;
+    assert!(!out.status.success());
+    assert!(
+        common::stderr(&out).contains("--interval-method delta"),
+        "{}",
+        common::stderr(&out)
+    );
+    // more folds than training rows
+    let (_, small) = scratch_table("interval-small", 12)?;
+    let mut args = fit_args(s(&small), s(&plain));
+    args.extend_from_slice(&["--conformal-folds", "20"]);
+    let out = hxai(&args)?;
+    assert!(!out.status.success());
+    assert!(
+        common::stderr(&out).contains("--conformal-folds"),
+        "{}",
+        common::stderr(&out)
+    );
+    Ok(())
+}

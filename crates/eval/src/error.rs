@@ -78,6 +78,19 @@ pub enum EvalError {
         /// The value given.
         value: f64,
     },
+    /// Too few conformal scores for a finite interval at the level asked for.
+    #[error(
+        "{n} calibration score(s) cannot give a finite conformal interval at level {level}: \
+         it needs at least {need} (more rows, fewer folds, or a lower level)"
+    )]
+    TooFewScores {
+        /// Scores given.
+        n: usize,
+        /// The level asked for.
+        level: f64,
+        /// The fewest scores that give a finite interval at this level.
+        need: usize,
+    },
     /// A paired t-test whose differences are all exactly zero has no defined statistic.
     #[error("the two error vectors are identical: the paired t-test is undefined (0/0)")]
     IdenticalSamples,

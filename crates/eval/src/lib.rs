@@ -9,6 +9,8 @@
 //! * [`stats`]: [`summarize`] over folds ([`Summary`]: mean, sample standard deviation, a
 //!   Student-t 95 % interval and, labelled as such, the normal approximation the paper used)
 //!   and [`paired_t_test`] ([`TTest`]), like `scipy.stats.ttest_rel`.
+//! * [`conformal`]: prediction intervals that hold in finite samples: split conformal's
+//!   [`conformal_quantile`], [`cv_plus`], and the local [`ScaleModel`] that normalises scores.
 //!
 //! Design decision: the crate works on plain `&[f64]` slices and index lists, not on
 //! models or tables. Splits return indices, so the same split can select rows of any
@@ -40,11 +42,13 @@
 #![deny(missing_docs)]
 
 mod check;
+pub mod conformal;
 mod error;
 pub mod metrics;
 pub mod split;
 pub mod stats;
 
+pub use conformal::{IntervalMethod, ScaleModel, conformal_quantile, conformal_rank, cv_plus};
 pub use error::EvalError;
 pub use metrics::{Metrics, improvement_pct, mae, r2, residuals, rmse, score, squared_errors};
 pub use split::{

@@ -85,6 +85,7 @@ pub use error::HybridError;
 pub use evaluate::{
     DEFAULT_INTERVAL, EvalInput, Evaluation, IntervalReport, TTestReport, evaluate,
 };
+pub use hxai_eval::IntervalMethod;
 pub use model::{
     CorrectionInfo, CorrectionKind, FeatureInfo, FitConfig, FitOutput, FitProgress, HybridModel,
     LoadedCorrection, SCHEMA_VERSION, SamplesTable, SplitInfo, SplitKind, ToolHybrid, TrainingInfo,

@@ -100,7 +100,12 @@ impl HybridModel {
                 .iter()
                 .map(|s| s.a_true().unwrap_or(f64::NAN))
                 .collect();
-            ev.interval = Some(IntervalReport::of(level, &truth, &iv));
+            ev.interval = Some(IntervalReport::of(
+                hxai_eval::IntervalMethod::Delta,
+                level,
+                &truth,
+                &iv,
+            ));
         }
         ev.warnings = inputs
             .iter()

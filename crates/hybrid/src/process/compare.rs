@@ -73,6 +73,11 @@ pub struct Comparison {
     /// Every paired test of the hybrid: vs `physics`, vs `physics_calibrated` (with
     /// calibration), vs `physics_forest`, vs `symbolic`.
     pub t_tests: Vec<TTestScore>,
+    /// Coverage and median width of the hybrid's prediction intervals on the test rows
+    /// (at [`crate::DEFAULT_INTERVAL`] by the model's default method; absent when the model
+    /// has none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interval: Option<crate::IntervalReport>,
     /// The hybrid fitted on the test split's training rows.
     pub hybrid: ProcessModel,
 }
@@ -280,7 +285,14 @@ pub fn compare_process(
             });
         }
     }
+    let interval = match main.model.default_interval_method() {
+        Some(method) => main
+            .model
+            .test_interval(table, crate::DEFAULT_INTERVAL, method)?,
+        None => None,
+    };
     Ok(Comparison {
+        interval,
         target: cfg.target.clone(),
         split: kind,
         n_train: split.train.len(),

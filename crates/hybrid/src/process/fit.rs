@@ -130,7 +130,8 @@ impl<'a> SplitJob<'a> {
 }
 
 /// Fits one split: calibrates the physics on the training rows, searches the correction of
-/// its `delta`, refits both jointly when asked, and writes the model with its scores.
+/// its `delta`, refits both jointly when asked, and writes the model with its scores and,
+/// with `conformal_folds`, its conformal calibration.
 pub(crate) fn fit_inner(
     job: SplitJob,
     progress: &mut dyn FnMut(&ProcessProgress),
@@ -173,6 +174,16 @@ pub(crate) fn fit_inner(
     let mut model = model_of(job, &res, &ft, &found.pareto, fitted, y_all, &y_train)?;
     model.correction.selection = Some(selection);
     model.scores = scores_of(&model, table, y_all, split)?;
+    if cfg.conformal_folds > 0 {
+        model.conformal = Some(super::conformal::calibrate(
+            table,
+            cfg,
+            &res,
+            &model,
+            &split.train,
+            cfg.conformal_folds,
+        )?);
+    }
     Ok(model)
 }
 
@@ -332,6 +343,7 @@ fn model_of(
         group: cfg.group.clone(),
         joint,
         stability: None,
+        conformal: None,
         scores: ScoresInfo {
             train: PairScores {
                 physics: zero_metrics(),

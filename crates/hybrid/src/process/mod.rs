@@ -12,6 +12,8 @@
 //! - [`fit_process`] (and [`fit_process_split`] for a given split) returns a
 //!   [`ProcessModel`], the serialisable model file, with [`ProcessModel::predict`],
 //!   [`ProcessModel::evaluate`], [`ProcessModel::to_json`] and [`ProcessModel::from_json`].
+//! - Prediction intervals ([`ProcessModel::intervals_with`]): conformal (CV+ over folds of
+//!   the training rows, [`ConformalInfo`]), split conformal, or the delta method.
 //! - [`compare_process`]: physics as given, calibrated physics, symbolic regression alone,
 //!   physics + random forest, and the hybrid on the same split, with k-fold CV and paired
 //!   t-tests ([`Comparison`]).
@@ -42,6 +44,7 @@
 //! ```
 mod calibrate;
 mod compare;
+mod conformal;
 mod fit;
 mod model;
 mod physics;
@@ -49,6 +52,7 @@ mod resolve;
 mod split;
 
 pub use compare::{Comparison, CvScore, ModelScore, TTestScore, compare_process};
+pub use conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, ResidualScale};
 pub use fit::{fit_process, fit_process_split, process_stability};
 pub use model::{
     CorrectionInfo, EquationInfo, JointInfo, PROCESS_SCHEMA_VERSION, PairScores, PhysicsInfo,
@@ -125,11 +129,15 @@ pub struct ProcessConfig {
     pub joint: bool,
     /// Symbolic-regression settings of the correction (and of `symbolic` in compare).
     pub search: SearchConfig,
+    /// Folds of the CV+ calibration of conformal prediction intervals (0: none; the model
+    /// file then offers only the delta method). See [`ConformalInfo`].
+    pub conformal_folds: usize,
 }
 
 impl ProcessConfig {
     /// Defaults: additive correction, 20 % random test split, seed 42, symreg's default
-    /// search (complexity at most 10).
+    /// search (complexity at most 10), conformal intervals calibrated over
+    /// [`DEFAULT_CONFORMAL_FOLDS`] folds.
     pub fn new(target: &str, physics: &str) -> Self {
         Self {
             target: target.to_string(),
@@ -146,6 +154,7 @@ impl ProcessConfig {
             seed: 42,
             joint: false,
             search: SearchConfig::paper(),
+            conformal_folds: DEFAULT_CONFORMAL_FOLDS,
         }
     }
 

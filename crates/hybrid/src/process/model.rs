@@ -1,9 +1,10 @@
 //! The model file of a process hybrid: physics equation and parameters, correction, the
 //! whole hybrid as one equation; prediction and evaluation on new tables.
 use super::CorrectionForm;
+use super::conformal::ConformalInfo;
 use crate::HybridError;
 use crate::evaluate::{DEFAULT_INTERVAL, IntervalReport};
-use hxai_eval::Metrics;
+use hxai_eval::{IntervalMethod, Metrics};
 use hxai_symreg::infix::{Compiled, compile, parse};
 use hxai_symreg::{Model, Node, Op, ParamEstimate, Program, Table, Uncertainty, expr::Expr};
 use serde::{Deserialize, Serialize};
@@ -158,6 +159,11 @@ pub struct ProcessModel {
     /// over bootstrap resamples of the training rows ([`super::process_stability`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stability: Option<hxai_symreg::Stability>,
+    /// What conformal prediction intervals need ([`ConformalInfo`]: CV+ over folds of the
+    /// training rows); absent in files written before it existed, or fitted with
+    /// `conformal_folds` 0, where the delta method is the only one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub conformal: Option<ConformalInfo>,
 }
 
 /// Per-row predictions of a process hybrid.
@@ -433,35 +439,142 @@ impl ProcessModel {
         self.evaluate_at(table, DEFAULT_INTERVAL)
     }
 
-    /// [`ProcessModel::evaluate`] with the coverage of the hybrid's prediction intervals at
-    /// `level` ([`ProcessEvaluation::interval`]), when the model stores the hybrid's
-    /// uncertainty.
+    /// [`ProcessModel::evaluate`] with the coverage and median width of the hybrid's
+    /// prediction intervals at `level` ([`ProcessEvaluation::interval`]) by the model's
+    /// default method ([`ProcessModel::default_interval_method`]), when it has one.
     ///
     /// # Errors
     /// As [`ProcessModel::evaluate`], and a `level` outside (0, 1).
     pub fn evaluate_at(&self, table: &Table, level: f64) -> Result<ProcessEvaluation, HybridError> {
+        match self.default_interval_method() {
+            Some(method) => self.evaluate_with(table, level, method),
+            None => {
+                let y = columns_of(table, std::slice::from_ref(&self.target), "target")?[0];
+                let p = self.predict(table)?;
+                evaluation(y, &p.physics, &p.hybrid)
+            }
+        }
+    }
+
+    /// [`ProcessModel::evaluate_at`] with the intervals made by `method`.
+    ///
+    /// # Errors
+    /// As [`ProcessModel::evaluate_at`], and those of [`ProcessModel::intervals_with`] (a
+    /// method the model file cannot serve among them).
+    pub fn evaluate_with(
+        &self,
+        table: &Table,
+        level: f64,
+        method: IntervalMethod,
+    ) -> Result<ProcessEvaluation, HybridError> {
         let y = columns_of(table, std::slice::from_ref(&self.target), "target")?[0];
         let p = self.predict(table)?;
         let mut ev = evaluation(y, &p.physics, &p.hybrid)?;
-        if self.hybrid.uncertainty.is_some() {
-            let iv = self.intervals(table, level)?;
-            ev.interval = Some(IntervalReport::of(level, y, &iv));
-        }
+        let iv = self.intervals_with(table, level, method)?;
+        ev.interval = Some(IntervalReport::of(method, level, y, &iv));
         Ok(ev)
     }
 
-    /// Prediction intervals `(lo, hi)` of the hybrid at `level` for every row of `table`:
-    /// the delta method through the whole hybrid equation (calibrated physics parameters
-    /// and the correction's free constants, with their covariance on the training rows)
-    /// plus the residual variance of the hybrid on the training rows. Assumes independent
-    /// residuals of constant variance and the structure fixed; the physics parameters and
-    /// the correction were fitted one after the other, and their covariance is taken as if
-    /// they had been fitted together (the joint fit's; see `hxai_symreg::uncertainty`).
+    /// The coverage and median width of the intervals by `method` at `level` on the test
+    /// rows of the model's own split of `table` (the table it was fitted on); `None` when
+    /// the split has no test rows.
     ///
     /// # Errors
-    /// [`HybridError::InvalidConfig`] when the model stores no uncertainty (a file written
-    /// before it existed: refit), a missing column, a non-finite value.
+    /// A table with fewer rows than the split names, and those of
+    /// [`ProcessModel::intervals_with`].
+    pub fn test_interval(
+        &self,
+        table: &Table,
+        level: f64,
+        method: IntervalMethod,
+    ) -> Result<Option<IntervalReport>, HybridError> {
+        if self.split.test.is_empty() {
+            return Ok(None);
+        }
+        if let Some(&i) = self.split.test.iter().find(|&&i| i >= table.n_rows()) {
+            return Err(HybridError::InvalidConfig(format!(
+                "the model's split names row {} but the table has {} rows: pass the table the model was fitted on",
+                i + 1,
+                table.n_rows()
+            )));
+        }
+        let test = table.select_rows(&self.split.test)?;
+        let y = columns_of(&test, std::slice::from_ref(&self.target), "target")?[0];
+        let iv = self.intervals_with(&test, level, method)?;
+        Ok(Some(IntervalReport::of(method, level, y, &iv)))
+    }
+
+    /// The interval method used when none is asked for: conformal (CV+) when the file
+    /// stores its calibration, else the delta method when it stores the hybrid's
+    /// uncertainty, else none.
+    pub fn default_interval_method(&self) -> Option<IntervalMethod> {
+        if self.conformal.is_some() {
+            Some(IntervalMethod::Conformal)
+        } else if self.hybrid.uncertainty.is_some() {
+            Some(IntervalMethod::Delta)
+        } else {
+            None
+        }
+    }
+
+    /// Prediction intervals `(lo, hi)` of the hybrid at `level` for every row of `table`, by
+    /// the model's default method ([`ProcessModel::default_interval_method`]).
+    ///
+    /// # Errors
+    /// As [`ProcessModel::intervals_with`]; [`HybridError::InvalidConfig`] when the file
+    /// stores neither conformal calibration nor uncertainty.
     pub fn intervals(&self, table: &Table, level: f64) -> Result<Vec<(f64, f64)>, HybridError> {
+        let method = self
+            .default_interval_method()
+            .unwrap_or(IntervalMethod::Delta);
+        self.intervals_with(table, level, method)
+    }
+
+    /// Prediction intervals `(lo, hi)` of the hybrid at `level` for every row of `table` by
+    /// `method`:
+    ///
+    /// - [`IntervalMethod::Conformal`]: CV+ over the folds of the fit with scores
+    ///   normalised by the local scale ([`ConformalInfo`]); coverage at least `2 level - 1`
+    ///   (in practice near `level`) for rows exchangeable with the training rows.
+    /// - [`IntervalMethod::Split`]: split conformal with the first fold's model, calibrated
+    ///   on that fold's rows alone; coverage at least `level` for such rows.
+    /// - [`IntervalMethod::Delta`]: the delta method through the whole hybrid equation
+    ///   (calibrated physics parameters and the correction's free constants, with their
+    ///   covariance on the training rows) plus the residual variance of the hybrid on the
+    ///   training rows. Assumes independent residuals of constant variance and the structure
+    ///   fixed; the physics parameters and the correction were fitted one after the other,
+    ///   and their covariance is taken as if they had been fitted together (the joint fit's;
+    ///   see `hxai_symreg::uncertainty`).
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] when the model file cannot serve `method` (no
+    /// conformal calibration, or no uncertainty: a file written before they existed, or
+    /// fitted without conformal folds: refit), too few calibration scores for `level`, a
+    /// `level` outside (0, 1), a missing column, a non-finite value.
+    pub fn intervals_with(
+        &self,
+        table: &Table,
+        level: f64,
+        method: IntervalMethod,
+    ) -> Result<Vec<(f64, f64)>, HybridError> {
+        if !(level > 0.0 && level < 1.0) {
+            return Err(HybridError::InvalidConfig(format!(
+                "interval level {level}: give a probability between 0 and 1, such as 0.95"
+            )));
+        }
+        let phys = self.physics_program()?;
+        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        if method != IntervalMethod::Delta {
+            let Some(conf) = &self.conformal else {
+                return Err(HybridError::InvalidConfig(format!(
+                    "this model file stores no conformal calibration (written before conformal \
+                     intervals existed, or fitted with --conformal-folds 0): refit it with \
+                     `hxai hybrid fit`, or use --interval-method delta instead of {}",
+                    method.name()
+                )));
+            };
+            return conf.intervals(&c, table, level, method);
+        }
         let Some(unc) = &self.hybrid.uncertainty else {
             return Err(HybridError::InvalidConfig(
                 "this model file stores no uncertainty (written before prediction intervals \
@@ -469,8 +582,6 @@ impl ProcessModel {
                     .into(),
             ));
         };
-        let phys = self.physics_program()?;
-        let c = combine(&phys, &self.correction.model, self.correction.kind);
         let cols = columns_of(table, &c.names, "column")?;
         Ok(unc.intervals(&c.program, &c.params, &cols, table.n_rows(), level)?)
     }
@@ -566,9 +677,20 @@ impl ProcessModel {
         }
         let m: ProcessModel =
             serde_json::from_value(v).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
-        m.physics_program()?;
+        let phys = m.physics_program()?;
         // the correction model checks itself on the way in
         Model::from_json(&serde_json::to_string(&m.correction.model).unwrap_or_default())?;
+        if let Some(conf) = &m.conformal {
+            let c = combine(&phys, &m.correction.model, m.correction.kind);
+            conf.check(c.params.len())?;
+            if conf.scores.len() != m.split.train.len() {
+                return Err(HybridError::ModelFormat(format!(
+                    "`conformal` has {} scores for {} training rows",
+                    conf.scores.len(),
+                    m.split.train.len()
+                )));
+            }
+        }
         Ok(m)
     }
 }
