@@ -20,6 +20,11 @@ pub struct Args {
     /// coverage is reported (JSON `interval`).
     #[arg(long, default_value_t = hxai_hybrid::DEFAULT_INTERVAL)]
     pub interval: f64,
+    /// How the intervals are made: `conformal` (CV+, the default where the model file
+    /// stores its calibration), `split` (split conformal) or `delta` (the delta method,
+    /// the default for older files).
+    #[arg(long, value_enum)]
+    pub interval_method: Option<crate::hybrid::IntervalMethodArg>,
     /// Print one JSON document on stdout.
     #[arg(long)]
     pub json: bool,
@@ -48,8 +53,13 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let pb = ProgressBar::new(wanted.len() as u64);
     let recs = crate::records::read_with_truth(&folder, &wanted, "evaluating", &pb)?;
     let inputs = crate::records::inputs(&wanted, &recs);
+    let method = args
+        .interval_method
+        .map(hxai_hybrid::IntervalMethod::from)
+        .or_else(|| model.default_interval_method())
+        .unwrap_or(hxai_hybrid::IntervalMethod::Delta);
     let mut ev = model
-        .evaluate_at(&inputs, args.all, args.interval)
+        .evaluate_with(&inputs, args.all, args.interval, method)
         .context("evaluation failed")?;
     ev.warnings
         .extend(crate::records::amplitude_warnings(&wanted, &inputs));

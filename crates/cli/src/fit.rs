@@ -84,6 +84,12 @@ pub struct Args {
     /// report how often each feature and each structure is selected (JSON `stability`).
     #[arg(long)]
     pub stability: Option<usize>,
+    /// Folds of the CV+ calibration of conformal prediction intervals of the corrected
+    /// amplitude, grouped by record and stored in the model file (each fold refits the
+    /// correction's constants, not its structure); 0 fits without them (the delta method is
+    /// then the only interval).
+    #[arg(long, default_value_t = hxai_hybrid::conformal::DEFAULT_CONFORMAL_FOLDS)]
+    pub conformal_folds: usize,
     /// Print a JSON summary on stdout instead of text.
     #[arg(long)]
     pub json: bool,
@@ -163,6 +169,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         test_fraction: args.test_fraction,
         seed: args.seed,
         search,
+        conformal_folds: args.conformal_folds,
         ..FitConfig::default()
     };
     let samples_bar = bar(inputs.len() as u64, "samples");

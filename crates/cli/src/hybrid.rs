@@ -49,7 +49,7 @@ enum CorrectionArg {
 
 /// `--interval-method` values.
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
-enum IntervalMethodArg {
+pub(crate) enum IntervalMethodArg {
     /// CV+ over the folds of the fit, scores normalised by the local scale (the default
     /// where the model file stores its calibration).
     Conformal,
@@ -151,7 +151,7 @@ struct Common {
     /// Folds of the CV+ calibration of conformal prediction intervals, stored in the model
     /// file (each fold refits the hybrid's constants, not its structure); 0 fits without
     /// them (the delta method is then the only interval).
-    #[arg(long, default_value_t = hxai_hybrid::process::DEFAULT_CONFORMAL_FOLDS)]
+    #[arg(long, default_value_t = hxai_hybrid::conformal::DEFAULT_CONFORMAL_FOLDS)]
     conformal_folds: usize,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]

@@ -22,6 +22,10 @@ pub struct Args {
     /// corrected amplitude at this level (e.g. 0.95): columns hybrid_lo_um, hybrid_hi_um.
     #[arg(long)]
     pub interval: Option<f64>,
+    /// How the intervals are made with --interval: `conformal` (CV+, the default where the
+    /// model file stores its calibration), `split` or `delta`.
+    #[arg(long, value_enum, requires = "interval")]
+    pub interval_method: Option<crate::hybrid::IntervalMethodArg>,
     /// Print the per-window corrections as JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -72,8 +76,13 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     };
     let (pred, bounds) = match args.interval {
         Some(level) => {
+            let method = args
+                .interval_method
+                .map(hxai_hybrid::IntervalMethod::from)
+                .or_else(|| model.default_interval_method())
+                .unwrap_or(hxai_hybrid::IntervalMethod::Delta);
             let (p, lo, hi) = model
-                .predict_with_intervals(&input, level)
+                .predict_with_intervals_by(&input, level, method)
                 .context("prediction failed")?;
             (p, Some((lo, hi)))
         }

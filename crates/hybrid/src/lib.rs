@@ -66,6 +66,7 @@
 #![deny(missing_docs)]
 
 mod composer;
+pub mod conformal;
 mod error;
 pub mod evaluate;
 pub mod explain;

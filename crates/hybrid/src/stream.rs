@@ -211,7 +211,8 @@ impl Estimator {
     }
 
     /// Adds prediction bounds at `level` (e.g. 0.95) to every row: the interval of the
-    /// corrected amplitude (as `hxai predict --interval`), applied to the row's sine.
+    /// corrected amplitude (as `hxai predict --interval`: the model's default method,
+    /// conformal when the file stores its calibration), applied to the row's sine.
     ///
     /// # Errors
     /// [`HybridError::InvalidConfig`] for a level outside (0, 1) or a model that stores no
@@ -396,15 +397,18 @@ impl Estimator {
         let columns = features.iter().map(|v| vec![*v]).collect();
         let table = Table::new(self.names.clone(), columns)?;
         let delta_hat = self.correction.predict(&table)?[0];
-        let interval = match (
-            self.level,
-            &self.model.correction.model,
-            &self.model.correction.uncertainty,
-        ) {
-            (Some(level), Some(m), Some(unc)) => {
-                m.prediction_intervals(unc, &table, level)?.first().copied()
+        let interval = match self.level {
+            Some(level) => {
+                let method = self
+                    .model
+                    .default_interval_method()
+                    .unwrap_or(crate::IntervalMethod::Delta);
+                self.model
+                    .correction_intervals(&table, level, method)?
+                    .first()
+                    .copied()
             }
-            _ => None,
+            None => None,
         };
         Ok(Report {
             delta_hat,

@@ -18,7 +18,7 @@
 #![allow(clippy::unwrap_used)]
 use hxai_eval::Split;
 use hxai_hybrid::IntervalMethod;
-use hxai_hybrid::process::{CorrectionForm, ProcessConfig, fit_process_split};
+use hxai_hybrid::process::{CorrectionForm, ProcessConfig, ResidualScale, fit_process_split};
 use hxai_symreg::Table;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -37,6 +37,8 @@ enum Noise {
     Homoscedastic,
     /// `y = f(x) exp(N(0, 0.08))`.
     Multiplicative,
+    /// As `Multiplicative`, fitted with the log correction form `y = f_p exp(delta)`.
+    LogForm,
     /// `y = f(x) + N(0, 0.03 f(x))`.
     Heteroscedastic,
 }
@@ -45,7 +47,7 @@ impl Noise {
     /// The true `f(x)`; `f` runs from 2 to about 10.
     fn truth(self, x1: f64, x2: f64) -> f64 {
         match self {
-            Noise::Multiplicative => 2.0 * x1 * (1.0 + 0.3 * x2),
+            Noise::Multiplicative | Noise::LogForm => 2.0 * x1 * (1.0 + 0.3 * x2),
             _ => 2.0 * x1 + 1.5 * x2 * x2,
         }
     }
@@ -54,7 +56,7 @@ impl Noise {
         let e = Normal::new(0.0, 1.0).unwrap().sample(rng);
         match self {
             Noise::Homoscedastic => f + 0.1 * e,
-            Noise::Multiplicative => f * (0.08 * e).exp(),
+            Noise::Multiplicative | Noise::LogForm => f * (0.08 * e).exp(),
             Noise::Heteroscedastic => f + 0.03 * f * e,
         }
     }
@@ -63,7 +65,9 @@ impl Noise {
     fn band(self, f: f64) -> f64 {
         match self {
             Noise::Homoscedastic => 2.0 * Z975 * 0.1,
-            Noise::Multiplicative => f * ((0.08 * Z975).exp() - (-0.08 * Z975).exp()),
+            Noise::Multiplicative | Noise::LogForm => {
+                f * ((0.08 * Z975).exp() - (-0.08 * Z975).exp())
+            }
             Noise::Heteroscedastic => 2.0 * Z975 * 0.03 * f,
         }
     }
@@ -71,6 +75,7 @@ impl Noise {
     fn correction(self) -> CorrectionForm {
         match self {
             Noise::Multiplicative => CorrectionForm::Multiplicative,
+            Noise::LogForm => CorrectionForm::Log,
             _ => CorrectionForm::Additive,
         }
     }
@@ -139,6 +144,14 @@ fn measure(noise: Noise, method: IntervalMethod) -> Measured {
             test: Vec::new(),
         };
         let model = fit_process_split(&train, &config(noise, draw), &split, &mut |_| {}).unwrap();
+        // multiplicative scatter is scored on the log scale, for both forms that multiply
+        let scale = model.conformal.as_ref().unwrap().scale;
+        let log = matches!(noise, Noise::Multiplicative | Noise::LogForm);
+        assert_eq!(
+            scale == ResidualScale::Log,
+            log,
+            "{noise:?}: scale {scale:?}"
+        );
         let iv = model.intervals_with(&test, LEVEL, method).unwrap();
         let y = test.require("y").unwrap();
         for (((t, (lo, hi)), b), f) in y.iter().zip(&iv).zip(&band).zip(&truth) {
@@ -195,6 +208,11 @@ fn conformal_keeps_its_promise_under_homoscedastic_noise() {
 #[test]
 fn conformal_keeps_its_promise_under_multiplicative_noise() {
     check(Noise::Multiplicative);
+}
+
+#[test]
+fn conformal_keeps_its_promise_under_multiplicative_noise_with_the_log_form() {
+    check(Noise::LogForm);
 }
 
 #[test]

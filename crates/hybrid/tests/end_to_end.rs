@@ -127,3 +127,138 @@ fn fit_predict_evaluate_on_synthetic_records() -> Result<(), Box<dyn std::error:
     assert_eq!(ev_w.n_windows, 17);
     Ok(())
 }
+
+#[test]
+fn conformal_intervals_of_the_corrected_amplitude() -> Result<(), Box<dyn std::error::Error>> {
+    use hxai_hybrid::IntervalMethod;
+    let recs = data()?;
+    let inputs: Vec<RecordInput<'_>> = recs
+        .iter()
+        .map(|r| RecordInput {
+            id: &r.id,
+            fs_hz: 1000.0,
+            frequency_hz: r.f,
+            signal: &r.accel,
+            truth: Some(&r.probe),
+        })
+        .collect();
+    let search = hxai_symreg::SearchConfig {
+        epochs: 4,
+        candidates_per_epoch: 300,
+        ..hxai_symreg::SearchConfig::default()
+    };
+    let cfg = FitConfig {
+        search: search.clone(),
+        ..FitConfig::default()
+    };
+    let out = fit(&inputs, &cfg, &mut |_| {})?;
+    let m = &out.model;
+    let conf = m.conformal.as_ref().ok_or("no conformal calibration")?;
+    assert_eq!(conf.folds, 5);
+    assert_eq!(conf.fold_params.len(), 5);
+    assert_eq!(conf.scores.len(), m.training.n_train_windows);
+    // The folds are grouped by record: every training window of a record has one fold.
+    let train: Vec<&str> = out
+        .samples
+        .iter()
+        .zip(&out.is_test)
+        .filter(|(_, t)| !**t)
+        .map(|(s, _)| s.record.as_str())
+        .collect();
+    for (i, r) in train.iter().enumerate() {
+        for (j, q) in train.iter().enumerate() {
+            if r == q {
+                assert_eq!(
+                    conf.fold_of[i], conf.fold_of[j],
+                    "record {r} split over folds"
+                );
+            }
+        }
+    }
+    let loaded = HybridModel::from_json(&m.to_json()?)?;
+    assert_eq!(
+        loaded.default_interval_method(),
+        Some(IntervalMethod::Conformal)
+    );
+    let ev = loaded.evaluate(&inputs, false)?;
+    let iv = ev.interval.ok_or("no interval report")?;
+    assert_eq!(iv.method, IntervalMethod::Conformal);
+    assert_eq!(iv.n, 18);
+    // Each method's interval holds the corrected amplitude; the conformal ones are CV+'s
+    // order statistics of the fold models' predictions, so they hold every fold model's
+    // prediction shifted by the smallest score, at least.
+    let test: Vec<_> = out
+        .samples
+        .iter()
+        .zip(&out.is_test)
+        .filter(|(_, t)| **t)
+        .map(|(s, _)| s.clone())
+        .collect();
+    let table = loaded.hybrid().feature_table(&test)?;
+    let a_corr: Vec<f64> = {
+        let d = loaded
+            .correction
+            .model
+            .as_ref()
+            .ok_or("no model")?
+            .predict(&table)?;
+        test.iter().zip(d).map(|(s, d)| s.a_phys() + d).collect()
+    };
+    for method in [
+        IntervalMethod::Conformal,
+        IntervalMethod::Split,
+        IntervalMethod::Delta,
+    ] {
+        let b = loaded.amplitude_intervals_with(&test, 0.8, method)?;
+        for (a, (lo, hi)) in a_corr.iter().zip(&b) {
+            assert!(
+                lo.is_finite() && hi.is_finite() && lo < hi,
+                "{method:?}: ({lo}, {hi})"
+            );
+            if method != IntervalMethod::Conformal {
+                // split and delta are centred on their model: the full model's prediction
+                // for delta, the first fold's for split (close to it)
+                assert!(lo < a && a < hi, "{method:?}: {a} outside ({lo}, {hi})");
+            }
+        }
+        // a higher level never narrows an interval
+        let wide = loaded.amplitude_intervals_with(&test, 0.9, method)?;
+        for (n, w) in b.iter().zip(&wide) {
+            assert!(
+                w.0 <= n.0 + 1e-12 && w.1 >= n.1 - 1e-12,
+                "{method:?}: {n:?} vs {w:?}"
+            );
+        }
+    }
+
+    // Without folds: no calibration, the delta method by default, conformal refused by name.
+    let plain = fit(
+        &inputs,
+        &FitConfig {
+            search,
+            conformal_folds: 0,
+            ..FitConfig::default()
+        },
+        &mut |_| {},
+    )?
+    .model;
+    assert!(plain.conformal.is_none());
+    assert_eq!(plain.default_interval_method(), Some(IntervalMethod::Delta));
+    let err = plain
+        .amplitude_intervals_with(&test, 0.95, IntervalMethod::Conformal)
+        .err()
+        .ok_or("conformal accepted without calibration")?;
+    assert!(err.to_string().contains("--conformal-folds 0"), "{err}");
+
+    // A tampered calibration is refused when the file is read.
+    let mut doc: serde_json::Value = serde_json::from_str(&m.to_json()?)?;
+    doc["conformal"]["scores"]
+        .as_array_mut()
+        .ok_or("no scores")?
+        .pop();
+    let err = HybridModel::from_json(&doc.to_string())
+        .err()
+        .ok_or("tampered calibration accepted")?;
+    assert!(err.to_string().contains("conformal"), "{err}");
+    Ok(())
+}

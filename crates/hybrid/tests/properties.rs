@@ -228,6 +228,7 @@ fn model_strategy() -> impl Strategy<Value = HybridModel> {
                         mae: 0.4,
                     }),
                 },
+                conformal: None,
             }
         })
 }
@@ -329,6 +330,7 @@ fn model_zero() -> HybridModel {
             delta_train: None,
             delta_test: None,
         },
+        conformal: None,
     }
 }
 

@@ -29,6 +29,7 @@
 #![deny(missing_docs)]
 
 pub mod beyond;
+pub mod intervals;
 pub mod figures;
 pub mod paper;
 pub mod pipeline;
@@ -208,7 +209,9 @@ pub fn run(
     let mut files = vec![
         (
             "README.md".to_string(),
-            report::markdown(&computed.results) + &beyond::markdown(&beyond),
+            report::markdown(&computed.results)
+                + &beyond::markdown(&beyond)
+                + &intervals::markdown(&computed.results.intervals, &beyond),
         ),
         (
             "results.json".to_string(),

@@ -162,6 +162,19 @@ pub fn compute(
     let t = Instant::now();
     progress(Progress::start("evaluate", 1));
     let hybrid = fit.model.evaluate(&inputs, false)?;
+    let intervals: Vec<crate::intervals::MethodInterval> = crate::intervals::METHODS
+        .iter()
+        .filter_map(|&m| {
+            let ev = fit
+                .model
+                .evaluate_with(&inputs, false, hxai_hybrid::DEFAULT_INTERVAL, m)
+                .ok()?;
+            Some(crate::intervals::MethodInterval {
+                report: ev.interval?,
+                median_relative_width: None,
+            })
+        })
+        .collect();
     progress(Progress::done("evaluate", 1));
     timings.push(("hybrid evaluation", t.elapsed().as_secs_f64()));
 
@@ -238,6 +251,7 @@ pub fn compute(
         symbolic,
         cv,
         hybrid,
+        intervals,
         streaming,
     };
     Ok(Computed {

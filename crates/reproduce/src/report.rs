@@ -346,12 +346,16 @@ pub fn markdown(r: &Results) -> String {
     if h.interval.is_some() {
         let _ = writeln!(
             s,
-            "\nPrediction intervals: `A_phys + δ̂ ± t_{{n-k}} sqrt(s² + gᵀCg)`, the delta method \
-             through the correction (g its gradient in the fitted constants, C their covariance \
-             s² (JᵀJ)⁻¹ on the training windows) plus the residual variance s² of δ; assumes \
-             independent residuals of constant variance and the selected structure fixed. The \
-             coverage is the share of test windows whose true amplitude lies inside \
-             (`hxai evaluate --json`, key `interval`)."
+            "\nPrediction intervals of the amplitude by the model file's default method, \
+             conformal (CV+ over 5 folds of the training records: each fold refits the \
+             correction's constants without its records, and the interval of a new window is \
+             made of the fold models' predictions there and every training window's held-out \
+             residual, scaled by a line in the prediction); it assumes test windows \
+             exchangeable with the training windows and the selected structure fixed. The \
+             delta method (`A_phys + δ̂ ± t_{{n-k}} sqrt(s² + gᵀCg)`, one constant residual \
+             variance) and split conformal are compared in the section \"Prediction intervals \
+             by method\" below. The coverage is the share of test windows whose true amplitude \
+             lies inside (`hxai evaluate --json`, key `interval`)."
         );
     }
 

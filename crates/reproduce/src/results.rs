@@ -29,6 +29,9 @@ pub struct Results {
     pub cv: Vec<CvRow>,
     /// Physics vs hybrid displacement on the test records.
     pub hybrid: Evaluation,
+    /// The intervals of the corrected amplitude on the test windows by every method
+    /// ([`crate::intervals`]).
+    pub intervals: Vec<crate::intervals::MethodInterval>,
     /// Stability of the selected structure over bootstrap resamples of the training
     /// windows (`hxai fit --stability N`).
     pub stability: hxai_symreg::Stability,

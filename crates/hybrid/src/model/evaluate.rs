@@ -6,6 +6,7 @@ use crate::HybridError;
 use crate::composer::RecordInput;
 use crate::evaluate::{DEFAULT_INTERVAL, EvalInput, Evaluation, IntervalReport, evaluate};
 use crate::warnings::input_warnings;
+use hxai_eval::IntervalMethod;
 use std::collections::BTreeMap;
 
 impl HybridModel {
@@ -24,7 +25,8 @@ impl HybridModel {
         self.evaluate_at(records, all, DEFAULT_INTERVAL)
     }
 
-    /// [`HybridModel::evaluate`] with the coverage of prediction intervals at `level`
+    /// [`HybridModel::evaluate`] with the coverage of prediction intervals at `level` by the
+    /// model's default method ([`HybridModel::default_interval_method`])
     /// ([`Evaluation::interval`]: the share of evaluated windows whose true amplitude lies
     /// inside the interval of the corrected amplitude), when the model stores the
     /// uncertainty of its correction.
@@ -36,6 +38,24 @@ impl HybridModel {
         records: &[RecordInput<'_>],
         all: bool,
         level: f64,
+    ) -> Result<Evaluation, HybridError> {
+        let method = self
+            .default_interval_method()
+            .unwrap_or(IntervalMethod::Delta);
+        self.evaluate_with(records, all, level, method)
+    }
+
+    /// [`HybridModel::evaluate_at`] with the intervals made by `method`
+    /// ([`HybridModel::amplitude_intervals_with`]).
+    ///
+    /// # Errors
+    /// As [`HybridModel::evaluate_at`], and a method the model file cannot serve.
+    pub fn evaluate_with(
+        &self,
+        records: &[RecordInput<'_>],
+        all: bool,
+        level: f64,
+        method: IntervalMethod,
     ) -> Result<Evaluation, HybridError> {
         let mut by_record: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
         for w in &self.split.test_windows {
@@ -95,17 +115,12 @@ impl HybridModel {
                         .filter(|s| i.windows.is_none_or(|w| w.contains(&s.window))),
                 );
             }
-            let iv = self.amplitude_intervals(&samples, level)?;
+            let iv = self.amplitude_intervals_with(&samples, level, method)?;
             let truth: Vec<f64> = samples
                 .iter()
                 .map(|s| s.a_true().unwrap_or(f64::NAN))
                 .collect();
-            ev.interval = Some(IntervalReport::of(
-                hxai_eval::IntervalMethod::Delta,
-                level,
-                &truth,
-                &iv,
-            ));
+            ev.interval = Some(IntervalReport::of(method, level, &truth, &iv));
         }
         ev.warnings = inputs
             .iter()

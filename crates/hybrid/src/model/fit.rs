@@ -33,6 +33,9 @@ pub struct FitConfig {
     pub seed: u64,
     /// Symbolic-regression settings.
     pub search: hxai_symreg::SearchConfig,
+    /// Folds of the CV+ calibration of conformal intervals of the corrected amplitude,
+    /// grouped by record (0: none; the model file then offers only the delta method).
+    pub conformal_folds: usize,
 }
 
 impl Default for FitConfig {
@@ -45,6 +48,7 @@ impl Default for FitConfig {
             test_fraction: 0.2,
             seed: 42,
             search: hxai_symreg::SearchConfig::paper(),
+            conformal_folds: crate::conformal::DEFAULT_CONFORMAL_FOLDS,
         }
     }
 }
@@ -318,6 +322,17 @@ pub fn fit(
     let correction = SymbolicCorrection {
         model: result.best.clone(),
     };
+    let conformal = if cfg.conformal_folds > 0 {
+        Some(conformal_of(
+            &result.best,
+            &train,
+            &train_table,
+            &train_delta,
+            cfg,
+        )?)
+    } else {
+        None
+    };
     let hat_train = correction.predict(&train_table)?;
     let hat_test = correction.predict(&test_table)?;
 
@@ -373,6 +388,7 @@ pub fn fit(
             delta_train: hxai_eval::score(&train_delta, &hat_train).ok(),
             delta_test: hxai_eval::score(&test_delta, &hat_test).ok(),
         },
+        conformal,
     };
     Ok(FitOutput {
         model,
@@ -381,4 +397,29 @@ pub fn fit(
         search: result,
         warnings,
     })
+}
+
+/// CV+ calibration of the correction `best` over `cfg.conformal_folds` folds of the training
+/// windows, grouped by record (the windows of one recording are alike, so they stay on one
+/// side, as in the split).
+fn conformal_of(
+    best: &hxai_symreg::Model,
+    train: &[&WindowSample],
+    table: &Table,
+    delta: &[f64],
+    cfg: &FitConfig,
+) -> Result<crate::conformal::ConformalInfo, HybridError> {
+    let k = cfg.conformal_folds;
+    let records: Vec<&str> = train.iter().map(|s| s.record.as_str()).collect();
+    let distinct: BTreeSet<&str> = records.iter().copied().collect();
+    if k < 2 || distinct.len() < k {
+        return Err(HybridError::InvalidConfig(format!(
+            "conformal intervals need at least 2 folds and a training record per fold: \
+             {k} fold(s) asked for, {} training records: use fewer folds \
+             (--conformal-folds, at least 2), or 0 to fit without conformal intervals",
+            distinct.len()
+        )));
+    }
+    let splits = hxai_eval::grouped_kfold(&records, k, cfg.seed)?;
+    crate::conformal::calibrate_model(best, table, delta, &splits)
 }

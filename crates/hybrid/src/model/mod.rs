@@ -249,6 +249,12 @@ pub struct HybridModel {
     pub split: SplitInfo,
     /// Training details.
     pub training: TrainingInfo,
+    /// What conformal prediction intervals of the corrected amplitude need
+    /// ([`crate::conformal::ConformalInfo`]: CV+ over folds of the training records, the
+    /// correction's constants refitted per fold). Absent in files written before it
+    /// existed and with `conformal_folds` 0, where the delta method is the only one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub conformal: Option<crate::conformal::ConformalInfo>,
 }
 
 fn json_type(v: &serde_json::Value) -> &'static str {
@@ -382,6 +388,21 @@ impl HybridModel {
             })?;
         }
         self.correction()?;
+        if let Some(conf) = &self.conformal {
+            let Some(m) = &self.correction.model else {
+                return Err(HybridError::ModelFormat(
+                    "`conformal` is given for a zero correction".into(),
+                ));
+            };
+            conf.check(m.params.len())?;
+            if conf.scores.len() != self.training.n_train_windows {
+                return Err(HybridError::ModelFormat(format!(
+                    "`conformal` has {} scores for {} training windows",
+                    conf.scores.len(),
+                    self.training.n_train_windows
+                )));
+            }
+        }
         self.window.check()?;
         // The band and orders are checked against a generous sampling rate: the record's
         // own rate is checked again when the model is applied.

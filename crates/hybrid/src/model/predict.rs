@@ -6,6 +6,7 @@ use crate::HybridError;
 use crate::composer::{RecordInput, RecordPrediction, WindowSample};
 use crate::explain::{ExplainData, Explanation};
 use crate::warnings::input_warnings;
+use hxai_eval::IntervalMethod;
 
 impl HybridModel {
     /// Physics and hybrid prediction of one record, with warnings about implausible input
@@ -21,20 +22,85 @@ impl HybridModel {
         Ok(p)
     }
 
-    /// Prediction intervals at `level` of the corrected amplitude `A_corr = A_phys +
-    /// delta_hat` of each sample: `A_phys` plus the interval of `delta_hat` (delta method
-    /// through the correction with the covariance of its constants, plus the residual
-    /// variance of `delta` on the training windows; see `hxai_symreg::uncertainty` for the
-    /// assumptions). The zero correction has none.
+    /// The interval method used when none is asked for: conformal (CV+) when the file
+    /// stores its calibration, else the delta method when it stores the correction's
+    /// uncertainty, else none (the zero correction).
+    pub fn default_interval_method(&self) -> Option<IntervalMethod> {
+        if self.conformal.is_some() {
+            Some(IntervalMethod::Conformal)
+        } else if self.correction.uncertainty.is_some() {
+            Some(IntervalMethod::Delta)
+        } else {
+            None
+        }
+    }
+
+    /// Prediction intervals at `level` of the corrected amplitude by the model's default
+    /// method ([`HybridModel::default_interval_method`]).
     ///
     /// # Errors
-    /// [`HybridError::InvalidConfig`] when the model stores no uncertainty (the zero
-    /// correction, or a file from before it existed: refit), and the correction's errors.
+    /// As [`HybridModel::amplitude_intervals_with`].
     pub fn amplitude_intervals(
         &self,
         samples: &[WindowSample],
         level: f64,
     ) -> Result<Vec<(f64, f64)>, HybridError> {
+        let method = self
+            .default_interval_method()
+            .unwrap_or(IntervalMethod::Delta);
+        self.amplitude_intervals_with(samples, level, method)
+    }
+
+    /// Prediction intervals at `level` of the corrected amplitude `A_corr = A_phys +
+    /// delta_hat` of each sample: `A_phys` plus the interval of `delta_hat` by `method`:
+    ///
+    /// - [`IntervalMethod::Conformal`]: CV+ over the fit's folds of training records (the
+    ///   correction's constants refitted without each fold, scores normalised by the local
+    ///   scale; [`crate::conformal::ConformalInfo`]); coverage at least `2 level - 1`, in
+    ///   practice near `level`, for windows exchangeable with the training windows.
+    /// - [`IntervalMethod::Split`]: split conformal with the first fold's model and scores.
+    /// - [`IntervalMethod::Delta`]: the delta method through the correction with the
+    ///   covariance of its constants, plus the residual variance of `delta` on the training
+    ///   windows (see `hxai_symreg::uncertainty` for the assumptions).
+    ///
+    /// The zero correction has none.
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] when the model cannot serve `method` (the zero
+    /// correction, or a file from before it existed, or fitted with `--conformal-folds 0`:
+    /// refit), a `level` outside (0, 1), and the correction's errors.
+    pub fn amplitude_intervals_with(
+        &self,
+        samples: &[WindowSample],
+        level: f64,
+        method: IntervalMethod,
+    ) -> Result<Vec<(f64, f64)>, HybridError> {
+        let table = self.hybrid().feature_table(samples)?;
+        let iv = self.correction_intervals(&table, level, method)?;
+        Ok(samples
+            .iter()
+            .zip(iv)
+            .map(|(s, (lo, hi))| (s.a_phys() + lo, s.a_phys() + hi))
+            .collect())
+    }
+
+    /// Prediction intervals at `level` of the correction `delta_hat` by `method` for every
+    /// row of a feature table (the windows' features, named as the feature map names them):
+    /// the part of [`HybridModel::amplitude_intervals_with`] before the shift by `A_phys`.
+    ///
+    /// # Errors
+    /// As [`HybridModel::amplitude_intervals_with`].
+    pub fn correction_intervals(
+        &self,
+        table: &hxai_table::Table,
+        level: f64,
+        method: IntervalMethod,
+    ) -> Result<Vec<(f64, f64)>, HybridError> {
+        if !(level > 0.0 && level < 1.0) {
+            return Err(HybridError::InvalidConfig(format!(
+                "interval level {level}: give a probability between 0 and 1, such as 0.95"
+            )));
+        }
         let (Some(model), Some(unc)) = (&self.correction.model, &self.correction.uncertainty)
         else {
             return Err(HybridError::InvalidConfig(
@@ -43,19 +109,36 @@ impl HybridModel {
                     .into(),
             ));
         };
-        let table = self.hybrid().feature_table(samples)?;
-        let iv = model.prediction_intervals(unc, &table, level)?;
-        Ok(samples
-            .iter()
-            .zip(iv)
-            .map(|(s, (lo, hi))| (s.a_phys() + lo, s.a_phys() + hi))
-            .collect())
+        Ok(if method == IntervalMethod::Delta {
+            model.prediction_intervals(unc, table, level)?
+        } else {
+            let Some(conf) = &self.conformal else {
+                return Err(HybridError::InvalidConfig(format!(
+                    "this model file stores no conformal calibration (written before conformal \
+                     intervals existed, or fitted with --conformal-folds 0): refit it with \
+                     `hxai fit`, or use --interval-method delta instead of {}",
+                    method.name()
+                )));
+            };
+            let used = if method == IntervalMethod::Split {
+                &conf.fold_params[..1]
+            } else {
+                &conf.fold_params[..]
+            };
+            let mut fold_model = model.clone();
+            let mut preds = Vec::with_capacity(used.len());
+            for p in used {
+                fold_model.params.clone_from(p);
+                preds.push(fold_model.predict(table)?);
+            }
+            conf.intervals_from(&preds, level, method)?
+        })
     }
 
     /// [`HybridModel::predict`] with pointwise bounds of the displacement: each window's
     /// sine reconstructed with the lower and the upper corrected amplitude of
-    /// [`HybridModel::amplitude_intervals`] (the smaller and larger value at each sample).
-    /// The band carries the amplitude's uncertainty only, not the phase's or the noise of
+    /// [`HybridModel::amplitude_intervals`] (the model's default method; the smaller and
+    /// larger value at each sample). The band carries the amplitude's uncertainty only, not the phase's or the noise of
     /// the probe.
     ///
     /// # Errors
@@ -65,8 +148,25 @@ impl HybridModel {
         record: &RecordInput<'_>,
         level: f64,
     ) -> Result<(RecordPrediction, Vec<f64>, Vec<f64>), HybridError> {
+        let method = self
+            .default_interval_method()
+            .unwrap_or(IntervalMethod::Delta);
+        self.predict_with_intervals_by(record, level, method)
+    }
+
+    /// [`HybridModel::predict_with_intervals`] with the amplitude's intervals made by
+    /// `method` ([`HybridModel::amplitude_intervals_with`]).
+    ///
+    /// # Errors
+    /// As [`HybridModel::predict`] and [`HybridModel::amplitude_intervals_with`].
+    pub fn predict_with_intervals_by(
+        &self,
+        record: &RecordInput<'_>,
+        level: f64,
+        method: IntervalMethod,
+    ) -> Result<(RecordPrediction, Vec<f64>, Vec<f64>), HybridError> {
         let p = self.predict(record)?;
-        let iv = self.amplitude_intervals(&p.samples, level)?;
+        let iv = self.amplitude_intervals_with(&p.samples, level, method)?;
         let hybrid = self.hybrid();
         let with = |pick: fn(&(f64, f64)) -> f64| -> Vec<f64> {
             let windows: Vec<_> = p

@@ -13,7 +13,7 @@
 //! the whole procedure (a structure of a few operators has little room to overfit).
 //!
 //! Each training row then has its held-out residual `r = y - mu_{-k}(x)` (on the log scale,
-//! `log y - log mu_{-k}(x)`, for a multiplicative correction when every target and
+//! `log y - log mu_{-k}(x)`, for a multiplicative or log correction when every target and
 //! held-out prediction is positive: the scatter of such processes is multiplicative), a
 //! [`ScaleModel`] `s` is fitted to `|r|` against the held-out prediction, and the row's
 //! score is `|r| / s(mu_{-k}(x))`. The scale model is fitted on the same residuals it
@@ -29,60 +29,11 @@ use super::physics::{calibrate_physics, calibrated_slots, deltas, gather, physic
 use super::resolve::Resolved;
 use super::{ProcessConfig, calibrate};
 use crate::HybridError;
-use hxai_eval::{IntervalMethod, ScaleModel, Split};
+use crate::conformal::{ConformalInfo, refit_constants};
+use hxai_eval::{IntervalMethod, Split};
 use hxai_symreg::eval::Evaluator;
-use hxai_symreg::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use hxai_symreg::uncertainty::is_exact;
 use hxai_symreg::{Model, Table};
-use serde::{Deserialize, Serialize};
-
-/// Folds of CV+ when none are given: 5, Barber et al.'s and MAPIE's usual choice (each fold
-/// model sees 80 % of the rows).
-pub const DEFAULT_CONFORMAL_FOLDS: usize = 5;
-
-/// The scale on which residuals are scored.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ResidualScale {
-    /// `y - yhat`.
-    Linear,
-    /// `log y - log yhat` (multiplicative correction, every value positive).
-    Log,
-}
-
-impl ResidualScale {
-    fn to(self, v: f64) -> f64 {
-        match self {
-            ResidualScale::Linear => v,
-            ResidualScale::Log => v.ln(),
-        }
-    }
-
-    fn from(self, z: f64) -> f64 {
-        match self {
-            ResidualScale::Linear => z,
-            ResidualScale::Log => z.exp(),
-        }
-    }
-}
-
-/// What conformal prediction intervals need, stored in the model file (key `conformal`).
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct ConformalInfo {
-    /// Folds of CV+ (`K`).
-    pub folds: usize,
-    /// The scale of the residuals (`linear` or `log`).
-    pub scale: ResidualScale,
-    /// For each fold, the whole hybrid's constants refitted without that fold (the
-    /// parameters of the one-program hybrid, in the order of `hybrid.uncertainty`'s program).
-    pub fold_params: Vec<Vec<f64>>,
-    /// For each training row (in the order of `split.train`), its fold.
-    pub fold_of: Vec<usize>,
-    /// For each training row, `|r| / s` of its held-out residual.
-    pub scores: Vec<f64>,
-    /// The local scale `s` of the residuals against the prediction (on `scale`).
-    pub scale_model: ScaleModel,
-}
 
 /// Folds of the training rows: grouped by `group` when the fit has one.
 fn folds_of(
@@ -118,8 +69,7 @@ fn folds_of(
     }
 }
 
-/// The correction's free constants (not whole or half numbers) refitted to `delta` on
-/// `rows`, from the selected values.
+/// The correction's free constants refitted to `delta` on `rows`, from the selected values.
 fn refit_correction(
     table: &Table,
     correction: &Model,
@@ -129,27 +79,7 @@ fn refit_correction(
     let all = columns_of(table, &correction.feature_names, "correction feature")?;
     let cols: Vec<Vec<f64>> = all.iter().map(|c| gather(c, rows)).collect();
     let cols: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
-    let free: Vec<usize> = (0..correction.params.len())
-        .filter(|&i| !is_exact(correction.params[i]))
-        .collect();
-    let mut m = correction.clone();
-    let mut ev = Evaluator::new(&m.program);
-    let settings = LmSettings::new(200, 1e-12);
-    let mse = levenberg_marquardt(
-        &m.program,
-        &mut m.params,
-        Unknowns::Free(&free),
-        &cols,
-        delta,
-        &settings,
-        &mut ev,
-    );
-    if !mse.is_finite() {
-        // the selected constants themselves are not finite on these rows: keep them, the
-        // held-out predictions below say whether they can be used
-        return Ok(correction.clone());
-    }
-    Ok(m)
+    Ok(refit_constants(correction, &cols, delta))
 }
 
 /// The hybrid's constants fitted on `rows` as the fit does: physics, correction, and with
@@ -241,154 +171,33 @@ pub(crate) fn calibrate(
         fold_params.push(c.params);
     }
     let y_train = gather(y, train);
-    let positive = |v: &[f64]| v.iter().all(|x| *x > 0.0);
-    let scale = if model.correction.kind == CorrectionForm::Multiplicative
-        && positive(&y_train)
-        && positive(&held_pred)
-    {
-        ResidualScale::Log
-    } else {
-        ResidualScale::Linear
-    };
-    let z_pred: Vec<f64> = held_pred.iter().map(|p| scale.to(*p)).collect();
-    let resid: Vec<f64> = y_train
-        .iter()
-        .zip(&z_pred)
-        .map(|(y, z)| scale.to(*y) - z)
-        .collect();
-    let scale_model = ScaleModel::fit(&z_pred, &resid)?;
-    let scores = resid
-        .iter()
-        .zip(&z_pred)
-        .map(|(r, z)| r.abs() / scale_model.at(*z))
-        .collect();
-    Ok(ConformalInfo {
-        folds: splits.len(),
-        scale,
-        fold_params,
-        fold_of,
-        scores,
-        scale_model,
-    })
+    let multiplies = matches!(
+        model.correction.kind,
+        CorrectionForm::Multiplicative | CorrectionForm::Log
+    );
+    ConformalInfo::from_held_out(fold_params, fold_of, &held_pred, &y_train, multiplies)
 }
 
-impl ConformalInfo {
-    /// Checks a record read from a file against the hybrid's program of `n_params`
-    /// parameters.
-    ///
-    /// # Errors
-    /// [`HybridError::ModelFormat`] naming what does not fit.
-    pub(crate) fn check(&self, n_params: usize) -> Result<(), HybridError> {
-        let bad = |why: String| Err(HybridError::ModelFormat(format!("`conformal`: {why}")));
-        if self.fold_params.len() != self.folds || self.folds < 2 {
-            return bad(format!(
-                "{} folds with {} parameter sets",
-                self.folds,
-                self.fold_params.len()
-            ));
-        }
-        if let Some(p) = self.fold_params.iter().find(|p| p.len() != n_params) {
-            return bad(format!(
-                "a fold has {} parameters, the hybrid's program {n_params}",
-                p.len()
-            ));
-        }
-        if self.fold_of.len() != self.scores.len() || self.scores.is_empty() {
-            return bad("`fold_of` and `scores` must have one entry per training row".into());
-        }
-        if self.fold_of.iter().any(|&k| k >= self.folds) {
-            return bad("a row's fold is out of range".into());
-        }
-        if self.scores.iter().any(|s| !s.is_finite() || *s < 0.0) {
-            return bad("a score is not a finite non-negative number".into());
-        }
-        if self.fold_params.iter().flatten().any(|p| !p.is_finite()) {
-            return bad("a fold's parameter is not finite".into());
-        }
-        self.scale_model
-            .check()
-            .or_else(|e| bad(format!("scale model: {e}")))
-    }
-
-    /// Intervals `(lo, hi)` at `level` for every row of `table` by `method`
-    /// ([`IntervalMethod::Conformal`]: CV+; [`IntervalMethod::Split`]: split conformal on
-    /// the first fold). `c` is the model's one-program hybrid.
-    ///
-    /// # Errors
-    /// `level` outside (0, 1), too few calibration scores for `level`, a missing column, a
-    /// fold's prediction that is not finite (or not positive on the log scale), and
-    /// [`IntervalMethod::Delta`] (not a conformal method).
-    pub(crate) fn intervals(
-        &self,
-        c: &Combined,
-        table: &Table,
-        level: f64,
-        method: IntervalMethod,
-    ) -> Result<Vec<(f64, f64)>, HybridError> {
-        let working = |p: f64, row: usize| -> Result<f64, HybridError> {
-            let z = self.scale.to(p);
-            if z.is_finite() {
-                Ok(z)
-            } else {
-                Err(HybridError::InvalidConfig(format!(
-                    "row {}: a conformal fold's hybrid predicts {p}, where the interval (on the {} scale) is undefined",
-                    row + 1,
-                    match self.scale {
-                        ResidualScale::Linear => "linear",
-                        ResidualScale::Log => "log",
-                    }
-                )))
-            }
-        };
-        match method {
-            IntervalMethod::Delta => Err(HybridError::InvalidConfig(
-                "the delta method is not a conformal method".into(),
-            )),
-            IntervalMethod::Split => {
-                let scores: Vec<f64> = self
-                    .scores
-                    .iter()
-                    .zip(&self.fold_of)
-                    .filter(|(_, k)| **k == 0)
-                    .map(|(s, _)| *s)
-                    .collect();
-                let q = hxai_eval::conformal_quantile(&scores, level)?;
-                let pred = predict_with(c, &self.fold_params[0], table)?;
-                pred.iter()
-                    .enumerate()
-                    .map(|(row, p)| {
-                        let z = working(*p, row)?;
-                        let half = self.scale_model.at(z) * q;
-                        Ok((self.scale.from(z - half), self.scale.from(z + half)))
-                    })
-                    .collect()
-            }
-            IntervalMethod::Conformal => {
-                hxai_eval::conformal_rank(self.scores.len(), level)?;
-                let preds: Vec<Vec<f64>> = self
-                    .fold_params
-                    .iter()
-                    .map(|p| predict_with(c, p, table))
-                    .collect::<Result<_, _>>()?;
-                let n = self.scores.len();
-                let mut centre = vec![0.0; n];
-                let mut radius = vec![0.0; n];
-                let mut out = Vec::with_capacity(table.n_rows());
-                let mut z_fold = vec![0.0; self.folds];
-                for row in 0..table.n_rows() {
-                    for (k, p) in preds.iter().enumerate() {
-                        z_fold[k] = working(p[row], row)?;
-                    }
-                    for i in 0..n {
-                        let z = z_fold[self.fold_of[i]];
-                        centre[i] = z;
-                        radius[i] = self.scale_model.at(z) * self.scores[i];
-                    }
-                    let (lo, hi) = hxai_eval::cv_plus(&centre, &radius, level)?;
-                    out.push((self.scale.from(lo), self.scale.from(hi)));
-                }
-                Ok(out)
-            }
-        }
-    }
+/// The table hybrid's intervals at `level` by `method` for every row of `table` from the
+/// calibration `conf` (`c`: the model's one-program hybrid).
+///
+/// # Errors
+/// Those of [`ConformalInfo::intervals_from`] and a missing column.
+pub(crate) fn intervals(
+    conf: &ConformalInfo,
+    c: &Combined,
+    table: &Table,
+    level: f64,
+    method: IntervalMethod,
+) -> Result<Vec<(f64, f64)>, HybridError> {
+    let used = if method == IntervalMethod::Split {
+        &conf.fold_params[..1]
+    } else {
+        &conf.fold_params[..]
+    };
+    let preds: Vec<Vec<f64>> = used
+        .iter()
+        .map(|p| predict_with(c, p, table))
+        .collect::<Result<_, _>>()?;
+    conf.intervals_from(&preds, level, method)
 }

@@ -51,8 +51,8 @@ mod physics;
 mod resolve;
 mod split;
 
+pub use crate::conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, ResidualScale};
 pub use compare::{Comparison, CvScore, ModelScore, TTestScore, compare_process};
-pub use conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, ResidualScale};
 pub use fit::{fit_process, fit_process_split, process_stability};
 pub use model::{
     CorrectionInfo, EquationInfo, JointInfo, PROCESS_SCHEMA_VERSION, PairScores, PhysicsInfo,

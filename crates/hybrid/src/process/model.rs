@@ -1,8 +1,8 @@
 //! The model file of a process hybrid: physics equation and parameters, correction, the
 //! whole hybrid as one equation; prediction and evaluation on new tables.
 use super::CorrectionForm;
-use super::conformal::ConformalInfo;
 use crate::HybridError;
+use crate::conformal::ConformalInfo;
 use crate::evaluate::{DEFAULT_INTERVAL, IntervalReport};
 use hxai_eval::{IntervalMethod, Metrics};
 use hxai_symreg::infix::{Compiled, compile, parse};
@@ -573,7 +573,7 @@ impl ProcessModel {
                     method.name()
                 )));
             };
-            return conf.intervals(&c, table, level, method);
+            return super::conformal::intervals(conf, &c, table, level, method);
         }
         let Some(unc) = &self.hybrid.uncertainty else {
             return Err(HybridError::InvalidConfig(

@@ -30,6 +30,12 @@ fn split_result(c: &Comparison, table: &Table, extrapolate: Option<&str>) -> Spl
         .and_then(|test| m.evaluate_at(&test, hxai_hybrid::DEFAULT_INTERVAL).ok())
         .and_then(|e| e.interval);
     SplitResult {
+        intervals: crate::intervals::of_table(
+            m,
+            table,
+            &m.split.test,
+            hxai_hybrid::DEFAULT_INTERVAL,
+        ),
         interval,
         split: c.split.clone(),
         n_train: c.n_train,
@@ -232,6 +238,7 @@ pub fn compute(
             goals: goals(spec, &random, &extrapolation),
             random,
             extrapolation,
+            noise_rel: Some(spec.noise_rel),
         });
     }
     Ok((

@@ -59,6 +59,8 @@ struct CaseSpec {
     exclude: Vec<&'static str>,
     extrapolate: &'static str,
     roles: Vec<(&'static str, &'static str)>,
+    /// The generator's measurement scatter (log-sd), its default.
+    noise_rel: f64,
     table: Table,
 }
 
@@ -107,6 +109,7 @@ fn specs(rows: usize, seed: u64) -> Result<Vec<CaseSpec>, ReproduceError> {
                 ("workpiece_diameter_mm", DISTRACTOR),
                 ("tool", IDENTIFIER),
             ],
+            noise_rel: RoughnessConfig::default().noise_rel,
             table: rough,
         },
         CaseSpec {
@@ -130,6 +133,7 @@ fn specs(rows: usize, seed: u64) -> Result<Vec<CaseSpec>, ReproduceError> {
                 ("coolant_temp_C", DISTRACTOR),
                 ("tool", IDENTIFIER),
             ],
+            noise_rel: CuttingForceConfig::default().noise_rel,
             table: force,
         },
         CaseSpec {
@@ -152,6 +156,7 @@ fn specs(rows: usize, seed: u64) -> Result<Vec<CaseSpec>, ReproduceError> {
                 ("workpiece_diameter_mm", DISTRACTOR),
                 ("tool", IDENTIFIER),
             ],
+            noise_rel: ToolLifeConfig::default().noise_rel,
             table: life,
         },
     ])

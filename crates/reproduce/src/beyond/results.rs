@@ -50,6 +50,8 @@ pub struct CaseResult {
     pub random: SplitResult,
     /// The extrapolation split.
     pub extrapolation: SplitResult,
+    /// The generator's measurement scatter (log-sd of the measured/true ratio).
+    pub noise_rel: Option<f64>,
     /// The goals, measured.
     pub goals: Goals,
 }
@@ -77,9 +79,11 @@ pub struct SplitResult {
     pub correction: EquationRow,
     /// The whole hybrid as one equation.
     pub hybrid: EquationRow,
-    /// Coverage of the hybrid's 95 % prediction intervals on the test rows (`None` when
-    /// they cannot be computed).
+    /// The hybrid's 95 % prediction intervals on the test rows by the model's default
+    /// method (`None` when they cannot be computed).
     pub interval: Option<hxai_hybrid::IntervalReport>,
+    /// The same by every method the model file offers ([`crate::intervals`]).
+    pub intervals: Vec<crate::intervals::MethodInterval>,
 }
 
 /// Cross-validated R² of one model.

@@ -1,0 +1,306 @@
+//! Conformal prediction intervals (issue 28), shared by both halves: the calibration a
+//! model file stores ([`ConformalInfo`]: each fold's constants, each training row's fold and
+//! normalised score, the scale model) and the intervals computed from it, CV+ (Barber et al.
+//! 2021) or split conformal (Lei et al. 2018), from the fold models' predictions at the new
+//! rows. How the folds are fitted belongs to each half: the table hybrid refits its physics
+//! and correction (`process/conformal.rs`), the tool case its correction of the amplitude
+//! (`model/fit.rs`).
+use crate::HybridError;
+use hxai_eval::{IntervalMethod, ScaleModel, Split};
+use hxai_symreg::eval::Evaluator;
+use hxai_symreg::fit::{LmSettings, Unknowns, levenberg_marquardt};
+use hxai_symreg::uncertainty::is_exact;
+use hxai_symreg::{Model, Table};
+use serde::{Deserialize, Serialize};
+
+/// Folds of CV+ when none are given: 5, Barber et al.'s and MAPIE's usual choice (each fold
+/// model sees 80 % of the rows).
+pub const DEFAULT_CONFORMAL_FOLDS: usize = 5;
+
+/// `model`'s free constants (those that are not whole or half numbers) refitted by
+/// Levenberg-Marquardt to `target` on the columns `cols` (the model's features, in order),
+/// starting from the model's own values. When the fit is not finite the model is returned
+/// as it is: the held-out predictions then say whether it can be used.
+pub fn refit_constants(model: &Model, cols: &[&[f64]], target: &[f64]) -> Model {
+    let free: Vec<usize> = (0..model.params.len())
+        .filter(|&i| !is_exact(model.params[i]))
+        .collect();
+    let mut m = model.clone();
+    let mut ev = Evaluator::new(&m.program);
+    let settings = LmSettings::new(200, 1e-12);
+    let mse = levenberg_marquardt(
+        &m.program,
+        &mut m.params,
+        Unknowns::Free(&free),
+        cols,
+        target,
+        &settings,
+        &mut ev,
+    );
+    if mse.is_finite() { m } else { model.clone() }
+}
+
+/// CV+ calibration of a symbolic `model` of `target` on the rows of `data` over the folds
+/// `splits` (indices into those rows): for each fold the model's free constants are
+/// refitted on the other folds ([`refit_constants`]), the held-out rows predicted, and
+/// [`ConformalInfo::from_held_out`] scores them on the linear scale. The model's structure
+/// is not searched again per fold.
+///
+/// # Errors
+/// A missing feature column, a fold model that is not finite on its held-out rows (named by
+/// row, counted from 1), and those of [`ConformalInfo::from_held_out`].
+pub fn calibrate_model(
+    model: &Model,
+    data: &Table,
+    target: &[f64],
+    splits: &[Split],
+) -> Result<ConformalInfo, HybridError> {
+    let cols: Vec<&[f64]> = model
+        .feature_names
+        .iter()
+        .map(|name| {
+            data.column(name).ok_or_else(|| {
+                HybridError::InvalidConfig(format!("conformal calibration: no column `{name}`"))
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let n = data.n_rows();
+    let mut fold_params = Vec::with_capacity(splits.len());
+    let mut fold_of = vec![0usize; n];
+    let mut held = vec![f64::NAN; n];
+    for (k, s) in splits.iter().enumerate() {
+        let sub: Vec<Vec<f64>> = cols
+            .iter()
+            .map(|c| s.train.iter().map(|&i| c[i]).collect())
+            .collect();
+        let sub: Vec<&[f64]> = sub.iter().map(Vec::as_slice).collect();
+        let y: Vec<f64> = s.train.iter().map(|&i| target[i]).collect();
+        let m = refit_constants(model, &sub, &y);
+        let pred = m.predict(data)?;
+        for &i in &s.test {
+            if !pred[i].is_finite() {
+                return Err(HybridError::InvalidConfig(format!(
+                    "row {}: the correction refitted without its conformal fold predicts {}: \
+                     fit with --conformal-folds 0 (no conformal intervals) or check the \
+                     equation's domain",
+                    i + 1,
+                    pred[i]
+                )));
+            }
+            fold_of[i] = k;
+            held[i] = pred[i];
+        }
+        fold_params.push(m.params);
+    }
+    ConformalInfo::from_held_out(fold_params, fold_of, &held, target, false)
+}
+
+/// The scale on which residuals are scored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ResidualScale {
+    /// `y - yhat`.
+    Linear,
+    /// `log y - log yhat` (multiplicative or log correction, every value positive).
+    Log,
+}
+
+impl ResidualScale {
+    pub(crate) fn to(self, v: f64) -> f64 {
+        match self {
+            ResidualScale::Linear => v,
+            ResidualScale::Log => v.ln(),
+        }
+    }
+
+    pub(crate) fn from(self, z: f64) -> f64 {
+        match self {
+            ResidualScale::Linear => z,
+            ResidualScale::Log => z.exp(),
+        }
+    }
+}
+
+/// What conformal prediction intervals need, stored in the model file (key `conformal`).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ConformalInfo {
+    /// Folds of CV+ (`K`).
+    pub folds: usize,
+    /// The scale of the residuals (`linear` or `log`).
+    pub scale: ResidualScale,
+    /// For each fold, the whole hybrid's constants refitted without that fold (the
+    /// parameters of the one-program hybrid, in the order of `hybrid.uncertainty`'s program).
+    pub fold_params: Vec<Vec<f64>>,
+    /// For each training row (in the order of `split.train`), its fold.
+    pub fold_of: Vec<usize>,
+    /// For each training row, `|r| / s` of its held-out residual.
+    pub scores: Vec<f64>,
+    /// The local scale `s` of the residuals against the prediction (on `scale`).
+    pub scale_model: ScaleModel,
+}
+
+impl ConformalInfo {
+    /// Checks a record read from a file against a model of `n_params` parameters.
+    ///
+    /// # Errors
+    /// [`HybridError::ModelFormat`] naming what does not fit.
+    pub fn check(&self, n_params: usize) -> Result<(), HybridError> {
+        let bad = |why: String| Err(HybridError::ModelFormat(format!("`conformal`: {why}")));
+        if self.fold_params.len() != self.folds || self.folds < 2 {
+            return bad(format!(
+                "{} folds with {} parameter sets",
+                self.folds,
+                self.fold_params.len()
+            ));
+        }
+        if let Some(p) = self.fold_params.iter().find(|p| p.len() != n_params) {
+            return bad(format!(
+                "a fold has {} parameters, the hybrid's program {n_params}",
+                p.len()
+            ));
+        }
+        if self.fold_of.len() != self.scores.len() || self.scores.is_empty() {
+            return bad("`fold_of` and `scores` must have one entry per training row".into());
+        }
+        if self.fold_of.iter().any(|&k| k >= self.folds) {
+            return bad("a row's fold is out of range".into());
+        }
+        if self.scores.iter().any(|s| !s.is_finite() || *s < 0.0) {
+            return bad("a score is not a finite non-negative number".into());
+        }
+        if self.fold_params.iter().flatten().any(|p| !p.is_finite()) {
+            return bad("a fold's parameter is not finite".into());
+        }
+        self.scale_model
+            .check()
+            .or_else(|e| bad(format!("scale model: {e}")))
+    }
+
+    /// Intervals `(lo, hi)` at `level` by `method` for the `n` rows whose predictions by
+    /// each fold's model are `fold_pred[k]` (`fold_pred[k][row]`, on the natural scale)
+    /// ([`IntervalMethod::Conformal`]: CV+ over every fold; [`IntervalMethod::Split`]: split
+    /// conformal with the first fold's model and that fold's scores alone). `fold_pred`
+    /// needs the first fold only for `Split`.
+    ///
+    /// # Errors
+    /// `level` outside (0, 1), too few calibration scores for `level`, a fold's prediction
+    /// that is not finite (or not positive on the log scale), and [`IntervalMethod::Delta`]
+    /// (not a conformal method).
+    pub fn intervals_from(
+        &self,
+        fold_pred: &[Vec<f64>],
+        level: f64,
+        method: IntervalMethod,
+    ) -> Result<Vec<(f64, f64)>, HybridError> {
+        let working = |p: f64, row: usize| -> Result<f64, HybridError> {
+            let z = self.scale.to(p);
+            if z.is_finite() {
+                Ok(z)
+            } else {
+                Err(HybridError::InvalidConfig(format!(
+                    "row {}: a conformal fold's model predicts {p}, where the interval (on the {} scale) is undefined",
+                    row + 1,
+                    match self.scale {
+                        ResidualScale::Linear => "linear",
+                        ResidualScale::Log => "log",
+                    }
+                )))
+            }
+        };
+        let n_rows = fold_pred.first().map_or(0, Vec::len);
+        match method {
+            IntervalMethod::Delta => Err(HybridError::InvalidConfig(
+                "the delta method is not a conformal method".into(),
+            )),
+            IntervalMethod::Split => {
+                let scores: Vec<f64> = self
+                    .scores
+                    .iter()
+                    .zip(&self.fold_of)
+                    .filter(|(_, k)| **k == 0)
+                    .map(|(s, _)| *s)
+                    .collect();
+                let q = hxai_eval::conformal_quantile(&scores, level)?;
+                fold_pred[0]
+                    .iter()
+                    .enumerate()
+                    .map(|(row, p)| {
+                        let z = working(*p, row)?;
+                        let half = self.scale_model.at(z) * q;
+                        Ok((self.scale.from(z - half), self.scale.from(z + half)))
+                    })
+                    .collect()
+            }
+            IntervalMethod::Conformal => {
+                hxai_eval::conformal_rank(self.scores.len(), level)?;
+                if fold_pred.len() != self.folds || fold_pred.iter().any(|p| p.len() != n_rows) {
+                    return Err(HybridError::InvalidConfig(format!(
+                        "CV+ needs the predictions of all {} fold models",
+                        self.folds
+                    )));
+                }
+                let n = self.scores.len();
+                let mut centre = vec![0.0; n];
+                let mut radius = vec![0.0; n];
+                let mut out = Vec::with_capacity(n_rows);
+                let mut z_fold = vec![0.0; self.folds];
+                for row in 0..n_rows {
+                    for (k, p) in fold_pred.iter().enumerate() {
+                        z_fold[k] = working(p[row], row)?;
+                    }
+                    for i in 0..n {
+                        let z = z_fold[self.fold_of[i]];
+                        centre[i] = z;
+                        radius[i] = self.scale_model.at(z) * self.scores[i];
+                    }
+                    let (lo, hi) = hxai_eval::cv_plus(&centre, &radius, level)?;
+                    out.push((self.scale.from(lo), self.scale.from(hi)));
+                }
+                Ok(out)
+            }
+        }
+    }
+
+    /// The calibration from each training row's held-out prediction `held_pred` (by the
+    /// model of its fold `fold_of`, fitted without that fold) and target `y`: residuals on
+    /// the log scale when `log_if_positive` and every target and held-out prediction is
+    /// positive, else on the linear scale; a [`ScaleModel`] of `|r|` on the prediction; the
+    /// scores `|r| / s`.
+    ///
+    /// # Errors
+    /// The scale model's (fewer than 2 rows, values not finite).
+    pub fn from_held_out(
+        fold_params: Vec<Vec<f64>>,
+        fold_of: Vec<usize>,
+        held_pred: &[f64],
+        y: &[f64],
+        log_if_positive: bool,
+    ) -> Result<Self, HybridError> {
+        let positive = |v: &[f64]| v.iter().all(|x| *x > 0.0);
+        let scale = if log_if_positive && positive(y) && positive(held_pred) {
+            ResidualScale::Log
+        } else {
+            ResidualScale::Linear
+        };
+        let z_pred: Vec<f64> = held_pred.iter().map(|p| scale.to(*p)).collect();
+        let resid: Vec<f64> = y
+            .iter()
+            .zip(&z_pred)
+            .map(|(y, z)| scale.to(*y) - z)
+            .collect();
+        let scale_model = ScaleModel::fit(&z_pred, &resid)?;
+        let scores = resid
+            .iter()
+            .zip(&z_pred)
+            .map(|(r, z)| r.abs() / scale_model.at(*z))
+            .collect();
+        Ok(ConformalInfo {
+            folds: fold_params.len(),
+            scale,
+            fold_params,
+            fold_of,
+            scores,
+            scale_model,
+        })
+    }
+}
