@@ -7,6 +7,7 @@ clones like any other.
 """
 
 import json
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -170,6 +171,22 @@ def _pareto_frame(front):
     )
 
 
+def _folds(v):
+    """``conformal_folds`` checked: 0 (none) or at least 2."""
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0 or v == 1:
+        raise ValueError(
+            f"conformal_folds must be 0 (no conformal intervals) or an integer >= 2, got {v!r}"
+        )
+    return int(v)
+
+
+def _level(v):
+    """An interval level checked: a probability strictly between 0 and 1."""
+    if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not 0 < v < 1:
+        raise ValueError(f"level must lie strictly between 0 and 1 (e.g. 0.95), got {v!r}")
+    return float(v)
+
+
 class _SearchParams:
     """Search settings shared by both estimators (defaults: hxai's ``SearchConfig``)."""
 
@@ -229,9 +246,11 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         consensus_runs=0,
         skip_equivalent=True,
         runners_up=0,
+        conformal_folds=5,
         n_jobs=None,
     ):
         self._set_search(locals())
+        self.conformal_folds = conformal_folds
 
     def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
@@ -245,8 +264,11 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             self, X, y, dtype=np.float64, y_numeric=True, ensure_all_finite=False
         )
         names = _names(self, X.shape[1])
+        folds = _folds(self.conformal_folds)
         doc = json.loads(
-            _hxai.sr_fit(names, columns_of(X), to_bytes(y, "y"), settings, _n_jobs(self))
+            _hxai.sr_fit(
+                names, columns_of(X), to_bytes(y, "y"), settings, _n_jobs(self), folds
+            )
         )
         best = doc["best"]
         self.model_json_ = best["model"]
@@ -260,7 +282,40 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.params_ = _params_frame(best["params"])
         self.evaluations_ = doc["evaluations"]
         self.selection_ = doc["selection"]
+        self.uncertainty_json_ = json.dumps(doc["uncertainty"])
+        conf = doc.get("conformal")
+        self.conformal_json_ = "" if conf is None else json.dumps(conf)
+        if folds and conf is None:
+            warnings.warn(
+                "no conformal calibration, predict_interval falls back to the delta method: "
+                + str(doc.get("conformal_error")),
+                stacklevel=2,
+            )
         return self
+
+    def predict_interval(self, X, level=0.95, method=None):
+        """Prediction intervals at ``level`` on the rows of ``X``: an array of shape
+        ``(n, 2)``, lower and upper bound. ``method`` is ``"conformal"`` (CV+ over
+        ``conformal_folds`` random folds of the training rows, the equation's constants
+        refitted per fold, scores scaled by a line in the prediction; the default),
+        ``"split"`` (split conformal on the first fold) or ``"delta"`` (the delta method with
+        a constant residual variance). The conformal guarantee holds for rows exchangeable
+        with the training rows and the selected structure fixed; ``interval_method_`` names
+        the method used."""
+        check_is_fitted(self, "model_json_")
+        X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
+        names = _names(self, X.shape[1])
+        lo, hi, used = _hxai.sr_intervals(
+            self.model_json_,
+            self.uncertainty_json_,
+            self.conformal_json_,
+            names,
+            columns_of(X),
+            _level(level),
+            method,
+        )
+        self.interval_method_ = used
+        return np.column_stack([from_bytes(lo), from_bytes(hi)])
 
     def predict(self, X):
         """The equation's values on the rows of ``X`` (same columns as in ``fit``)."""
@@ -329,8 +384,10 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         consensus_runs=0,
         skip_equivalent=True,
         runners_up=3,
+        conformal_folds=5,
         n_jobs=None,
     ):
+        self.conformal_folds = conformal_folds
         self.physics = physics
         self.calibrate = calibrate
         self.init = init
@@ -381,6 +438,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             "exclude": [str(c) for c in self.exclude],
             "correction": self.correction,
             "joint": bool(self.joint),
+            "conformal_folds": _folds(self.conformal_folds),
             "search": search,
         }
         text = _hxai.process_fit(
@@ -412,6 +470,24 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     def predict(self, X):
         """The hybrid's values on the rows of ``X``."""
         return from_bytes(self._parts(X)[2])
+
+    def predict_interval(self, X, level=0.95, method=None):
+        """Prediction intervals of the hybrid at ``level`` on the rows of ``X``: an array of
+        shape ``(n, 2)``, lower and upper bound. ``method`` is ``"conformal"`` (CV+ over
+        ``conformal_folds`` folds of the training rows, the hybrid's constants refitted per
+        fold, scores scaled by a line in the prediction and on the log scale for the
+        multiplicative and log forms; the default), ``"split"`` (split conformal on the
+        first fold) or ``"delta"`` (the delta method with a constant residual variance), as
+        ``hxai hybrid predict --interval-method``. ``interval_method_`` names the method
+        used."""
+        check_is_fitted(self, "model_json_")
+        X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
+        names = _names(self, X.shape[1])
+        lo, hi, used = _hxai.process_intervals(
+            self.model_json_, names, columns_of(X), _level(level), method
+        )
+        self.interval_method_ = used
+        return np.column_stack([from_bytes(lo), from_bytes(hi)])
 
     def predict_parts(self, X):
         """A DataFrame with the columns physics, correction and hybrid."""

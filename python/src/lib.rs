@@ -18,13 +18,16 @@
 //! - **Errors are `ValueError`s** carrying the library error's one-line message (the text
 //!   the CLI prints after `Error:`); no function panics on user input.
 //!
-//! Entry points: `sr_fit`, `sr_predict`, `process_fit`, `process_predict`, `tool_predict`,
+//! Entry points: `sr_fit`, `sr_predict`, `sr_intervals`, `process_fit`, `process_predict`,
+//! `process_intervals`, `tool_predict`,
 //! `butter`, `sosfilt`, `sosfiltfilt`, `welch`, `fit_sine`, `displacement`,
 //! `features_extract`, `simulate_tool`, `simulate_case`, `defaults`, and the class
 //! `StreamEstimator` (the causal estimator of `hxai_hybrid::stream`, which keeps state
 //! between calls).
 #![deny(missing_docs)]
 
+use hxai_hybrid::IntervalMethod;
+use hxai_hybrid::conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, calibrate_model};
 use hxai_hybrid::process::{CorrectionForm, ProcessConfig, ProcessModel, fit_process_split};
 use hxai_hybrid::stream::Estimator;
 use hxai_hybrid::{HybridModel, RecordInput};
@@ -168,13 +171,31 @@ fn model_summary(m: &Model) -> Value {
     })
 }
 
-/// `sr_fit(names, columns, y, search_json, n_jobs=None)`: symbolic regression of `y` on the
-/// columns with the search settings `search_json` (a JSON object over `SearchConfig`'s
-/// defaults), on the threads of `n_jobs` ([`par_of`]). Returns
-/// JSON `{best, pareto: [...], evaluations, seconds}`, each model as [`model_summary`];
-/// `best` also has `template`, `params` and `reason` (`hxai_symreg::uncertainty`).
+/// An interval method by its name (`None`: the given default).
+fn method_of(name: Option<&str>, default: IntervalMethod) -> PyResult<IntervalMethod> {
+    match name {
+        None => Ok(default),
+        Some("conformal") => Ok(IntervalMethod::Conformal),
+        Some("split") => Ok(IntervalMethod::Split),
+        Some("delta") => Ok(IntervalMethod::Delta),
+        Some(other) => Err(PyValueError::new_err(format!(
+            "interval method `{other}`: use conformal, split or delta"
+        ))),
+    }
+}
+
+/// `sr_fit(names, columns, y, search_json, n_jobs=None, conformal_folds=5)`: symbolic
+/// regression of `y` on the columns with the search settings `search_json` (a JSON object
+/// over `SearchConfig`'s defaults), on the threads of `n_jobs` ([`par_of`]). Returns
+/// JSON `{best, pareto: [...], evaluations, seconds, uncertainty, conformal}`, each model as
+/// [`model_summary`]; `best` also has `template`, `params` and `reason`
+/// (`hxai_symreg::uncertainty`); `uncertainty` is the delta method's record and
+/// `conformal` the CV+ calibration over `conformal_folds` random folds of the rows
+/// (`hxai_hybrid::conformal::calibrate_model`: the constants refitted per fold), `null`
+/// with 0 folds or when a fold model is undefined on its held-out rows
+/// (`conformal_error` then says why).
 #[pyfunction]
-#[pyo3(signature = (names, columns, y, search_json, n_jobs=None))]
+#[pyo3(signature = (names, columns, y, search_json, n_jobs=None, conformal_folds=DEFAULT_CONFORMAL_FOLDS))]
 fn sr_fit(
     py: Python<'_>,
     names: Vec<String>,
@@ -182,7 +203,13 @@ fn sr_fit(
     y: &[u8],
     search_json: &str,
     n_jobs: Option<i64>,
+    conformal_folds: usize,
 ) -> PyResult<String> {
+    if conformal_folds == 1 {
+        return Err(PyValueError::new_err(
+            "conformal_folds 1: CV+ needs at least 2 folds (or 0 to fit without conformal intervals)",
+        ));
+    }
     let data = table_of(names, &columns)?;
     let y = floats(y, "y")?;
     let mut cfg: SearchConfig = with_overrides("search", search_json)?;
@@ -194,6 +221,17 @@ fn sr_fit(
             Ok((res, unc))
         })
         .map_err(err)?;
+    let (conformal, conformal_error) = if conformal_folds == 0 {
+        (None, None)
+    } else {
+        let calib = hxai_eval::kfold(y.len(), conformal_folds, cfg.seed)
+            .map_err(hxai_hybrid::HybridError::from)
+            .and_then(|splits| calibrate_model(&res.best, &data, &y, &splits));
+        match calib {
+            Ok(c) => (Some(c), None),
+            Err(e) => (None, Some(e.to_string())),
+        }
+    };
     let mut best = model_summary(&res.best);
     best["template"] = json!(unc.template);
     best["params"] = serde_json::to_value(&unc).map_err(err)?["params"].take();
@@ -204,8 +242,86 @@ fn sr_fit(
         "selection": hxai_symreg::SelectionReport::of(&res, &cfg),
         "evaluations": res.evaluations,
         "seconds": res.seconds,
+        "uncertainty": unc,
+        "conformal": conformal,
+        "conformal_error": conformal_error,
     });
     Ok(doc.to_string())
+}
+
+/// `sr_intervals(model_json, uncertainty_json, conformal_json, names, columns, level,
+/// method=None)` -> `(lo, hi, method)`: prediction intervals at `level` of a symbolic model
+/// on a table, by `method` (`conformal`, `split` or `delta`; default conformal when
+/// `conformal_json` is not empty, else delta), from the records `sr_fit` returned.
+#[pyfunction]
+#[pyo3(signature = (model_json, uncertainty_json, conformal_json, names, columns, level, method=None))]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+fn sr_intervals<'py>(
+    py: Python<'py>,
+    model_json: &str,
+    uncertainty_json: &str,
+    conformal_json: &str,
+    names: Vec<String>,
+    columns: Vec<Bound<'py, PyBytes>>,
+    level: f64,
+    method: Option<&str>,
+) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>, String)> {
+    if !(level > 0.0 && level < 1.0) {
+        return Err(PyValueError::new_err(format!(
+            "level {level}: give a probability between 0 and 1, such as 0.95"
+        )));
+    }
+    let model = Model::from_json(model_json).map_err(err)?;
+    let conformal: Option<ConformalInfo> = if conformal_json.is_empty() {
+        None
+    } else {
+        Some(parse_json(conformal_json, "conformal calibration")?)
+    };
+    let default = if conformal.is_some() {
+        IntervalMethod::Conformal
+    } else {
+        IntervalMethod::Delta
+    };
+    let method = method_of(method, default)?;
+    let data = table_of(names, &columns)?;
+    let iv = py
+        .detach(|| -> Result<Vec<(f64, f64)>, String> {
+            if method == IntervalMethod::Delta {
+                let unc: hxai_symreg::Uncertainty =
+                    serde_json::from_str(uncertainty_json).map_err(|e| e.to_string())?;
+                return model
+                    .prediction_intervals(&unc, &data, level)
+                    .map_err(|e| e.to_string());
+            }
+            let Some(conf) = &conformal else {
+                return Err(format!(
+                    "no conformal calibration (fitted with conformal_folds=0, or a fold model was \
+                     undefined): use method='delta' instead of {}",
+                    method.name()
+                ));
+            };
+            conf.check(model.params.len()).map_err(|e| e.to_string())?;
+            let used = if method == IntervalMethod::Split {
+                &conf.fold_params[..1]
+            } else {
+                &conf.fold_params[..]
+            };
+            let mut m = model.clone();
+            let mut preds = Vec::with_capacity(used.len());
+            for p in used {
+                m.params.clone_from(p);
+                preds.push(m.predict(&data).map_err(|e| e.to_string())?);
+            }
+            conf.intervals_from(&preds, level, method)
+                .map_err(|e| e.to_string())
+        })
+        .map_err(PyValueError::new_err)?;
+    let (lo, hi): (Vec<f64>, Vec<f64>) = iv.into_iter().unzip();
+    Ok((
+        to_bytes(py, &lo),
+        to_bytes(py, &hi),
+        method.name().to_string(),
+    ))
 }
 
 /// `sr_predict(model_json, names, columns)`: a symbolic model's prediction on a table
@@ -243,8 +359,14 @@ struct ProcessSettings {
     correction: CorrectionForm,
     #[serde(default)]
     joint: bool,
+    #[serde(default = "default_conformal_folds")]
+    conformal_folds: usize,
     #[serde(default)]
     search: Value,
+}
+
+fn default_conformal_folds() -> usize {
+    DEFAULT_CONFORMAL_FOLDS
 }
 
 /// `process_fit(names, columns, settings_json, n_jobs=None)`: the table workflow's `fit`
@@ -272,6 +394,7 @@ fn process_fit(
     cfg.exclude = s.exclude;
     cfg.correction = s.correction;
     cfg.joint = s.joint;
+    cfg.conformal_folds = s.conformal_folds;
     cfg.seed = search.seed;
     cfg.search = search;
     let split = hxai_eval::Split {
@@ -304,6 +427,37 @@ fn process_predict<'py>(
         to_bytes(py, &p.physics),
         to_bytes(py, &p.correction),
         to_bytes(py, &p.hybrid),
+    ))
+}
+
+/// `process_intervals(model_json, names, columns, level, method=None)` -> `(lo, hi,
+/// method)`: the table hybrid's prediction intervals at `level` on a table
+/// (`ProcessModel::intervals_with`), by `method` (`conformal`, `split` or `delta`; default:
+/// the model file's, conformal where it stores the calibration).
+#[pyfunction]
+#[pyo3(signature = (model_json, names, columns, level, method=None))]
+fn process_intervals<'py>(
+    py: Python<'py>,
+    model_json: &str,
+    names: Vec<String>,
+    columns: Vec<Bound<'py, PyBytes>>,
+    level: f64,
+    method: Option<&str>,
+) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>, String)> {
+    let model = ProcessModel::from_json(model_json).map_err(err)?;
+    let default = model
+        .default_interval_method(level)
+        .unwrap_or(IntervalMethod::Delta);
+    let method = method_of(method, default)?;
+    let table = table_of(names, &columns)?;
+    let iv = py
+        .detach(move || model.intervals_with(&table, level, method))
+        .map_err(err)?;
+    let (lo, hi): (Vec<f64>, Vec<f64>) = iv.into_iter().unzip();
+    Ok((
+        to_bytes(py, &lo),
+        to_bytes(py, &hi),
+        method.name().to_string(),
     ))
 }
 
@@ -719,6 +873,8 @@ fn _hxai(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(defaults, m)?)?;
     m.add_function(wrap_pyfunction!(sr_fit, m)?)?;
     m.add_function(wrap_pyfunction!(sr_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(sr_intervals, m)?)?;
+    m.add_function(wrap_pyfunction!(process_intervals, m)?)?;
     m.add_function(wrap_pyfunction!(process_fit, m)?)?;
     m.add_function(wrap_pyfunction!(process_predict, m)?)?;
     m.add_function(wrap_pyfunction!(tool_predict, m)?)?;

@@ -56,7 +56,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let method = args
         .interval_method
         .map(hxai_hybrid::IntervalMethod::from)
-        .or_else(|| model.default_interval_method())
+        .or_else(|| model.default_interval_method(args.interval))
         .unwrap_or(hxai_hybrid::IntervalMethod::Delta);
     let mut ev = model
         .evaluate_with(&inputs, args.all, args.interval, method)

@@ -70,12 +70,12 @@ impl From<IntervalMethodArg> for IntervalMethod {
     }
 }
 
-/// The method asked for, else the model's default (conformal where it stores the
-/// calibration, else delta).
-fn method_of(asked: Option<IntervalMethodArg>, model: &ProcessModel) -> IntervalMethod {
+/// The method asked for, else the model's default at `level` (conformal where it stores
+/// the calibration with enough scores, else delta).
+fn method_of(asked: Option<IntervalMethodArg>, model: &ProcessModel, level: f64) -> IntervalMethod {
     asked
         .map(IntervalMethod::from)
-        .or_else(|| model.default_interval_method())
+        .or_else(|| model.default_interval_method(level))
         .unwrap_or(IntervalMethod::Delta)
 }
 
@@ -567,7 +567,7 @@ fn predict(a: PredictArgs) -> Result<()> {
         Some(level) => Some(model.intervals_with(
             &loaded.table,
             level,
-            method_of(a.interval_method, &model),
+            method_of(a.interval_method, &model, level),
         )?),
         None => None,
     };
@@ -606,9 +606,13 @@ fn evaluate(a: EvaluateArgs) -> Result<()> {
     crate::safety::check_level(a.interval, "--interval")?;
     let model = load_model(&a.model)?;
     let loaded = read(&a.data, model.group.as_deref())?;
-    let e = match (a.interval_method, model.default_interval_method()) {
+    let e = match (a.interval_method, model.default_interval_method(a.interval)) {
         (None, None) => model.evaluate_at(&loaded.table, a.interval)?,
-        (asked, _) => model.evaluate_with(&loaded.table, a.interval, method_of(asked, &model))?,
+        (asked, _) => model.evaluate_with(
+            &loaded.table,
+            a.interval,
+            method_of(asked, &model, a.interval),
+        )?,
     };
     if a.json {
         println!("{}", serde_json::to_string_pretty(&e)?);
@@ -687,7 +691,7 @@ fn compare(a: CompareArgs) -> Result<()> {
     let mut c = compare_process(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
     b.finish_and_clear();
     if a.interval_method.is_some() || a.interval != hxai_hybrid::DEFAULT_INTERVAL {
-        let method = method_of(a.interval_method, &c.hybrid);
+        let method = method_of(a.interval_method, &c.hybrid, a.interval);
         c.interval = c.hybrid.test_interval(&loaded.table, a.interval, method)?;
     }
     crate::safety::warn(&loaded.warnings);

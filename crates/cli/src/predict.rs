@@ -79,7 +79,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             let method = args
                 .interval_method
                 .map(hxai_hybrid::IntervalMethod::from)
-                .or_else(|| model.default_interval_method())
+                .or_else(|| model.default_interval_method(level))
                 .unwrap_or(hxai_hybrid::IntervalMethod::Delta);
             let (p, lo, hi) = model
                 .predict_with_intervals_by(&input, level, method)

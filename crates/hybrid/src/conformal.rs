@@ -176,6 +176,12 @@ impl ConformalInfo {
             .or_else(|e| bad(format!("scale model: {e}")))
     }
 
+    /// Whether CV+ at `level` can be finite with these scores (`ceil(level (n + 1)) <= n`):
+    /// a model calibrated on few rows serves 90 % but not 99 %.
+    pub fn serves(&self, level: f64) -> bool {
+        hxai_eval::conformal_rank(self.scores.len(), level).is_ok()
+    }
+
     /// Intervals `(lo, hi)` at `level` by `method` for the `n` rows whose predictions by
     /// each fold's model are `fold_pred[k]` (`fold_pred[k][row]`, on the natural scale)
     /// ([`IntervalMethod::Conformal`]: CV+ over every fold; [`IntervalMethod::Split`]: split

@@ -401,7 +401,7 @@ impl Estimator {
             Some(level) => {
                 let method = self
                     .model
-                    .default_interval_method()
+                    .default_interval_method(level)
                     .unwrap_or(crate::IntervalMethod::Delta);
                 self.model
                     .correction_intervals(&table, level, method)?

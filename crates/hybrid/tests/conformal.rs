@@ -247,7 +247,7 @@ fn the_model_file_keeps_the_calibration_and_old_files_fall_back_to_delta() {
     let back = ProcessModel::from_json(&model.to_json()).unwrap();
     assert_eq!(back, model);
     assert_eq!(
-        back.default_interval_method(),
+        back.default_interval_method(LEVEL),
         Some(IntervalMethod::Conformal)
     );
     let ev = back.evaluate_at(&t, LEVEL).unwrap();
@@ -260,7 +260,10 @@ fn the_model_file_keeps_the_calibration_and_old_files_fall_back_to_delta() {
     let mut old: serde_json::Value = serde_json::from_str(&model.to_json()).unwrap();
     old.as_object_mut().unwrap().remove("conformal");
     let old = ProcessModel::from_json(&old.to_string()).unwrap();
-    assert_eq!(old.default_interval_method(), Some(IntervalMethod::Delta));
+    assert_eq!(
+        old.default_interval_method(LEVEL),
+        Some(IntervalMethod::Delta)
+    );
     assert_eq!(
         old.evaluate_at(&t, LEVEL).unwrap().interval.unwrap().method,
         IntervalMethod::Delta

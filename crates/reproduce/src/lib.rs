@@ -29,8 +29,8 @@
 #![deny(missing_docs)]
 
 pub mod beyond;
-pub mod intervals;
 pub mod figures;
+pub mod intervals;
 pub mod paper;
 pub mod pipeline;
 mod plots;

@@ -40,7 +40,7 @@ impl HybridModel {
         level: f64,
     ) -> Result<Evaluation, HybridError> {
         let method = self
-            .default_interval_method()
+            .default_interval_method(level)
             .unwrap_or(IntervalMethod::Delta);
         self.evaluate_with(records, all, level, method)
     }

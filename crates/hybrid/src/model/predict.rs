@@ -22,11 +22,12 @@ impl HybridModel {
         Ok(p)
     }
 
-    /// The interval method used when none is asked for: conformal (CV+) when the file
-    /// stores its calibration, else the delta method when it stores the correction's
+    /// The interval method used at `level` when none is asked for: conformal (CV+) when the
+    /// file stores its calibration and it has enough scores for `level`
+    /// ([`crate::conformal::ConformalInfo::serves`]: 19 at 95 %), else the delta method when it stores the correction's
     /// uncertainty, else none (the zero correction).
-    pub fn default_interval_method(&self) -> Option<IntervalMethod> {
-        if self.conformal.is_some() {
+    pub fn default_interval_method(&self, level: f64) -> Option<IntervalMethod> {
+        if self.conformal.as_ref().is_some_and(|c| c.serves(level)) {
             Some(IntervalMethod::Conformal)
         } else if self.correction.uncertainty.is_some() {
             Some(IntervalMethod::Delta)
@@ -46,7 +47,7 @@ impl HybridModel {
         level: f64,
     ) -> Result<Vec<(f64, f64)>, HybridError> {
         let method = self
-            .default_interval_method()
+            .default_interval_method(level)
             .unwrap_or(IntervalMethod::Delta);
         self.amplitude_intervals_with(samples, level, method)
     }
@@ -149,7 +150,7 @@ impl HybridModel {
         level: f64,
     ) -> Result<(RecordPrediction, Vec<f64>, Vec<f64>), HybridError> {
         let method = self
-            .default_interval_method()
+            .default_interval_method(level)
             .unwrap_or(IntervalMethod::Delta);
         self.predict_with_intervals_by(record, level, method)
     }

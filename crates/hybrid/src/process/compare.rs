@@ -285,7 +285,7 @@ pub fn compare_process(
             });
         }
     }
-    let interval = match main.model.default_interval_method() {
+    let interval = match main.model.default_interval_method(crate::DEFAULT_INTERVAL) {
         Some(method) => main
             .model
             .test_interval(table, crate::DEFAULT_INTERVAL, method)?,

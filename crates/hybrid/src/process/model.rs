@@ -446,7 +446,7 @@ impl ProcessModel {
     /// # Errors
     /// As [`ProcessModel::evaluate`], and a `level` outside (0, 1).
     pub fn evaluate_at(&self, table: &Table, level: f64) -> Result<ProcessEvaluation, HybridError> {
-        match self.default_interval_method() {
+        match self.default_interval_method(level) {
             Some(method) => self.evaluate_with(table, level, method),
             None => {
                 let y = columns_of(table, std::slice::from_ref(&self.target), "target")?[0];
@@ -504,11 +504,12 @@ impl ProcessModel {
         Ok(Some(IntervalReport::of(method, level, y, &iv)))
     }
 
-    /// The interval method used when none is asked for: conformal (CV+) when the file
-    /// stores its calibration, else the delta method when it stores the hybrid's
+    /// The interval method used at `level` when none is asked for: conformal (CV+) when the
+    /// file stores its calibration and it has enough scores for `level`
+    /// ([`crate::conformal::ConformalInfo::serves`]: 19 at 95 %), else the delta method when it stores the hybrid's
     /// uncertainty, else none.
-    pub fn default_interval_method(&self) -> Option<IntervalMethod> {
-        if self.conformal.is_some() {
+    pub fn default_interval_method(&self, level: f64) -> Option<IntervalMethod> {
+        if self.conformal.as_ref().is_some_and(|c| c.serves(level)) {
             Some(IntervalMethod::Conformal)
         } else if self.hybrid.uncertainty.is_some() {
             Some(IntervalMethod::Delta)
@@ -525,7 +526,7 @@ impl ProcessModel {
     /// stores neither conformal calibration nor uncertainty.
     pub fn intervals(&self, table: &Table, level: f64) -> Result<Vec<(f64, f64)>, HybridError> {
         let method = self
-            .default_interval_method()
+            .default_interval_method(level)
             .unwrap_or(IntervalMethod::Delta);
         self.intervals_with(table, level, method)
     }

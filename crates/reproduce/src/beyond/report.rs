@@ -85,10 +85,19 @@ fn split_section(
     model_table(out, s, &case.unit);
     out.push('\n');
     if let Some(iv) = &s.interval {
+        let how = match iv.method {
+            hxai_hybrid::IntervalMethod::Conformal => {
+                "conformal, CV+ over 5 folds of the training rows; every method side by side \
+                 in \"Prediction intervals by method\" below"
+            }
+            hxai_hybrid::IntervalMethod::Split => "split conformal",
+            hxai_hybrid::IntervalMethod::Delta => {
+                "delta method through the whole equation plus the residual variance"
+            }
+        };
         out.push_str(&format!(
-            "Prediction intervals of the hybrid at {:.0} % (delta method through the whole \
-             equation plus the residual variance, `hxai hybrid evaluate --json`): coverage \
-             {:.1} % of the {} test rows.\n\n",
+            "Prediction intervals of the hybrid at {:.0} % ({how}; `hxai hybrid evaluate \
+             --json`): coverage {:.1} % of the {} test rows.\n\n",
             100.0 * iv.nominal,
             100.0 * iv.coverage,
             iv.n
