@@ -312,7 +312,7 @@ fn sr_intervals<'py>(
                 m.params.clone_from(p);
                 preds.push(m.predict(&data).map_err(|e| e.to_string())?);
             }
-            conf.intervals_from(&preds, level, method)
+            conf.intervals_from(&preds, None, level, method)
                 .map_err(|e| e.to_string())
         })
         .map_err(PyValueError::new_err)?;

@@ -132,7 +132,7 @@ impl HybridModel {
                 fold_model.params.clone_from(p);
                 preds.push(fold_model.predict(table)?);
             }
-            conf.intervals_from(&preds, level, method)?
+            conf.intervals_from(&preds, None, level, method)?
         })
     }
 

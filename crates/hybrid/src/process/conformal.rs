@@ -29,7 +29,7 @@ use super::physics::{calibrate_physics, calibrated_slots, deltas, gather, physic
 use super::resolve::Resolved;
 use super::{ProcessConfig, calibrate};
 use crate::HybridError;
-use crate::conformal::{ConformalInfo, refit_constants};
+use crate::conformal::{ConformalInfo, RangeWidening, refit_constants};
 use hxai_eval::{IntervalMethod, Split};
 use hxai_symreg::eval::Evaluator;
 use hxai_symreg::uncertainty::is_exact;
@@ -175,7 +175,91 @@ pub(crate) fn calibrate(
         model.correction.kind,
         CorrectionForm::Multiplicative | CorrectionForm::Log
     );
-    ConformalInfo::from_held_out(fold_params, fold_of, &held_pred, &y_train, multiplies)
+    let mut info =
+        ConformalInfo::from_held_out(fold_params, fold_of, &held_pred, &y_train, multiplies)?;
+    info.widening = Some(widening(table, cfg, res, model, train, &info)?);
+    Ok(info)
+}
+
+/// Share of the training rows held out at each end of a column by [`widening`].
+const RANGE_HOLDOUT: f64 = 0.2;
+
+/// The [`RangeWidening`] of the fit: for each input column of the one-program hybrid, the
+/// top and bottom fifth of the training rows by that column held out in turn, the hybrid's
+/// constants refitted on the rest ([`fold_fit`]), and each held-out row's normalised score
+/// and distance outside the ranges of the rows fitted. A hold-out whose refit fails, or
+/// that leaves fewer rows than the hybrid has constants, is skipped.
+fn widening(
+    table: &Table,
+    cfg: &ProcessConfig,
+    res: &Resolved,
+    model: &ProcessModel,
+    train: &[usize],
+    info: &ConformalInfo,
+) -> Result<RangeWidening, HybridError> {
+    let phys = model.physics_program()?;
+    let c = combine(&phys, &model.correction.model, model.correction.kind);
+    let cols = columns_of(table, &c.names, "column")?;
+    let y = table.require(&cfg.target)?;
+    let extent = |rows: &[usize]| -> (Vec<f64>, Vec<f64>) {
+        cols.iter()
+            .map(|col| {
+                rows.iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &r| {
+                        (l.min(col[r]), h.max(col[r]))
+                    })
+            })
+            .unzip()
+    };
+    let (lo, hi) = extent(train);
+    let mut held_out = Vec::new();
+    let mut x = vec![0.0; cols.len()];
+    for col in &cols {
+        let mut values: Vec<f64> = train.iter().map(|&r| col[r]).collect();
+        values.sort_by(f64::total_cmp);
+        let n = values.len();
+        let cut = ((RANGE_HOLDOUT * n as f64).ceil() as usize).clamp(1, n);
+        let low_cut = values[cut - 1];
+        let high_cut = values[n - cut];
+        for top in [true, false] {
+            let (fit, out): (Vec<usize>, Vec<usize>) = train.iter().partition(|&&r| {
+                if top {
+                    col[r] < high_cut
+                } else {
+                    col[r] > low_cut
+                }
+            });
+            if out.is_empty() || fit.len() <= c.params.len() {
+                continue;
+            }
+            let Ok(f) = fold_fit(table, cfg, res, &model.correction.model, &fit) else {
+                continue;
+            };
+            let pred = predict_with(&f, &f.params, table)?;
+            let (flo, fhi) = extent(&fit);
+            for &r in &out {
+                let z = info.scale.to(pred[r]);
+                let t = info.scale.to(y[r]);
+                if !(z.is_finite() && t.is_finite()) {
+                    continue;
+                }
+                for (v, c) in x.iter_mut().zip(&cols) {
+                    *v = c[r];
+                }
+                let d = RangeWidening::distance(&flo, &fhi, &x);
+                let e = (t - z).abs() / info.scale_model.at(z);
+                if d.is_finite() && e.is_finite() {
+                    held_out.push([d, e]);
+                }
+            }
+        }
+    }
+    Ok(RangeWidening {
+        columns: c.names.clone(),
+        lo,
+        hi,
+        held_out,
+    })
 }
 
 /// The table hybrid's intervals at `level` by `method` for every row of `table` from the
@@ -199,5 +283,9 @@ pub(crate) fn intervals(
         .iter()
         .map(|p| predict_with(c, p, table))
         .collect::<Result<_, _>>()?;
-    conf.intervals_from(&preds, level, method)
+    let distance = match &conf.widening {
+        Some(w) => Some(w.distances(table)?),
+        None => None,
+    };
+    conf.intervals_from(&preds, distance.as_deref(), level, method)
 }
