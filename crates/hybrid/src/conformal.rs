@@ -436,3 +436,47 @@ impl ConformalInfo {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::RangeWidening;
+
+    #[test]
+    fn distance_counts_each_column_in_its_own_width() {
+        let (lo, hi) = ([0.0, 10.0], [2.0, 20.0]);
+        assert_eq!(RangeWidening::distance(&lo, &hi, &[1.0, 15.0]), 0.0);
+        assert_eq!(RangeWidening::distance(&lo, &hi, &[3.0, 15.0]), 0.5);
+        assert_eq!(RangeWidening::distance(&lo, &hi, &[-2.0, 25.0]), 1.5);
+        // a column of zero width counts by its absolute difference
+        assert_eq!(RangeWidening::distance(&[1.0], &[1.0], &[1.5]), 0.5);
+    }
+
+    #[test]
+    fn slope_is_the_conformal_quantile_of_the_excess_ratios() {
+        // rows outside at d = 1 with scores e: ratios (e / q - 1) / d with q = 2
+        let w = RangeWidening {
+            columns: vec!["x".into()],
+            lo: vec![0.0],
+            hi: vec![1.0],
+            held_out: (1..=19)
+                .map(|k| [1.0, 2.0 * (1.0 + 0.1 * k as f64)])
+                .chain([[0.0, 100.0]]) // inside: not counted
+                .collect(),
+        };
+        // 19 ratios 0.1..1.9; at 0.9 the rank is ceil(0.9 * 20) = 18
+        assert!((w.slope(2.0, 0.9) - 1.8).abs() < 1e-12);
+        // too few for 0.99: the largest
+        assert!((w.slope(2.0, 0.99) - 1.9).abs() < 1e-12);
+        // scores below the quantile give no widening
+        let calm = RangeWidening {
+            held_out: vec![[1.0, 1.0], [2.0, 0.5]],
+            ..w.clone()
+        };
+        assert_eq!(calm.slope(2.0, 0.5), 0.0);
+        let none = RangeWidening {
+            held_out: Vec::new(),
+            ..w
+        };
+        assert_eq!(none.slope(2.0, 0.95), 0.0);
+    }
+}

@@ -312,3 +312,41 @@ fn bad_levels_and_too_few_rows_are_errors_that_say_what_to_do() {
     let (plain, _) = quick_fit(60, 0).unwrap();
     assert!(plain.conformal.is_none());
 }
+
+#[test]
+fn the_interval_widens_outside_the_training_ranges_only() {
+    let (model, _) = quick_fit(200, 5).unwrap();
+    let w = model
+        .conformal
+        .as_ref()
+        .and_then(|c| c.widening.as_ref())
+        .expect("the fit stores its range hold-outs");
+    assert!(!w.held_out.is_empty());
+    assert!(w.columns.contains(&"x1".to_string()));
+    // x1 was drawn in [1, 4]: 2.5 is inside, 6 and 8 outside
+    let names = ["x1", "x2"].iter().map(|s| s.to_string()).collect();
+    let t = Table::new(names, vec![vec![2.5, 6.0, 8.0], vec![0.5, 0.5, 0.5]]).unwrap();
+    let mut plain = model.clone();
+    plain.conformal.as_mut().unwrap().widening = None;
+    let width = |m: &hxai_hybrid::process::ProcessModel| -> Vec<f64> {
+        m.intervals_with(&t, LEVEL, IntervalMethod::Conformal)
+            .unwrap()
+            .iter()
+            .map(|(lo, hi)| hi - lo)
+            .collect()
+    };
+    let (wide, base) = (width(&model), width(&plain));
+    assert!(
+        (wide[0] - base[0]).abs() <= 1e-12 * base[0],
+        "{wide:?} vs {base:?}"
+    );
+    assert!(
+        wide[1] >= base[1] && wide[2] >= base[2],
+        "{wide:?} vs {base:?}"
+    );
+    // the widening grows with the distance
+    assert!(
+        wide[2] / base[2] >= wide[1] / base[1],
+        "{wide:?} vs {base:?}"
+    );
+}
