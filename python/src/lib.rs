@@ -301,18 +301,7 @@ fn sr_intervals<'py>(
                 ));
             };
             conf.check(model.params.len()).map_err(|e| e.to_string())?;
-            let used = if method == IntervalMethod::Split {
-                &conf.fold_params[..1]
-            } else {
-                &conf.fold_params[..]
-            };
-            let mut m = model.clone();
-            let mut preds = Vec::with_capacity(used.len());
-            for p in used {
-                m.params.clone_from(p);
-                preds.push(m.predict(&data).map_err(|e| e.to_string())?);
-            }
-            conf.intervals_from(&preds, None, level, method)
+            conf.model_intervals(&model, &data, level, method)
                 .map_err(|e| e.to_string())
         })
         .map_err(PyValueError::new_err)?;

@@ -297,6 +297,55 @@ impl ConformalInfo {
         hxai_eval::conformal_rank(self.scores.len(), level).is_ok()
     }
 
+    /// Intervals `(lo, hi)` at `level` by `method` from the fold models' predictions made
+    /// by `predict` (given a fold's constants, the predictions at the new rows): every
+    /// fold's for CV+, the first fold's alone for split conformal; then
+    /// [`ConformalInfo::intervals_from`].
+    ///
+    /// # Errors
+    /// Those of `predict` and of [`ConformalInfo::intervals_from`].
+    pub fn intervals_by(
+        &self,
+        mut predict: impl FnMut(&[f64]) -> Result<Vec<f64>, HybridError>,
+        distance: Option<&[f64]>,
+        level: f64,
+        method: IntervalMethod,
+    ) -> Result<Vec<(f64, f64)>, HybridError> {
+        let used = if method == IntervalMethod::Split {
+            &self.fold_params[..1]
+        } else {
+            &self.fold_params[..]
+        };
+        let preds: Vec<Vec<f64>> = used.iter().map(|p| predict(p)).collect::<Result<_, _>>()?;
+        self.intervals_from(&preds, distance, level, method)
+    }
+
+    /// [`ConformalInfo::intervals_by`] for a symbolic `model` calibrated by
+    /// [`calibrate_model`]: each fold's model is `model` with that fold's constants,
+    /// predicting the rows of `data`.
+    ///
+    /// # Errors
+    /// As [`ConformalInfo::intervals_by`], and the model's (a missing column).
+    pub fn model_intervals(
+        &self,
+        model: &Model,
+        data: &Table,
+        level: f64,
+        method: IntervalMethod,
+    ) -> Result<Vec<(f64, f64)>, HybridError> {
+        let mut fold_model = model.clone();
+        self.intervals_by(
+            |p| {
+                fold_model.params.clear();
+                fold_model.params.extend_from_slice(p);
+                Ok(fold_model.predict(data)?)
+            },
+            None,
+            level,
+            method,
+        )
+    }
+
     /// Intervals `(lo, hi)` at `level` by `method` for the `n` rows whose predictions by
     /// each fold's model are `fold_pred[k]` (`fold_pred[k][row]`, on the natural scale)
     /// ([`IntervalMethod::Conformal`]: CV+ over every fold; [`IntervalMethod::Split`]: split

@@ -121,18 +121,7 @@ impl HybridModel {
                     method.name()
                 )));
             };
-            let used = if method == IntervalMethod::Split {
-                &conf.fold_params[..1]
-            } else {
-                &conf.fold_params[..]
-            };
-            let mut fold_model = model.clone();
-            let mut preds = Vec::with_capacity(used.len());
-            for p in used {
-                fold_model.params.clone_from(p);
-                preds.push(fold_model.predict(table)?);
-            }
-            conf.intervals_from(&preds, None, level, method)?
+            conf.model_intervals(model, table, level, method)?
         })
     }
 

@@ -274,18 +274,14 @@ pub(crate) fn intervals(
     level: f64,
     method: IntervalMethod,
 ) -> Result<Vec<(f64, f64)>, HybridError> {
-    let used = if method == IntervalMethod::Split {
-        &conf.fold_params[..1]
-    } else {
-        &conf.fold_params[..]
-    };
-    let preds: Vec<Vec<f64>> = used
-        .iter()
-        .map(|p| predict_with(c, p, table))
-        .collect::<Result<_, _>>()?;
     let distance = match &conf.widening {
         Some(w) => Some(w.distances(table)?),
         None => None,
     };
-    conf.intervals_from(&preds, distance.as_deref(), level, method)
+    conf.intervals_by(
+        |p| predict_with(c, p, table),
+        distance.as_deref(),
+        level,
+        method,
+    )
 }
