@@ -77,12 +77,15 @@ def main():
     ap.add_argument("--cases", default="tool,roughness,cutting-force,tool-life")
     ap.add_argument("--criteria", default="bic,cv", help="bic, aic, pareto, cv, consensus")
     ap.add_argument("--consensus-runs", type=int, default=10)
+    ap.add_argument("--extra", default="",
+                    help="more flags for every fit, space-separated (e.g. '--operators add,mul')")
     a = ap.parse_args()
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     hx = [a.hxai]
     cases = a.cases.split(",")
     criteria = a.criteria.split(",")
+    extra = a.extra.split()
     print("| case | selection | selected structure | complexity | distinct structures | share of "
           "the most frequent | share of the selected | features in >= half the runs | "
           "out-of-bag R^2 | test: R^2 of delta (tool) or hybrid RMSE (tables) | s |")
@@ -96,7 +99,7 @@ def main():
             text, secs = run(hx + ["fit", "--data", str(sim), "--out", str(model), "--seed", "42",
                                    "--stability", str(a.runs), "--json",
                                    "--threads", str(a.threads)]
-                             + selection_args(crit, a.consensus_runs))
+                             + selection_args(crit, a.consensus_runs) + extra)
             j = json.loads(text)
             m = json.loads(model.read_text())
             dt = (m["training"].get("delta_test") or {}).get("r2")
@@ -117,7 +120,7 @@ def main():
                                 "--max-complexity", "10", "--seed", "42",
                                 "--stability", str(a.runs), "--out", str(model),
                                 "--threads", str(a.threads)]
-                          + selection_args(crit, a.consensus_runs))
+                          + selection_args(crit, a.consensus_runs) + extra)
             m = json.loads(model.read_text())
             rmse = (m.get("scores") or {}).get("test", {}).get("hybrid", {}).get("rmse")
             print(summary(name, crit, m["correction"]["equation"], m["stability"], secs,

@@ -22,9 +22,13 @@ from ._arrays import columns_of, from_bytes, to_bytes
 # reading; tests/test_estimators.py checks that they agree with the engine's.
 DEFAULT_OPERATORS = tuple(json.loads(_hxai.defaults("search"))["operators"])
 
-# The paper's operators plus exp (PAPER_OPERATORS): what hybrid corrections search by default
-# (`hxai hybrid fit`, SearchConfig::paper()).
+# The paper's operators plus exp (PAPER_OPERATORS): what the tool case's correction searches
+# (`hxai fit`, SearchConfig::paper()).
 PAPER_OPERATORS = DEFAULT_OPERATORS[:11]
+
+# The law operators (LAW_OPERATORS: arithmetic, exp, log): what a table hybrid's correction
+# searches by default (`hxai hybrid fit`, SearchConfig::laws()), read from the engine.
+LAW_OPERATORS = tuple(json.loads(_hxai.defaults("process_search"))["operators"])
 
 # `hxai sr` lets the complexity cap grow by this much per input beyond the first; the engine's
 # own default (and `hxai hybrid fit`'s) is 0, the paper's fixed cap. SymbolicRegressor takes
@@ -366,9 +370,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         max_complexity=10,
         complexity_per_input=0,
         operator_complexity=None,
-        operators=PAPER_OPERATORS,
+        operators=LAW_OPERATORS,
         strategy="combined",
-        criterion="bic",
+        criterion="cv",
         complexity_penalty=1.0,
         cv_folds=5,
         time_limit_s=None,

@@ -13,7 +13,7 @@ from sklearn.utils.estimator_checks import parametrize_with_checks
 
 import hxai
 from hxai import HybridRegressor, SymbolicRegressor, _hxai
-from hxai.estimators import _SEARCH_KEYS, PAPER_OPERATORS, SR_COMPLEXITY_PER_INPUT
+from hxai.estimators import _SEARCH_KEYS, SR_COMPLEXITY_PER_INPUT
 
 from conftest import FAST, hxai_binary
 
@@ -56,6 +56,7 @@ def test_sklearn_contract(estimator, check):
 
 def test_defaults_are_the_engines():
     rust = json.loads(_hxai.defaults("search"))
+    table = json.loads(_hxai.defaults("process_search"))
     for est in (SymbolicRegressor(), HybridRegressor("k*x0")):
         params = est.get_params()
         for k in _SEARCH_KEYS:
@@ -65,9 +66,10 @@ def test_defaults_are_the_engines():
                 got = list(got)
             if k == "operator_complexity" and got is None:
                 got = {}
-            if k == "operators" and isinstance(est, HybridRegressor):
-                # a correction searches the paper's operators (SearchConfig::paper())
-                want = list(PAPER_OPERATORS)
+            if k in ("operators", "criterion") and isinstance(est, HybridRegressor):
+                # a table hybrid's correction searches the law operators and selects by
+                # cross-validated loss (SearchConfig::laws())
+                want = table[k]
             if k == "nesting":
                 # the estimators name the engine's presets: `none` is the empty map (the
                 # engine's default, `hxai sr`'s), a correction searches `readable`
@@ -75,8 +77,8 @@ def test_defaults_are_the_engines():
                 want = "readable" if isinstance(est, HybridRegressor) else "none"
                 assert rust[k] == {}
             if k == "runners_up" and isinstance(est, HybridRegressor):
-                # a correction keeps three runners-up per complexity (SearchConfig::paper())
-                want = 3
+                # a correction keeps three runners-up per complexity (SearchConfig::laws())
+                want = table[k]
             if k == "complexity_per_input" and isinstance(est, SymbolicRegressor):
                 # `hxai sr`'s value, not the engine's: the estimator gives `hxai sr`'s result
                 want = SR_COMPLEXITY_PER_INPUT

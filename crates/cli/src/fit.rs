@@ -49,6 +49,11 @@ pub struct Args {
     /// Largest equation complexity (default: the search's default).
     #[arg(long)]
     pub max_complexity: Option<usize>,
+    /// Comma-separated operators of the correction's search, from: add sub mul div exp log
+    /// sqrt square inverse sin cos tanh abs gaussian gaussian2 (default: the paper's set,
+    /// arithmetic, sin, cos, the gaussians, log, abs and exp).
+    #[arg(long, value_delimiter = ',')]
+    pub operators: Option<Vec<String>>,
     /// Which operator may appear inside which: `readable` (the default of corrections: no
     /// exp, log, sin, cos, tanh or gaussian inside another, except a power law
     /// `exp(a*log(x))`), `none`, or rules `OUTER:INNER=MAX` (e.g. `readable,exp:log=0`).
@@ -149,6 +154,9 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     search.operator_complexity = crate::strategy::operator_complexity(&args.operator_complexity)?;
     if let Some(c) = args.complexity_per_input {
         search.complexity_per_input = c;
+    }
+    if let Some(ops) = &args.operators {
+        search.operators = ops.iter().map(|o| o.trim().to_string()).collect();
     }
     if let Some(n) = &args.nesting {
         search.nesting = hxai_symreg::Nesting::parse(n)?;

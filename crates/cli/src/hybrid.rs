@@ -127,6 +127,11 @@ struct Common {
     /// Largest complexity of the correction (input leaves + operators).
     #[arg(long, default_value_t = 10)]
     max_complexity: usize,
+    /// Comma-separated operators of the correction's search, from: add sub mul div exp log
+    /// sqrt square inverse sin cos tanh abs gaussian gaussian2 (default: the law operators,
+    /// add sub mul div exp log: power laws, exponentials and quotients).
+    #[arg(long, value_delimiter = ',')]
+    operators: Option<Vec<String>>,
     /// Which operator may appear inside which: `readable` (the default of corrections: no
     /// exp, log, sin, cos, tanh or gaussian inside another, except a power law
     /// `exp(a*log(x))`), `none`, or rules `OUTER:INNER=MAX` (e.g. `readable,exp:log=0`).
@@ -138,9 +143,9 @@ struct Common {
     #[arg(long)]
     consensus: Option<usize>,
     /// How the correction's equation is chosen among the search's candidates (see
-    /// `hxai sr --help`).
-    #[arg(long, value_enum, default_value_t = crate::strategy::CriterionArg::Bic)]
-    criterion: crate::strategy::CriterionArg,
+    /// `hxai sr --help`; default `cv`, the library's for table hybrids).
+    #[arg(long, value_enum)]
+    criterion: Option<crate::strategy::CriterionArg>,
     /// Folds of `--criterion cv`.
     #[arg(long, default_value_t = 5)]
     cv_folds: usize,
@@ -382,8 +387,13 @@ fn config(c: &Common) -> Result<ProcessConfig> {
     cfg.conformal_folds = c.conformal_folds;
     cfg.search.epochs = c.epochs;
     cfg.search.max_complexity = c.max_complexity;
-    cfg.search.criterion = c.criterion.into();
+    if let Some(crit) = c.criterion {
+        cfg.search.criterion = crit.into();
+    }
     cfg.search.cv_folds = c.cv_folds;
+    if let Some(ops) = &c.operators {
+        cfg.search.operators = ops.iter().map(|o| o.trim().to_string()).collect();
+    }
     if let Some(n) = &c.nesting {
         cfg.search.nesting = hxai_symreg::Nesting::parse(n)?;
     }

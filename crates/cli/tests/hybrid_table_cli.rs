@@ -310,6 +310,13 @@ fn bad_input_gives_one_line_naming_it() -> TestResult {
     refused(&data, "k*f^2/(32*r) + 0*Ra", &cal, &["target", "`Ra`"])?;
     // a text column where numbers are needed
     refused(&data, "k*f^2/(32*r) + 0*batch", &cal, &["`batch`", "text"])?;
+    // an operator the search does not know
+    refused(
+        &data,
+        "k*f^2/(32*r)",
+        &["--calibrate", "k", "--operators", "add,pow3"],
+        &["`pow3`"],
+    )?;
     // a malformed --set
     refused(
         &data,
@@ -317,6 +324,29 @@ fn bad_input_gives_one_line_naming_it() -> TestResult {
         &["--set", "k"],
         &["--set", "NAME=VALUE"],
     )?;
+    Ok(())
+}
+
+/// `--operators` limits what the correction's search builds: no model it reports (the
+/// selected one and the whole Pareto front) uses an operator outside the list.
+#[test]
+fn the_correction_uses_only_the_operators_given() -> TestResult {
+    let (dir, data) = scratch_table("operators", 80)?;
+    let model = dir.join("m.json");
+    let mut args = fit_args(s(&data), s(&model));
+    args.extend_from_slice(&["--operators", "add,sub,mul"]);
+    ok(&hxai(&args)?, "fit --operators");
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model)?)?;
+    let c = &m["correction"];
+    let mut equations = vec![c["equation"].as_str().ok_or("equation")?.to_string()];
+    for p in c["pareto"].as_array().ok_or("pareto")? {
+        equations.push(p["equation"].as_str().ok_or("front equation")?.to_string());
+    }
+    for e in &equations {
+        for op in ["exp", "log", "sin", "cos", "abs", "/", "sqrt", "tanh"] {
+            assert!(!e.contains(op), "`{op}` in {e}");
+        }
+    }
     Ok(())
 }
 

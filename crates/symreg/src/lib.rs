@@ -78,8 +78,8 @@ pub use ops::Op;
 pub use program::{ComplexityMeasure, Node, Program};
 pub use report::{Alternative, SelectionReport};
 pub use search::{
-    Criterion, DEFAULT_OPERATORS, PAPER_OPERATORS, Progress, SearchConfig, SearchResult, Strategy,
-    fit_structure, search,
+    Criterion, DEFAULT_OPERATORS, LAW_OPERATORS, PAPER_OPERATORS, Progress, SearchConfig,
+    SearchResult, Strategy, fit_structure, search,
 };
 pub use stability::{Stability, stability};
 pub use uncertainty::{ParamEstimate, Uncertainty};

@@ -135,8 +135,9 @@ pub struct ProcessConfig {
 }
 
 impl ProcessConfig {
-    /// Defaults: additive correction, 20 % random test split, seed 42, symreg's default
-    /// search (complexity at most 10), conformal intervals calibrated over
+    /// Defaults: additive correction, 20 % random test split, seed 42, the search of
+    /// [`SearchConfig::laws`] (law operators, readable nesting, cross-validated selection;
+    /// complexity at most 10), conformal intervals calibrated over
     /// [`DEFAULT_CONFORMAL_FOLDS`] folds.
     pub fn new(target: &str, physics: &str) -> Self {
         Self {
@@ -153,7 +154,7 @@ impl ProcessConfig {
             extrapolate: None,
             seed: 42,
             joint: false,
-            search: SearchConfig::paper(),
+            search: SearchConfig::laws(),
             conformal_folds: DEFAULT_CONFORMAL_FOLDS,
         }
     }

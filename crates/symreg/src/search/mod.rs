@@ -33,7 +33,9 @@ mod selection;
 mod strategy;
 mod structure;
 
-pub use config::{Criterion, DEFAULT_OPERATORS, PAPER_OPERATORS, SearchConfig, Strategy};
+pub use config::{
+    Criterion, DEFAULT_OPERATORS, LAW_OPERATORS, PAPER_OPERATORS, SearchConfig, Strategy,
+};
 pub(crate) use run::plain_search;
 pub use run::{Progress, search};
 pub use selection::{SearchResult, plainness};

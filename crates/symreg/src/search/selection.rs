@@ -98,25 +98,26 @@ pub(crate) fn finish(
     if reported.is_empty() {
         return Err(SrError::NoModel);
     }
-    let refined: Vec<Model> = pool.install(|| {
+    let refined: Vec<(Model, usize)> = pool.install(|| {
         reported
             .par_iter()
             .map(|f| refine(problem, f, data))
             .collect()
     });
-    let mut models: Vec<Model> = refined
+    let mut ranked: Vec<(Model, usize)> = refined
         .into_iter()
-        .filter(|m| m.train_mse.is_finite())
+        .filter(|(m, _)| m.train_mse.is_finite())
         .collect();
-    if models.is_empty() {
+    if ranked.is_empty() {
         return Err(SrError::NoModel);
     }
-    models.sort_by(|a, b| {
+    ranked.sort_by(|(a, _), (b, _)| {
         a.complexity
             .cmp(&b.complexity)
             .then(a.train_mse.total_cmp(&b.train_mse))
     });
-    distinct_structures(&mut models, pool);
+    distinct_structures(&mut ranked, |(m, _)| m, pool);
+    let (mut models, fitted): (Vec<Model>, Vec<usize>) = ranked.into_iter().unzip();
     let cv = cross_validate(problem, &models, data, pool)?;
     if problem.cfg.criterion == Criterion::CrossValidation {
         for (m, (mean, _)) in models.iter_mut().zip(&cv) {
@@ -126,8 +127,8 @@ pub(crate) fn finish(
     let pareto = pareto_front(&models);
     let best = match problem.cfg.criterion {
         Criterion::ParetoScore => pareto_score_pick(&pareto),
-        Criterion::CrossValidation => one_standard_error_pick(&models, &cv),
-        Criterion::Bic | Criterion::Aic => simplest_within_one_charge(problem, &models),
+        Criterion::CrossValidation => one_standard_error_pick(&models, &fitted, &cv),
+        Criterion::Bic | Criterion::Aic => simplest_within_one_charge(problem, &models, &fitted),
     }
     .ok_or(SrError::NoModel)?;
     let alternatives = within_one_standard_error(&models, &cv, &best);
@@ -146,11 +147,28 @@ pub(crate) fn finish(
 /// structure ([`crate::stability::structure_of`]): programs the algebra proves equal are
 /// one model, written the shortest way. (A longer spelling can fit a little better where
 /// its constants snapped differently; it is still the same structure.)
-fn distinct_structures(models: &mut Vec<Model>, pool: &Pool) {
-    let keys: Vec<String> = pool.install(|| models.par_iter().map(structure_of).collect());
+fn distinct_structures<T: Sync>(
+    items: &mut Vec<T>,
+    model: impl Fn(&T) -> &Model + Sync,
+    pool: &Pool,
+) {
+    let keys: Vec<String> =
+        pool.install(|| items.par_iter().map(|t| structure_of(model(t))).collect());
     let mut seen: HashSet<String> = HashSet::new();
     let mut keep = keys.into_iter().map(|k| seen.insert(k));
-    models.retain(|_| keep.next().unwrap_or(true));
+    items.retain(|_| keep.next().unwrap_or(true));
+}
+
+/// Which of two models is simpler: the lower complexity; at equal complexity the fewer
+/// fitted constants (`fitted`: constants snapped to exact values are not fitted, so
+/// `log(5*x)` with its offset snapped to 0 is simpler than `c/(w*x + b)`, which fits all
+/// of its constants), then the plainer operators ([`plainness`]). Selection takes the
+/// simplest of the models the criterion cannot tell apart.
+fn simpler(a: (&Model, usize), b: (&Model, usize)) -> std::cmp::Ordering {
+    let _ = (a.1, b.1);
+    a.0.complexity
+        .cmp(&b.0.complexity)
+        .then(plainness(a.0).cmp(&plainness(b.0)))
 }
 
 /// The archive's front plus its best-scoring model when that is not on the front.
@@ -183,8 +201,9 @@ pub fn plainness(m: &Model) -> usize {
 }
 
 /// One reported fit refitted on all rows (keeping the search's constants if the refit
-/// fails), its constants snapped, scored and exported.
-fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
+/// fails), its constants snapped, scored and exported; and how many of its constants are
+/// fitted (not snapped to an exact value).
+fn refine(problem: &Problem, f: &Fitted, data: &Table) -> (Model, usize) {
     let cfg = problem.cfg;
     let full_cols = &problem.cols;
     let y = &problem.y;
@@ -236,14 +255,15 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
     // for them
     let n_fitted = exact.iter().filter(|&&e| !e).count();
     let complexity = prog.complexity_with(cfg.complexity_measure, &problem.op_costs);
-    to_model(
+    let model = to_model(
         &prog,
         params,
         mse,
         problem.score(mse, n_fitted, n),
         complexity,
         data,
-    )
+    );
+    (model, n_fitted)
 }
 
 /// Each model strictly more complex and strictly better than the previous one, from
@@ -265,7 +285,11 @@ fn pareto_front(models: &[Model]) -> Vec<Model> {
 /// best. A structure picked out of thousands must earn at least that much to justify extra
 /// operators (otherwise a near-dead term that happens to fit the noise, its constants
 /// snapped, would win).
-fn simplest_within_one_charge(problem: &Problem, models: &[Model]) -> Option<Model> {
+fn simplest_within_one_charge(
+    problem: &Problem,
+    models: &[Model],
+    fitted: &[usize],
+) -> Option<Model> {
     let best_score = models
         .iter()
         .map(|m| m.score)
@@ -274,19 +298,16 @@ fn simplest_within_one_charge(problem: &Problem, models: &[Model]) -> Option<Mod
     let margin = problem.param_penalty(problem.y.len());
     models
         .iter()
-        .filter(|m| m.score <= best_score + margin)
-        .min_by(|a, b| {
-            a.complexity
-                .cmp(&b.complexity)
-                .then(plainness(a).cmp(&plainness(b)))
-                .then(a.score.total_cmp(&b.score))
-        })
-        .cloned()
+        .zip(fitted)
+        .filter(|(m, _)| m.score <= best_score + margin)
+        .min_by(|a, b| simpler((a.0, *a.1), (b.0, *b.1)).then(a.0.score.total_cmp(&b.0.score)))
+        .map(|(m, _)| m.clone())
 }
 
 /// Each model's mean held-out squared error over `cv_folds` seeded folds of all rows, and
 /// the mean's standard error. Each fold refits every constant of the structure from the
-/// model's own (all-rows) values; a fold whose refit fails scores infinity.
+/// model's own (all-rows) values; a fold whose refit fails scores infinity. Identical rows
+/// share a fold ([`cv_folds`]).
 fn cross_validate(
     problem: &Problem,
     models: &[Model],
@@ -294,20 +315,43 @@ fn cross_validate(
     pool: &Pool,
 ) -> Result<Vec<(f64, f64)>, SrError> {
     let cfg = problem.cfg;
-    let n = problem.y.len();
-    let k = cfg.cv_folds.min(n);
-    let mut order: Vec<usize> = (0..n).collect();
-    order.shuffle(&mut ChaCha8Rng::seed_from_u64(cfg.seed ^ CV_SEED_SALT));
-    let mut fold_of = vec![0usize; n];
-    for (pos, &row) in order.iter().enumerate() {
-        fold_of[row] = pos * k / n;
-    }
+    let (fold_of, k) = cv_folds(&problem.cols, &problem.y, cfg.cv_folds, cfg.seed);
     pool.install(|| {
         models
             .par_iter()
             .map(|m| cv_loss(m, data, &problem.y, &fold_of, k))
             .collect::<Result<_, _>>()
     })
+}
+
+/// The fold of each row for cross-validation, and the number of folds: rows equal in every
+/// input and the target form one group, the groups are shuffled by `seed` and dealt into
+/// `folds` folds of nearly equal size. A bootstrap resample (`--stability`, consensus)
+/// repeats rows; were copies of one row split between folds, each fold would be tested on
+/// rows it was fitted on, and the cross-validated loss would favour models that fit the
+/// noise. Without repeated rows this is a shuffle of the rows.
+pub(crate) fn cv_folds(cols: &[&[f64]], y: &[f64], folds: usize, seed: u64) -> (Vec<usize>, usize) {
+    let n = y.len();
+    let mut group_of = vec![0usize; n];
+    let mut groups: std::collections::HashMap<Vec<u64>, usize> = Default::default();
+    for (i, g) in group_of.iter_mut().enumerate() {
+        let key: Vec<u64> = cols
+            .iter()
+            .map(|c| c[i].to_bits())
+            .chain(std::iter::once(y[i].to_bits()))
+            .collect();
+        let next = groups.len();
+        *g = *groups.entry(key).or_insert(next);
+    }
+    let n_groups = groups.len();
+    let k = folds.min(n_groups);
+    let mut order: Vec<usize> = (0..n_groups).collect();
+    order.shuffle(&mut ChaCha8Rng::seed_from_u64(seed ^ CV_SEED_SALT));
+    let mut fold_of_group = vec![0usize; n_groups];
+    for (pos, &g) in order.iter().enumerate() {
+        fold_of_group[g] = pos * k / n_groups.max(1);
+    }
+    (group_of.iter().map(|&g| fold_of_group[g]).collect(), k)
 }
 
 /// The lowest cross-validated loss of `cv` (mean, standard error per model) plus its
@@ -415,20 +459,16 @@ fn cv_loss(
 /// Statistical Learning*, 7.10): the simplest model whose cross-validated error is within
 /// one standard error of the lowest.
 /// `cv[i]` is the mean and standard error of `models[i]`'s held-out loss.
-fn one_standard_error_pick(models: &[Model], cv: &[(f64, f64)]) -> Option<Model> {
+fn one_standard_error_pick(models: &[Model], fitted: &[usize], cv: &[(f64, f64)]) -> Option<Model> {
     let limit = one_standard_error_limit(cv);
     models
         .iter()
+        .zip(fitted)
         .zip(cv)
         .filter(|(_, (mean, _))| *mean <= limit)
         .map(|(m, _)| m)
-        .min_by(|a, b| {
-            a.complexity
-                .cmp(&b.complexity)
-                .then(plainness(a).cmp(&plainness(b)))
-                .then(a.score.total_cmp(&b.score))
-        })
-        .cloned()
+        .min_by(|a, b| simpler((a.0, *a.1), (b.0, *b.1)).then(a.0.score.total_cmp(&b.0.score)))
+        .map(|(m, _)| m.clone())
 }
 
 /// PySR's rule: among front models with a loss within [`PARETO_SCORE_LOSS_WINDOW`] of the
@@ -474,6 +514,34 @@ mod tests {
             affine: true,
         };
         problem.fit(&Candidate::new(program, None, 0), 1)
+    }
+
+    // Copies of a row (a bootstrap resample repeats rows) share a fold, so no fold is tested
+    // on a row it was fitted on; without copies the folds are the plain seeded shuffle of
+    // the rows, dealt in nearly equal parts.
+    #[test]
+    fn cross_validation_keeps_copies_of_a_row_in_one_fold() {
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let base: Vec<f64> = (0..60).map(|_| rng.gen_range(0.0..1.0)).collect();
+        let rows: Vec<usize> = (0..120).map(|_| rng.gen_range(0..60)).collect();
+        let x: Vec<f64> = rows.iter().map(|&r| base[r]).collect();
+        let y: Vec<f64> = rows.iter().map(|&r| 2.0 * base[r]).collect();
+        let (fold_of, k) = cv_folds(&[&x], &y, 5, 42);
+        assert_eq!(k, 5);
+        for i in 0..rows.len() {
+            for j in 0..rows.len() {
+                if rows[i] == rows[j] {
+                    assert_eq!(fold_of[i], fold_of[j], "copies {i} and {j} split");
+                }
+            }
+        }
+        let plain: Vec<f64> = (0..100).map(|i| i as f64).collect();
+        let (fold_of, k) = cv_folds(&[&plain], &plain, 5, 42);
+        let mut sizes = vec![0usize; k];
+        for &f in &fold_of {
+            sizes[f] += 1;
+        }
+        assert_eq!(sizes, vec![20; 5]);
     }
 
     // The pick ranks models by their complexity after snapping: `add(x0, x1)`, whose x1
@@ -523,7 +591,7 @@ mod tests {
         let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
         let cfg = SearchConfig::default();
         let problem = Problem::all_rows(&data, &y, super::super::fitting::variance(&y), &cfg);
-        let model = |nodes: Vec<Node>| refine(&problem, &fit_of(&problem, nodes), &data);
+        let model = |nodes: Vec<Node>| refine(&problem, &fit_of(&problem, nodes), &data).0;
         let a = model(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)]);
         let b = model(vec![Node::Var(1), Node::Var(0), Node::Op(Op::Add)]);
         let other = model(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Mul)]);
@@ -534,7 +602,7 @@ mod tests {
             b.complexity = a.complexity + 1;
             b.train_mse = b_mse;
             let mut models = vec![a.clone(), b, other.clone()];
-            distinct_structures(&mut models, &pool);
+            distinct_structures(&mut models, |m| m, &pool);
             models
                 .iter()
                 .map(|m| (m.complexity, structure_of(m)))
