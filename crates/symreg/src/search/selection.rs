@@ -98,26 +98,25 @@ pub(crate) fn finish(
     if reported.is_empty() {
         return Err(SrError::NoModel);
     }
-    let refined: Vec<(Model, usize)> = pool.install(|| {
+    let refined: Vec<Model> = pool.install(|| {
         reported
             .par_iter()
             .map(|f| refine(problem, f, data))
             .collect()
     });
-    let mut ranked: Vec<(Model, usize)> = refined
+    let mut models: Vec<Model> = refined
         .into_iter()
-        .filter(|(m, _)| m.train_mse.is_finite())
+        .filter(|m| m.train_mse.is_finite())
         .collect();
-    if ranked.is_empty() {
+    if models.is_empty() {
         return Err(SrError::NoModel);
     }
-    ranked.sort_by(|(a, _), (b, _)| {
+    models.sort_by(|a, b| {
         a.complexity
             .cmp(&b.complexity)
             .then(a.train_mse.total_cmp(&b.train_mse))
     });
-    distinct_structures(&mut ranked, |(m, _)| m, pool);
-    let (mut models, fitted): (Vec<Model>, Vec<usize>) = ranked.into_iter().unzip();
+    distinct_structures(&mut models, pool);
     let cv = cross_validate(problem, &models, data, pool)?;
     if problem.cfg.criterion == Criterion::CrossValidation {
         for (m, (mean, _)) in models.iter_mut().zip(&cv) {
@@ -127,8 +126,8 @@ pub(crate) fn finish(
     let pareto = pareto_front(&models);
     let best = match problem.cfg.criterion {
         Criterion::ParetoScore => pareto_score_pick(&pareto),
-        Criterion::CrossValidation => one_standard_error_pick(&models, &fitted, &cv),
-        Criterion::Bic | Criterion::Aic => simplest_within_one_charge(problem, &models, &fitted),
+        Criterion::CrossValidation => one_standard_error_pick(&models, &cv),
+        Criterion::Bic | Criterion::Aic => simplest_within_one_charge(problem, &models),
     }
     .ok_or(SrError::NoModel)?;
     let alternatives = within_one_standard_error(&models, &cv, &best);
@@ -147,28 +146,11 @@ pub(crate) fn finish(
 /// structure ([`crate::stability::structure_of`]): programs the algebra proves equal are
 /// one model, written the shortest way. (A longer spelling can fit a little better where
 /// its constants snapped differently; it is still the same structure.)
-fn distinct_structures<T: Sync>(
-    items: &mut Vec<T>,
-    model: impl Fn(&T) -> &Model + Sync,
-    pool: &Pool,
-) {
-    let keys: Vec<String> =
-        pool.install(|| items.par_iter().map(|t| structure_of(model(t))).collect());
+fn distinct_structures(models: &mut Vec<Model>, pool: &Pool) {
+    let keys: Vec<String> = pool.install(|| models.par_iter().map(structure_of).collect());
     let mut seen: HashSet<String> = HashSet::new();
     let mut keep = keys.into_iter().map(|k| seen.insert(k));
-    items.retain(|_| keep.next().unwrap_or(true));
-}
-
-/// Which of two models is simpler: the lower complexity; at equal complexity the fewer
-/// fitted constants (`fitted`: constants snapped to exact values are not fitted, so
-/// `log(5*x)` with its offset snapped to 0 is simpler than `c/(w*x + b)`, which fits all
-/// of its constants), then the plainer operators ([`plainness`]). Selection takes the
-/// simplest of the models the criterion cannot tell apart.
-fn simpler(a: (&Model, usize), b: (&Model, usize)) -> std::cmp::Ordering {
-    let _ = (a.1, b.1);
-    a.0.complexity
-        .cmp(&b.0.complexity)
-        .then(plainness(a.0).cmp(&plainness(b.0)))
+    models.retain(|_| keep.next().unwrap_or(true));
 }
 
 /// The archive's front plus its best-scoring model when that is not on the front.
@@ -201,9 +183,8 @@ pub fn plainness(m: &Model) -> usize {
 }
 
 /// One reported fit refitted on all rows (keeping the search's constants if the refit
-/// fails), its constants snapped, scored and exported; and how many of its constants are
-/// fitted (not snapped to an exact value).
-fn refine(problem: &Problem, f: &Fitted, data: &Table) -> (Model, usize) {
+/// fails), its constants snapped, scored and exported.
+fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
     let cfg = problem.cfg;
     let full_cols = &problem.cols;
     let y = &problem.y;
@@ -255,15 +236,14 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> (Model, usize) {
     // for them
     let n_fitted = exact.iter().filter(|&&e| !e).count();
     let complexity = prog.complexity_with(cfg.complexity_measure, &problem.op_costs);
-    let model = to_model(
+    to_model(
         &prog,
         params,
         mse,
         problem.score(mse, n_fitted, n),
         complexity,
         data,
-    );
-    (model, n_fitted)
+    )
 }
 
 /// Each model strictly more complex and strictly better than the previous one, from
@@ -285,11 +265,7 @@ fn pareto_front(models: &[Model]) -> Vec<Model> {
 /// best. A structure picked out of thousands must earn at least that much to justify extra
 /// operators (otherwise a near-dead term that happens to fit the noise, its constants
 /// snapped, would win).
-fn simplest_within_one_charge(
-    problem: &Problem,
-    models: &[Model],
-    fitted: &[usize],
-) -> Option<Model> {
+fn simplest_within_one_charge(problem: &Problem, models: &[Model]) -> Option<Model> {
     let best_score = models
         .iter()
         .map(|m| m.score)
@@ -298,10 +274,14 @@ fn simplest_within_one_charge(
     let margin = problem.param_penalty(problem.y.len());
     models
         .iter()
-        .zip(fitted)
-        .filter(|(m, _)| m.score <= best_score + margin)
-        .min_by(|a, b| simpler((a.0, *a.1), (b.0, *b.1)).then(a.0.score.total_cmp(&b.0.score)))
-        .map(|(m, _)| m.clone())
+        .filter(|m| m.score <= best_score + margin)
+        .min_by(|a, b| {
+            a.complexity
+                .cmp(&b.complexity)
+                .then(plainness(a).cmp(&plainness(b)))
+                .then(a.score.total_cmp(&b.score))
+        })
+        .cloned()
 }
 
 /// Each model's mean held-out squared error over `cv_folds` seeded folds of all rows, and
@@ -459,16 +439,20 @@ fn cv_loss(
 /// Statistical Learning*, 7.10): the simplest model whose cross-validated error is within
 /// one standard error of the lowest.
 /// `cv[i]` is the mean and standard error of `models[i]`'s held-out loss.
-fn one_standard_error_pick(models: &[Model], fitted: &[usize], cv: &[(f64, f64)]) -> Option<Model> {
+fn one_standard_error_pick(models: &[Model], cv: &[(f64, f64)]) -> Option<Model> {
     let limit = one_standard_error_limit(cv);
     models
         .iter()
-        .zip(fitted)
         .zip(cv)
         .filter(|(_, (mean, _))| *mean <= limit)
         .map(|(m, _)| m)
-        .min_by(|a, b| simpler((a.0, *a.1), (b.0, *b.1)).then(a.0.score.total_cmp(&b.0.score)))
-        .map(|(m, _)| m.clone())
+        .min_by(|a, b| {
+            a.complexity
+                .cmp(&b.complexity)
+                .then(plainness(a).cmp(&plainness(b)))
+                .then(a.score.total_cmp(&b.score))
+        })
+        .cloned()
 }
 
 /// PySR's rule: among front models with a loss within [`PARETO_SCORE_LOSS_WINDOW`] of the
@@ -591,7 +575,7 @@ mod tests {
         let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
         let cfg = SearchConfig::default();
         let problem = Problem::all_rows(&data, &y, super::super::fitting::variance(&y), &cfg);
-        let model = |nodes: Vec<Node>| refine(&problem, &fit_of(&problem, nodes), &data).0;
+        let model = |nodes: Vec<Node>| refine(&problem, &fit_of(&problem, nodes), &data);
         let a = model(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)]);
         let b = model(vec![Node::Var(1), Node::Var(0), Node::Op(Op::Add)]);
         let other = model(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Mul)]);
@@ -602,7 +586,7 @@ mod tests {
             b.complexity = a.complexity + 1;
             b.train_mse = b_mse;
             let mut models = vec![a.clone(), b, other.clone()];
-            distinct_structures(&mut models, |m| m, &pool);
+            distinct_structures(&mut models, &pool);
             models
                 .iter()
                 .map(|m| (m.complexity, structure_of(m)))
