@@ -24,6 +24,10 @@ pub struct Args {
     /// Level of the prediction intervals drawn.
     #[arg(long, default_value_t = hxai_hybrid::DEFAULT_INTERVAL)]
     pub interval: f64,
+    /// Method of the prediction intervals drawn (default: the model file's, conformal where
+    /// it stores the calibration, as `predict` and `evaluate` use).
+    #[arg(long, value_enum)]
+    pub interval_method: Option<crate::hybrid::IntervalMethodArg>,
 }
 
 /// A model file of either kind.
@@ -105,6 +109,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     if let Some(path) = &args.data {
         inputs.push(crate::safety::input(path, "the data (--data)"));
     }
+    let method = args.interval_method.map(hxai_hybrid::IntervalMethod::from);
     let (explanation, label) = match load(&args.model)? {
         Model::Tool(model) => {
             let samples = args.data.as_deref().map(read_samples).transpose()?;
@@ -113,7 +118,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
                 target: d,
                 is_test: s,
             });
-            let e = model.explain(data.as_ref(), args.interval);
+            let e = model.explain(data.as_ref(), args.interval, method);
             (e, hxai_plot::explain::DELTA_AXIS.to_owned())
         }
         Model::Process(model) => {
@@ -121,7 +126,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
                 Some(path) => Some(crate::hybrid::read(path, model.group.as_deref())?.table),
                 None => None,
             };
-            let e = model.explain(table.as_ref(), args.interval);
+            let e = model.explain(table.as_ref(), args.interval, method);
             let label = format!(
                 "δ ({} correction of {})",
                 model.correction.kind.name(),
@@ -155,6 +160,13 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         hxai_data::write_text(p, svg).with_context(|| format!("cannot write {}", p.display()))?;
     }
     let mut lines = vec![format!("correction: delta = {}", explanation.equation)];
+    if let Some(m) = explanation.method {
+        lines.push(format!(
+            "prediction intervals: {} %, {}",
+            explanation.level * 100.0,
+            m.name()
+        ));
+    }
     lines.extend(paths.iter().map(|p| format!("wrote {}", p.display())));
     lines.extend(
         pictures

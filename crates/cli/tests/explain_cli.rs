@@ -126,6 +126,13 @@ fn explain_draws_the_response_the_parity_and_the_front() -> TestResult {
     let pics = dir.join("pictures").join("new");
     let out = explain_ok(&model, Some(&samples), &pics, "explain failed")?;
     let said = text(&out);
+    // the band is drawn by the model file's default method, named in the legend
+    let method = said
+        .lines()
+        .find_map(|l| l.strip_prefix("prediction intervals: 95 %, "))
+        .ok_or(format!("no interval method said: {said}"))?;
+    assert!(["conformal", "delta"].contains(&method), "{method}");
+    let band = format!("95 % prediction interval ({method})");
     for f in ["response.svg", "predicted_vs_true.svg", "pareto.svg"] {
         assert!(
             said.contains(&format!("wrote {}", s(&pics.join(f)))),
@@ -137,7 +144,7 @@ fn explain_draws_the_response_the_parity_and_the_front() -> TestResult {
     assert_eq!(r.matches("response to ").count(), features);
     let legend = labels(&r);
     for series in [
-        "95 % prediction interval",
+        band.as_str(),
         "correction, others at their median",
         "train",
         "test",
@@ -151,7 +158,8 @@ fn explain_draws_the_response_the_parity_and_the_front() -> TestResult {
         assert!(r.contains(&format!("response to {name} ")), "{name}");
     }
     let p = labels(&svg(&pics.join("predicted_vs_true.svg"))?);
-    for series in ["train", "test", "95 % prediction interval (test)", "y = x"] {
+    let band_test = format!("{band} (test)");
+    for series in ["train", "test", band_test.as_str(), "y = x"] {
         assert!(p.iter().any(|l| l == series), "series {series} missing");
     }
     let f = labels(&svg(&pics.join("pareto.svg"))?);
@@ -365,6 +373,31 @@ fn explain_draws_a_table_hybrid_too() -> TestResult {
         "{p:?}"
     );
     svg(&pics.join("pareto.svg"))?;
+    // the band of the model file's default method (conformal), or the one asked for
+    assert!(
+        r.iter()
+            .any(|l| l == "95 % prediction interval (conformal)"),
+        "{r:?}"
+    );
+    let delta_pics = dir.join("pics-delta");
+    let out = hxai(&[
+        "explain",
+        "--model",
+        s(&model),
+        "--data",
+        s(&table),
+        "--out",
+        s(&delta_pics),
+        "--interval-method",
+        "delta",
+    ])?;
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(text(&out).contains("prediction intervals: 95 %, delta"));
+    let r = labels(&svg(&delta_pics.join("response.svg"))?);
+    assert!(
+        r.iter().any(|l| l == "95 % prediction interval (delta)"),
+        "{r:?}"
+    );
     // a table with fewer rows than the model's split is not the fitting table
     let text_of = std::fs::read_to_string(&table)?;
     let short = dir.join("short.csv");

@@ -10,11 +10,22 @@
 //! does not: the caller passes them ([`ExplainData`], in the command line the samples table
 //! `hxai fit --samples` writes). The Pareto front is small (one line per complexity), so
 //! the model file stores it ([`ParetoMember`], key `correction.pareto`).
+//!
+//! # Design decision: the band comes from the model file's interval method
+//! The prediction intervals drawn are those `predict` and `evaluate` give: the caller passes
+//! a [`Band`], the intervals of the correction by the chosen method (conformal by default,
+//! split or the delta method), so the pictures show the band a user is promised elsewhere.
 
-use crate::HybridError;
-use hxai_symreg::{Model, Uncertainty};
+use crate::{HybridError, IntervalMethod};
+use hxai_symreg::Model;
 use hxai_table::Table;
 use serde::{Deserialize, Serialize};
+
+/// The prediction intervals `(lo, hi)` of the correction at a level for every row of a table
+/// of the features (the response grid, or the data's rows), by one interval method. A row
+/// where the method gives no finite interval (outside the equation's domain) is `(NaN,
+/// NaN)`.
+pub type Band<'a> = dyn Fn(&Table, f64) -> Result<Vec<(f64, f64)>, HybridError> + 'a;
 
 /// Points of each response curve spread evenly over the feature's range in the data (the
 /// median is added to them).
@@ -108,6 +119,8 @@ pub struct Explanation {
     pub target: String,
     /// Level of the intervals (e.g. 0.95).
     pub level: f64,
+    /// The method of the intervals drawn (absent when none are).
+    pub method: Option<IntervalMethod>,
     /// The selected equation.
     pub equation: String,
     /// One response per feature the equation uses, in first-use order (empty without data).
@@ -148,28 +161,27 @@ fn check_data(model: &Model, data: &ExplainData<'_>) -> Result<(), HybridError> 
     Ok(())
 }
 
-/// Prediction intervals of every row of `table`, `(NaN, NaN)` where the model or its
-/// gradient is not finite (a response curve can leave the equation's domain where the data
-/// never go).
-fn intervals(
-    model: &Model,
-    uncertainty: &Uncertainty,
-    table: &Table,
-    level: f64,
-) -> Result<Vec<(f64, f64)>, HybridError> {
-    match model.prediction_intervals(uncertainty, table, level) {
-        Err(hxai_symreg::SrError::NonFinite { .. }) => (0..table.n_rows())
-            .map(|i| {
-                let row = table.select_rows(&[i])?;
-                match model.prediction_intervals(uncertainty, &row, level) {
-                    Ok(v) => Ok(v.first().copied().unwrap_or((f64::NAN, f64::NAN))),
-                    Err(hxai_symreg::SrError::NonFinite { .. }) => Ok((f64::NAN, f64::NAN)),
-                    Err(e) => Err(e.into()),
-                }
-            })
-            .collect(),
-        other => Ok(other?),
+/// Prediction intervals of every row of `table` by `band`, `(NaN, NaN)` where the model or
+/// its gradient is not finite (a response curve can leave the equation's domain where the
+/// data never go): when the whole table fails, each row is tried alone, and only when every
+/// row fails is the first error returned (a model that cannot serve the method at all).
+fn intervals(band: &Band<'_>, table: &Table, level: f64) -> Result<Vec<(f64, f64)>, HybridError> {
+    let Err(whole) = band(table, level) else {
+        return band(table, level);
+    };
+    let mut out = Vec::with_capacity(table.n_rows());
+    let mut any = false;
+    for i in 0..table.n_rows() {
+        let row = table.select_rows(&[i])?;
+        match band(&row, level) {
+            Ok(v) => {
+                any = true;
+                out.push(v.first().copied().unwrap_or((f64::NAN, f64::NAN)));
+            }
+            Err(_) => out.push((f64::NAN, f64::NAN)),
+        }
     }
+    if any { Ok(out) } else { Err(whole) }
 }
 
 /// The training rows' indices (every row when all are held out or the split is unknown).
@@ -184,7 +196,7 @@ fn fitting_rows(is_test: &[bool]) -> Vec<usize> {
 
 /// The response of `model` to `feature`: a grid over the feature's range in `data` (plus its
 /// median), every other feature the model reads at its median on the training rows, the
-/// model's prediction on it and, with `uncertainty`, its prediction interval at `level`.
+/// model's prediction on it and, with `band`, its prediction interval at `level`.
 ///
 /// # Errors
 /// [`HybridError::InvalidConfig`] for data of mismatched lengths or without rows,
@@ -192,7 +204,7 @@ fn fitting_rows(is_test: &[bool]) -> Vec<usize> {
 /// outside (0, 1) among them).
 pub fn response(
     model: &Model,
-    uncertainty: Option<&Uncertainty>,
+    band: Option<&Band<'_>>,
     data: &ExplainData<'_>,
     feature: &str,
     level: f64,
@@ -233,9 +245,7 @@ pub fn response(
     }
     let table = Table::new(names, columns)?;
     let curve = model.predict(&table)?;
-    let band = uncertainty
-        .map(|u| intervals(model, u, &table, level))
-        .transpose()?;
+    let band = band.map(|b| intervals(b, &table, level)).transpose()?;
     let (mut train, mut test) = (Vec::new(), Vec::new());
     for (i, (&v, &t)) in x.iter().zip(data.target).enumerate() {
         if data.is_test[i] {
@@ -256,13 +266,13 @@ pub fn response(
 }
 
 /// Predicted vs true target on `data`, with the prediction intervals at `level` of the test
-/// rows (of every row when none is held out) when `uncertainty` is given.
+/// rows (of every row when none is held out) when `band` is given.
 ///
 /// # Errors
 /// As [`response`].
 pub fn parity(
     model: &Model,
-    uncertainty: Option<&Uncertainty>,
+    band: Option<&Band<'_>>,
     data: &ExplainData<'_>,
     level: f64,
 ) -> Result<Parity, HybridError> {
@@ -276,10 +286,10 @@ pub fn parity(
             train.push((t, p));
         }
     }
-    let intervals = match uncertainty {
-        Some(u) => {
+    let intervals = match band {
+        Some(b) => {
             let any_test = data.is_test.iter().any(|&t| t);
-            let iv = intervals(model, u, data.features, level)?;
+            let iv = intervals(b, data.features, level)?;
             Some(
                 iv.into_iter()
                     .zip(data.target)
@@ -300,13 +310,14 @@ pub fn parity(
 
 /// The whole explanation of a symbolic correction: a [`response`] for each feature the
 /// equation uses and the [`parity`] when `data` is given, and the front when `pareto` is.
-/// `target` names the correction's target in the pictures.
+/// `band` gives the intervals drawn and names their method. `target` names the
+/// correction's target in the pictures.
 ///
 /// # Errors
 /// As [`response`].
 pub fn explain(
     model: &Model,
-    uncertainty: Option<&Uncertainty>,
+    band: Option<(&Band<'_>, IntervalMethod)>,
     pareto: Option<&[ParetoMember]>,
     data: Option<&ExplainData<'_>>,
     target: &str,
@@ -317,20 +328,22 @@ pub fn explain(
             "the interval level must lie strictly between 0 and 1, got {level}"
         )));
     }
+    let b = band.map(|(b, _)| b);
     let (responses, parity) = match data {
         Some(d) => (
             model
                 .features()
                 .iter()
-                .map(|f| response(model, uncertainty, d, f, level))
+                .map(|f| response(model, b, d, f, level))
                 .collect::<Result<Vec<_>, _>>()?,
-            Some(parity(model, uncertainty, d, level)?),
+            Some(parity(model, b, d, level)?),
         ),
         None => (Vec::new(), None),
     };
     Ok(Explanation {
         target: target.to_owned(),
         level,
+        method: band.map(|(_, m)| m),
         equation: model.equation(),
         responses,
         parity,
@@ -345,7 +358,15 @@ pub fn explain(
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use hxai_symreg::{SearchConfig, search};
+    use hxai_symreg::{SearchConfig, Uncertainty, search};
+
+    /// The delta method's band of `m` with `u`, as the tool case's model file gives it.
+    fn delta_band<'a>(
+        m: &'a Model,
+        u: &'a Uncertainty,
+    ) -> impl Fn(&Table, f64) -> Result<Vec<(f64, f64)>, HybridError> + 'a {
+        move |t: &Table, level: f64| Ok(m.prediction_intervals(u, t, level)?)
+    }
 
     /// `y = 2 x0 + 0.5 x1^2`-like data with a little deterministic noise; x2 is unused.
     fn case() -> (Table, Vec<f64>, Vec<bool>) {
@@ -387,7 +408,17 @@ mod tests {
             target: &y,
             is_test: &is_test,
         };
-        let e = explain(&m, Some(&u), None, Some(&data), "y", 0.95).unwrap();
+        let b = delta_band(&m, &u);
+        let e = explain(
+            &m,
+            Some((&b, IntervalMethod::Delta)),
+            None,
+            Some(&data),
+            "y",
+            0.95,
+        )
+        .unwrap();
+        assert_eq!(e.method, Some(IntervalMethod::Delta));
         assert_eq!(e.responses.len(), m.features().len());
         assert!(!e.responses.is_empty());
         let train: Vec<usize> = (0..y.len()).filter(|&i| !is_test[i]).collect();
@@ -448,7 +479,18 @@ mod tests {
             target: &y[1..],
             is_test: &is_test,
         };
-        assert!(explain(&m, Some(&u), None, Some(&short), "y", 0.95).is_err());
+        let b = delta_band(&m, &u);
+        assert!(
+            explain(
+                &m,
+                Some((&b, IntervalMethod::Delta)),
+                None,
+                Some(&short),
+                "y",
+                0.95
+            )
+            .is_err()
+        );
         let other = Table::new(vec!["z".into()], vec![vec![0.0; y.len()]]).unwrap();
         let missing = ExplainData {
             features: &other,
@@ -459,6 +501,30 @@ mod tests {
             parity(&m, None, &missing, 0.95),
             Err(HybridError::Table(_))
         ));
+    }
+
+    // A band that fails on some rows (outside the equation's domain) draws NaN there and the
+    // interval elsewhere; one that fails everywhere (a model that cannot serve the method)
+    // is an error, not an empty band.
+    #[test]
+    fn a_band_is_nan_where_undefined_and_an_error_where_impossible() {
+        let t = Table::new(vec!["x".into()], vec![vec![1.0, -1.0, 4.0]]).unwrap();
+        let sqrt_band = |t: &Table, _: f64| -> Result<Vec<(f64, f64)>, HybridError> {
+            let x = t.require("x")?;
+            if x.iter().any(|&v| v < 0.0) {
+                return Err(HybridError::InvalidConfig("negative".into()));
+            }
+            Ok(x.iter().map(|v| (v.sqrt() - 0.1, v.sqrt() + 0.1)).collect())
+        };
+        let iv = intervals(&sqrt_band, &t, 0.95).unwrap();
+        assert_eq!(iv[0], (0.9, 1.1));
+        assert!(iv[1].0.is_nan() && iv[1].1.is_nan());
+        assert_eq!(iv[2], (1.9, 2.1));
+        let never = |_: &Table, _: f64| -> Result<Vec<(f64, f64)>, HybridError> {
+            Err(HybridError::InvalidConfig("no calibration".into()))
+        };
+        let e = intervals(&never, &t, 0.95).unwrap_err();
+        assert!(e.to_string().contains("no calibration"), "{e}");
     }
 
     #[test]

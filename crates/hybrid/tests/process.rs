@@ -245,6 +245,53 @@ fn hybrid_beats_the_physics_and_round_trips_through_json() {
     );
 }
 
+/// `explain` draws the intervals `predict` gives: the parity picture's intervals of `delta`
+/// on the test rows are the hybrid's intervals there by the same method, taken back to
+/// `delta` through the physics (`y / f_p - 1` here), for the default (conformal) and for
+/// the delta method; the response band holds its curve; the method is named.
+#[test]
+fn explain_draws_the_intervals_of_the_chosen_method() {
+    use hxai_hybrid::IntervalMethod;
+    let t = roughness(200, 1e-3, 4);
+    let mut cfg = cfg_roughness();
+    cfg.correction = CorrectionForm::Multiplicative;
+    let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
+    let test = t.select_rows(&m.split.test).unwrap();
+    let physics = m.predict(&test).unwrap().physics;
+    for (asked, want) in [
+        (None, IntervalMethod::Conformal),
+        (Some(IntervalMethod::Delta), IntervalMethod::Delta),
+    ] {
+        let e = m.explain(Some(&t), 0.9, asked).unwrap();
+        assert_eq!(e.method, Some(want));
+        let iv = m.intervals_with(&test, 0.9, want).unwrap();
+        let drawn = e.parity.unwrap().intervals.unwrap();
+        assert_eq!(drawn.len(), iv.len());
+        for ((_, lo, hi), ((ylo, yhi), p)) in drawn.iter().zip(iv.iter().zip(&physics)) {
+            assert!(
+                (lo - (ylo / p - 1.0)).abs() < 1e-12,
+                "{want:?}: {lo} vs {}",
+                ylo / p - 1.0
+            );
+            assert!(
+                (hi - (yhi / p - 1.0)).abs() < 1e-12,
+                "{want:?}: {hi} vs {}",
+                yhi / p - 1.0
+            );
+        }
+        for r in &e.responses {
+            let band = r.band.as_ref().unwrap();
+            for (c, (lo, hi)) in r.curve.iter().zip(band) {
+                assert!(
+                    lo <= c && c <= hi,
+                    "{want:?}, {}: {lo} <= {c} <= {hi}",
+                    r.feature
+                );
+            }
+        }
+    }
+}
+
 /// Extrapolation puts the top share of the column in the test set; groups never straddle.
 #[test]
 fn extrapolation_and_grouped_splits() {

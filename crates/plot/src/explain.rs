@@ -41,8 +41,16 @@ fn percent(level: f64) -> String {
     format!("{} %", (level * 1000.0).round() / 10.0)
 }
 
+/// `95 % prediction interval (conformal)`: the level and, when known, the method.
+fn interval_name(e: &Explanation) -> String {
+    match e.method {
+        Some(m) => format!("{} prediction interval ({})", percent(e.level), m.name()),
+        None => format!("{} prediction interval", percent(e.level)),
+    }
+}
+
 fn response_panels(e: &Explanation, target: &str) -> Vec<Panel> {
-    let band_name = format!("{} prediction interval", percent(e.level));
+    let band_name = interval_name(e);
     e.responses
         .iter()
         .map(|r| {
@@ -111,10 +119,7 @@ pub fn pictures(e: &Explanation, target: &str, prefix: &str) -> Result<Pictures,
             let mut series = Vec::new();
             if let Some(iv) = &p.intervals {
                 let side = if p.test.is_empty() { "" } else { " (test)" };
-                series.push(Series::bars(
-                    format!("{} prediction interval{side}", percent(e.level)),
-                    iv,
-                ));
+                series.push(Series::bars(format!("{}{side}", interval_name(e)), iv));
             }
             series.push(Series::points("train", p.train.clone()));
             if !p.test.is_empty() {
@@ -170,6 +175,7 @@ mod tests {
         Explanation {
             target: "delta".into(),
             level: 0.95,
+            method: Some(hxai_hybrid::IntervalMethod::Conformal),
             equation: "2*x".into(),
             responses: vec![Response {
                 feature: "x".into(),
@@ -212,7 +218,11 @@ mod tests {
         for (_, svg) in &p.files {
             assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
         }
-        assert!(p.files[0].1.contains("95 % prediction interval"));
+        assert!(
+            p.files[0]
+                .1
+                .contains("95 % prediction interval (conformal)")
+        );
         assert!(p.files[0].1.contains("<polygon"));
         assert!(p.files[1].1.contains("true δ (µm)"));
         assert!(p.files[2].1.contains("selected (complexity 3)"));

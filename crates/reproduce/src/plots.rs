@@ -384,7 +384,7 @@ fn explain(c: &Computed) -> Result<Vec<(String, String)>, ReproduceError> {
     let e = c
         .fit
         .model
-        .explain(Some(&data), hxai_hybrid::DEFAULT_INTERVAL)?;
+        .explain(Some(&data), hxai_hybrid::DEFAULT_INTERVAL, None)?;
     let p = hxai_plot::explain::pictures(&e, hxai_plot::explain::DELTA_AXIS, EXPLAIN_PREFIX)?;
     if let Some((file, why)) = p.skipped.first() {
         return Err(ReproduceError::Pipeline(format!("{file}: {why}")));

@@ -187,8 +187,9 @@ impl HybridModel {
 
     /// The explanation of the correction ([`crate::explain::explain`]): with `data` (the
     /// samples of a fit: features, `delta`, split) its response to each feature it uses and
-    /// predicted vs true `delta`, with prediction intervals at `level`; the Pareto front when
-    /// the file stores it.
+    /// predicted vs true `delta`, with prediction intervals of the correction at `level` by
+    /// `method` (default: the file's, [`HybridModel::default_interval_method`]; none for a
+    /// file that stores no way to make them); the Pareto front when the file stores it.
     ///
     /// # Errors
     /// [`HybridError::InvalidConfig`] for the zero correction (nothing to explain), and those
@@ -197,15 +198,21 @@ impl HybridModel {
         &self,
         data: Option<&ExplainData<'_>>,
         level: f64,
+        method: Option<IntervalMethod>,
     ) -> Result<Explanation, HybridError> {
         let Some(model) = &self.correction.model else {
             return Err(HybridError::InvalidConfig(
                 "the model's correction is zero: there is no equation to explain".into(),
             ));
         };
+        let chosen = method.or_else(|| self.default_interval_method(level));
+        let band = |t: &hxai_table::Table, l: f64| match chosen {
+            Some(m) => self.correction_intervals(t, l, m),
+            None => Ok(Vec::new()),
+        };
         crate::explain::explain(
             model,
-            self.correction.uncertainty.as_ref(),
+            chosen.map(|m| (&band as &crate::explain::Band<'_>, m)),
             self.correction.pareto.as_deref(),
             data,
             "delta",

@@ -94,6 +94,21 @@ impl CorrectionForm {
             CorrectionForm::Log => "log",
         }
     }
+
+    /// The interval `(lo, hi)` of the correction `delta` that the interval `[lo, hi]` of
+    /// the target `y` is where the physics predicts `p`: `y - p` (additive), `y / p - 1`
+    /// (multiplicative; the bounds swap where `p` is negative) or `ln(y / p)` (log). `(NaN,
+    /// NaN)` where that is undefined (`p` = 0, or a bound not positive in the log form).
+    pub fn delta_interval(self, lo: f64, hi: f64, p: f64) -> (f64, f64) {
+        const NONE: (f64, f64) = (f64::NAN, f64::NAN);
+        match self {
+            CorrectionForm::Additive => (lo - p, hi - p),
+            CorrectionForm::Multiplicative if p > 0.0 => (lo / p - 1.0, hi / p - 1.0),
+            CorrectionForm::Multiplicative if p < 0.0 => (hi / p - 1.0, lo / p - 1.0),
+            CorrectionForm::Log if p > 0.0 && lo > 0.0 => ((lo / p).ln(), (hi / p).ln()),
+            _ => NONE,
+        }
+    }
 }
 
 /// Settings of [`fit_process`] and [`compare_process`].

@@ -589,9 +589,12 @@ impl ProcessModel {
 
     /// The explanation of the correction ([`crate::explain::explain`]): with `table` (the
     /// table the model was fitted on, every row of its split present) the correction's
-    /// response to each feature it uses and predicted vs true `delta` (`y - f_p`, or `y / f_p
-    /// - 1` for a multiplicative correction) on the split's rows, with prediction intervals
-    /// of the correction at `level`; the Pareto front when the file stores it.
+    /// response to each feature it uses and predicted vs true `delta` (`y - f_p`,
+    /// `y / f_p - 1` for a multiplicative correction, `ln(y / f_p)` for the log form) on the
+    /// split's rows, with prediction intervals of the correction at `level` by `method`
+    /// (default: the file's,
+    /// [`ProcessModel::default_interval_method`]; none when the file stores no way to make
+    /// them); the Pareto front when the file stores it.
     ///
     /// # Errors
     /// [`HybridError::InvalidConfig`] when `table` has fewer rows than the split names, and
@@ -600,12 +603,12 @@ impl ProcessModel {
         &self,
         table: Option<&Table>,
         level: f64,
+        method: Option<IntervalMethod>,
     ) -> Result<crate::explain::Explanation, HybridError> {
         let pareto = self.correction.pareto.as_deref();
-        let unc = self.correction.uncertainty.as_ref();
         let model = &self.correction.model;
         let Some(table) = table else {
-            return crate::explain::explain(model, unc, pareto, None, "delta", level);
+            return crate::explain::explain(model, None, pareto, None, "delta", level);
         };
         let rows: Vec<usize> = self
             .split
@@ -633,7 +636,57 @@ impl ProcessModel {
             target: &delta,
             is_test: &is_test,
         };
-        crate::explain::explain(model, unc, pareto, Some(&data), "delta", level)
+        // the columns a response grid lacks (the physics' own) are held at their median
+        // on the training rows, as the grid holds the correction's other features
+        let phys = self.physics_program()?;
+        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        let mut fill = Vec::new();
+        for name in &c.names {
+            let col = table.require(name)?;
+            let m = crate::explain::median(self.split.train.iter().map(|&i| col[i]))
+                .ok_or_else(|| HybridError::NoData("no training rows to explain on".into()))?;
+            fill.push((name.clone(), m));
+        }
+        let chosen = method.or_else(|| self.default_interval_method(level));
+        let band = |t: &Table, l: f64| match chosen {
+            Some(m) => self.correction_intervals(t, l, m, &fill),
+            None => Ok(Vec::new()),
+        };
+        let band = chosen.map(|m| (&band as &crate::explain::Band<'_>, m));
+        crate::explain::explain(model, band, pareto, Some(&data), "delta", level)
+    }
+
+    /// Prediction intervals of the correction `delta` at `level` by `method` for the rows of
+    /// `features`: the hybrid's intervals ([`ProcessModel::intervals_with`]; a column
+    /// `features` lacks is held at its value in `fill`) taken back to `delta` through the
+    /// physics' prediction ([`CorrectionForm::delta_interval`]).
+    fn correction_intervals(
+        &self,
+        features: &Table,
+        level: f64,
+        method: IntervalMethod,
+        fill: &[(String, f64)],
+    ) -> Result<Vec<(f64, f64)>, HybridError> {
+        let mut names = features.names().to_vec();
+        let mut cols: Vec<Vec<f64>> = names
+            .iter()
+            .map(|n| features.require(n).map(<[f64]>::to_vec))
+            .collect::<Result<_, _>>()?;
+        for (name, v) in fill {
+            if !names.contains(name) {
+                names.push(name.clone());
+                cols.push(vec![*v; features.n_rows()]);
+            }
+        }
+        let full = Table::new(names, cols)?;
+        let iv = self.intervals_with(&full, level, method)?;
+        let phys = self.physics_program()?;
+        let physics = finite_physics(&full, &phys, &phys.inputs)?;
+        Ok(iv
+            .into_iter()
+            .zip(physics)
+            .map(|((lo, hi), p)| self.correction.kind.delta_interval(lo, hi, p))
+            .collect())
     }
 
     /// The whole hybrid as one expression over the columns.
