@@ -17,7 +17,9 @@ fn check_pair(y_true: &[f64], y_pred: &[f64]) -> Result<(), EvalError> {
 /// Coefficient of determination `1 - SS_res / SS_tot`, like `sklearn.metrics.r2_score`.
 ///
 /// When `y_true` is constant (`SS_tot = 0`) scikit-learn's `force_finite` rule applies:
-/// 1.0 for a perfect prediction, 0.0 otherwise.
+/// 1.0 for a perfect prediction, 0.0 otherwise. A constant `y_true` is recognised up to the
+/// rounding of its mean (`SS_tot` at most `n (8 eps max|y|)^2`): ten copies of 0.1 have a
+/// mean that is not exactly 0.1, and `SS_tot` of 1e-33 would otherwise give an R² of -1e27.
 ///
 /// # Errors
 /// Empty input, different lengths, or a non-finite value.
@@ -31,8 +33,10 @@ pub fn r2(y_true: &[f64], y_pred: &[f64]) -> Result<f64, EvalError> {
         .map(|(t, p)| (t - p) * (t - p))
         .sum();
     let ss_tot: f64 = y_true.iter().map(|t| (t - mean) * (t - mean)).sum();
-    if ss_tot == 0.0 {
-        return Ok(if ss_res == 0.0 { 1.0 } else { 0.0 });
+    let scale = y_true.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+    let rounding = n * (8.0 * f64::EPSILON * scale).powi(2);
+    if ss_tot <= rounding {
+        return Ok(if ss_res <= rounding { 1.0 } else { 0.0 });
     }
     Ok(1.0 - ss_res / ss_tot)
 }

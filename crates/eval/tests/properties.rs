@@ -209,6 +209,26 @@ fn bad_input_gives_typed_errors() {
     ));
 }
 
+// A constant target whose mean does not round back to its value (ten copies of 0.1) is
+// constant all the same: scikit-learn's 0.0 for an imperfect prediction, 1.0 for a perfect
+// one; before, SS_tot of about 1e-33 gave R^2 of about -1e27.
+#[test]
+fn a_constant_target_scores_like_scikit_learn_despite_rounding() -> R {
+    let y = [0.1; 10];
+    let mean = y.iter().sum::<f64>() / 10.0;
+    assert_ne!(mean, 0.1, "the case needs a mean that does not round back");
+    assert_eq!(r2(&y, &[0.2; 10])?, 0.0);
+    assert_eq!(r2(&y, &y)?, 1.0);
+    // a truly varying target just above rounding is still scored as usual
+    let v = [0.1, 0.1 + 1e-9, 0.1 - 1e-9, 0.1];
+    let shifted: Vec<f64> = v.iter().map(|x| x + 5e-10).collect();
+    let r = r2(&v, &shifted)?;
+    // SS_res = 4 (5e-10)^2 = 1e-18 against SS_tot = 2e-18; the differences of 1e-9 on 0.1
+    // carry about 1e-8 relative rounding
+    assert!((r - 0.5).abs() < 1e-6, "{r}");
+    Ok(())
+}
+
 #[test]
 fn constant_shift_gives_infinite_statistic_and_zero_p() -> R {
     let t = paired_t_test(&[2.0, 3.0, 4.0], &[1.0, 2.0, 3.0])?;

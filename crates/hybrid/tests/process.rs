@@ -351,6 +351,29 @@ fn compare_reports_every_model_and_the_folds() {
     assert_eq!(m.split, c.hybrid.split);
 }
 
+/// `pi` inside a longer name (`pipe`, `api`) is that name, not the constant: such columns
+/// are not refused.
+fn uses_pi_word_boundaries() -> bool {
+    let pipe: Vec<f64> = (0..40).map(|i| 1.0 + i as f64 * 0.1).collect();
+    let api: Vec<f64> = (0..40).map(|i| ((i * 7) % 11) as f64).collect();
+    let y: Vec<f64> = pipe
+        .iter()
+        .zip(&api)
+        .map(|(p, a)| 2.0 * p + 0.1 * a)
+        .collect();
+    let t = Table::new(
+        vec!["pipe".into(), "api".into(), "y".into()],
+        vec![pipe, api, y],
+    )
+    .unwrap();
+    let mut c = quick(ProcessConfig::new("y", "k*pipe"));
+    c.calibrate = vec!["k".into()];
+    match fit_process(&t, &c, &mut |_| {}) {
+        Ok(_) => true,
+        Err(e) => panic!("{e}"),
+    }
+}
+
 fn err(cfg: &ProcessConfig, t: &Table) -> String {
     let e = fit_process(t, cfg, &mut |_| {}).unwrap_err();
     let s = e.to_string();
@@ -402,6 +425,41 @@ fn bad_input_is_named() {
         s.contains("target") && s.contains("`Ra`") && s.contains("character 18"),
         "{s}"
     );
+    // the target as the group column
+    let mut c = cfg_roughness();
+    c.group = Some("Ra".into());
+    let s = err(&c, &t);
+    assert!(s.contains("group column `Ra` is the target"), "{s}");
+    // a column named `pi`: the physics would read the constant, the printed hybrid would be
+    // ambiguous; refused in the physics and as a feature, accepted when left out
+    let named_pi = Table::new(
+        t.names()
+            .iter()
+            .map(|n| if n == "d" { "pi".into() } else { n.clone() })
+            .collect(),
+        t.names()
+            .iter()
+            .map(|n| t.require(n).unwrap().to_vec())
+            .collect(),
+    )
+    .unwrap();
+    let mut c = cfg_roughness();
+    c.physics = "k*f^2/(32*r) + 0*pi".into();
+    c.exclude = vec!["pi".into()];
+    let s = err(&c, &named_pi);
+    assert!(
+        s.contains("`pi`") && s.contains("as the physics does here"),
+        "{s}"
+    );
+    let s = err(&cfg_roughness(), &named_pi);
+    assert!(s.contains("`pi`") && s.contains("--exclude pi"), "{s}");
+    let mut c = cfg_roughness();
+    c.exclude = vec!["pi".into()];
+    assert!(fit_process(&named_pi, &c, &mut |_| {}).is_ok());
+    assert!(uses_pi_word_boundaries());
+    // one fold: nothing to train on (0 skips the cross-validation)
+    let e = compare_process(&t, &cfg_roughness(), 1, &mut |_| {}).unwrap_err();
+    assert!(e.to_string().contains("at least 2 folds"), "{e}");
     // a missing target, an unknown feature
     let mut c = cfg_roughness();
     c.target = "Rz".into();

@@ -200,16 +200,25 @@ fn t_test(
 /// parameters are calibrated), `symbolic` (symbolic regression of the target on the
 /// features, no physics), `physics_forest` (calibrated physics + a random forest on the
 /// same `delta`), `hybrid`; then the same over `folds` folds (grouped when `cfg.group` is
-/// set; skipped when `folds < 2`), and paired t-tests of the hybrid on the test rows.
+/// set; skipped when `folds` is 0), and paired t-tests of the hybrid on the test rows. The
+/// Student-t interval of the folds' mean R² is cut at 1, which no R² exceeds (with few
+/// folds the symmetric interval can reach past it).
 ///
 /// # Errors
-/// As [`fit_process`](super::fit_process), and fewer rows (or groups) than folds.
+/// As [`fit_process`](super::fit_process), fewer rows (or groups) than folds, and
+/// `folds` of 1 ([`HybridError::InvalidConfig`]: one fold has nothing to train on; 0 skips
+/// the cross-validation).
 pub fn compare_process(
     table: &Table,
     cfg: &ProcessConfig,
     folds: usize,
     progress: &mut dyn FnMut(&ProcessProgress),
 ) -> Result<Comparison, HybridError> {
+    if folds == 1 {
+        return Err(HybridError::InvalidConfig(
+            "1 fold: cross-validation needs at least 2 folds (0 skips it)".into(),
+        ));
+    }
     let (split, kind) = process_split(table, cfg)?;
     let cv_splits: Vec<Split> = if folds >= 2 {
         match &cfg.group {
@@ -279,7 +288,7 @@ pub fn compare_process(
                 name: (*name).to_string(),
                 r2_mean: s.mean,
                 r2_sd: s.std,
-                r2_ci: [s.ci_t.lower, s.ci_t.upper],
+                r2_ci: [s.ci_t.lower.min(1.0), s.ci_t.upper.min(1.0)],
                 rmse_mean: rmses.iter().sum::<f64>() / rmses.len() as f64,
                 r2_folds: r2s.clone(),
             });

@@ -40,6 +40,12 @@ pub(crate) fn resolve(table: &Table, cfg: &ProcessConfig) -> Result<Resolved, Hy
     require_column(table, &cfg.target, "target")?;
     if let Some(g) = &cfg.group {
         require_column(table, g, "group column")?;
+        if *g == cfg.target {
+            return Err(HybridError::InvalidConfig(format!(
+                "the group column `{g}` is the target: a group keeps rows of one value (an \
+                 insert, a batch) on one side of every split; name that column"
+            )));
+        }
     }
     if let Some(e) = &cfg.extrapolate {
         require_column(table, e, "extrapolation column")?;
@@ -122,12 +128,47 @@ pub(crate) fn resolve(table: &Table, cfg: &ProcessConfig) -> Result<Resolved, Hy
         .collect();
     let compiled = compile_physics(&cfg.physics, &columns, &values)?;
     let features = feature_columns(table, cfg)?;
+    // `pi` in an equation is the constant, in the physics as in the printed hybrid (and in
+    // sympy): a column of that name would be read as 3.14159 in the one and be ambiguous in
+    // the other
+    if table.column(PI).is_some() {
+        let in_physics = uses_word(&cfg.physics, PI);
+        if in_physics || features.iter().any(|f| f == PI) {
+            return Err(HybridError::InvalidConfig(format!(
+                "a column is named `pi`, which equations read as the constant 3.14159{}: \
+                 rename the column{}",
+                if in_physics {
+                    " (as the physics does here)"
+                } else {
+                    ""
+                },
+                if in_physics {
+                    ""
+                } else {
+                    " or leave it out with --exclude pi"
+                }
+            )));
+        }
+    }
     Ok(Resolved {
         columns,
         calibrate: cfg.calibrate.clone(),
         initial,
         compiled,
         features,
+    })
+}
+
+/// The constant `pi`, the one name equations read as a number.
+const PI: &str = "pi";
+
+/// Whether `word` occurs in `text` as a name (not inside a longer name).
+fn uses_word(text: &str, word: &str) -> bool {
+    let is_name = |c: char| c.is_alphanumeric() || c == '_';
+    text.match_indices(word).any(|(i, _)| {
+        let before = text[..i].chars().next_back();
+        let after = text[i + word.len()..].chars().next();
+        !before.is_some_and(is_name) && !after.is_some_and(is_name)
     })
 }
 
