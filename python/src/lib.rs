@@ -162,15 +162,10 @@ fn with_overrides<T: serde::de::DeserializeOwned>(what: &str, overrides: &str) -
 
 /// A model's forms, as the CLI's `hxai sr --json` reports them, plus the model itself.
 fn model_summary(m: &Model) -> Value {
-    json!({
-        "equation": m.equation(),
-        "sympy": m.sympy(),
-        "latex": m.latex(),
-        "complexity": m.complexity(),
-        "features": m.features(),
-        "loss": m.train_mse,
-        "model": m.to_json(),
-    })
+    let mut v = serde_json::to_value(hxai_symreg::ModelForms::of(m)).unwrap_or_default();
+    v["loss"] = json!(m.train_mse);
+    v["model"] = json!(m.to_json());
+    v
 }
 
 /// An interval method by its name (`None`: the given default).

@@ -251,18 +251,18 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
 
     let m = &out.model;
     if args.json {
+        // the correction's forms (the model file's keys), its constants and its selection
+        let mut correction = serde_json::to_value(&m.correction.forms)?;
+        correction["template"] =
+            serde_json::to_value(m.correction.uncertainty.as_ref().map(|u| &u.template))?;
+        correction["params"] = match &m.correction.uncertainty {
+            Some(u) => serde_json::to_value(u)?["params"].take(),
+            None => serde_json::Value::Null,
+        };
+        correction["selection"] = serde_json::to_value(&m.correction.selection)?;
         let doc = serde_json::json!({
             "model": crate::safety::path_text(&args.out),
-            "correction": {
-                "equation": m.correction.equation,
-                "sympy": m.correction.sympy,
-                "latex": m.correction.latex,
-                "complexity": m.correction.complexity,
-                "features": m.correction.features,
-                "template": m.correction.uncertainty.as_ref().map(|u| &u.template),
-                "params": m.correction.uncertainty.as_ref().map(|u| serde_json::to_value(u).map(|mut v| v["params"].take())).transpose()?,
-                "selection": m.correction.selection,
-            },
+            "correction": correction,
             "stability": stability,
             "split": { "kind": m.split.kind, "train": m.split.train, "test": m.split.test },
             "training": m.training,
@@ -282,11 +282,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         #[allow(clippy::print_stdout)]
         {
             println!("wrote {}", args.out.display());
-            println!("delta = {}", m.correction.equation);
+            println!("delta = {}", m.correction.forms.equation);
             println!(
                 "complexity {}, features {}",
-                m.correction.complexity,
-                m.correction.features.join(", ")
+                m.correction.forms.complexity,
+                m.correction.forms.features.join(", ")
             );
             println!(
                 "windows: {} train ({} records), {} test ({} records); {} models in {:.1} s",

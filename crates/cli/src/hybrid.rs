@@ -470,8 +470,8 @@ fn print_model(m: &ProcessModel) {
     println!(
         "correction ({}, complexity {}): {}",
         m.correction.kind.name(),
-        m.correction.complexity,
-        m.correction.equation
+        m.correction.forms.complexity,
+        m.correction.forms.equation
     );
     println!("hybrid: {} = {}", m.target, m.hybrid.equation);
     if let Some(j) = &m.joint {

@@ -107,7 +107,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     if args.json {
         let doc = serde_json::json!({
             "out": crate::safety::path_text(&args.out),
-            "equation": model.correction.equation,
+            "equation": model.correction.forms.equation,
             "windows": pred.windows.iter().map(|w| serde_json::json!({
                 "window": w.window,
                 "start_s": rec.time_s.get(w.start).copied(),

@@ -92,20 +92,15 @@ pub struct Args {
 fn summary(m: &Model, data: &Table, y: &[f64]) -> Result<Value> {
     let scores = hxai_eval::score(y, &m.predict(data)?).ok();
     let unc = m.uncertainty(data, y)?;
-    Ok(json!({
-        "equation": m.equation(),
-        "sympy": m.sympy(),
-        "latex": m.latex(),
-        "complexity": m.complexity(),
-        "features": m.features(),
-        "r2": scores.map(|s| s.r2),
-        "rmse": scores.map(|s| s.rmse),
-        "template": unc.template,
-        "params": serde_json::to_value(&unc)?["params"].take(),
-        "dof": unc.dof,
-        "residual_variance": unc.residual_variance,
-        "reason": unc.reason,
-    }))
+    let mut v = serde_json::to_value(hxai_symreg::ModelForms::of(m))?;
+    v["r2"] = json!(scores.map(|s| s.r2));
+    v["rmse"] = json!(scores.map(|s| s.rmse));
+    v["params"] = serde_json::to_value(&unc)?["params"].take();
+    v["template"] = json!(unc.template);
+    v["dof"] = json!(unc.dof);
+    v["residual_variance"] = json!(unc.residual_variance);
+    v["reason"] = json!(unc.reason);
+    Ok(v)
 }
 
 /// Prints how a model was selected: its structure's share over resamples when measured, and

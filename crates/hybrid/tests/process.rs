@@ -224,9 +224,9 @@ fn hybrid_beats_the_physics_and_round_trips_through_json() {
         test.physics.rmse
     );
     assert!(
-        m.correction.features.contains(&"v".to_string()),
+        m.correction.forms.features.contains(&"v".to_string()),
         "{:?}",
-        m.correction.features
+        m.correction.forms.features
     );
     let back = ProcessModel::from_json(&m.to_json()).unwrap();
     assert_eq!(back, m);

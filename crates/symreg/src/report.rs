@@ -6,6 +6,50 @@ use crate::search::{Criterion, SearchConfig, SearchResult};
 use crate::stability::{Stability, structure_of};
 use serde::{Deserialize, Serialize};
 
+/// A model's readable forms, the keys every report of a model starts with (model files'
+/// `correction`, `hxai sr --json`'s `best` and front, `hxai fit --json`, the Python
+/// estimators' summaries): the equation as plain text (4 significant digits), as sympy
+/// text (full precision, reproduces `predict`) and as LaTeX, its complexity and the
+/// features it uses. Embedded in the larger shapes with `#[serde(flatten)]`, so the keys
+/// stay where they were.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ModelForms {
+    /// Plain-text equation.
+    pub equation: String,
+    /// sympy-parseable equation.
+    pub sympy: String,
+    /// LaTeX equation.
+    pub latex: String,
+    /// Complexity (features + operators).
+    pub complexity: usize,
+    /// Features the equation uses.
+    pub features: Vec<String>,
+}
+
+impl ModelForms {
+    /// The forms of `model`.
+    pub fn of(model: &crate::Model) -> Self {
+        Self {
+            equation: model.equation(),
+            sympy: model.sympy(),
+            latex: model.latex(),
+            complexity: model.complexity(),
+            features: model.features(),
+        }
+    }
+
+    /// The forms of the zero model (`0`, complexity 0, no features).
+    pub fn zero() -> Self {
+        Self {
+            equation: "0".into(),
+            sympy: "0".into(),
+            latex: "0".into(),
+            complexity: 0,
+            features: Vec::new(),
+        }
+    }
+}
+
 /// Most alternatives a [`SelectionReport`] lists.
 pub const MAX_ALTERNATIVES: usize = 3;
 

@@ -88,16 +88,10 @@ pub enum CorrectionKind {
 pub struct CorrectionInfo {
     /// Symbolic or zero.
     pub kind: CorrectionKind,
-    /// Plain-text equation.
-    pub equation: String,
-    /// sympy-parseable equation.
-    pub sympy: String,
-    /// LaTeX equation.
-    pub latex: String,
-    /// Complexity (features + operators).
-    pub complexity: usize,
-    /// Features the equation uses.
-    pub features: Vec<String>,
+    /// The equation's forms, complexity and features (JSON keys `equation`, `sympy`,
+    /// `latex`, `complexity`, `features` beside `kind`).
+    #[serde(flatten)]
+    pub forms: hxai_symreg::ModelForms,
     /// The serialised symbolic model (absent for the zero correction).
     pub model: Option<hxai_symreg::Model>,
     /// The model's constants as a template with named parameters, their standard errors
@@ -123,11 +117,7 @@ impl CorrectionInfo {
     pub fn symbolic(model: hxai_symreg::Model) -> Self {
         Self {
             kind: CorrectionKind::Symbolic,
-            equation: model.equation(),
-            sympy: model.sympy(),
-            latex: model.latex(),
-            complexity: model.complexity(),
-            features: model.features(),
+            forms: hxai_symreg::ModelForms::of(&model),
             model: Some(model),
             uncertainty: None,
             pareto: None,
@@ -139,11 +129,7 @@ impl CorrectionInfo {
     pub fn zero() -> Self {
         Self {
             kind: CorrectionKind::Zero,
-            equation: "0".into(),
-            sympy: "0".into(),
-            latex: "0".into(),
-            complexity: 0,
-            features: Vec::new(),
+            forms: hxai_symreg::ModelForms::zero(),
             model: None,
             uncertainty: None,
             pareto: None,

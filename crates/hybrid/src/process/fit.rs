@@ -320,11 +320,7 @@ fn model_of(
         },
         correction: CorrectionInfo {
             kind: cfg.correction,
-            equation: correction.equation(),
-            sympy: correction.sympy(),
-            latex: correction.latex(),
-            complexity: correction.complexity(),
-            features: correction.features(),
+            forms: hxai_symreg::ModelForms::of(&correction),
             candidates: res.features.clone(),
             model: correction,
             uncertainty: Some(correction_uncertainty),

@@ -42,18 +42,13 @@ pub struct PhysicsInfo {
 /// The correction part of the model file.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct CorrectionInfo {
-    /// `additive` (`y = f_p + delta`) or `multiplicative` (`y = f_p (1 + delta)`).
+    /// `additive` (`y = f_p + delta`), `multiplicative` (`y = f_p (1 + delta)`) or `log`
+    /// (`y = f_p exp(delta)`).
     pub kind: CorrectionForm,
-    /// Plain text, 4 significant digits.
-    pub equation: String,
-    /// sympy-parseable text, full precision.
-    pub sympy: String,
-    /// LaTeX, 4 significant digits.
-    pub latex: String,
-    /// Complexity (features + operators).
-    pub complexity: usize,
-    /// Features the correction uses.
-    pub features: Vec<String>,
+    /// The equation's forms, complexity and features (JSON keys `equation`, `sympy`,
+    /// `latex`, `complexity`, `features` beside `kind`).
+    #[serde(flatten)]
+    pub forms: hxai_symreg::ModelForms,
     /// Feature columns the search was offered.
     pub candidates: Vec<String>,
     /// The fitted symbolic model (what `predict` evaluates).

@@ -73,10 +73,10 @@ fn split_result(c: &Comparison, table: &Table, extrapolate: Option<&str>) -> Spl
             })
             .collect(),
         correction: EquationRow {
-            equation: m.correction.equation.clone(),
-            latex: m.correction.latex.clone(),
-            complexity: Some(m.correction.complexity),
-            features: m.correction.features.clone(),
+            equation: m.correction.forms.equation.clone(),
+            latex: m.correction.forms.latex.clone(),
+            complexity: Some(m.correction.forms.complexity),
+            features: m.correction.forms.features.clone(),
         },
         hybrid: EquationRow {
             equation: m.hybrid.equation.clone(),
