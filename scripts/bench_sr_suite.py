@@ -1,10 +1,18 @@
 #!/usr/bin/env python3
-"""The AI Feynman suite of `cargo xtask bench-sr --suite feynman` (issue 14).
+"""The benchmark suites of `cargo xtask bench-sr --suite NAME` (issues 14 and 24).
 
-Reads every equation of the AI Feynman database CSV (file name, number, formula, variables
-and their sampling ranges) and, for each equation and noise level:
+`--suite feynman` (the default) is the AI Feynman database (100 equations, `--db`, default
+`../shared/data/feynman100.csv` beside the repository), the suite the engine was tuned on.
+`--suite nguyen|keijzer|korns|livermore|strogatz` are held-out suites built from their published
+formulas (`scripts/suites/NAME.csv`, sources and simplifications in `scripts/suites/README.md`):
+an outside measure that nobody tunes on, so `--half odd|even` is refused for them.
+
+Reads every equation of the suite's CSV (AI Feynman database format: file name, number,
+formula, variables and their sampling ranges) and, for each equation and noise level:
 - draws n training rows (default 1,000) and 1,000 noise-free test rows uniformly from the
-  published ranges, seeded by (seed, Number), the same inputs at every noise level;
+  ranges, seeded by (seed, Number), the same inputs at every noise level; a variable is
+  positive for sympy when its range starts at 0 or above (a uniform draw is then > 0 almost
+  surely), real otherwise, so that sqrt(x**2) is not x on a range such as [-1, 1];
 - adds Gaussian noise of sd `noise * sqrt(mean(y**2))` (SRBench's rule: the target's RMS)
   to the training target;
 - runs each engine as a subprocess with a per-problem time limit (hxai's binary; pyoperon,
@@ -18,9 +26,14 @@ Every row is written as soon as its problem finishes (the results file is rewrit
 atomically), and `--resume` skips the (engine, problem, noise) rows already in the file, so
 an interrupted run continues where it stopped. Nothing depends on a problem's name or form:
 the harness only reads the CSV, and every engine sees inputs named x1..xk and a target y.
+Results go to `target/bench-sr/NAME/` unless `--out`/`--results` say otherwise.
 
-`--table FILE...` prints the markdown summary of results files: per engine, noise and half
-of the database (odd Number = development set, even = held out, and all).
+`--check-suite` runs no engine: it parses every truth of the suite and draws its data (1,000
+rows, noise 0 and 0.01), prints one line per problem, and exits non-zero if any fails.
+
+`--table FILE...` prints the markdown summary of results files: per engine, noise and (for
+the AI Feynman suite) half of the database (odd Number = development set, even = held out,
+and all).
 """
 import argparse, csv, json, math, os, re, signal, subprocess, sys, tempfile, time
 
@@ -28,7 +41,21 @@ import numpy as np
 
 TEST_ROWS = 1000
 FUNCTIONS = {"ln": "log", "arcsin": "asin", "arccos": "acos", "arctan": "atan"}
-KNOWN = {"exp", "sqrt", "log", "sin", "cos", "tan", "tanh", "asin", "acos", "atan", "pi"}
+KNOWN = {"exp", "sqrt", "log", "sin", "cos", "tan", "tanh", "asin", "acos", "atan", "pi",
+         "abs", "harmonic"}
+SUITES = ["feynman", "nguyen", "keijzer", "korns", "livermore", "strogatz"]
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def _harmonic(x):
+    """The harmonic number H(x) for real x >= 0 (sympy's harmonic continued to the reals,
+    digamma(x + 1) + Euler's gamma), element-wise: Keijzer-6's truth, which numpy lacks."""
+    import mpmath
+    return np.vectorize(lambda v: float(mpmath.harmonic(v)), otypes=[float])(x)
+
+
+# functions of a truth that numpy does not have, for sympy's lambdify
+NUMERIC = {"harmonic": _harmonic}
 
 
 # ---------------------------------------------------------------- the database
@@ -50,9 +77,16 @@ def load_db(path):
     return problems
 
 
-def symbols_for(k):
+def symbols_for(variables):
+    """Symbols x1..xk for the listed variables [(name, lo, hi)]: positive when the range
+    starts at 0 or above (uniform draws are then > 0 almost surely), real otherwise, so that
+    sympy does not simplify sqrt(x**2) to x where x can be negative. An int k gives k
+    positive symbols (all of the AI Feynman ranges start at 0 or above)."""
     import sympy as sp
-    return [sp.Symbol(f"x{i + 1}", positive=True) for i in range(k)]
+    if isinstance(variables, int):
+        variables = [(None, 1.0, 1.0)] * variables
+    return [sp.Symbol(f"x{i + 1}", positive=True) if lo >= 0
+            else sp.Symbol(f"x{i + 1}", real=True) for i, (_, lo, _) in enumerate(variables)]
 
 
 def parse_truth(problem):
@@ -71,11 +105,11 @@ def parse_truth(problem):
         return word
 
     text = re.sub(r"[A-Za-z_][A-Za-z_0-9]*", rename, problem["formula"])
-    syms = symbols_for(len(problem["vars"]))
+    syms = symbols_for(problem["vars"])
     local = {s.name: s for s in syms}
     local.update({"pi": sp.pi, "exp": sp.exp, "sqrt": sp.sqrt, "log": sp.log, "sin": sp.sin,
                   "cos": sp.cos, "tan": sp.tan, "tanh": sp.tanh, "asin": sp.asin, "acos": sp.acos,
-                  "atan": sp.atan})
+                  "atan": sp.atan, "abs": sp.Abs, "harmonic": sp.harmonic})
     return sp.sympify(text, locals=local), syms
 
 
@@ -83,7 +117,7 @@ def make_data(problem, truth, syms, rows, noise, seed):
     """Training inputs and target (with noise), test inputs and target (noise-free). The
     inputs depend only on (seed, Number); rows whose truth is not finite are redrawn."""
     import sympy as sp
-    f = sp.lambdify(syms, truth, "numpy")
+    f = sp.lambdify(syms, truth, [NUMERIC, "numpy"])
     rng = np.random.default_rng([seed, problem["number"]])
     lo = np.array([v[1] for v in problem["vars"]])
     hi = np.array([v[2] for v in problem["vars"]])
@@ -376,7 +410,7 @@ def run(a):
         todo = [(e, l, x, z) for z in noises for (e, l, x) in runs if (l, p["number"], z) not in done]
         if not todo:
             continue
-        base = {"suite": "feynman", "problem": p["name"], "number": p["number"],
+        base = {"suite": a.suite, "problem": p["name"], "number": p["number"],
                 "half": "odd" if p["number"] % 2 else "even", "inputs": len(p["vars"]),
                 "rows": a.rows, "seed": a.seed}
         try:
@@ -414,6 +448,32 @@ def run(a):
                 rows.append(row)
                 atomic_write(a.results, rows)
                 print(json.dumps(row), flush=True)
+
+
+def check_suite(a):
+    """For every problem of the suite: parse the truth and draw the training and test data
+    (noise 0 and 0.01); one line per problem. Returns the number of problems that failed."""
+    problems = selected(a, load_db(a.db))
+    failed = 0
+    for p in problems:
+        try:
+            truth, syms = parse_truth(p)
+            ys = []
+            for z in (0.0, 0.01):
+                Xtr, ytr, Xte, yte = make_data(p, truth, syms, 1000, z, a.seed)
+                if not (np.all(np.isfinite(ytr)) and np.all(np.isfinite(yte))):
+                    raise ValueError(f"non-finite target at noise {z:g}")
+                ys.append(np.concatenate([ytr, yte]) if z == 0 else ytr)
+            print(f"ok    {p['number']:3d} {p['name']:<22} {len(p['vars'])} inputs  "
+                  f"y in [{ys[0].min():.6g}, {ys[0].max():.6g}] (train and test)  "
+                  f"noisy train y in [{ys[1].min():.6g}, {ys[1].max():.6g}]  {truth}", flush=True)
+        except Exception as e:
+            failed += 1
+            print(f"FAIL  {p['number']:3d} {p['name']:<22} {len(p['vars'])} inputs  "
+                  f"{type(e).__name__}: {e}", flush=True)
+    print(f"{a.suite}: {len(problems) - failed} of {len(problems)} problems parse and sample"
+          f" ({a.db})")
+    return failed
 
 
 def rescore(a):
@@ -528,7 +588,10 @@ def table(paths, with_pairs=False):
     engines = list(dict.fromkeys(r["engine"] for r in rows))
     for eng in engines:
         for z in sorted({r["noise"] for r in rows if r["engine"] == eng}):
-            for half in ("odd", "even", "all"):
+            # odd/even halves only mean something for the AI Feynman suite (tuned on odd)
+            feynman = any(r.get("suite", "feynman") == "feynman" for r in rows
+                          if r["engine"] == eng and r["noise"] == z)
+            for half in ("odd", "even", "all") if feynman else ("all",):
                 rs = [r for r in rows if r["engine"] == eng and r["noise"] == z
                       and (half == "all" or r["half"] == half)]
                 if not rs:
@@ -553,22 +616,25 @@ def table(paths, with_pairs=False):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--suite", default="feynman", choices=["feynman"])
+    ap.add_argument("--suite", default="feynman", choices=SUITES,
+                    help="feynman (default, the tuning suite) or a held-out suite of "
+                         "scripts/suites/")
     ap.add_argument("--hxai", help="the hxai binary")
-    ap.add_argument("--db", default="../shared/data/feynman100.csv",
-                    help="the AI Feynman database CSV (default: beside the repository)")
+    ap.add_argument("--db", help="the suite's CSV (default: feynman "
+                    "../shared/data/feynman100.csv beside the repository, another suite "
+                    "scripts/suites/NAME.csv)")
     ap.add_argument("--engines", default="hxai", help="comma list of hxai,pyoperon,gplearn,feyn")
     ap.add_argument("--noise", default="0,0.01")
     ap.add_argument("--rows", type=int, default=1000)
     ap.add_argument("--seed", type=int, default=42)
     ap.add_argument("--half", choices=["odd", "even", "all"], default="all",
-                    help="odd Numbers are the development set, even ones held out")
+                    help="feynman only: odd Numbers are the development set, even ones held out")
     ap.add_argument("--every", type=int, default=1,
                     help="a fixed subset: Numbers 1, 1+K, 1+2K, ... (K=5: 20 problems, 10 odd)")
     ap.add_argument("--only", help="comma list of Numbers")
-    ap.add_argument("--out", default="target/bench-sr/feynman", help="directory of the data files")
-    ap.add_argument("--results", default="target/bench-sr/feynman/results.jsonl",
-                    help="results file, one JSON row per (engine, problem, noise)")
+    ap.add_argument("--out", help="directory of the data files (default target/bench-sr/SUITE)")
+    ap.add_argument("--results", help="results file, one JSON row per (engine, problem, noise) "
+                    "(default target/bench-sr/SUITE/results.jsonl)")
     ap.add_argument("--resume", action="store_true", help="continue an existing results file")
     ap.add_argument("--jobs", type=int, default=1, help="problems at once (only 1 is supported)")
     ap.add_argument("--threads", type=int, default=2, help="hxai's --threads")
@@ -588,6 +654,9 @@ def main():
                     help="with --table: also, for each two engines, the problems only one solves")
     ap.add_argument("--rescore", nargs="+", metavar="RESULTS",
                     help="check again, with --sympy-timeout seconds, the rows whose check ran out of time")
+    ap.add_argument("--check-suite", action="store_true",
+                    help="run no engine: parse every truth of the suite and draw its data, one "
+                         "line per problem; exit status 1 if any fails")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     ap.add_argument("--train", help=argparse.SUPPRESS)
     ap.add_argument("--settings", help=argparse.SUPPRESS)
@@ -596,8 +665,20 @@ def main():
         return worker(a)
     if a.table:
         return table(a.table, a.pairs)
+    if a.db is None:
+        a.db = ("../shared/data/feynman100.csv" if a.suite == "feynman"
+                else os.path.join(ROOT, "scripts", "suites", f"{a.suite}.csv"))
+    if a.out is None:
+        a.out = f"target/bench-sr/{a.suite}"
+    if a.results is None:
+        a.results = f"target/bench-sr/{a.suite}/results.jsonl"
+    if a.suite != "feynman" and a.half != "all":
+        raise SystemExit(f"--half {a.half}: the {a.suite} suite is held out, never tuned on, "
+                         "so it has no development half (--half is for --suite feynman)")
     if a.rescore:
         return rescore(a)
+    if a.check_suite:
+        sys.exit(1 if check_suite(a) else 0)
     if a.jobs != 1:
         raise SystemExit("--jobs: only 1 is supported (hxai itself uses 2 threads)")
     if "hxai" in a.engines.split(",") and not a.hxai:

@@ -10,7 +10,10 @@
 //! `--suite feynman` runs `scripts/bench_sr_suite.py` instead: all 100 equations of the AI
 //! Feynman database (`--db`, default `../shared/data/feynman100.csv` beside the repository),
 //! each engine a subprocess with a time limit, results written row by row (`--resume`); see
-//! that script's `--help` and docs/benchmarks.md.
+//! that script's `--help` and docs/benchmarks.md. `--suite nguyen|keijzer|korns|livermore|strogatz`
+//! runs the same script on a held-out suite built from its published formulas (issue 24; the
+//! script's default `--db` is `scripts/suites/NAME.csv`, sources in `scripts/suites/README.md`,
+//! results in `target/bench-sr/NAME/`); `--check-suite` only parses and samples a suite.
 //!
 //! Options (all forwarded to the script): `--engines hxai,feyn,pyoperon,gplearn`,
 //! `--problems N` (first N of 16 equations), `--only I.6.2,I.10.7`, `--noise 0,0.01`,
@@ -37,6 +40,18 @@ fn ensure_venv(root: &Path) -> Result<PathBuf> {
     Ok(py)
 }
 
+/// The value of `--suite NAME` (or `--suite=NAME`) among the arguments, if the option is there
+/// (empty when `--suite` ends the line: the script then says what is missing).
+fn suite_name(args: &[String]) -> Option<String> {
+    args.iter().enumerate().find_map(|(i, a)| {
+        if a == "--suite" {
+            Some(args.get(i + 1).cloned().unwrap_or_default())
+        } else {
+            a.strip_prefix("--suite=").map(str::to_string)
+        }
+    })
+}
+
 /// Runs the benchmark with the given command-line arguments.
 pub fn run(args: &[String]) -> Result<()> {
     let root = root();
@@ -54,10 +69,8 @@ pub fn run(args: &[String]) -> Result<()> {
         .map(PathBuf::from)
         .unwrap_or_else(|_| root.join("target"));
     let hxai = target.join("debug").join("hxai");
-    let suite = args
-        .iter()
-        .any(|a| a == "--suite" || a.starts_with("--suite="));
-    let script = if suite {
+    let suite = suite_name(args);
+    let script = if suite.is_some() {
         "bench_sr_suite.py"
     } else {
         "bench_sr_run.py"
@@ -67,7 +80,10 @@ pub fn run(args: &[String]) -> Result<()> {
         .arg(root.join("scripts").join(script))
         .arg("--hxai")
         .arg(&hxai);
-    if suite && !args.iter().any(|a| a == "--db" || a.starts_with("--db=")) {
+    // the AI Feynman database lives beside the repository; the held-out suites' CSVs are the
+    // script's own default (scripts/suites/NAME.csv)
+    let db_given = args.iter().any(|a| a == "--db" || a.starts_with("--db="));
+    if suite.as_deref() == Some("feynman") && !db_given {
         let db = root
             .join("..")
             .join("shared")
