@@ -323,6 +323,34 @@ fn extrapolation_and_grouped_splits() {
     let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
     assert!(!m.correction.candidates.contains(&"batch".to_string()));
     assert_eq!(m.group.as_deref(), Some("batch"));
+    // ties at the cut stay on one side: a column of ten values, each on ten rows, and a
+    // fraction (0.25) that cuts through the third-highest value's rows; with a fraction
+    // that would take every row's value, the tie goes to training
+    let mut cfg = cfg_roughness();
+    cfg.extrapolate = Some("batch10".into());
+    cfg.test_fraction = 0.25;
+    let steps: Vec<f64> = (0..100).map(|i| (i % 10) as f64).collect();
+    let mut t2 = t.clone();
+    t2.push_column("batch10".into(), steps.clone()).unwrap();
+    let (s, _) = process_split(&t2, &cfg).unwrap();
+    let lowest_test = s
+        .test
+        .iter()
+        .map(|&i| steps[i])
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        s.train.iter().all(|&i| steps[i] < lowest_test),
+        "a tie straddles the cut"
+    );
+    assert_eq!(s.test.len(), 30, "the tied rows of 7 join the test side");
+    // a constant column has no high end to test on
+    t2.push_column("flat".into(), vec![2.0; 100]).unwrap();
+    cfg.extrapolate = Some("flat".into());
+    let e = process_split(&t2, &cfg).unwrap_err().to_string();
+    assert!(
+        e.contains("`flat`") && e.contains("no value above the others"),
+        "{e}"
+    );
 }
 
 /// `compare` scores the five models on one split and summarises k folds.

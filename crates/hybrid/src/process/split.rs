@@ -69,17 +69,41 @@ pub fn process_split(table: &Table, cfg: &ProcessConfig) -> Result<(Split, Strin
             mb.total_cmp(&ma).then(sums[a].2.cmp(&sums[b].2))
         });
         let need = (cfg.test_fraction * n as f64).ceil() as usize;
+        let mean = |u: usize| sums[u].0 / sums[u].1 as f64;
         let mut in_test = vec![false; sums.len()];
         let mut taken = 0;
-        for u in order {
+        for &u in &order {
             if taken >= need {
                 break;
             }
             in_test[u] = true;
             taken += sums[u].1;
         }
+        // equal values stay on one side, so every test value lies above every training
+        // value: the tie at the cut goes to the test side, or to the training side when the
+        // test side would then hold every row
+        if let Some(cut) = (0..sums.len())
+            .filter(|&u| in_test[u])
+            .map(mean)
+            .min_by(f64::total_cmp)
+        {
+            let tied = |u: usize| mean(u) == cut;
+            let all_tied_in = (0..sums.len()).all(|u| in_test[u] || tied(u));
+            for (u, t) in in_test.iter_mut().enumerate() {
+                if tied(u) {
+                    *t = !all_tied_in;
+                }
+            }
+        }
         let (test, train): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| in_test[unit_of[i]]);
-        if train.is_empty() || test.is_empty() {
+        if test.is_empty() {
+            return Err(HybridError::InvalidConfig(format!(
+                "the extrapolation split on `{e}` has no value above the others to test on \
+                 (the column is constant, or its top value takes more than the training side \
+                 can spare): choose another column"
+            )));
+        }
+        if train.is_empty() {
             return Err(HybridError::InvalidConfig(format!(
                 "the extrapolation split on `{e}` leaves one side empty: change --test-fraction"
             )));
