@@ -513,6 +513,7 @@ fn fit(a: FitArgs) -> Result<()> {
     let mut model = fit_process(&loaded.table, &cfg, &mut on_progress(&b))?;
     b.finish_and_clear();
     crate::safety::warn(&loaded.warnings);
+    crate::safety::warn(&model.warnings);
     if let Some(runs) = a.stability {
         let sb = if a.common.json {
             ProgressBar::hidden()
@@ -573,6 +574,7 @@ fn predict(a: PredictArgs) -> Result<()> {
     let model = load_model(&a.model)?;
     let loaded = read(&a.data, model.group.as_deref())?;
     let p = model.predict(&loaded.table)?;
+    crate::safety::warn(&model.range_warnings(&loaded.table));
     let bounds = match a.interval {
         Some(level) => Some(model.intervals_with(
             &loaded.table,
@@ -624,6 +626,7 @@ fn evaluate(a: EvaluateArgs) -> Result<()> {
             method_of(asked, &model, a.interval),
         )?,
     };
+    crate::safety::warn(&e.warnings);
     if a.json {
         println!("{}", serde_json::to_string_pretty(&e)?);
     } else {
@@ -700,6 +703,7 @@ fn compare(a: CompareArgs) -> Result<()> {
     let (cfg, loaded, b) = prepare(&a.common)?;
     let mut c = compare_process(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
     b.finish_and_clear();
+    crate::safety::warn(&c.hybrid.warnings);
     if a.interval_method.is_some() || a.interval != hxai_hybrid::DEFAULT_INTERVAL {
         let method = method_of(a.interval_method, &c.hybrid, a.interval);
         c.interval = c.hybrid.test_interval(&loaded.table, a.interval, method)?;

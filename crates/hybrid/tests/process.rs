@@ -292,6 +292,70 @@ fn explain_draws_the_intervals_of_the_chosen_method() {
     }
 }
 
+/// The traps of a table fit give warnings, stored with the model: a column that copies the
+/// target, test rows that repeat training rows, a physics that changes sign under a
+/// multiplicative correction, an extrapolation column of few values; and rows outside the
+/// training ranges at prediction. A clean fit gives none.
+#[test]
+fn the_traps_of_a_table_fit_are_warned_about() {
+    let clean = roughness(120, 1e-3, 8);
+    let m = fit_process(&clean, &cfg_roughness(), &mut |_| {}).unwrap();
+    assert!(m.warnings.is_empty(), "{:?}", m.warnings);
+    let has = |w: &[String], needle: &str| w.iter().any(|x| x.contains(needle));
+    // a copy of the target, and the first 30 rows repeated (some copies land in the test)
+    let ra = clean.require("Ra").unwrap().to_vec();
+    let rows: Vec<usize> = (0..120).chain(0..30).collect();
+    let mut t = clean.select_rows(&rows).unwrap();
+    let copy: Vec<f64> = rows.iter().map(|&i| 2.0 * ra[i] + 1.0).collect();
+    t.push_column("copy".into(), copy).unwrap();
+    let m = fit_process(&t, &cfg_roughness(), &mut |_| {}).unwrap();
+    assert!(
+        has(&m.warnings, "`copy` nearly copies the target"),
+        "{:?}",
+        m.warnings
+    );
+    assert!(
+        has(&m.warnings, "repeat a training row"),
+        "{:?}",
+        m.warnings
+    );
+    // a physics that changes sign, multiplicative
+    let mut c = cfg_roughness();
+    c.physics = "k*f^2/(32*r) - 0.002".into();
+    c.correction = CorrectionForm::Multiplicative;
+    let m = fit_process(&clean, &c, &mut |_| {}).unwrap();
+    assert!(has(&m.warnings, "changes sign"), "{:?}", m.warnings);
+    // an extrapolation column of three values
+    let mut t = clean.clone();
+    t.push_column("level".into(), (0..120).map(|i| (i % 3) as f64).collect())
+        .unwrap();
+    let mut c = cfg_roughness();
+    c.extrapolate = Some("level".into());
+    c.exclude = vec!["level".into()];
+    let m = fit_process(&t, &c, &mut |_| {}).unwrap();
+    assert!(
+        has(&m.warnings, "has 3 distinct values"),
+        "{:?}",
+        m.warnings
+    );
+    // predictions outside the training ranges (feed in µm instead of mm)
+    let m = fit_process(&clean, &cfg_roughness(), &mut |_| {}).unwrap();
+    let inside = clean.select_rows(&m.split.train).unwrap();
+    assert!(m.range_warnings(&inside).is_empty());
+    let f: Vec<f64> = clean
+        .require("f")
+        .unwrap()
+        .iter()
+        .map(|v| v * 1000.0)
+        .collect();
+    let mut far = clean.clone();
+    far.remove_column("f").unwrap();
+    far.push_column("f".into(), f).unwrap();
+    let w = m.range_warnings(&far);
+    assert!(has(&w, "`f` outside its training range"), "{w:?}");
+    assert!(m.evaluate(&far).unwrap().warnings == w);
+}
+
 /// Extrapolation puts the top share of the column in the test set; groups never straddle.
 #[test]
 fn extrapolation_and_grouped_splits() {

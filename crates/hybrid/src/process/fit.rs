@@ -173,6 +173,7 @@ pub(crate) fn fit_inner(
     };
     let mut model = model_of(job, &res, &ft, &found.pareto, fitted, y_all, &y_train)?;
     model.correction.selection = Some(selection);
+    model.warnings = super::traps::fit_warnings(table, cfg, &res.features, split, y_all, &physics);
     model.scores = scores_of(&model, table, y_all, split)?;
     if cfg.conformal_folds > 0 {
         model.conformal = Some(super::conformal::calibrate(
@@ -340,6 +341,7 @@ fn model_of(
         joint,
         stability: None,
         conformal: None,
+        warnings: Vec::new(),
         scores: ScoresInfo {
             train: PairScores {
                 physics: zero_metrics(),

@@ -50,6 +50,7 @@ mod model;
 mod physics;
 mod resolve;
 mod split;
+pub mod traps;
 
 pub use crate::conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, ResidualScale};
 pub use compare::{Comparison, CvScore, ModelScore, TTestScore, compare_process};

@@ -159,6 +159,10 @@ pub struct ProcessModel {
     /// `conformal_folds` 0, where the delta method is the only one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub conformal: Option<ConformalInfo>,
+    /// The fit's warnings: input that gave numbers that may not mean what they seem to
+    /// ([`super::traps`]); absent when there were none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// Per-row predictions of a process hybrid.
@@ -189,6 +193,9 @@ pub struct ProcessEvaluation {
     /// uncertainty of the hybrid).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub interval: Option<IntervalReport>,
+    /// Rows outside the training ranges, per column ([`ProcessModel::range_warnings`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 pub(crate) fn columns_of<'a>(
@@ -446,7 +453,9 @@ impl ProcessModel {
             None => {
                 let y = columns_of(table, std::slice::from_ref(&self.target), "target")?[0];
                 let p = self.predict(table)?;
-                evaluation(y, &p.physics, &p.hybrid)
+                let mut ev = evaluation(y, &p.physics, &p.hybrid)?;
+                ev.warnings = self.range_warnings(table);
+                Ok(ev)
             }
         }
     }
@@ -467,7 +476,24 @@ impl ProcessModel {
         let mut ev = evaluation(y, &p.physics, &p.hybrid)?;
         let iv = self.intervals_with(table, level, method)?;
         ev.interval = Some(IntervalReport::of(method, level, y, &iv));
+        ev.warnings = self.range_warnings(table);
         Ok(ev)
+    }
+
+    /// Warnings for rows of `table` outside the ranges of the training rows, per input
+    /// column of the hybrid ([`super::traps::range_warnings`]; the ranges are those the
+    /// conformal calibration stores, so a file fitted without it gives none).
+    pub fn range_warnings(&self, table: &Table) -> Vec<String> {
+        let Some(w) = self.conformal.as_ref().and_then(|c| c.widening.as_ref()) else {
+            return Vec::new();
+        };
+        let ranges: Vec<(String, f64, f64)> = w
+            .columns
+            .iter()
+            .zip(w.lo.iter().zip(&w.hi))
+            .map(|(n, (lo, hi))| (n.clone(), *lo, *hi))
+            .collect();
+        super::traps::range_warnings(table, &ranges)
     }
 
     /// The coverage and median width of the intervals by `method` at `level` on the test
@@ -760,5 +786,6 @@ pub(crate) fn evaluation(
         hybrid: hs,
         n_samples: y.len(),
         interval: None,
+        warnings: Vec::new(),
     })
 }

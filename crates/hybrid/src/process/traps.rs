@@ -1,0 +1,184 @@
+//! Warnings for the traps of a table fit: input that is legal and gives numbers, but numbers
+//! that do not mean what they seem to (issue 27 item 4). They are stored with the model
+//! (`ProcessModel::warnings`, JSON `warnings`) and printed by the command line on stderr;
+//! nothing here refuses anything.
+//!
+//! - a feature column that nearly copies the target (the correction can then reproduce the
+//!   target without any physics, and the scores say nothing about the process);
+//! - test rows that repeat training rows (the test scores then measure recall, not
+//!   prediction);
+//! - a physics that changes sign on the training rows under a multiplicative correction
+//!   (`y / f_p - 1` has a pole where `f_p` crosses zero);
+//! - an extrapolation column with few distinct values (the split's "high end" is then one
+//!   or two settings, not a range);
+//! - at prediction, rows outside the training ranges ([`range_warnings`]).
+
+use super::{CorrectionForm, ProcessConfig};
+use crate::error::num;
+use hxai_eval::Split;
+use hxai_symreg::Table;
+use std::collections::HashSet;
+
+/// A feature whose correlation with the target is at least this (in absolute value) on the
+/// training rows is taken for a copy of it.
+pub const COPY_CORRELATION: f64 = 0.9999;
+
+/// An extrapolation column with fewer distinct values than this gets a warning.
+pub const MIN_EXTRAPOLATION_VALUES: usize = 5;
+
+/// The warnings of a fit on `split` of `table` (see the module docs): `features` are the
+/// correction's candidate columns, `physics` the physics' prediction on every row.
+pub(crate) fn fit_warnings(
+    table: &Table,
+    cfg: &ProcessConfig,
+    features: &[String],
+    split: &Split,
+    y: &[f64],
+    physics: &[f64],
+) -> Vec<String> {
+    let mut out = Vec::new();
+    let train_y: Vec<f64> = split.train.iter().map(|&i| y[i]).collect();
+    for name in features {
+        let Some(col) = table.column(name) else {
+            continue;
+        };
+        let x: Vec<f64> = split.train.iter().map(|&i| col[i]).collect();
+        if let Some(r) = correlation(&x, &train_y)
+            && r.abs() >= COPY_CORRELATION
+        {
+            out.push(format!(
+                "column `{name}` nearly copies the target `{}` (correlation {} on the training \
+                 rows): the correction can reproduce the target from it alone; leave it out with \
+                 --exclude {name} unless it is a measurement of the process",
+                cfg.target,
+                num(r)
+            ));
+        }
+    }
+    if !split.test.is_empty() {
+        let mut used: Vec<&[f64]> = features.iter().filter_map(|n| table.column(n)).collect();
+        used.push(y);
+        let key = |i: usize| -> Vec<u64> { used.iter().map(|c| (c[i] + 0.0).to_bits()).collect() };
+        let train: HashSet<Vec<u64>> = split.train.iter().map(|&i| key(i)).collect();
+        let shared = split
+            .test
+            .iter()
+            .filter(|&&i| train.contains(&key(i)))
+            .count();
+        if shared > 0 {
+            out.push(format!(
+                "{shared} of the {} test rows repeat a training row (every feature and the \
+                 target equal): the test scores overstate how well the model predicts new rows",
+                split.test.len()
+            ));
+        }
+    }
+    if cfg.correction == CorrectionForm::Multiplicative {
+        let (neg, pos) = split.train.iter().fold((0, 0), |(n, p), &i| {
+            (
+                n + usize::from(physics[i] < 0.0),
+                p + usize::from(physics[i] > 0.0),
+            )
+        });
+        if neg > 0 && pos > 0 {
+            out.push(format!(
+                "the physics changes sign on the training rows ({neg} negative, {pos} positive): \
+                 the multiplicative correction y / f_p - 1 has a pole where f_p crosses zero; \
+                 use --correction additive"
+            ));
+        }
+    }
+    if let Some(e) = &cfg.extrapolate
+        && let Some(col) = table.column(e)
+    {
+        let distinct: HashSet<u64> = col.iter().map(|v| (v + 0.0).to_bits()).collect();
+        if distinct.len() < MIN_EXTRAPOLATION_VALUES {
+            out.push(format!(
+                "the extrapolation column `{e}` has {} distinct values: its test side is one or \
+                 a few settings, not a range beyond the training rows",
+                distinct.len()
+            ));
+        }
+    }
+    out
+}
+
+/// Pearson's correlation of two equally long series (`None` when either is constant).
+fn correlation(x: &[f64], y: &[f64]) -> Option<f64> {
+    let n = x.len() as f64;
+    if x.len() < 2 || x.len() != y.len() {
+        return None;
+    }
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+    for (a, b) in x.iter().zip(y) {
+        sxy += (a - mx) * (b - my);
+        sxx += (a - mx) * (a - mx);
+        syy += (b - my) * (b - my);
+    }
+    let r = sxy / (sxx * syy).sqrt();
+    r.is_finite().then_some(r)
+}
+
+/// Warnings for rows of `table` outside the ranges the model was fitted on: per column of
+/// `ranges` (name, smallest and largest training value), how many rows lie outside and how
+/// far the farthest does, in widths of the training range. A prediction there is an
+/// extrapolation of the correction (and a value in other units, mm for µm, looks like one).
+pub fn range_warnings(table: &Table, ranges: &[(String, f64, f64)]) -> Vec<String> {
+    let mut out = Vec::new();
+    for (name, lo, hi) in ranges {
+        let Some(col) = table.column(name) else {
+            continue;
+        };
+        let width = hi - lo;
+        let mut outside = 0;
+        let mut farthest: f64 = 0.0;
+        for &v in col {
+            let d = (lo - v).max(v - hi);
+            if d > 0.0 {
+                outside += 1;
+                farthest = farthest.max(d);
+            }
+        }
+        if outside > 0 {
+            let how_far = if width > 0.0 {
+                format!("{} widths of the training range", num(farthest / width))
+            } else {
+                format!("{} from its one training value", num(farthest))
+            };
+            out.push(format!(
+                "{outside} of {} rows have `{name}` outside its training range [{}, {}], the \
+                 farthest by {how_far}: the correction is extrapolated there (are the units \
+                 those of the training table?)",
+                col.len(),
+                num(*lo),
+                num(*hi)
+            ));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn correlation_of_a_copy_a_line_and_a_constant() {
+        let x = [1.0, 2.0, 3.0, 4.0];
+        assert!((correlation(&x, &[2.0, 4.0, 6.0, 8.0]).unwrap() - 1.0).abs() < 1e-15);
+        assert!((correlation(&x, &[-1.0, -2.0, -3.0, -4.0]).unwrap() + 1.0).abs() < 1e-15);
+        assert!(correlation(&x, &[5.0; 4]).is_none());
+    }
+
+    #[test]
+    fn rows_outside_the_ranges_are_counted_with_the_farthest() {
+        let t = Table::new(vec!["a".into()], vec![vec![0.5, 1.0, 3.0, -1.0]]).unwrap();
+        let w = range_warnings(&t, &[("a".into(), 0.0, 1.0)]);
+        assert_eq!(w.len(), 1);
+        assert!(w[0].starts_with("2 of 4 rows have `a` outside"), "{}", w[0]);
+        assert!(w[0].contains("by 2 widths"), "{}", w[0]);
+        assert!(range_warnings(&t, &[("a".into(), -1.0, 3.0)]).is_empty());
+    }
+}
