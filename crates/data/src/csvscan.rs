@@ -81,8 +81,10 @@ fn scan(text: &str) -> Scan {
     }
 }
 
-/// Checks the header for repeated names and every row for its cell count.
-pub(crate) fn check(path: &Path, bytes: &[u8]) -> Result<(), DataError> {
+/// Checks the header for repeated names and every row for its cell count; returns the
+/// header's names as RFC 4180 reads them (`"a""b"` is `a"b`, which polars would give as
+/// `a""b`).
+pub(crate) fn check(path: &Path, bytes: &[u8]) -> Result<Vec<String>, DataError> {
     let text = match std::str::from_utf8(bytes) {
         Ok(t) => t,
         Err(e) => {
@@ -116,7 +118,7 @@ pub(crate) fn check(path: &Path, bytes: &[u8]) -> Result<(), DataError> {
             });
         }
     }
-    Ok(())
+    Ok(s.header)
 }
 
 #[cfg(test)]
@@ -128,6 +130,9 @@ mod tests {
     fn quotes_and_line_ends() {
         let s = scan("a,\"b,c\",d\r\n1,\"x\"\"y\",3\n\n4,5,6\n");
         assert_eq!(s.header, vec!["a", "b,c", "d"]);
+        // a doubled quote inside a quoted name is one quote (RFC 4180)
+        let q = scan("\"a\"\"b\",c\n1,2\n");
+        assert_eq!(q.header, vec!["a\"b", "c"]);
         assert_eq!(s.counts, vec![(1, 3), (2, 3)]);
     }
 

@@ -81,13 +81,15 @@ pub(crate) fn read(path: &Path, format: Format) -> Result<RawTable, DataError> {
             header_only: false,
         });
     }
+    // the CSV header as RFC 4180 reads it (polars leaves doubled quotes doubled)
+    let mut header: Option<Vec<String>> = None;
     let df = match format {
         Format::Csv => {
             // The header and the row lengths are checked here, not by polars: polars
             // renames a repeated column (`y_duplicated_0`) and reports ragged rows in
             // its own terms.
             let text = std::fs::read(path).map_err(|e| DataError::io(path, e))?;
-            crate::csvscan::check(path, &text)?;
+            header = Some(crate::csvscan::check(path, &text)?);
             CsvReadOptions::default()
                 .with_has_header(true)
                 // Read every cell as text: our own parser reports row and column of bad cells.
@@ -135,8 +137,11 @@ pub(crate) fn read(path: &Path, format: Format) -> Result<RawTable, DataError> {
     let mut names = Vec::with_capacity(df.width());
     let mut columns = Vec::with_capacity(df.width());
     let mut integer_type = Vec::with_capacity(df.width());
-    for col in df.columns() {
-        let name = col.name().to_string();
+    for (i, col) in df.columns().iter().enumerate() {
+        let name = match &header {
+            Some(h) if h.len() == df.width() && !h[i].is_empty() => h[i].clone(),
+            _ => col.name().to_string(),
+        };
         if names.contains(&name) {
             return Err(DataError::DuplicateColumn {
                 path: path.to_path_buf(),
