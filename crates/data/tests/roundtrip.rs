@@ -151,10 +151,11 @@ fn mixed_table_round_trips() -> Result<(), Box<dyn std::error::Error>> {
 /// A quoted CSV header is read as RFC 4180 says: a doubled quote inside quotes is one
 /// quote (`"a""b"` is the column `a"b`), and a quoted comma stays in the name.
 #[test]
-fn quoted_header_names_follow_rfc_4180() {
+fn quoted_header_names_follow_rfc_4180() -> Result<(), Box<dyn std::error::Error>> {
     let dir = scratch();
     let path = dir.join("q.csv");
-    std::fs::write(&path, "\"a\"\"b\",\"c,d\",e\n1,2,3\n4,5,6\n").unwrap();
-    let t = read_mixed_table(&path).unwrap();
+    std::fs::write(&path, "\"a\"\"b\",\"c,d\",e\n1,2,3\n4,5,6\n")?;
+    let t = read_mixed_table(&path)?;
     assert_eq!(t.names, ["a\"b", "c,d", "e"]);
+    Ok(())
 }
