@@ -512,13 +512,13 @@ def rescore(a):
 # ---------------------------------------------------------------- tables
 
 def load_rows(paths):
-    """The rows of results files; a problem run again (same engine and noise) in a later row
-    or file is ignored, the first row counts. Returns (rows, number ignored)."""
+    """The rows of results files; a problem run again (same suite, engine and noise) in a
+    later row or file is ignored, the first row counts. Returns (rows, number ignored)."""
     rows, seen, dup = [], set(), 0
     for path in paths:
         with open(path) as fh:
             for r in (json.loads(l) for l in fh if l.strip()):
-                key = (r["engine"], r["number"], r["noise"])
+                key = (r.get("suite", "feynman"), r["engine"], r["number"], r["noise"])
                 if key in seen:
                     dup += 1
                     continue
@@ -582,17 +582,17 @@ def table(paths, with_pairs=False):
     rows, dup = load_rows(paths)
     if dup:
         print(f"({dup} repeated rows ignored: the first of each counts)")
-    print("| engine | noise | half | problems | failed | exact | exact % | sympy timeouts | "
+    print("| suite | engine | noise | half | problems | failed | exact | exact % | sympy timeouts | "
           "R^2 > 0.999 | R^2 > 0.99 | median s | total s | median CPU s | total CPU s | load |")
-    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
-    engines = list(dict.fromkeys(r["engine"] for r in rows))
-    for eng in engines:
-        for z in sorted({r["noise"] for r in rows if r["engine"] == eng}):
+    print("|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+    suite_of = lambda r: r.get("suite", "feynman")
+    groups = list(dict.fromkeys((suite_of(r), r["engine"]) for r in rows))
+    for sname, eng in groups:
+        mine = [r for r in rows if suite_of(r) == sname and r["engine"] == eng]
+        for z in sorted({r["noise"] for r in mine}):
             # odd/even halves only mean something for the AI Feynman suite (tuned on odd)
-            feynman = any(r.get("suite", "feynman") == "feynman" for r in rows
-                          if r["engine"] == eng and r["noise"] == z)
-            for half in ("odd", "even", "all") if feynman else ("all",):
-                rs = [r for r in rows if r["engine"] == eng and r["noise"] == z
+            for half in ("odd", "even", "all") if sname == "feynman" else ("all",):
+                rs = [r for r in mine if r["noise"] == z
                       and (half == "all" or r["half"] == half)]
                 if not rs:
                     continue
@@ -607,7 +607,7 @@ def table(paths, with_pairs=False):
                 cpu = f"{np.median(cpus):.1f} | {sum(cpus):.0f}" if cpus else "- | -"
                 loads = [r["load1"] for r in rs if "load1" in r]
                 load = f"{min(loads):.1f}-{max(loads):.1f}" if loads else ""
-                print(f"| {eng} | {z:g} | {half} | {n} | {fail} | {ex} | {100 * ex / n:.0f} | {to} | "
+                print(f"| {sname} | {eng} | {z:g} | {half} | {n} | {fail} | {ex} | {100 * ex / n:.0f} | {to} | "
                       f"{r3} | {r2_} | {np.median(secs):.1f} | {sum(secs):.0f} | {cpu} | {load} |")
     if with_pairs:
         print()
