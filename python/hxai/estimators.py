@@ -346,8 +346,10 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     Fitted attributes: ``physics_parameters_`` {name: value}, ``physics_standard_errors_``,
     ``hybrid_equation_`` (4 digits), ``hybrid_sympy_`` (full precision), ``hybrid_latex_``,
     the correction's ``equation_``, ``sympy_``, ``latex_``, ``complexity_``, ``features_``,
-    and ``model_json_`` (the model file of ``hxai hybrid fit``, readable by
-    ``hxai hybrid predict``). ``predict_parts(X)`` returns physics, correction and hybrid.
+    ``warnings_`` (the fit's warnings, each also raised as a ``UserWarning``: a column that
+    nearly copies the target, a physics that changes sign under a multiplicative
+    correction; docs/bad-input.md) and ``model_json_`` (the model file of ``hxai hybrid
+    fit``, readable by ``hxai hybrid predict``). ``predict_parts(X)`` returns physics, correction and hybrid.
 
     ``n_jobs`` is the number of threads of the fit, as on :class:`SymbolicRegressor`
     (``None``, the default: every core; ``-1``: every core in a pool of its own; a positive
@@ -463,6 +465,11 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.complexity_ = corr["complexity"]
         self.features_ = list(corr["features"])
         self.selection_ = corr.get("selection")
+        # the traps of the fit (a column copying the target, a physics that changes sign
+        # under a multiplicative correction, ...): kept and raised as UserWarning
+        self.warnings_ = list(doc.get("warnings", []))
+        for w in self.warnings_:
+            warnings.warn(w, UserWarning, stacklevel=2)
         return self
 
     def _parts(self, X):

@@ -229,6 +229,20 @@ def test_hybrid_errors_name_the_problem(roughness):
         HybridRegressor("feed_mm*(", **FAST).fit(X, y)
 
 
+def test_hybrid_warns_about_a_column_that_copies_the_target(roughness):
+    """The fit's traps come back as ``warnings_`` and as UserWarnings (docs/bad-input.md);
+    a clean fit has none."""
+    X, y = roughness
+    law = "k*1000*feed_mm^2/(32*nose_radius_mm)"
+    clean = HybridRegressor(law, calibrate=["k"], exclude=["tool"], **FAST).fit(X, y)
+    assert clean.warnings_ == []
+    with pytest.warns(UserWarning, match="nearly copies the target"):
+        m = HybridRegressor(law, calibrate=["k"], exclude=["tool"], **FAST).fit(
+            X.assign(copy=2.0 * y + 1.0), y
+        )
+    assert any("`copy`" in w for w in m.warnings_)
+
+
 def test_gil_released_during_search(quadratic):
     # While a search runs in another thread, this thread keeps running Python: with the
     # GIL held for the whole search it would get no turn until the search ended (1-2 ticks).
