@@ -166,8 +166,9 @@ fn check_data(model: &Model, data: &ExplainData<'_>) -> Result<(), HybridError> 
 /// data never go): when the whole table fails, each row is tried alone, and only when every
 /// row fails is the first error returned (a model that cannot serve the method at all).
 fn intervals(band: &Band<'_>, table: &Table, level: f64) -> Result<Vec<(f64, f64)>, HybridError> {
-    let Err(whole) = band(table, level) else {
-        return band(table, level);
+    let whole = match band(table, level) {
+        Ok(v) => return Ok(v),
+        Err(e) => e,
     };
     let mut out = Vec::with_capacity(table.n_rows());
     let mut any = false;
