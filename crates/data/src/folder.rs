@@ -238,8 +238,9 @@ fn check_record_id(id: &str) -> Result<(), DataError> {
 /// `manifest.csv` listing them. The `file` field of the given entries is ignored and set
 /// to the name written; the returned folder holds the entries as written.
 ///
-/// Creates `dir` if needed. Every record is validated before anything is written, and
-/// record ids must be unique and usable as file names (letters, digits, `-`, `_`, `.`).
+/// Creates `dir` if needed. Every record is validated, and every target path checked not to
+/// be a folder, before anything is written; record ids must be unique and usable as file
+/// names (letters, digits, `-`, `_`, `.`).
 pub fn write_folder(
     dir: &Path,
     items: &[(ManifestEntry, Record)],
@@ -260,9 +261,21 @@ pub fn write_folder(
         seen.insert(&entry.record, i + 1);
         let file = format!("{}.{}", entry.record, format.extension());
         rec.check(&dir.join(&file))?;
+        // every target is checked before the first is written: a record whose file name
+        // is taken by a folder would otherwise fail halfway, old and new records mixed
+        if dir.join(&file).is_dir() {
+            return Err(DataError::IsADirectory {
+                path: dir.join(&file),
+            });
+        }
         let mut e = entry.clone();
         e.file = file;
         entries.push(e);
+    }
+    if dir.join(MANIFEST_FILE).is_dir() {
+        return Err(DataError::IsADirectory {
+            path: dir.join(MANIFEST_FILE),
+        });
     }
     std::fs::create_dir_all(dir).map_err(|e| DataError::io(dir, e))?;
     for (entry, (_, rec)) in entries.iter().zip(items) {

@@ -359,6 +359,32 @@ fn writing_a_duplicate_record_id_is_refused() -> TestResult {
     Ok(())
 }
 
+/// A record whose file name is taken by a folder is refused before anything is written
+/// (`simulate --force` into an old folder used to fail halfway, old and new records mixed):
+/// the other records and the manifest stay as they were.
+#[test]
+fn a_target_taken_by_a_folder_is_refused_before_any_write() -> TestResult {
+    let dir = scratch("taken")?;
+    write_text(&dir.join("a.csv"), "old")?;
+    std::fs::create_dir_all(dir.join("b.csv"))?;
+    let items = vec![
+        (entry("a", ""), good_record(5)),
+        (entry("b", ""), good_record(5)),
+    ];
+    let err = error_of(write_folder(&dir, &items, Format::Csv))?;
+    assert!(matches!(err, DataError::IsADirectory { .. }), "{err:?}");
+    assert!(err.to_string().contains("b.csv"), "{err}");
+    assert_eq!(std::fs::read_to_string(dir.join("a.csv"))?, "old");
+    assert!(!dir.join("manifest.csv").exists());
+    // and a manifest taken by a folder, the same
+    let dir = scratch("taken-manifest")?;
+    std::fs::create_dir_all(dir.join("manifest.csv"))?;
+    let err = error_of(write_folder(&dir, &items[..1], Format::Csv))?;
+    assert!(err.to_string().contains("manifest.csv"), "{err}");
+    assert!(!dir.join("a.csv").exists());
+    Ok(())
+}
+
 #[test]
 fn missing_manifest_and_missing_folder() -> TestResult {
     let dir = scratch("manifest")?;
