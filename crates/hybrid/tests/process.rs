@@ -549,6 +549,28 @@ fn bad_input_is_named() {
     c.exclude = vec!["pi".into()];
     assert!(fit_process(&named_pi, &c, &mut |_| {}).is_ok());
     assert!(uses_pi_word_boundaries());
+    // one test row: no test scores (a warning says why), and neither evaluate nor compare
+    // scores it
+    let mut c = cfg_roughness();
+    c.test_fraction = 0.01;
+    let m = fit_process(&t, &c, &mut |_| {}).unwrap();
+    assert_eq!(m.split.test.len(), 1);
+    assert!(m.scores.test.is_none());
+    assert!(
+        m.warnings.iter().any(|w| w.contains("1 row")),
+        "{:?}",
+        m.warnings
+    );
+    let one = t.select_rows(&m.split.test).unwrap();
+    let e = m.evaluate(&one).unwrap_err().to_string();
+    assert!(e.contains("at least 2"), "{e}");
+    let e = compare_process(&t, &c, 0, &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("at least") && e.contains("--test-fraction"),
+        "{e}"
+    );
     // one fold: nothing to train on (0 skips the cross-validation)
     let e = compare_process(&t, &cfg_roughness(), 1, &mut |_| {}).unwrap_err();
     assert!(e.to_string().contains("at least 2 folds"), "{e}");

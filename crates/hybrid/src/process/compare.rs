@@ -205,7 +205,8 @@ fn t_test(
 /// folds the symmetric interval can reach past it).
 ///
 /// # Errors
-/// As [`fit_process`](super::fit_process), fewer rows (or groups) than folds, and
+/// As [`fit_process`](super::fit_process), fewer rows (or groups) than folds, a test split
+/// of fewer than 2 rows, and
 /// `folds` of 1 ([`HybridError::InvalidConfig`]: one fold has nothing to train on; 0 skips
 /// the cross-validation).
 pub fn compare_process(
@@ -220,6 +221,13 @@ pub fn compare_process(
         ));
     }
     let (split, kind) = process_split(table, cfg)?;
+    if split.test.len() < 2 {
+        return Err(HybridError::InvalidConfig(format!(
+            "the test split has {} row(s): the comparison's R² and paired t-tests need at least \
+             2; raise --test-fraction",
+            split.test.len()
+        )));
+    }
     let cv_splits: Vec<Split> = if folds >= 2 {
         match &cfg.group {
             Some(g) => {

@@ -775,6 +775,12 @@ pub(crate) fn evaluation(
     physics: &[f64],
     hybrid: &[f64],
 ) -> Result<ProcessEvaluation, HybridError> {
+    if y.len() < 2 {
+        return Err(HybridError::InvalidConfig(format!(
+            "{} row(s) to evaluate on: R² and the paired t-test need at least 2",
+            y.len()
+        )));
+    }
     let ps = hxai_eval::score(y, physics)?;
     let hs = hxai_eval::score(y, hybrid)?;
     let se_p = hxai_eval::squared_errors(y, physics)?;

@@ -11,6 +11,7 @@
 //!   (`y / f_p - 1` has a pole where `f_p` crosses zero);
 //! - an extrapolation column with few distinct values (the split's "high end" is then one
 //!   or two settings, not a range);
+//! - a test split of one row (no test scores are given: R² needs two);
 //! - at prediction, rows outside the training ranges ([`range_warnings`]).
 
 use super::{CorrectionForm, ProcessConfig};
@@ -37,6 +38,13 @@ pub(crate) fn fit_warnings(
     physics: &[f64],
 ) -> Vec<String> {
     let mut out = Vec::new();
+    if split.test.len() == 1 {
+        out.push(
+            "the test split has 1 row: R² needs at least 2, so the model has no test scores; \
+             raise --test-fraction"
+                .to_string(),
+        );
+    }
     let train_y: Vec<f64> = split.train.iter().map(|&i| y[i]).collect();
     for name in features {
         let Some(col) = table.column(name) else {
