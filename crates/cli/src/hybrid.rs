@@ -288,14 +288,24 @@ impl Loaded {
                     row + 1
                 );
             }
+            // true/false (a Parquet boolean, or such words in a CSV) is not text to a reader
+            let flags = cells.iter().all(|v| {
+                let t = v.trim();
+                t.is_empty() || t.eq_ignore_ascii_case("true") || t.eq_ignore_ascii_case("false")
+            });
+            let holds = if flags {
+                "true/false values (write them as 1/0 to use them)"
+            } else {
+                "text"
+            };
             if named.contains(n) {
                 bail!(
-                    "column `{n}` of {} holds text, not numbers: hxai hybrid needs numeric columns (text is allowed only in the --group column)",
+                    "column `{n}` of {} holds {holds}, not numbers: hxai hybrid needs numeric columns (text is allowed only in the --group column)",
                     c.data.display()
                 );
             }
             left_out.push(format!(
-                "column `{n}` holds text and is left out of the correction's features (--exclude {n} to say so)"
+                "column `{n}` holds {holds} and is left out of the correction's features (--exclude {n} to say so)"
             ));
         }
         self.warnings.extend(left_out);

@@ -524,6 +524,24 @@ fn an_empty_cell_in_a_used_column_is_named() -> TestResult {
     let o = hxai(&fit_args(s(&scratch_table("gap-text", 60)?.1), s(&model)))?;
     ok(&o, "fit with a text column");
     assert!(common::stderr(&o).contains("column `batch` holds text"));
+    // a column of true/false is named as such, not as text
+    let (_, flags) = scratch_table("flags", 60)?;
+    let with_flag: Vec<String> = std::fs::read_to_string(&flags)?
+        .lines()
+        .enumerate()
+        .map(|(i, l)| match i {
+            0 => format!("{l},coolant"),
+            _ => format!("{l},{}", if i % 2 == 0 { "true" } else { "FALSE" }),
+        })
+        .collect();
+    std::fs::write(&flags, with_flag.join("\n") + "\n")?;
+    let o = hxai(&fit_args(s(&flags), s(&model)))?;
+    ok(&o, "fit with a true/false column");
+    assert!(
+        common::stderr(&o).contains("column `coolant` holds true/false values"),
+        "{}",
+        common::stderr(&o)
+    );
     std::fs::remove_dir_all(&dir)?;
     Ok(())
 }
