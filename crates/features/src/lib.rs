@@ -82,22 +82,22 @@ pub enum FeatureError {
     /// The record is shorter than one period of the command frequency
     /// ([`check_covers_one_period`]).
     #[error(
-        "the record has {len} samples but one period of {command_hz} Hz at {fs} Hz needs at least {need}"
+        "the record has {len} samples but one period of {frequency_hz} Hz at {fs} Hz needs at least {need}"
     )]
     ShorterThanOnePeriod {
         /// Samples given.
         len: usize,
-        /// Samples one period needs (`ceil(fs / command_hz) + 1`).
+        /// Samples one period needs (`ceil(fs / frequency_hz) + 1`).
         need: usize,
         /// Command frequency, Hz.
-        command_hz: f64,
+        frequency_hz: f64,
         /// Sampling rate, Hz.
         fs: f64,
     },
 }
 
 /// Refuses a record of `len` samples at `fs` Hz that does not cover one period of
-/// `command_hz` (`ceil(fs / command_hz) + 1` samples): the least a feature of the commanded
+/// `frequency_hz` (`ceil(fs / frequency_hz) + 1` samples): the least a feature of the commanded
 /// motion can describe. [`extract`] itself accepts any record of two or more samples (a
 /// window of a long record is the caller's choice); front ends that take a whole record from
 /// a user call this first.
@@ -105,14 +105,14 @@ pub enum FeatureError {
 /// # Errors
 /// [`FeatureError::InvalidSampleRate`], [`FeatureError::InvalidCommandFrequency`],
 /// [`FeatureError::ShorterThanOnePeriod`].
-pub fn check_covers_one_period(len: usize, fs: f64, command_hz: f64) -> Result<(), FeatureError> {
+pub fn check_covers_one_period(len: usize, fs: f64, frequency_hz: f64) -> Result<(), FeatureError> {
     if !(fs.is_finite() && fs > 0.0) {
         return Err(FeatureError::InvalidSampleRate(fs));
     }
-    if !(command_hz.is_finite() && command_hz > 0.0) {
-        return Err(FeatureError::InvalidCommandFrequency(command_hz));
+    if !(frequency_hz.is_finite() && frequency_hz > 0.0) {
+        return Err(FeatureError::InvalidCommandFrequency(frequency_hz));
     }
-    let need = (fs / command_hz).ceil() + 1.0;
+    let need = (fs / frequency_hz).ceil() + 1.0;
     if (len as f64) < need {
         return Err(FeatureError::ShorterThanOnePeriod {
             len,
@@ -122,7 +122,7 @@ pub fn check_covers_one_period(len: usize, fs: f64, command_hz: f64) -> Result<(
             } else {
                 need as usize
             },
-            command_hz,
+            frequency_hz,
             fs,
         });
     }
@@ -170,7 +170,7 @@ pub struct FeatureConfig {
 pub struct Features {
     /// f1, command frequency: the programmed sinusoid's frequency, Hz (an input, copied).
     #[serde(rename = "f1")]
-    pub command_hz: f64,
+    pub frequency_hz: f64,
     /// f2, mean absolute value `(1/N) sum |a_i|`, u.
     #[serde(rename = "f2")]
     pub mav: f64,
@@ -238,7 +238,7 @@ impl Features {
     /// The values in the order of [`Features::NAMES`], as an array.
     pub fn to_array(&self) -> [f64; 12] {
         [
-            self.command_hz,
+            self.frequency_hz,
             self.mav,
             self.variance,
             self.peak,
@@ -262,7 +262,7 @@ impl Features {
             .try_into()
             .map_err(|_| FeatureError::WrongLength(v.len()))?;
         Ok(Self {
-            command_hz: a[0],
+            frequency_hz: a[0],
             mav: a[1],
             variance: a[2],
             peak: a[3],
@@ -282,11 +282,11 @@ impl Features {
 ///
 /// # Errors
 /// See [`extract_with`].
-pub fn extract(accel: &[f64], fs: f64, command_hz: f64) -> Result<Features, FeatureError> {
-    extract_with(accel, fs, command_hz, &FeatureConfig::default())
+pub fn extract(accel: &[f64], fs: f64, frequency_hz: f64) -> Result<Features, FeatureError> {
+    extract_with(accel, fs, frequency_hz, &FeatureConfig::default())
 }
 
-/// The twelve features of `accel` (sampled at `fs` Hz, commanded at `command_hz` Hz) with the
+/// The twelve features of `accel` (sampled at `fs` Hz, commanded at `frequency_hz` Hz) with the
 /// settings `cfg`.
 ///
 /// # Errors
@@ -296,7 +296,7 @@ pub fn extract(accel: &[f64], fs: f64, command_hz: f64) -> Result<Features, Feat
 pub fn extract_with(
     accel: &[f64],
     fs: f64,
-    command_hz: f64,
+    frequency_hz: f64,
     cfg: &FeatureConfig,
 ) -> Result<Features, FeatureError> {
     let n = accel.len();
@@ -309,8 +309,8 @@ pub fn extract_with(
     if !(fs.is_finite() && fs > 0.0) {
         return Err(FeatureError::InvalidSampleRate(fs));
     }
-    if !(command_hz.is_finite() && command_hz > 0.0) {
-        return Err(FeatureError::InvalidCommandFrequency(command_hz));
+    if !(frequency_hz.is_finite() && frequency_hz > 0.0) {
+        return Err(FeatureError::InvalidCommandFrequency(frequency_hz));
     }
     let nf = n as f64;
     let mut sum = 0.0;
@@ -335,7 +335,7 @@ pub fn extract_with(
     let wcfg = welch_config(cfg);
     let psd = welch(accel, fs, &wcfg)?;
     assemble(
-        command_hz,
+        frequency_hz,
         &Sums {
             n: nf,
             sum_abs,
@@ -373,7 +373,7 @@ pub(crate) struct Sums {
 /// The features from the sums and the PSD ([`extract_with`] and [`SlidingFeatures`] share
 /// it, so both define each feature once).
 pub(crate) fn assemble(
-    command_hz: f64,
+    frequency_hz: f64,
     sums: &Sums,
     psd: &hxai_signal::Psd,
     cfg: &FeatureConfig,
@@ -409,7 +409,7 @@ pub(crate) fn assemble(
         / total_power;
 
     Ok(Features {
-        command_hz,
+        frequency_hz,
         mav,
         variance: var_u,
         peak,

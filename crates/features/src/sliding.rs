@@ -28,7 +28,7 @@ use crate::{FeatureConfig, FeatureError, Features, Sums, assemble, welch_config}
 #[derive(Debug)]
 pub struct SlidingFeatures {
     n: usize,
-    command_hz: f64,
+    frequency_hz: f64,
     cfg: FeatureConfig,
     ring: Vec<f64>,
     head: usize,
@@ -45,7 +45,7 @@ pub struct SlidingFeatures {
 }
 
 impl SlidingFeatures {
-    /// Features of windows of `n` samples at rate `fs`, `f1 = command_hz`.
+    /// Features of windows of `n` samples at rate `fs`, `f1 = frequency_hz`.
     ///
     /// # Errors
     /// [`FeatureError::TooShort`] for `n < 2`, [`FeatureError::InvalidSampleRate`],
@@ -54,7 +54,7 @@ impl SlidingFeatures {
     pub fn new(
         n: usize,
         fs: f64,
-        command_hz: f64,
+        frequency_hz: f64,
         cfg: &FeatureConfig,
     ) -> Result<Self, FeatureError> {
         if n < 2 {
@@ -63,13 +63,13 @@ impl SlidingFeatures {
         if !(fs.is_finite() && fs > 0.0) {
             return Err(FeatureError::InvalidSampleRate(fs));
         }
-        if !(command_hz.is_finite() && command_hz > 0.0) {
-            return Err(FeatureError::InvalidCommandFrequency(command_hz));
+        if !(frequency_hz.is_finite() && frequency_hz > 0.0) {
+            return Err(FeatureError::InvalidCommandFrequency(frequency_hz));
         }
         let welch = SlidingWelch::new(&welch_config(cfg), fs, n)?;
         Ok(Self {
             n,
-            command_hz,
+            frequency_hz,
             cfg: cfg.clone(),
             ring: vec![0.0; n],
             head: 0,
@@ -150,7 +150,7 @@ impl SlidingFeatures {
             m4: s4 - 4.0 * mu * s3 + 6.0 * mu * mu * s2 - 3.0 * nf * mu.powi(4),
             peak: self.peaks.front().map_or(0.0, |&(_, v)| v),
         };
-        assemble(self.command_hz, &sums, &psd, &self.cfg).map(Some)
+        assemble(self.frequency_hz, &sums, &psd, &self.cfg).map(Some)
     }
 
     /// Forgets every sample, as if new.

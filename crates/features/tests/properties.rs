@@ -48,7 +48,7 @@ proptest! {
         prop_assert!(rel(g.shape, f.shape) < tol);
         prop_assert!(rel(g.mean_freq_hz, f.mean_freq_hz) < tol);
         prop_assert!((g.skewness - c.signum() * f.skewness).abs() <= tol * (1.0 + f.skewness.abs()));
-        prop_assert_eq!(g.command_hz, 20.0);
+        prop_assert_eq!(g.frequency_hz, 20.0);
     }
 
     // Orderings that hold for every signal: peak >= RMS >= MAV >= 0 (so crest, impulse and

@@ -48,7 +48,7 @@ fn features_match_numpy_scipy() -> TestResult {
 
         let f = extract(&a, fs, cmd)?;
         for (name, got, key) in [
-            ("f1", f.command_hz, "f1"),
+            ("f1", f.frequency_hz, "f1"),
             ("f2", f.mav, "f2"),
             ("f3", f.variance, "f3"),
             ("f4", f.peak, "f4"),

@@ -232,7 +232,7 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
         windows: &[WindowPrediction],
         n: usize,
         fs: f64,
-        freq_hz: f64,
+        frequency_hz: f64,
     ) -> Vec<f64> {
         let mut out = vec![0.0; n];
         for (k, w) in windows.iter().enumerate() {
@@ -248,7 +248,7 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
             let piece = self.decomposition.reconstruct(
                 &w.corrected,
                 fs,
-                freq_hz,
+                frequency_hz,
                 from as i64 - w.start as i64,
                 to - from,
             );

@@ -69,13 +69,13 @@ pub enum HybridError {
     /// the band-pass removes the motion and the model would answer near zero.
     #[error(
         "record `{record}`: the commanded frequency {} Hz lies outside the physics model's pass band {}..{} Hz",
-        num(*freq_hz), num(*low_hz), num(*high_hz)
+        num(*frequency_hz), num(*low_hz), num(*high_hz)
     )]
     FrequencyOutOfBand {
         /// Record id.
         record: String,
         /// Its commanded frequency.
-        freq_hz: f64,
+        frequency_hz: f64,
         /// Lower band edge.
         low_hz: f64,
         /// Upper band edge.

@@ -29,8 +29,8 @@ impl PhysicsModel for DoubleIntegration {
 pub struct SineDecomposition;
 
 impl Decomposition for SineDecomposition {
-    fn decompose(&self, x: &[f64], fs: f64, freq_hz: f64) -> Result<Latent, HybridError> {
-        let f = hxai_signal::fit_sine(x, fs, freq_hz)?;
+    fn decompose(&self, x: &[f64], fs: f64, frequency_hz: f64) -> Result<Latent, HybridError> {
+        let f = hxai_signal::fit_sine(x, fs, frequency_hz)?;
         Ok(Latent {
             amplitude: f.amplitude,
             phase: f.phase,
@@ -55,7 +55,12 @@ impl FeatureMap for AccelFeatures {
             .collect()
     }
 
-    fn features(&self, window: &[f64], fs: f64, freq_hz: f64) -> Result<Vec<f64>, HybridError> {
-        Ok(hxai_features::extract_with(window, fs, freq_hz, &self.config)?.to_vec())
+    fn features(
+        &self,
+        window: &[f64],
+        fs: f64,
+        frequency_hz: f64,
+    ) -> Result<Vec<f64>, HybridError> {
+        Ok(hxai_features::extract_with(window, fs, frequency_hz, &self.config)?.to_vec())
     }
 }

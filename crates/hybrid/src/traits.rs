@@ -30,8 +30,8 @@ pub struct Latent {
 impl Latent {
     /// The sine `offset + amplitude * sin(2 pi f (start + i) / fs + phase)` for
     /// `i = 0..n`; `start` may be negative or beyond the decomposed piece to extend it.
-    pub fn sine(&self, fs: f64, freq_hz: f64, start: i64, n: usize) -> Vec<f64> {
-        let w = 2.0 * PI * freq_hz / fs;
+    pub fn sine(&self, fs: f64, frequency_hz: f64, start: i64, n: usize) -> Vec<f64> {
+        let w = 2.0 * PI * frequency_hz / fs;
         (0..n)
             .map(|i| {
                 let k = (start + i as i64) as f64;
@@ -44,19 +44,19 @@ impl Latent {
 /// The latent-variable decomposition (LVD, eq. 8-11): a signal to its latent variables at
 /// a known frequency, and back.
 pub trait Decomposition {
-    /// Latent variables of `x` (sampled at `fs`) at frequency `freq_hz`.
-    fn decompose(&self, x: &[f64], fs: f64, freq_hz: f64) -> Result<Latent, HybridError>;
+    /// Latent variables of `x` (sampled at `fs`) at frequency `frequency_hz`.
+    fn decompose(&self, x: &[f64], fs: f64, frequency_hz: f64) -> Result<Latent, HybridError>;
     /// Reconstruction: `n` samples of the signal the latent variables describe, starting
     /// `start` samples after the first sample of the decomposed piece.
     fn reconstruct(
         &self,
         latent: &Latent,
         fs: f64,
-        freq_hz: f64,
+        frequency_hz: f64,
         start: i64,
         n: usize,
     ) -> Vec<f64> {
-        latent.sine(fs, freq_hz, start, n)
+        latent.sine(fs, frequency_hz, start, n)
     }
 }
 
@@ -64,8 +64,9 @@ pub trait Decomposition {
 pub trait FeatureMap {
     /// Names of the features, in the order [`FeatureMap::features`] returns them.
     fn names(&self) -> Vec<String>;
-    /// Features of one window sampled at `fs`, of a record commanded at `freq_hz`.
-    fn features(&self, window: &[f64], fs: f64, freq_hz: f64) -> Result<Vec<f64>, HybridError>;
+    /// Features of one window sampled at `fs`, of a record commanded at `frequency_hz`.
+    fn features(&self, window: &[f64], fs: f64, frequency_hz: f64)
+    -> Result<Vec<f64>, HybridError>;
 }
 
 /// The correction model `f_xai`: features to the correction `delta_hat` of the latent

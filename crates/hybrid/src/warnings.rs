@@ -69,12 +69,12 @@ pub fn input_warnings(r: &RecordInput<'_>, window: &WindowConfig) -> Vec<Warning
 
 /// Warnings about a whole record used without windows (`hxai displacement`, `hxai
 /// features`): a sampling rate outside [`PLAUSIBLE_FS_HZ`], fewer than
-/// [`MIN_PERIODS_PER_WINDOW`] periods of `freq_hz` in its `n` samples.
-pub fn record_warnings(record: &str, fs: f64, freq_hz: f64, n: usize) -> Vec<Warning> {
+/// [`MIN_PERIODS_PER_WINDOW`] periods of `frequency_hz` in its `n` samples.
+pub fn record_warnings(record: &str, fs: f64, frequency_hz: f64, n: usize) -> Vec<Warning> {
     let input = RecordInput {
         id: record,
         fs_hz: fs,
-        frequency_hz: freq_hz,
+        frequency_hz,
         signal: &[],
         truth: None,
     };
@@ -85,14 +85,14 @@ pub fn record_warnings(record: &str, fs: f64, freq_hz: f64, n: usize) -> Vec<War
             discard_s: 0.0,
         },
     );
-    let periods = n as f64 / fs * freq_hz;
+    let periods = n as f64 / fs * frequency_hz;
     if periods.is_finite() && periods < MIN_PERIODS_PER_WINDOW {
         out.push(Warning {
             record: record.to_owned(),
             message: format!(
                 "the record holds {} periods of {} Hz (fewer than {}); amplitude and spectral estimates are unreliable",
                 num(periods),
-                num(freq_hz),
+                num(frequency_hz),
                 num(MIN_PERIODS_PER_WINDOW)
             ),
         });

@@ -184,12 +184,12 @@ impl Sos {
         Ok(ext)
     }
 
-    /// The magnitude of the frequency response at `freq_hz` for sampling rate `fs`:
+    /// The magnitude of the frequency response at `frequency_hz` for sampling rate `fs`:
     /// `|H(e^{j 2 pi f / fs})|`, the product of the sections' magnitudes (what
     /// `abs(scipy.signal.sosfreqz(sos, [f], fs=fs)[1])` returns). `filtfilt` applies the
     /// filter twice, so its gain is the square of this.
-    pub fn gain(&self, freq_hz: f64, fs: f64) -> f64 {
-        let w = 2.0 * std::f64::consts::PI * freq_hz / fs;
+    pub fn gain(&self, frequency_hz: f64, fs: f64) -> f64 {
+        let w = 2.0 * std::f64::consts::PI * frequency_hz / fs;
         // z^-1 = cos w - j sin w; |b0 + b1 z^-1 + b2 z^-2| / |a0 + a1 z^-1 + a2 z^-2|.
         let (s1, c1) = w.sin_cos();
         let (s2, c2) = (2.0 * w).sin_cos();

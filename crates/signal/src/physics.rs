@@ -152,7 +152,7 @@ impl ValidPhysics {
         a.max(b).max(2)
     }
 
-    /// The chain's gain on a sine of `freq_hz`: the displacement amplitude (in the configured
+    /// The chain's gain on a sine of `frequency_hz`: the displacement amplitude (in the configured
     /// unit) that [`ValidPhysics::displacement`] makes of an acceleration sine of amplitude 1
     /// m/s^2, away from the record's ends. Its sign is the phase: the displacement of
     /// `sin(w t)` is `-gain * sin(w t)`.
@@ -165,8 +165,8 @@ impl ValidPhysics {
     /// integration: `1 / w^2` inside the band, 0 outside. The streaming estimator
     /// (`hxai_hybrid::stream`) uses this to turn the acceleration's sine at the command
     /// frequency into the physics model's displacement without integrating.
-    pub fn gain_at(&self, freq_hz: f64) -> f64 {
-        let w = 2.0 * PI * freq_hz;
+    pub fn gain_at(&self, frequency_hz: f64) -> f64 {
+        let w = 2.0 * PI * frequency_hz;
         let unit = self.cfg.unit.factor();
         match (&self.bandpass, self.cfg.integrator) {
             (Some(bp), Integrator::Time) => {
@@ -176,11 +176,11 @@ impl ValidPhysics {
                 let drift = self
                     .drift
                     .as_ref()
-                    .map_or(1.0, |hp| hp.gain(freq_hz, self.fs).powi(4));
-                unit * bp.gain(freq_hz, self.fs).powi(2) * integrate * integrate * drift
+                    .map_or(1.0, |hp| hp.gain(frequency_hz, self.fs).powi(4));
+                unit * bp.gain(frequency_hz, self.fs).powi(2) * integrate * integrate * drift
             }
             _ => {
-                if freq_hz >= self.cfg.low_hz && freq_hz <= self.cfg.high_hz {
+                if frequency_hz >= self.cfg.low_hz && frequency_hz <= self.cfg.high_hz {
                     unit / (w * w)
                 } else {
                     0.0

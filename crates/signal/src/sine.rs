@@ -21,20 +21,20 @@ pub struct SineFit {
 pub struct SineFit4 {
     /// Amplitude, phase and offset at the refined frequency.
     pub fit: SineFit,
-    /// Refined frequency, Hz (`freq_hz` in files written before the rename).
+    /// Refined frequency, Hz (`frequency_hz` in files written before the rename).
     #[serde(alias = "freq_hz")]
     pub frequency_hz: f64,
     /// Gauss-Newton iterations used.
     pub iterations: usize,
 }
 
-fn check_inputs(x: &[f64], fs: f64, freq_hz: f64, params: usize) -> Result<(), SignalError> {
+fn check_inputs(x: &[f64], fs: f64, frequency_hz: f64, params: usize) -> Result<(), SignalError> {
     check_signal(x, "x")?;
     check_fs(fs)?;
     let nyquist = fs / 2.0;
-    if !(freq_hz.is_finite() && freq_hz > 0.0 && freq_hz < nyquist) {
+    if !(frequency_hz.is_finite() && frequency_hz > 0.0 && frequency_hz < nyquist) {
         return Err(SignalError::InvalidFrequency {
-            freq: freq_hz,
+            freq: frequency_hz,
             nyquist,
         });
     }
@@ -151,9 +151,9 @@ pub fn phase_lag_s(reference: &SineFit, later: &SineFit, frequency_hz: f64) -> f
 /// [`SignalError::InvalidFrequency`] (outside (0, fs/2)), [`SignalError::TooShort`] (fewer than
 /// 3 samples), [`SignalError::Singular`] (the three columns are not independent, e.g. far less
 /// than a period).
-pub fn fit_sine(x: &[f64], fs: f64, freq_hz: f64) -> Result<SineFit, SignalError> {
-    check_inputs(x, fs, freq_hz, 3)?;
-    let w = 2.0 * PI * freq_hz / fs;
+pub fn fit_sine(x: &[f64], fs: f64, frequency_hz: f64) -> Result<SineFit, SignalError> {
+    check_inputs(x, fs, frequency_hz, 3)?;
+    let w = 2.0 * PI * frequency_hz / fs;
     let (m, r) = normal(x, |i| {
         let (s, c) = (w * i as f64).sin_cos();
         [s, c, 1.0]
@@ -162,17 +162,17 @@ pub fn fit_sine(x: &[f64], fs: f64, freq_hz: f64) -> Result<SineFit, SignalError
     Ok(to_fit(u[0], u[1], u[2]))
 }
 
-/// Four-parameter sine fit (IEEE 1057): starts from [`fit_sine`] at `freq_hz` and refines the
+/// Four-parameter sine fit (IEEE 1057): starts from [`fit_sine`] at `frequency_hz` and refines the
 /// frequency by Gauss-Newton until the relative frequency step is below 1e-12 (at most 100
 /// iterations).
 ///
 /// # Errors
 /// As [`fit_sine`] (at least 4 samples), plus [`SignalError::NoConvergence`] when the
 /// frequency leaves (0, fs/2) or does not settle.
-pub fn fit_sine4(x: &[f64], fs: f64, freq_hz: f64) -> Result<SineFit4, SignalError> {
-    check_inputs(x, fs, freq_hz, 4)?;
-    let start = fit_sine(x, fs, freq_hz)?;
-    let mut w = 2.0 * PI * freq_hz / fs; // radians per sample
+pub fn fit_sine4(x: &[f64], fs: f64, frequency_hz: f64) -> Result<SineFit4, SignalError> {
+    check_inputs(x, fs, frequency_hz, 4)?;
+    let start = fit_sine(x, fs, frequency_hz)?;
+    let mut w = 2.0 * PI * frequency_hz / fs; // radians per sample
     let (mut s, mut c) = (
         start.amplitude * start.phase.cos(),
         start.amplitude * start.phase.sin(),

@@ -45,17 +45,17 @@ fn terms(x: f64, s: f64, c: f64) -> [f64; 8] {
 }
 
 impl SlidingSine {
-    /// A fit over windows of `n` samples of a sine of `freq_hz` sampled at `fs`.
+    /// A fit over windows of `n` samples of a sine of `frequency_hz` sampled at `fs`.
     ///
     /// # Errors
     /// [`SignalError::InvalidSampleRate`], [`SignalError::InvalidFrequency`] (outside (0,
     /// fs/2)), [`SignalError::TooShort`] for a window of fewer than 3 samples.
-    pub fn new(n: usize, fs: f64, freq_hz: f64) -> Result<Self, SignalError> {
+    pub fn new(n: usize, fs: f64, frequency_hz: f64) -> Result<Self, SignalError> {
         crate::error::check_fs(fs)?;
         let nyquist = fs / 2.0;
-        if !(freq_hz.is_finite() && freq_hz > 0.0 && freq_hz < nyquist) {
+        if !(frequency_hz.is_finite() && frequency_hz > 0.0 && frequency_hz < nyquist) {
             return Err(SignalError::InvalidFrequency {
-                freq: freq_hz,
+                freq: frequency_hz,
                 nyquist,
             });
         }
@@ -68,7 +68,7 @@ impl SlidingSine {
         }
         Ok(Self {
             n,
-            radians_per_sample: 2.0 * PI * freq_hz / fs,
+            radians_per_sample: 2.0 * PI * frequency_hz / fs,
             ring: vec![[0.0; 3]; n],
             head: 0,
             count: 0,

@@ -91,14 +91,14 @@ fn cdiv(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
 
 /// Simulates one record: `n_warm` warm-up samples then `n` record samples, at rate `fs` with
 /// `m` RK4 steps per sample. Returns all `n_warm + n` samples (the caller drops the warm-up).
-pub(crate) fn run(cfg: &SimConfig, amplitude_um: f64, freq_hz: f64) -> MachineTrace {
+pub(crate) fn run(cfg: &SimConfig, amplitude_um: f64, frequency_hz: f64) -> MachineTrace {
     let fs = cfg.fs_hz;
     let n = cfg.samples_per_record();
     let n_warm = (cfg.warmup_s * fs).round() as usize;
     let m = cfg.substeps();
     let h = 1.0 / (fs * m as f64);
     let c = Coeffs::new(cfg);
-    let w = 2.0 * PI * freq_hz;
+    let w = 2.0 * PI * frequency_hz;
     let t0 = -(n_warm as f64) / fs;
 
     // Start on the linear steady state so that only friction transients need the warm-up.

@@ -85,14 +85,14 @@ pub(crate) fn accelerometer(
     accel_um_s2: &[f64],
     t0: f64,
     fs: f64,
-    freq_hz: f64,
+    frequency_hz: f64,
     p: &AccelParams,
     rng: &mut ChaCha8Rng,
 ) -> Result<Vec<f64>, SimError> {
     let n = accel_um_s2.len();
-    let spindle = freq_hz * p.spindle_per_command;
+    let spindle = frequency_hz * p.spindle_per_command;
     let scale = (spindle / p.spindle_ref_hz).powi(2);
-    let w = 2.0 * PI * freq_hz;
+    let w = 2.0 * PI * frequency_hz;
     let gain = 1.0 + p.sensitivity_error;
     let noise = colored_noise(n, fs, p.noise_density, p.flicker_corner_hz, rng)?;
     // Mechanical vibration at the sensor (motion + spindle-synchronous), then sensor noise,

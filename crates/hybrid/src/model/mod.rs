@@ -272,7 +272,7 @@ pub(crate) fn check_band_hz(
     } else {
         Err(HybridError::FrequencyOutOfBand {
             record: record.to_owned(),
-            freq_hz: frequency_hz,
+            frequency_hz,
             low_hz: physics.low_hz,
             high_hz: physics.high_hz,
         })
