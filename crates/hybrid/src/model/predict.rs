@@ -205,14 +205,17 @@ impl HybridModel {
                 "the model's correction is zero: there is no equation to explain".into(),
             ));
         };
-        let chosen = method.or_else(|| self.default_interval_method(level));
-        let band = |t: &hxai_table::Table, l: f64| match chosen {
-            Some(m) => self.correction_intervals(t, l, m),
-            None => Ok(Vec::new()),
-        };
+        let band = method
+            .or_else(|| self.default_interval_method(level))
+            .map(|m| {
+                (m, move |t: &hxai_table::Table, l: f64| {
+                    self.correction_intervals(t, l, m)
+                })
+            });
         crate::explain::explain(
             model,
-            chosen.map(|m| (&band as &crate::explain::Band<'_>, m)),
+            band.as_ref()
+                .map(|(m, b)| (b as &crate::explain::Band<'_>, *m)),
             self.correction.pareto.as_deref(),
             data,
             "delta",

@@ -668,12 +668,16 @@ impl ProcessModel {
                 .ok_or_else(|| HybridError::NoData("no training rows to explain on".into()))?;
             fill.push((name.clone(), m));
         }
-        let chosen = method.or_else(|| self.default_interval_method(level));
-        let band = |t: &Table, l: f64| match chosen {
-            Some(m) => self.correction_intervals(t, l, m, &fill),
-            None => Ok(Vec::new()),
-        };
-        let band = chosen.map(|m| (&band as &crate::explain::Band<'_>, m));
+        let band = method
+            .or_else(|| self.default_interval_method(level))
+            .map(|m| {
+                (m, move |t: &Table, l: f64| {
+                    self.correction_intervals(t, l, m, &fill)
+                })
+            });
+        let band = band
+            .as_ref()
+            .map(|(m, b)| (b as &crate::explain::Band<'_>, *m));
         crate::explain::explain(model, band, pareto, Some(&data), "delta", level)
     }
 
