@@ -86,7 +86,11 @@ enum Command {
 fn main() {
     safety::exit_quietly_on_broken_pipe();
     let cli = Cli::parse();
-    if let Err(e) = run(cli) {
+    #[cfg(unix)]
+    let installed = safety::remove_temporary_files_on_signal();
+    #[cfg(not(unix))]
+    let installed: Result<()> = Ok(());
+    if let Err(e) = installed.and_then(|()| run(cli)) {
         // One line on stderr: the reason, with its causes (each said once).
         #[allow(clippy::print_stderr)]
         {

@@ -10,6 +10,47 @@ use std::path::{Path, PathBuf};
 /// that a typo (`--threads 100000000`) is refused at once instead of spawning for minutes.
 pub const MAX_THREADS: usize = 1024;
 
+/// Installs the handler of SIGINT, SIGTERM and SIGHUP: it removes every unfinished
+/// temporary output (`hxai_data::remove_temporary_files`), says so on stderr and ends the
+/// process with the shell's code for the signal (128 + its number: 130 for Ctrl-C, 143 for
+/// `kill`). Outputs are only ever replaced by a rename of a complete file, so an existing
+/// output keeps its old contents. Without the handler the default action would end the
+/// process at once and leave the hidden `.NAME.PID-N.tmp` files behind.
+#[cfg(unix)]
+pub fn remove_temporary_files_on_signal() -> Result<()> {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])
+        .map_err(|e| anyhow::anyhow!("cannot install the signal handler: {e}"))?;
+    std::thread::Builder::new()
+        .name("hxai-signals".into())
+        .spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                // The registry stays locked until the process has exited, so no other thread
+                // renames or creates a file after this point.
+                let (n, _held) = hxai_data::remove_temporary_files();
+                let name = match signal {
+                    SIGINT => "interrupted (SIGINT)",
+                    SIGTERM => "terminated (SIGTERM)",
+                    _ => "hung up (SIGHUP)",
+                };
+                #[allow(clippy::print_stderr)]
+                {
+                    if n > 0 {
+                        let files = if n == 1 { "file" } else { "files" };
+                        eprintln!(
+                            "error: {name}: removed {n} unfinished output {files}; existing files are unchanged"
+                        );
+                    } else {
+                        eprintln!("error: {name}");
+                    }
+                }
+                std::process::exit(128 + signal);
+            }
+        })
+        .map_err(|e| anyhow::anyhow!("cannot start the signal handler: {e}"))?;
+    Ok(())
+}
+
 /// Refuses `output` when it is one of `inputs` (each with its role for the message) or a
 /// folder. Call it before any work, so nothing is computed for a command that cannot write.
 pub fn check_output(output: &Path, inputs: &[(PathBuf, String)]) -> Result<()> {

@@ -8,14 +8,87 @@
 //!
 //! [`check_output`] refuses an output path that is one of the command's inputs, comparing
 //! canonical paths, so `--out ./r.csv` is caught for `--record r.csv` as well.
+//!
+//! Every temporary file alive in the process is listed in one registry, so that a program
+//! stopped by a signal removes them all ([`remove_temporary_files`], called by the command
+//! line's SIGINT/SIGTERM handler) instead of leaving hidden `.NAME.PID-N.tmp` files behind.
+//! A process killed outright (SIGKILL, power loss) cannot clean up: the next writer of the
+//! same target removes the temporary files of that target whose process no longer runs.
 
 use crate::DataError;
 use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, MutexGuard};
 
 static COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// The temporary files this process has created and not yet renamed or removed. Creating,
+/// renaming and removing a temporary file all happen under this lock, so
+/// [`remove_temporary_files`] sees every file that exists.
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// The registry, even after a panic in another thread while it was held (its list of paths
+/// is still valid: every change to it is a single push or removal).
+fn live() -> MutexGuard<'static, Vec<PathBuf>> {
+    LIVE.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Removes every temporary file this process is writing and returns how many there were.
+/// For a signal handler about to end the process: the lock stays held until the process
+/// exits (the returned guard), so no other thread creates or renames a file meanwhile.
+/// Targets are untouched: each keeps its old contents.
+pub fn remove_temporary_files() -> (usize, MutexGuard<'static, Vec<PathBuf>>) {
+    let mut guard = live();
+    let n = guard.len();
+    for tmp in guard.drain(..) {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    (n, guard)
+}
+
+/// Whether the process `pid` still runs. Only Linux says so cheaply (`/proc/PID`); elsewhere
+/// every process is assumed alive and nothing is swept.
+fn process_alive(pid: u32) -> bool {
+    let proc_root = Path::new("/proc/self");
+    if !proc_root.exists() {
+        return true;
+    }
+    Path::new("/proc").join(pid.to_string()).exists()
+}
+
+/// Removes the temporary files of `name` in `parent` left by processes that no longer run
+/// (killed before they could clean up). Best effort: a file that cannot be read or removed
+/// is left alone. Files of a running process (another hxai writing the same target) are kept.
+fn sweep_stale(parent: &Path, name: &str) {
+    let prefix = format!(".{name}.");
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file = entry.file_name();
+        let Some(file) = file.to_str() else { continue };
+        let Some(rest) = file
+            .strip_prefix(&prefix)
+            .and_then(|r| r.strip_suffix(".tmp"))
+        else {
+            continue;
+        };
+        let Some((pid, n)) = rest.split_once('-') else {
+            continue;
+        };
+        let (Ok(pid), true) = (
+            pid.parse::<u32>(),
+            !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()),
+        ) else {
+            continue;
+        };
+        if pid != std::process::id() && !process_alive(pid) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
 
 /// A file being written atomically: bytes go to a temporary file in the target's folder,
 /// and [`AtomicFile::commit`] syncs it and renames it over the target. Dropped without a
@@ -52,12 +125,18 @@ impl AtomicFile {
             .ok_or_else(|| DataError::IsADirectory {
                 path: path.to_path_buf(),
             })?;
+        sweep_stale(&parent, &name);
         let tmp = parent.join(format!(
             ".{name}.{}-{}.tmp",
             std::process::id(),
             COUNTER.fetch_add(1, Ordering::Relaxed)
         ));
-        let file = File::create_new(&tmp).map_err(|e| DataError::io(&tmp, e))?;
+        let file = {
+            let mut live = live();
+            let file = File::create_new(&tmp).map_err(|e| DataError::io(&tmp, e))?;
+            live.push(tmp.clone());
+            file
+        };
         Ok(Self {
             path: path.to_path_buf(),
             parent,
@@ -97,7 +176,10 @@ impl AtomicFile {
             file.flush().map_err(|e| DataError::io(&self.path, e))?;
             file.sync_all().map_err(|e| DataError::io(&self.path, e))?;
             drop(file);
-            std::fs::rename(&self.tmp, &self.path).map_err(|e| DataError::io(&self.path, e))
+            let mut live = live();
+            std::fs::rename(&self.tmp, &self.path).map_err(|e| DataError::io(&self.path, e))?;
+            live.retain(|p| p != &self.tmp);
+            Ok(())
         })();
         if result.is_ok() {
             // Make the rename itself durable; not all platforms can sync a folder.
@@ -131,7 +213,9 @@ impl Drop for AtomicFile {
     fn drop(&mut self) {
         if !self.tmp.as_os_str().is_empty() {
             self.file.take();
+            let mut live = live();
             let _ = std::fs::remove_file(&self.tmp);
+            live.retain(|p| p != &self.tmp);
         }
     }
 }
@@ -243,6 +327,41 @@ mod tests {
         write_bytes(&p, b"new").unwrap();
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "new");
         assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn temporary_files_of_dead_processes_are_swept_and_live_ones_kept() {
+        let (d, p) = dir_with_file("sweep", "m.json", "old");
+        // No process has this id (Linux caps pids at 2^22).
+        let dead = d.join(".m.json.999999999-0.tmp");
+        let mine = d.join(format!(".m.json.{}-9999.tmp", std::process::id()));
+        let other_target = d.join(".n.json.999999999-0.tmp");
+        let not_ours = d.join(".m.json.999999999-x.tmp");
+        for f in [&dead, &mine, &other_target, &not_ours] {
+            std::fs::write(f, "half").unwrap();
+        }
+        write_bytes(&p, b"new").unwrap();
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "new");
+        assert_eq!(dead.exists(), !Path::new("/proc/self").exists());
+        assert!(mine.exists() && other_target.exists() && not_ours.exists());
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn the_registry_lists_open_temporary_files_until_commit_or_drop() {
+        let (d, p) = dir_with_file("registry", "a.csv", "old");
+        let registered = |f: &AtomicFile| live().contains(&f.tmp);
+        let staged = stage(&p, |f| f.write_all(b"x").map_err(|e| DataError::io(&p, e))).unwrap();
+        assert!(registered(&staged));
+        let tmp = staged.tmp.clone();
+        drop(staged);
+        assert!(!tmp.exists() && !live().contains(&tmp));
+        let staged = stage(&p, |f| f.write_all(b"y").map_err(|e| DataError::io(&p, e))).unwrap();
+        let tmp = staged.tmp.clone();
+        staged.commit().unwrap();
+        assert!(!live().contains(&tmp));
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "y");
         std::fs::remove_dir_all(&d).unwrap();
     }
 

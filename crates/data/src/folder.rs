@@ -2,7 +2,7 @@
 
 use crate::cells::{finite_column, parse_number, require_column, require_rows, text_column};
 use crate::raw::{self, OutColumn};
-use crate::record::{Record, read_record, write_record};
+use crate::record::{Record, read_record, stage_record};
 use crate::{DataError, Format};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
@@ -278,10 +278,17 @@ pub fn write_folder(
         });
     }
     std::fs::create_dir_all(dir).map_err(|e| DataError::io(dir, e))?;
+    // All or nothing: every record and the manifest are written in full beside their targets
+    // first, and renamed only when all were written; a failure (a full disk) or a signal
+    // before then leaves the folder as it was.
+    let mut staged = Vec::with_capacity(entries.len() + 1);
     for (entry, (_, rec)) in entries.iter().zip(items) {
-        write_record(&dir.join(&entry.file), rec)?;
+        staged.push(stage_record(&dir.join(&entry.file), rec)?);
     }
-    write_manifest(&dir.join(MANIFEST_FILE), &entries)?;
+    staged.push(stage_manifest(&dir.join(MANIFEST_FILE), &entries)?);
+    for file in staged {
+        file.commit()?;
+    }
     Ok(DataFolder {
         root: dir.to_path_buf(),
         entries,
@@ -290,6 +297,11 @@ pub fn write_folder(
 
 /// Writes `manifest.csv` for the given entries (as given: files are not checked).
 pub fn write_manifest(path: &Path, entries: &[ManifestEntry]) -> Result<(), DataError> {
+    stage_manifest(path, entries)?.commit()
+}
+
+/// [`write_manifest`] staged, not committed (see [`crate::stage`]).
+fn stage_manifest(path: &Path, entries: &[ManifestEntry]) -> Result<crate::AtomicFile, DataError> {
     let manifest_err = |column: &str, i: usize, v: f64| DataError::NonFinite {
         path: path.to_path_buf(),
         row: i + 1,
@@ -343,5 +355,5 @@ pub fn write_manifest(path: &Path, entries: &[ManifestEntry]) -> Result<(), Data
         names.push((*k).clone());
         cols.push(OutColumn::Text(v));
     }
-    raw::write(path, Format::Csv, &names, &cols)
+    raw::stage(path, Format::Csv, &names, &cols)
 }

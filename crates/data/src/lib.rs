@@ -78,7 +78,9 @@ mod stream;
 mod table;
 mod text;
 
-pub use atomic::{AtomicFile, check_output, stage, write_atomic, write_bytes};
+pub use atomic::{
+    AtomicFile, check_output, remove_temporary_files, stage, write_atomic, write_bytes,
+};
 pub use error::DataError;
 pub use folder::{
     DataFolder, MANIFEST_COLUMNS, MANIFEST_FILE, ManifestEntry, read_folder, write_folder,

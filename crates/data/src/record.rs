@@ -179,10 +179,15 @@ pub fn read_record(path: &Path) -> Result<Record, DataError> {
 /// Writes a record file; CSV or Parquet by extension. The record is validated first,
 /// so a written file always reads back.
 pub fn write_record(path: &Path, rec: &Record) -> Result<(), DataError> {
+    stage_record(path, rec)?.commit()
+}
+
+/// [`write_record`] staged, not committed (see [`crate::stage`]).
+pub(crate) fn stage_record(path: &Path, rec: &Record) -> Result<crate::AtomicFile, DataError> {
     let format = Format::from_path(path)?;
     rec.check(path)?;
     let channels = rec.channels();
     let names: Vec<String> = channels.iter().map(|(n, _)| (*n).to_owned()).collect();
     let cols: Vec<OutColumn<'_>> = channels.iter().map(|(_, c)| OutColumn::Num(c)).collect();
-    raw::write(path, format, &names, &cols)
+    raw::stage(path, format, &names, &cols)
 }

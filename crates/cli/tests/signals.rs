@@ -1,0 +1,104 @@
+//! A command stopped by SIGINT or SIGTERM leaves no hidden temporary file and no output
+//! changed (issue 27): `simulate --force` over an existing data folder is stopped while it
+//! writes, and the folder must read back exactly as before.
+#![cfg(unix)]
+
+mod common;
+
+use common::{assert_no_temporary_files, hxai_ok, s, scratch};
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Every file of `dir` (hidden ones too) with its bytes.
+fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .filter_map(Result::ok)
+        .map(|e| {
+            let bytes = std::fs::read(e.path()).unwrap_or_default();
+            (e.file_name().to_string_lossy().into_owned(), bytes)
+        })
+        .collect()
+}
+
+/// Whether a staging file (`.NAME.PID-N.tmp`) exists in `dir`.
+fn staging(dir: &Path) -> bool {
+    std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .filter_map(Result::ok)
+        .any(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+}
+
+/// Stops `simulate --force` over `data` with `signal` once it has begun to write (its
+/// forty 20 s records take seconds to stage), and returns its exit code (`None`: ended by
+/// the signal itself, the default action without a handler).
+fn stop_while_writing(data: &Path, signal: &str) -> Option<i32> {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hxai"))
+        .args([
+            "simulate",
+            "--out",
+            s(data),
+            "--force",
+            "--format",
+            "csv",
+            "--repeats",
+            "1",
+            "--duration-s",
+            "20",
+            "--seed",
+            "2",
+            "--threads",
+            "1",
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start simulate");
+    let start = Instant::now();
+    while !staging(data) {
+        if child.try_wait().expect("poll").is_some() || start.elapsed() > Duration::from_secs(300) {
+            let _ = child.kill();
+            let _ = child.wait();
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let killed = Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .expect("run kill");
+    assert!(killed.success());
+    child.wait().expect("wait").code()
+}
+
+#[test]
+fn a_signal_while_writing_leaves_the_folder_as_it_was() {
+    let dir = scratch("hxai-signals", "simulate").expect("scratch");
+    let data = dir.join("data");
+    hxai_ok(
+        &[
+            "simulate",
+            "--out",
+            s(&data),
+            "--repeats",
+            "1",
+            "--duration-s",
+            "0.5",
+            "--format",
+            "csv",
+        ],
+        "the old folder",
+    )
+    .expect("run");
+    let before = snapshot(&data);
+    for (signal, code) in [("-TERM", 143), ("-INT", 130)] {
+        assert_eq!(stop_while_writing(&data, signal), Some(code), "{signal}");
+        assert_no_temporary_files(&data);
+        assert_eq!(snapshot(&data), before, "{signal} changed the folder");
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
