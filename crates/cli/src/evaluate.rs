@@ -1,7 +1,6 @@
 //! `hxai evaluate`: physics vs hybrid on the records of a data folder.
 use crate::Global;
 use anyhow::{Context, Result};
-use indicatif::ProgressBar;
 use std::path::PathBuf;
 
 /// Arguments of `hxai evaluate`.
@@ -50,7 +49,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         args.data.display(),
         model.split.test.join(", ")
     );
-    let pb = ProgressBar::new(wanted.len() as u64);
+    let pb = crate::progress::bar(wanted.len() as u64);
     let recs = crate::records::read_with_truth(&folder, &wanted, "evaluating", &pb)?;
     let inputs = crate::records::inputs(&wanted, &recs);
     let method = args

@@ -101,7 +101,7 @@ pub struct Args {
 }
 
 fn bar(len: u64, msg: &'static str) -> ProgressBar {
-    let pb = ProgressBar::new(len);
+    let pb = crate::progress::bar(len);
     if let Ok(style) = ProgressStyle::with_template("{msg:>12} [{bar:30}] {pos}/{len} {elapsed}") {
         pb.set_style(style.progress_chars("=> "));
     }

@@ -431,7 +431,7 @@ fn bar(hidden: bool, epochs: usize) -> ProgressBar {
     if hidden {
         return ProgressBar::hidden();
     }
-    let b = ProgressBar::new(epochs as u64);
+    let b = crate::progress::bar(epochs as u64);
     b.set_style(
         ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed}]")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
@@ -528,7 +528,7 @@ fn fit(a: FitArgs) -> Result<()> {
         let sb = if a.common.json {
             ProgressBar::hidden()
         } else {
-            ProgressBar::new(runs as u64)
+            crate::progress::bar(runs as u64)
         };
         let sbb = sb.clone();
         model.stability = Some(hxai_hybrid::process::process_stability(

@@ -17,6 +17,7 @@ mod fit;
 mod hybrid;
 mod one_record;
 mod predict;
+mod progress;
 mod records;
 mod safety;
 mod simulate;

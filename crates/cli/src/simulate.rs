@@ -4,7 +4,7 @@ use crate::Global;
 use anyhow::{Context, Result, bail};
 use hxai_data::{Format, ManifestEntry, Record, write_folder};
 use hxai_sim::{SimConfig, SimRecord, simulate_with_progress};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressStyle;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -194,7 +194,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     cfg.check().context("invalid simulation settings")?;
 
     let n = cfg.n_records();
-    let bar = ProgressBar::new(n as u64);
+    let bar = crate::progress::bar(n as u64);
     bar.set_style(
         ProgressStyle::with_template("{msg:>10} [{bar:40}] {pos}/{len} records ({elapsed})")
             .context("progress bar template")?

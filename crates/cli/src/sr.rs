@@ -190,7 +190,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let bar = if args.json {
         indicatif::ProgressBar::hidden()
     } else {
-        let b = indicatif::ProgressBar::new(cfg.epochs as u64);
+        let b = crate::progress::bar(cfg.epochs as u64);
         b.set_style(
             indicatif::ProgressStyle::with_template("{bar:30} epoch {pos}/{len} {msg} [{elapsed}]")
                 .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
@@ -216,7 +216,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             let b = if args.json {
                 indicatif::ProgressBar::hidden()
             } else {
-                indicatif::ProgressBar::new(runs as u64)
+                crate::progress::bar(runs as u64)
             };
             b.set_message("stability runs");
             let bb = b.clone();
