@@ -24,7 +24,7 @@ pub enum EvalError {
         right: usize,
     },
     /// A value is NaN or infinite.
-    #[error("{what}[{index}] is {value}: remove or impute non-finite values first")]
+    #[error("{what}[{index}] is {}: remove or impute non-finite values first", hxai_table::format_number(*.value))]
     NonFinite {
         /// Which input.
         what: &'static str,
@@ -34,7 +34,7 @@ pub enum EvalError {
         value: f64,
     },
     /// A fraction or level is outside the open interval (0, 1).
-    #[error("{what} must lie strictly between 0 and 1, got {value}")]
+    #[error("{what} must lie strictly between 0 and 1, got {}", hxai_table::format_number(*.value))]
     FractionOutOfRange {
         /// Which parameter.
         what: &'static str,
@@ -43,8 +43,9 @@ pub enum EvalError {
     },
     /// The split would leave one side empty.
     #[error(
-        "splitting {n} {unit} with test fraction {test_fraction} leaves an empty side; \
-         use more {unit} or a test fraction nearer 0.5"
+        "splitting {n} {unit} with test fraction {} leaves an empty side; \
+         use more {unit} or a test fraction nearer 0.5",
+        hxai_table::format_number(*.test_fraction)
     )]
     EmptySide {
         /// Number of samples or groups.
@@ -71,7 +72,7 @@ pub enum EvalError {
         unit: &'static str,
     },
     /// A value that must be positive is not.
-    #[error("{what} must be positive, got {value}")]
+    #[error("{what} must be positive, got {}", hxai_table::format_number(*.value))]
     NonPositive {
         /// Which parameter.
         what: &'static str,
@@ -80,8 +81,9 @@ pub enum EvalError {
     },
     /// Too few conformal scores for a finite interval at the level asked for.
     #[error(
-        "{n} calibration score(s) cannot give a finite conformal interval at level {level}: \
-         it needs at least {need} (more rows, fewer folds, or a lower level)"
+        "{n} calibration score(s) cannot give a finite conformal interval at level {}: \
+         it needs at least {need} (more rows, fewer folds, or a lower level)",
+        hxai_table::format_number(*.level)
     )]
     TooFewScores {
         /// Scores given.

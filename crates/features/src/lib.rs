@@ -57,10 +57,10 @@ pub enum FeatureError {
         index: usize,
     },
     /// The sampling rate is not positive and finite.
-    #[error("the sampling rate must be a positive finite number of Hz, got {0}")]
+    #[error("the sampling rate must be a positive finite number of Hz, got {}", hxai_table::format_number(*.0))]
     InvalidSampleRate(f64),
     /// The command frequency is not positive and finite.
-    #[error("the command frequency must be a positive finite number of Hz, got {0}")]
+    #[error("the command frequency must be a positive finite number of Hz, got {}", hxai_table::format_number(*.0))]
     InvalidCommandFrequency(f64),
     /// The record is constant, so sigma is 0 and kurtosis, skewness (and, for an all-zero
     /// record, the crest, impulse and shape factors and mean frequency) are undefined.
@@ -82,7 +82,9 @@ pub enum FeatureError {
     /// The record is shorter than one period of the command frequency
     /// ([`check_covers_one_period`]).
     #[error(
-        "the record has {len} samples but one period of {frequency_hz} Hz at {fs} Hz needs at least {need}"
+        "the record has {len} samples but one period of {} Hz at {} Hz needs at least {need}",
+        hxai_table::format_number(*.frequency_hz),
+        hxai_table::format_number(*.fs)
     )]
     ShorterThanOnePeriod {
         /// Samples given.

@@ -36,14 +36,16 @@ pub enum SignalError {
         index: usize,
     },
     /// The sampling rate is not a positive finite number.
-    #[error("the sampling rate must be a positive finite number of Hz, got {fs}")]
+    #[error("the sampling rate must be a positive finite number of Hz, got {}", hxai_table::format_number(*.fs))]
     InvalidSampleRate {
         /// The rate given.
         fs: f64,
     },
     /// A cutoff frequency is not inside (0, fs/2).
     #[error(
-        "the cutoff frequency {cutoff} Hz must lie strictly between 0 and the Nyquist frequency {nyquist} Hz; choose a cutoff inside that range or record at a higher rate"
+        "the cutoff frequency {} Hz must lie strictly between 0 and the Nyquist frequency {} Hz; choose a cutoff inside that range or record at a higher rate",
+        hxai_table::format_number(*.cutoff),
+        hxai_table::format_number(*.nyquist)
     )]
     InvalidCutoff {
         /// The cutoff given.
@@ -53,7 +55,9 @@ pub enum SignalError {
     },
     /// A band's lower edge is not below its upper edge.
     #[error(
-        "the band's lower edge {low} Hz must be below its upper edge {high} Hz; swap or widen them"
+        "the band's lower edge {} Hz must be below its upper edge {} Hz; swap or widen them",
+        hxai_table::format_number(*.low),
+        hxai_table::format_number(*.high)
     )]
     InvalidBand {
         /// Lower edge given.
@@ -77,7 +81,9 @@ pub enum SignalError {
     },
     /// The frequency given to a sine fit lies outside (0, fs/2).
     #[error(
-        "the sine frequency {freq} Hz must lie strictly between 0 and the Nyquist frequency {nyquist} Hz"
+        "the sine frequency {} Hz must lie strictly between 0 and the Nyquist frequency {} Hz",
+        hxai_table::format_number(*.freq),
+        hxai_table::format_number(*.nyquist)
     )]
     InvalidFrequency {
         /// The frequency given.
@@ -127,5 +133,39 @@ pub(crate) fn check_fs(fs: f64) -> Result<(), SignalError> {
         Ok(())
     } else {
         Err(SignalError::InvalidSampleRate { fs })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Numbers in messages have at most 6 significant digits: a rate read from time stamps
+    /// (`1 / 0.0005` in floating point) is printed as the user knows it.
+    #[test]
+    fn messages_print_numbers_short() {
+        let fs = 1.0 / (0.1 * 0.005);
+        let e = SignalError::InvalidCutoff {
+            cutoff: 0.1 + 0.2,
+            nyquist: fs / 2.0,
+        };
+        assert_eq!(
+            e.to_string(),
+            "the cutoff frequency 0.3 Hz must lie strictly between 0 and the Nyquist frequency \
+             1000 Hz; choose a cutoff inside that range or record at a higher rate"
+        );
+        let band = SignalError::InvalidBand {
+            low: 100.00000000000001,
+            high: 10.0,
+        };
+        assert!(
+            band.to_string()
+                .contains("lower edge 100 Hz must be below its upper edge 10 Hz")
+        );
+        let e = crate::butter(4, crate::Band::Bandpass(1.0, 2.0), -0.1 - 0.2)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        assert!(e.ends_with("got -0.3"), "{e}");
     }
 }

@@ -32,7 +32,7 @@ pub enum SrError {
         data: usize,
     },
     /// The target does not vary.
-    #[error("the target is constant ({0}): symbolic regression needs a target that varies")]
+    #[error("the target is constant ({}): symbolic regression needs a target that varies", hxai_table::format_number(*.0))]
     ConstantTarget(f64),
     /// Too few rows.
     #[error(
