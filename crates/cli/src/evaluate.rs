@@ -23,7 +23,7 @@ pub struct Args {
     /// stores its calibration), `split` (split conformal) or `delta` (the delta method,
     /// the default for older files).
     #[arg(long, value_enum)]
-    pub interval_method: Option<crate::hybrid::IntervalMethodArg>,
+    pub interval_method: Option<crate::strategy::IntervalMethodArg>,
     /// Print one JSON document on stdout.
     #[arg(long)]
     pub json: bool,
@@ -52,11 +52,10 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let pb = crate::progress::bar(wanted.len() as u64);
     let recs = crate::records::read_with_truth(&folder, &wanted, "evaluating", &pb)?;
     let inputs = crate::records::inputs(&wanted, &recs);
-    let method = args
-        .interval_method
-        .map(hxai_hybrid::IntervalMethod::from)
-        .or_else(|| model.default_interval_method(args.interval))
-        .unwrap_or(hxai_hybrid::IntervalMethod::Delta);
+    let method = crate::strategy::interval_method(
+        args.interval_method,
+        model.default_interval_method(args.interval),
+    );
     let mut ev = model
         .evaluate_with(&inputs, args.all, args.interval, method)
         .context("evaluation failed")?;

@@ -27,7 +27,7 @@ pub struct Args {
     /// Method of the prediction intervals drawn (default: the model file's, conformal where
     /// it stores the calibration, as `predict` and `evaluate` use).
     #[arg(long, value_enum)]
-    pub interval_method: Option<crate::hybrid::IntervalMethodArg>,
+    pub interval_method: Option<crate::strategy::IntervalMethodArg>,
 }
 
 /// A model file of either kind.

@@ -25,7 +25,7 @@ pub struct Args {
     /// How the intervals are made with --interval: `conformal` (CV+, the default where the
     /// model file stores its calibration), `split` or `delta`.
     #[arg(long, value_enum, requires = "interval")]
-    pub interval_method: Option<crate::hybrid::IntervalMethodArg>,
+    pub interval_method: Option<crate::strategy::IntervalMethodArg>,
     /// Print the per-window corrections as JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -76,11 +76,10 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     };
     let (pred, bounds) = match args.interval {
         Some(level) => {
-            let method = args
-                .interval_method
-                .map(hxai_hybrid::IntervalMethod::from)
-                .or_else(|| model.default_interval_method(level))
-                .unwrap_or(hxai_hybrid::IntervalMethod::Delta);
+            let method = crate::strategy::interval_method(
+                args.interval_method,
+                model.default_interval_method(level),
+            );
             let (p, lo, hi) = model
                 .predict_with_intervals_by(&input, level, method)
                 .context("prediction failed")?;

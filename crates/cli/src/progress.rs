@@ -4,7 +4,7 @@
 //! a plain line now and then: the first after [`FIRST_LINE`], then one per [`EVERY`], so a
 //! command of a few seconds prints none and an hour-long one a few hundred.
 
-use indicatif::{ProgressBar, ProgressDrawTarget, TermLike};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle, TermLike};
 use std::io::{IsTerminal, Write};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -21,6 +21,19 @@ const EVERY: Duration = Duration::from_secs(15);
 pub fn bar(len: u64) -> ProgressBar {
     let b = ProgressBar::with_draw_target(Some(len), target());
     b.enable_steady_tick(Duration::from_secs(1));
+    b
+}
+
+/// [`bar`] with indicatif's `template`, or a hidden bar when `hidden` (under `--json`, whose
+/// callers want nothing on stderr but warnings and errors).
+pub fn styled(len: u64, template: &str, hidden: bool) -> ProgressBar {
+    if hidden {
+        return ProgressBar::hidden();
+    }
+    let b = bar(len);
+    b.set_style(
+        ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
     b
 }
 

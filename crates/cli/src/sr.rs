@@ -187,16 +187,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         cfg.nesting = hxai_symreg::Nesting::parse(n)?;
     }
     cfg.consensus_runs = args.consensus;
-    let bar = if args.json {
-        indicatif::ProgressBar::hidden()
-    } else {
-        let b = crate::progress::bar(cfg.epochs as u64);
-        b.set_style(
-            indicatif::ProgressStyle::with_template("{bar:30} epoch {pos}/{len} {msg} [{elapsed}]")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        b
-    };
+    let bar = crate::progress::styled(
+        cfg.epochs as u64,
+        "{bar:30} epoch {pos}/{len} {msg} [{elapsed}]",
+        args.json,
+    );
     let res = search(&data, &y, &cfg, &mut |p| {
         bar.set_position(p.epoch as u64);
         bar.set_message(format!(
@@ -213,11 +208,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         .collect::<Result<Vec<_>>>()?;
     let stability = match args.stability {
         Some(runs) => {
-            let b = if args.json {
-                indicatif::ProgressBar::hidden()
-            } else {
-                crate::progress::bar(runs as u64)
-            };
+            let b = crate::progress::styled(
+                runs as u64,
+                "{bar:30} {pos}/{len} {msg} [{elapsed}]",
+                args.json,
+            );
             b.set_message("stability runs");
             let bb = b.clone();
             let s = hxai_symreg::stability(&data, &y, &cfg, runs, &mut move |done, _| {

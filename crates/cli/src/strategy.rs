@@ -59,22 +59,76 @@ impl From<CriterionArg> for Criterion {
 pub fn operator_complexity(
     entries: &[String],
 ) -> anyhow::Result<std::collections::BTreeMap<String, usize>> {
+    let entries: Vec<String> = entries.iter().map(|e| e.to_ascii_lowercase()).collect();
+    pairs(
+        &entries,
+        "--operator-complexity",
+        "a whole number (e.g. sqrt=2)",
+    )
+}
+
+/// Parses `NAME=VALUE` entries of the option `flag` (the one parser of such lists: `--set`,
+/// `--init`, `--operator-complexity`). Blank entries are skipped; names are trimmed.
+///
+/// # Errors
+/// An entry without `=` (the message says to write `NAME=VALUE`), a value that does not
+/// parse (`what` says what it must be), or a name given twice.
+pub fn pairs<T: std::str::FromStr>(
+    entries: &[String],
+    flag: &str,
+    what: &str,
+) -> anyhow::Result<std::collections::BTreeMap<String, T>> {
     let mut out = std::collections::BTreeMap::new();
     for e in entries.iter().filter(|e| !e.trim().is_empty()) {
         let (name, value) = e.split_once('=').ok_or_else(|| {
-            anyhow::anyhow!("--operator-complexity entry `{e}` is not NAME=INTEGER (e.g. sqrt=2)")
-        })?;
-        let c: usize = value.trim().parse().map_err(|_| {
             anyhow::anyhow!(
-                "--operator-complexity entry `{e}`: `{}` is not a whole number (e.g. sqrt=2)",
-                value.trim()
+                "{flag} entry `{e}` is not NAME=VALUE; write NAME=VALUE with VALUE {what}"
             )
         })?;
-        let key = name.trim().to_ascii_lowercase();
+        let v: T = value
+            .trim()
+            .parse()
+            .map_err(|_| anyhow::anyhow!("{flag} entry `{e}`: `{}` is not {what}", value.trim()))?;
+        let key = name.trim().to_string();
         anyhow::ensure!(
-            out.insert(key.clone(), c).is_none(),
-            "--operator-complexity names `{key}` twice"
+            out.insert(key.clone(), v).is_none(),
+            "{flag} names `{key}` twice"
         );
     }
     Ok(out)
+}
+
+/// `--interval-method` values.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum IntervalMethodArg {
+    /// CV+ over the folds of the fit, scores normalised by the local scale (the default
+    /// where the model file stores its calibration).
+    Conformal,
+    /// Split conformal: one fold's model, calibrated on that fold's rows.
+    Split,
+    /// The delta method with a constant residual variance (the default for model files
+    /// without conformal calibration).
+    Delta,
+}
+
+impl From<IntervalMethodArg> for hxai_hybrid::IntervalMethod {
+    fn from(m: IntervalMethodArg) -> Self {
+        match m {
+            IntervalMethodArg::Conformal => hxai_hybrid::IntervalMethod::Conformal,
+            IntervalMethodArg::Split => hxai_hybrid::IntervalMethod::Split,
+            IntervalMethodArg::Delta => hxai_hybrid::IntervalMethod::Delta,
+        }
+    }
+}
+
+/// The interval method asked for, else the model's default (`model_default`, from its
+/// `default_interval_method`), else the delta method.
+pub fn interval_method(
+    asked: Option<IntervalMethodArg>,
+    model_default: Option<hxai_hybrid::IntervalMethod>,
+) -> hxai_hybrid::IntervalMethod {
+    asked
+        .map(hxai_hybrid::IntervalMethod::from)
+        .or(model_default)
+        .unwrap_or(hxai_hybrid::IntervalMethod::Delta)
 }

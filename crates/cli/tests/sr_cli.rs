@@ -234,7 +234,7 @@ fn operator_complexity_option() -> TestResult {
     assert!(doc["best"]["complexity"].as_u64().is_some(), "{doc}");
     let path = csv.to_str().ok_or("path")?;
     for (value, needle) in [
-        ("sqrt", "not NAME=INTEGER"),
+        ("sqrt", "not NAME=VALUE"),
         ("sqrt=two", "not a whole number"),
         ("cube=2", "unknown operator `cube`"),
         ("sqrt=0", "choose 1 to 20"),

@@ -40,24 +40,76 @@ pub struct MixedTable {
     pub columns: Vec<Column>,
 }
 
+/// What a model sees of a [`MixedTable`]: its numeric columns, a group column whatever it
+/// holds, and the text columns left out, each with its cells (so that a caller can tell a
+/// column of numbers with a gap from real text, and name the row).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NumericView {
+    /// The numeric columns, in file order, and the group column as numbers (a text group
+    /// numbered 0, 1, ... in order of first appearance).
+    pub table: Table,
+    /// The group column's cells as read, for outputs that repeat it (`hybrid predict`).
+    pub group_cells: Option<Column>,
+    /// Text columns left out (the group column excepted), with their cells.
+    pub text: Vec<(String, Vec<String>)>,
+}
+
 impl MixedTable {
     /// The numeric columns as a [`Table`], and the names of the text columns left out.
     ///
     /// # Errors
+    /// As [`MixedTable::numeric_view`].
+    pub fn numeric(&self) -> Result<(Table, Vec<String>), hxai_table::TableError> {
+        let view = self.numeric_view(None)?;
+        Ok((view.table, view.text.into_iter().map(|(n, _)| n).collect()))
+    }
+
+    /// The numeric view of the table for a model whose rows may be grouped by the column
+    /// `group` (see [`NumericView`]).
+    ///
+    /// # Errors
     /// [`hxai_table::TableError`] when there is no numeric column or the numeric columns
     /// break a table invariant (ragged, a duplicate name, a non-finite value).
-    pub fn numeric(&self) -> Result<(Table, Vec<String>), hxai_table::TableError> {
-        let (mut names, mut columns, mut skipped) = (Vec::new(), Vec::new(), Vec::new());
+    pub fn numeric_view(&self, group: Option<&str>) -> Result<NumericView, hxai_table::TableError> {
+        let (mut names, mut columns, mut text) = (Vec::new(), Vec::new(), Vec::new());
+        let mut group_cells = None;
         for (n, c) in self.names.iter().zip(&self.columns) {
+            let is_group = Some(n.as_str()) == group;
+            if is_group {
+                group_cells = Some(c.clone());
+            }
             match c {
                 Column::Number(v) => {
                     names.push(n.clone());
                     columns.push(v.clone());
                 }
-                Column::Text(_) => skipped.push(n.clone()),
+                Column::Text(cells) if is_group => {
+                    let mut ids: std::collections::HashMap<&str, usize> =
+                        std::collections::HashMap::new();
+                    let codes = cells
+                        .iter()
+                        .map(|s| {
+                            let next = ids.len();
+                            *ids.entry(s.as_str()).or_insert(next) as f64
+                        })
+                        .collect();
+                    names.push(n.clone());
+                    columns.push(codes);
+                }
+                Column::Text(cells) => text.push((n.clone(), cells.clone())),
             }
         }
-        Ok((Table::new(names, columns)?, skipped))
+        Ok(NumericView {
+            table: Table::new(names, columns)?,
+            group_cells,
+            text,
+        })
+    }
+
+    /// Appends the column `name`.
+    pub fn push(&mut self, name: &str, column: Column) {
+        self.names.push(name.to_owned());
+        self.columns.push(column);
     }
 
     /// Appends every column of `table`, as numbers, in its order.

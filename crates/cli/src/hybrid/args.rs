@@ -1,0 +1,240 @@
+//! The options of `hxai hybrid fit | predict | evaluate | compare` (clap). Defaults that the
+//! library owns (split, seed, search budget) are read from `ProcessConfig::new`, so the
+//! help shows the values a fit uses and no number is written twice.
+use hxai_hybrid::process::{CorrectionForm, ProcessConfig};
+use std::path::PathBuf;
+
+/// The library's settings of a table hybrid, for the defaults shown and used here.
+fn defaults() -> ProcessConfig {
+    ProcessConfig::new("", "")
+}
+
+/// Arguments of `hxai hybrid`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    pub(crate) command: Sub,
+}
+
+#[derive(Debug, clap::Subcommand)]
+pub(crate) enum Sub {
+    /// Calibrate a physics equation, learn its correction, write the model file.
+    Fit(FitArgs),
+    /// Physics, correction and hybrid for every row of a table.
+    Predict(PredictArgs),
+    /// Physics vs hybrid on the rows of a table (needs the target column).
+    Evaluate(EvaluateArgs),
+    /// Physics, calibrated physics, symbolic regression, physics + forest and the hybrid on
+    /// the same splits, with k-fold CV and paired t-tests.
+    Compare(CompareArgs),
+}
+
+/// `--correction` values.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub(crate) enum CorrectionArg {
+    /// y = f_p + delta.
+    Additive,
+    /// y = f_p (1 + delta).
+    Multiplicative,
+    /// y = f_p exp(delta), delta found on the log scale: for scatter that grows with the
+    /// quantity (log-normal) and power-law corrections. Target and physics must be positive.
+    Log,
+}
+
+/// Options shared by `fit` and `compare`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct Common {
+    /// Table (CSV or Parquet, by extension).
+    #[arg(long)]
+    pub(crate) data: PathBuf,
+    /// Column to model.
+    #[arg(long)]
+    pub(crate) target: String,
+    /// Physics equation over column and parameter names, e.g. "kc*b*h^(1-mc)".
+    #[arg(long)]
+    pub(crate) physics: String,
+    /// Parameters fitted on the training rows (comma-separated).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) calibrate: Vec<String>,
+    /// Starting values of calibrated parameters: P1=V,P2=V (default 1).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) init: Vec<String>,
+    /// Values of parameters that are not calibrated: P=V (repeat or comma-separate).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) set: Vec<String>,
+    /// Feature columns of the correction (default: every column except target and group).
+    #[arg(long, value_delimiter = ',', conflicts_with = "exclude")]
+    pub(crate) features: Option<Vec<String>>,
+    /// Columns left out of the default feature set.
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) exclude: Vec<String>,
+    /// How the correction enters the hybrid.
+    #[arg(long, value_enum, default_value_t = CorrectionArg::Additive)]
+    pub(crate) correction: CorrectionArg,
+    /// Rows sharing this column's value stay on one side of every split.
+    #[arg(long)]
+    pub(crate) group: Option<String>,
+    /// Share of rows (or groups) held out for testing.
+    #[arg(long, default_value_t = defaults().test_fraction)]
+    pub(crate) test_fraction: f64,
+    /// Test on the rows with the top --test-fraction of this column (train low, test high).
+    #[arg(long)]
+    pub(crate) extrapolate: Option<String>,
+    /// Seed of the split and the search.
+    #[arg(long, default_value_t = defaults().seed)]
+    pub(crate) seed: u64,
+    /// Epochs of the symbolic-regression search.
+    #[arg(long, default_value_t = defaults().search.epochs)]
+    pub(crate) epochs: usize,
+    /// Largest complexity of the correction (input leaves + operators).
+    #[arg(long, default_value_t = defaults().search.max_complexity)]
+    pub(crate) max_complexity: usize,
+    /// Comma-separated operators of the correction's search, from: add sub mul div exp log
+    /// sqrt square inverse sin cos tanh abs gaussian gaussian2 (default: the law operators,
+    /// add sub mul div exp log: power laws, exponentials and quotients).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) operators: Option<Vec<String>>,
+    /// Which operator may appear inside which: `readable` (the default of corrections: no
+    /// exp, log, sin, cos, tanh or gaussian inside another, except a power law
+    /// `exp(a*log(x))`), `none`, or rules `OUTER:INNER=MAX` (e.g. `readable,exp:log=0`).
+    #[arg(long)]
+    pub(crate) nesting: Option<String>,
+    /// Consensus selection: also search N bootstrap resamples of the rows and select the
+    /// structure most of them give back among their near-best models, refitted on all rows
+    /// (0, the default, selects by --criterion from one search).
+    #[arg(long)]
+    pub(crate) consensus: Option<usize>,
+    /// How the correction's equation is chosen among the search's candidates (see
+    /// `hxai sr --help`; default `cv`, the library's for table hybrids).
+    #[arg(long, value_enum)]
+    pub(crate) criterion: Option<crate::strategy::CriterionArg>,
+    /// Folds of `--criterion cv`.
+    #[arg(long, default_value_t = defaults().search.cv_folds)]
+    pub(crate) cv_folds: usize,
+    /// Refit physics parameters and correction constants together once the correction's
+    /// structure is chosen (the two-stage values are reported too).
+    #[arg(long)]
+    pub(crate) joint: bool,
+    /// Folds of the CV+ calibration of conformal prediction intervals, stored in the model
+    /// file (each fold refits the hybrid's constants, not its structure); 0 fits without
+    /// them (the delta method is then the only interval).
+    #[arg(long, default_value_t = hxai_hybrid::conformal::DEFAULT_CONFORMAL_FOLDS)]
+    pub(crate) conformal_folds: usize,
+    /// Print one JSON document on stdout instead of text.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+#[derive(Debug, clap::Args)]
+pub(crate) struct FitArgs {
+    #[command(flatten)]
+    pub(crate) common: Common,
+    /// Where to write the model file (JSON).
+    #[arg(long)]
+    pub(crate) out: PathBuf,
+    /// Also rerun the correction's search on N seeded bootstrap resamples of the training
+    /// rows; the model file gets `stability` (feature and structure shares, out-of-bag R^2).
+    #[arg(long)]
+    pub(crate) stability: Option<usize>,
+}
+
+#[derive(Debug, clap::Args)]
+pub(crate) struct CompareArgs {
+    #[command(flatten)]
+    pub(crate) common: Common,
+    /// Folds of the cross-validation (0 to skip it).
+    #[arg(long, default_value_t = 5)]
+    pub(crate) folds: usize,
+    /// Nominal level of the hybrid's prediction intervals whose coverage on the test rows
+    /// is reported.
+    #[arg(long, default_value_t = hxai_hybrid::DEFAULT_INTERVAL)]
+    pub(crate) interval: f64,
+    /// How the prediction intervals are made (default: conformal where the model has it).
+    #[arg(long, value_enum)]
+    pub(crate) interval_method: Option<crate::strategy::IntervalMethodArg>,
+}
+
+#[derive(Debug, clap::Args)]
+pub(crate) struct PredictArgs {
+    /// Model file written by `hxai hybrid fit`.
+    #[arg(long)]
+    pub(crate) model: PathBuf,
+    /// Table (CSV or Parquet).
+    #[arg(long)]
+    pub(crate) data: PathBuf,
+    /// Output table (CSV or Parquet): columns physics, correction, hybrid (and hybrid_lo,
+    /// hybrid_hi with --interval).
+    #[arg(long)]
+    pub(crate) out: PathBuf,
+    /// Add the hybrid's prediction interval at this level (e.g. 0.95) as the columns
+    /// hybrid_lo and hybrid_hi.
+    #[arg(long)]
+    pub(crate) interval: Option<f64>,
+    /// How the prediction intervals are made (default: conformal where the model file
+    /// stores its calibration, else delta).
+    #[arg(long, value_enum, requires = "interval")]
+    pub(crate) interval_method: Option<crate::strategy::IntervalMethodArg>,
+}
+
+#[derive(Debug, clap::Args)]
+pub(crate) struct EvaluateArgs {
+    /// Model file written by `hxai hybrid fit`.
+    #[arg(long)]
+    pub(crate) model: PathBuf,
+    /// Table (CSV or Parquet) with the target column.
+    #[arg(long)]
+    pub(crate) data: PathBuf,
+    /// Nominal level of the prediction intervals whose coverage is reported.
+    #[arg(long, default_value_t = hxai_hybrid::DEFAULT_INTERVAL)]
+    pub(crate) interval: f64,
+    /// How the prediction intervals are made (default: conformal where the model file
+    /// stores its calibration, else delta).
+    #[arg(long, value_enum)]
+    pub(crate) interval_method: Option<crate::strategy::IntervalMethodArg>,
+    /// Print one JSON document on stdout instead of text.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+impl Common {
+    /// The library's configuration for these options.
+    pub(crate) fn config(&self) -> anyhow::Result<ProcessConfig> {
+        let c = self;
+        let mut cfg = ProcessConfig::new(&c.target, &c.physics);
+        cfg.calibrate = c.calibrate.iter().map(|s| s.trim().to_string()).collect();
+        cfg.init = crate::strategy::pairs(&c.init, "--init", "a number")?;
+        cfg.set = crate::strategy::pairs(&c.set, "--set", "a number")?;
+        cfg.features = c
+            .features
+            .as_ref()
+            .map(|f| f.iter().map(|s| s.trim().to_string()).collect());
+        cfg.exclude = c.exclude.iter().map(|s| s.trim().to_string()).collect();
+        cfg.correction = match c.correction {
+            CorrectionArg::Additive => CorrectionForm::Additive,
+            CorrectionArg::Multiplicative => CorrectionForm::Multiplicative,
+            CorrectionArg::Log => CorrectionForm::Log,
+        };
+        cfg.group = c.group.clone();
+        cfg.test_fraction = c.test_fraction;
+        cfg.extrapolate = c.extrapolate.clone();
+        cfg.seed = c.seed;
+        cfg.joint = c.joint;
+        cfg.conformal_folds = c.conformal_folds;
+        cfg.search.epochs = c.epochs;
+        cfg.search.max_complexity = c.max_complexity;
+        if let Some(crit) = c.criterion {
+            cfg.search.criterion = crit.into();
+        }
+        cfg.search.cv_folds = c.cv_folds;
+        if let Some(ops) = &c.operators {
+            cfg.search.operators = ops.iter().map(|o| o.trim().to_string()).collect();
+        }
+        if let Some(n) = &c.nesting {
+            cfg.search.nesting = hxai_symreg::Nesting::parse(n)?;
+        }
+        if let Some(b) = c.consensus {
+            cfg.search.consensus_runs = b;
+        }
+        Ok(cfg)
+    }
+}

@@ -1,0 +1,235 @@
+//! `hxai hybrid fit | predict | evaluate | compare`: hybrid models of any process on a table
+//! (a physics equation over the columns, its error learned by symbolic regression).
+//!
+//! This module parses options, reads and writes files and prints; every computation is
+//! `hxai_hybrid::process`.
+use crate::Global;
+use crate::strategy::interval_method;
+use anyhow::{Context, Result};
+use args::{Common, CompareArgs, EvaluateArgs, FitArgs, PredictArgs, Sub};
+use hxai_data::NumericView;
+use hxai_hybrid::process::{
+    ProcessConfig, ProcessModel, ProcessProgress, check_text_columns, compare_process, fit_process,
+};
+use indicatif::ProgressBar;
+use print::{print_comparison, print_interval, print_model};
+use std::path::Path;
+
+mod args;
+mod print;
+
+pub use args::Args;
+
+/// Runs `hxai hybrid ...`.
+pub fn run(args: Args, _g: &Global) -> Result<()> {
+    match args.command {
+        Sub::Fit(a) => fit(a),
+        Sub::Predict(a) => predict(a),
+        Sub::Evaluate(a) => evaluate(a),
+        Sub::Compare(a) => compare(a),
+    }
+}
+
+/// Reads the table at `path` as a model grouped by `group` sees it.
+pub(crate) fn read(path: &Path, group: Option<&str>) -> Result<NumericView> {
+    hxai_data::read_mixed_table(path)
+        .with_context(|| format!("cannot read the table {}", path.display()))?
+        .numeric_view(group)
+        .with_context(|| format!("the table {} has no usable numeric column", path.display()))
+}
+
+/// What `fit` and `compare` start from: the configuration, the table (checked for text
+/// where numbers are needed), the warnings about it (said once the command has succeeded)
+/// and the progress bar of the search.
+fn prepare(c: &Common) -> Result<(ProcessConfig, NumericView, Vec<String>, ProgressBar)> {
+    let mut cfg = c.config()?;
+    let loaded = read(&c.data, cfg.group.as_deref())?;
+    let warnings =
+        check_text_columns(&cfg, &loaded.text).with_context(|| c.data.display().to_string())?;
+    // A text column is never a feature: excluding it is allowed and needs no word to the
+    // library, which sees the numeric columns only.
+    cfg.exclude
+        .retain(|e| !loaded.text.iter().any(|(n, _)| n == e));
+    let b = crate::progress::styled(
+        cfg.search.epochs as u64,
+        "{bar:30} {pos}/{len} {msg} [{elapsed}]",
+        c.json,
+    );
+    Ok((cfg, loaded, warnings, b))
+}
+
+fn on_progress(b: &ProgressBar) -> impl FnMut(&ProcessProgress) + '_ {
+    move |p: &ProcessProgress| {
+        let e = p.search.epochs as u64;
+        b.set_length(p.tasks as u64 * e);
+        b.set_position((p.task as u64 - 1) * e + p.search.epoch as u64);
+        b.set_message(format!("{} epoch {}/{}", p.label, p.search.epoch, e));
+    }
+}
+
+#[allow(clippy::print_stdout)]
+fn fit(a: FitArgs) -> Result<()> {
+    // The output is checked before any work: a fit that cannot be written is not started.
+    crate::safety::check_output(
+        &a.out,
+        &[crate::safety::input(&a.common.data, "the table (--data)")],
+    )?;
+    let (cfg, loaded, warnings, b) = prepare(&a.common)?;
+    let mut model = fit_process(&loaded.table, &cfg, &mut on_progress(&b))?;
+    b.finish_and_clear();
+    crate::safety::warn(&warnings);
+    crate::safety::warn(&model.warnings);
+    if let Some(runs) = a.stability {
+        let sb = crate::progress::styled(
+            runs as u64,
+            "{bar:30} {pos}/{len} resamples [{elapsed}]",
+            a.common.json,
+        );
+        let sbb = sb.clone();
+        model.stability = Some(hxai_hybrid::process::process_stability(
+            &loaded.table,
+            &cfg,
+            &model,
+            runs,
+            &mut move |done, _| sbb.set_position(done as u64),
+        )?);
+        sb.finish_and_clear();
+        if let (Some(st), Some(sel)) = (&model.stability, model.correction.selection.take()) {
+            model.correction.selection = Some(sel.with_stability(st));
+        }
+    }
+    let json = model.to_json();
+    hxai_data::write_text(&a.out, &json)
+        .with_context(|| format!("cannot write the model to {}", a.out.display()))?;
+    if a.common.json {
+        println!("{json}");
+    } else {
+        print_model(&model);
+        if let Some(sel) = &model.correction.selection {
+            crate::sr::print_selection(sel);
+        }
+        if let Some(st) = &model.stability {
+            crate::sr::print_stability(st);
+        }
+        println!("model written to {}", a.out.display());
+    }
+    Ok(())
+}
+
+fn load_model(path: &Path) -> Result<ProcessModel> {
+    let text = hxai_data::read_text(path)
+        .with_context(|| format!("cannot read the model {}", path.display()))?;
+    ProcessModel::from_json(&text)
+        .with_context(|| format!("cannot load the model {}", path.display()))
+}
+
+#[allow(clippy::print_stdout)]
+fn predict(a: PredictArgs) -> Result<()> {
+    crate::safety::check_output(
+        &a.out,
+        &[
+            crate::safety::input(&a.data, "the table (--data)"),
+            crate::safety::input(&a.model, "the model (--model)"),
+        ],
+    )?;
+    crate::safety::check_table_path(&a.out)?;
+    if let Some(level) = a.interval {
+        crate::safety::check_level(level, "--interval")?;
+    }
+    let model = load_model(&a.model)?;
+    let loaded = read(&a.data, model.group.as_deref())?;
+    let p = model.predict(&loaded.table)?;
+    crate::safety::warn(&model.range_warnings(&loaded.table));
+    let bounds = match a.interval {
+        Some(level) => Some(model.intervals_with(
+            &loaded.table,
+            level,
+            interval_method(a.interval_method, model.default_interval_method(level)),
+        )?),
+        None => None,
+    };
+    let mut t = hxai_data::MixedTable::default();
+    if let (Some(g), Some(cells)) = (&model.group, loaded.group_cells) {
+        t.push(g, cells);
+    }
+    let with_bounds = bounds.is_some();
+    let (lo, hi): (Vec<f64>, Vec<f64>) = bounds.unwrap_or_default().into_iter().unzip();
+    let columns = [
+        ("physics", p.physics),
+        ("correction", p.correction),
+        ("hybrid", p.hybrid),
+        ("hybrid_lo", lo),
+        ("hybrid_hi", hi),
+    ];
+    for (n, v) in columns
+        .into_iter()
+        .filter(|(n, _)| with_bounds || !n.starts_with("hybrid_"))
+    {
+        t.push(n, hxai_data::Column::Number(v));
+    }
+    hxai_data::write_mixed_table(&a.out, &t)
+        .with_context(|| format!("cannot write the predictions to {}", a.out.display()))?;
+    println!(
+        "{} rows written to {}",
+        loaded.table.n_rows(),
+        a.out.display()
+    );
+    Ok(())
+}
+
+#[allow(clippy::print_stdout)]
+fn evaluate(a: EvaluateArgs) -> Result<()> {
+    crate::safety::check_level(a.interval, "--interval")?;
+    let model = load_model(&a.model)?;
+    let loaded = read(&a.data, model.group.as_deref())?;
+    let e = match (a.interval_method, model.default_interval_method(a.interval)) {
+        (None, None) => model.evaluate_at(&loaded.table, a.interval)?,
+        (asked, _) => model.evaluate_with(
+            &loaded.table,
+            a.interval,
+            interval_method(asked, model.default_interval_method(a.interval)),
+        )?,
+    };
+    crate::safety::warn(&e.warnings);
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&e)?);
+    } else {
+        println!(
+            "{} rows: physics RMSE {:.6e} R^2 {:.4}; hybrid RMSE {:.6e} R^2 {:.4}; improvement {:.2} %; paired t-test p = {:.3e}",
+            e.n_samples,
+            e.physics.rmse,
+            e.physics.r2,
+            e.hybrid.rmse,
+            e.hybrid.r2,
+            e.improvement_pct,
+            e.t_test.p_value
+        );
+        if let Some(iv) = e.interval {
+            print_interval(&iv, "rows");
+        }
+    }
+    Ok(())
+}
+
+#[allow(clippy::print_stdout)]
+fn compare(a: CompareArgs) -> Result<()> {
+    crate::safety::check_level(a.interval, "--interval")?;
+    let (cfg, loaded, warnings, b) = prepare(&a.common)?;
+    let mut c = compare_process(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
+    b.finish_and_clear();
+    crate::safety::warn(&c.hybrid.warnings);
+    if a.interval_method.is_some() || a.interval != hxai_hybrid::DEFAULT_INTERVAL {
+        let method = interval_method(
+            a.interval_method,
+            c.hybrid.default_interval_method(a.interval),
+        );
+        c.interval = c.hybrid.test_interval(&loaded.table, a.interval, method)?;
+    }
+    crate::safety::warn(&warnings);
+    if a.common.json {
+        println!("{}", serde_json::to_string_pretty(&c)?);
+    } else {
+        print_comparison(&c);
+    }
+    Ok(())
+}

@@ -1,0 +1,117 @@
+//! What `hxai hybrid` prints in text mode: the fitted model, interval coverage and the
+//! comparison table (the `--json` documents are the library's types, serialised).
+use hxai_hybrid::process::{Comparison, ProcessModel};
+
+fn fmt_se(se: Option<&Option<f64>>) -> String {
+    match se {
+        Some(Some(s)) => format!(" +- {s:.4e}"),
+        Some(None) => " +- (undefined)".into(),
+        None => String::new(),
+    }
+}
+
+#[allow(clippy::print_stdout)]
+pub(super) fn print_model(m: &ProcessModel) {
+    println!("physics: {}", m.physics.equation);
+    for (name, v) in &m.physics.parameters {
+        let tag = if m.physics.calibrated.contains(name) {
+            "calibrated"
+        } else {
+            "set"
+        };
+        let ci = m
+            .physics
+            .params
+            .get(name)
+            .and_then(|p| p.ci95)
+            .map(|[lo, hi]| format!(", 95 % CI [{lo:.6e}, {hi:.6e}]"))
+            .unwrap_or_default();
+        println!(
+            "  {name} = {v:.6e}{}{ci} ({tag})",
+            fmt_se(m.physics.standard_errors.get(name))
+        );
+    }
+    println!(
+        "correction ({}, complexity {}): {}",
+        m.correction.kind.name(),
+        m.correction.forms.complexity,
+        m.correction.forms.equation
+    );
+    println!("hybrid: {} = {}", m.target, m.hybrid.equation);
+    if let Some(j) = &m.joint {
+        println!(
+            "joint refit: train RMSE {:.6e} -> {:.6e} (two-stage correction: {})",
+            j.sequential_train_rmse, j.joint_train_rmse, j.sequential_correction
+        );
+    }
+    let s = &m.scores;
+    println!(
+        "train ({} rows): physics RMSE {:.6e} R^2 {:.4}, hybrid RMSE {:.6e} R^2 {:.4}",
+        m.split.train.len(),
+        s.train.physics.rmse,
+        s.train.physics.r2,
+        s.train.hybrid.rmse,
+        s.train.hybrid.r2
+    );
+    if let Some(t) = &s.test {
+        println!(
+            "test  ({} rows, {} split): physics RMSE {:.6e} R^2 {:.4}, hybrid RMSE {:.6e} R^2 {:.4}",
+            m.split.test.len(),
+            m.split.kind,
+            t.physics.rmse,
+            t.physics.r2,
+            t.hybrid.rmse,
+            t.hybrid.r2
+        );
+    }
+}
+
+#[allow(clippy::print_stdout)]
+pub(super) fn print_interval(iv: &hxai_hybrid::IntervalReport, what: &str) {
+    println!(
+        "prediction intervals ({}) at {:.1} %: coverage {:.1} % of {} {what}, median width {}",
+        iv.method.name(),
+        100.0 * iv.nominal,
+        100.0 * iv.coverage,
+        iv.n,
+        iv.median_width
+            .map_or_else(|| "(none)".to_string(), |w| format!("{w:.4e}"))
+    );
+}
+
+#[allow(clippy::print_stdout)]
+pub(super) fn print_comparison(c: &Comparison) {
+    println!(
+        "{} split: {} train rows, {} test rows",
+        c.split, c.n_train, c.n_test
+    );
+    println!("{:<20} {:>10} {:>14} {:>14}", "model", "R^2", "RMSE", "MAE");
+    for m in &c.models {
+        println!(
+            "{:<20} {:>10.4} {:>14.6e} {:>14.6e}",
+            m.name, m.metrics.r2, m.metrics.rmse, m.metrics.mae
+        );
+    }
+    if !c.cv.is_empty() {
+        println!(
+            "{}-fold CV, R^2 mean +- sd [95 % Student-t interval]:",
+            c.folds
+        );
+        for s in &c.cv {
+            println!(
+                "{:<20} {:>8.4} +- {:.4} [{:.4}, {:.4}]",
+                s.name, s.r2_mean, s.r2_sd, s.r2_ci[0], s.r2_ci[1]
+            );
+        }
+    }
+    for t in &c.t_tests {
+        println!(
+            "paired t-test {} vs {} (squared errors): t = {:.3}, p = {:.3e}",
+            t.model, t.baseline, t.test.statistic, t.test.p_value
+        );
+    }
+    if let Some(iv) = &c.interval {
+        print_interval(iv, "test rows");
+    }
+    println!("hybrid: {} = {}", c.target, c.hybrid.hybrid.equation);
+}
