@@ -16,6 +16,21 @@ pub const MAX_THREADS: usize = 1024;
 /// `kill`). Outputs are only ever replaced by a rename of a complete file, so an existing
 /// output keeps its old contents. Without the handler the default action would end the
 /// process at once and leave the hidden `.NAME.PID-N.tmp` files behind.
+/// What a command does on SIGINT/SIGTERM/SIGHUP before its unfinished outputs are removed
+/// (see [`on_signal`]); it returns a sentence for stderr.
+type OnSignal = Box<dyn FnOnce() -> Option<String> + Send>;
+
+static ON_SIGNAL: std::sync::Mutex<Option<OnSignal>> = std::sync::Mutex::new(None);
+
+/// Registers what the command does when stopped by a signal, before the unfinished outputs
+/// are removed: `hxai stream` keeps the rows written so far. The sentence it returns is
+/// printed after the signal's name.
+pub fn on_signal(f: impl FnOnce() -> Option<String> + Send + 'static) {
+    if let Ok(mut slot) = ON_SIGNAL.lock() {
+        *slot = Some(Box::new(f));
+    }
+}
+
 #[cfg(unix)]
 pub fn remove_temporary_files_on_signal() -> Result<()> {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
@@ -25,6 +40,11 @@ pub fn remove_temporary_files_on_signal() -> Result<()> {
         .name("hxai-signals".into())
         .spawn(move || {
             if let Some(signal) = signals.forever().next() {
+                let kept = ON_SIGNAL
+                    .lock()
+                    .ok()
+                    .and_then(|mut slot| slot.take())
+                    .and_then(|f| f());
                 // The registry stays locked until the process has exited, so no other thread
                 // renames or creates a file after this point.
                 let (n, _held) = hxai_data::remove_temporary_files();
@@ -35,13 +55,14 @@ pub fn remove_temporary_files_on_signal() -> Result<()> {
                 };
                 #[allow(clippy::print_stderr)]
                 {
+                    let kept = kept.map(|k| format!("; {k}")).unwrap_or_default();
                     if n > 0 {
                         let files = if n == 1 { "file" } else { "files" };
                         eprintln!(
-                            "error: {name}: removed {n} unfinished output {files}; existing files are unchanged"
+                            "error: {name}{kept}; removed {n} unfinished output {files}; existing files are unchanged"
                         );
                     } else {
-                        eprintln!("error: {name}");
+                        eprintln!("error: {name}{kept}");
                     }
                 }
                 std::process::exit(128 + signal);
@@ -126,8 +147,12 @@ pub fn warn<S: std::fmt::Display>(warnings: &[S]) {
     }
 }
 
-/// Installs a panic hook that turns a write to a closed stdout (`println!` after the
-/// reader went away) into a normal exit, keeping the default report for any other panic.
+/// Installs a panic hook for the one panic that is not a bug: `println!` failing to write
+/// stdout. A closed stdout (the reader went away: `| head -1`) ends the process normally
+/// with exit code 0; any other failure (a full disk under `> out.json`, `> /dev/full`) is
+/// the usual one-line error and exit code 1, after removing unfinished temporary outputs,
+/// instead of a panic's report and exit code 101. Every other panic keeps the default
+/// report.
 pub fn exit_quietly_on_broken_pipe() {
     let default = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
@@ -137,8 +162,16 @@ pub fn exit_quietly_on_broken_pipe() {
             .map(String::as_str)
             .or_else(|| info.payload().downcast_ref::<&str>().copied())
             .unwrap_or("");
-        if msg.contains("failed printing to stdout") && msg.contains("Broken pipe") {
-            std::process::exit(0);
+        if let Some(reason) = msg.strip_prefix("failed printing to stdout: ") {
+            if reason.contains("Broken pipe") {
+                std::process::exit(0);
+            }
+            let (_, _held) = hxai_data::remove_temporary_files();
+            #[allow(clippy::print_stderr)]
+            {
+                eprintln!("error: cannot write to standard output: {reason}");
+            }
+            std::process::exit(1);
         }
         default(info);
     }));

@@ -8,6 +8,7 @@ use crate::Global;
 use anyhow::{Context, Result};
 use hxai_data::{AtomicFile, SampleReader, UNIFORM_TIME_TOLERANCE, format_number};
 use hxai_hybrid::stream::{COLUMNS, Estimator, INTERVAL_COLUMNS, Row, Summary};
+use std::sync::{Arc, Mutex};
 use std::io::{BufWriter, Read, Write};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -42,26 +43,56 @@ pub struct Args {
     pub summary: Option<PathBuf>,
 }
 
+/// The output file of a stream, shared with the signal handler: Ctrl-C or SIGTERM is how a
+/// live stream usually ends, so the handler keeps the rows written so far (flushes and
+/// renames the file into place, as at the end of the input) instead of discarding them.
+/// Rows are written under the lock one whole row at a time, so the file never ends inside a
+/// row.
+type SharedFile = Arc<Mutex<Option<BufWriter<AtomicFile>>>>;
+
 /// Where rows go.
 enum Sink {
     Stdout(BufWriter<std::io::StdoutLock<'static>>),
-    File(BufWriter<AtomicFile>),
+    File(SharedFile),
+}
+
+/// Flushes and renames the stream's file into place, once (the signal handler or the end of
+/// the run, whichever comes first); the message names the file.
+fn commit_shared(file: &SharedFile) -> Result<Option<String>> {
+    let taken = file.lock().map_or(None, |mut f| f.take());
+    let Some(w) = taken else { return Ok(None) };
+    let file = w
+        .into_inner()
+        .map_err(|e| anyhow::anyhow!("cannot write the output: {}", e.error()))?;
+    let path = file.path().display().to_string();
+    file.commit().with_context(|| format!("cannot write {path}"))?;
+    Ok(Some(path))
 }
 
 impl Sink {
-    fn writer(&mut self) -> &mut dyn Write {
+    /// Runs `f` on the writer; for a file, under its lock.
+    fn with<T>(&mut self, f: impl FnOnce(&mut dyn Write) -> Result<T>) -> Result<T> {
         match self {
-            Sink::Stdout(w) => w,
-            Sink::File(w) => w,
+            Sink::Stdout(w) => f(w),
+            Sink::File(shared) => {
+                let mut guard = shared
+                    .lock()
+                    .map_err(|_| anyhow::anyhow!("the output file is unusable"))?;
+                match guard.as_mut() {
+                    Some(w) => f(w),
+                    None => anyhow::bail!("the stream was stopped"),
+                }
+            }
         }
     }
 
     /// Flushes; a closed standard output ends the run quietly (the reader has gone).
     fn flush(&mut self) -> Result<()> {
-        match self.writer().flush() {
-            Ok(()) => Ok(()),
-            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
-            Err(e) => Err(anyhow::anyhow!("cannot write the output: {e}")),
+        match self.with(|w| Ok(w.flush())) {
+            Ok(Ok(())) => Ok(()),
+            Ok(Err(e)) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+            Ok(Err(e)) => Err(anyhow::anyhow!("cannot write the output: {e}")),
+            Err(e) => Err(e),
         }
     }
 
@@ -72,14 +103,7 @@ impl Sink {
                 Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
                 r => r.context("cannot write to standard output"),
             },
-            Sink::File(w) => {
-                let file = w
-                    .into_inner()
-                    .map_err(|e| anyhow::anyhow!("cannot write the output: {}", e.error()))?;
-                let path = file.path().display().to_string();
-                file.commit()
-                    .with_context(|| format!("cannot write {path}"))
-            }
+            Sink::File(shared) => commit_shared(&shared).map(|_| ()),
         }
     }
 }
@@ -297,17 +321,26 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         None => (Box::new(std::io::stdin()), "standard input".into()),
     };
     let mut sink = match &args.out {
-        Some(p) => Sink::File(BufWriter::with_capacity(
-            1 << 16,
-            AtomicFile::create(p).with_context(|| format!("cannot write {}", p.display()))?,
-        )),
+        Some(p) => {
+            let file: SharedFile = Arc::new(Mutex::new(Some(BufWriter::with_capacity(
+                1 << 16,
+                AtomicFile::create(p).with_context(|| format!("cannot write {}", p.display()))?,
+            ))));
+            let on_signal = Arc::clone(&file);
+            crate::safety::on_signal(move || match commit_shared(&on_signal) {
+                Ok(Some(path)) => Some(format!("the rows so far are in {path}")),
+                Ok(None) => None,
+                Err(e) => Some(format!("the rows so far could not be kept: {e:#}")),
+            });
+            Sink::File(file)
+        }
         None => Sink::Stdout(BufWriter::with_capacity(1 << 16, std::io::stdout().lock())),
     };
     let mut header: Vec<&str> = COLUMNS.to_vec();
     if args.interval.is_some() {
         header.extend(INTERVAL_COLUMNS);
     }
-    writeln!(sink.writer(), "{}", header.join(",")).context("cannot write the output")?;
+    sink.with(|w| writeln!(w, "{}", header.join(",")).context("cannot write the output"))?;
     let start = Instant::now();
     let mut run = Run {
         args_fs: args.fs_hz,
@@ -329,8 +362,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
                 sink.flush()?;
             }
             match reader.next_sample()? {
-                Some(s) => run.take(s, sink.writer())?,
-                None => return run.finish(sink.writer()),
+                Some(s) => sink.with(|w| run.take(s, w))?,
+                None => return sink.with(|w| run.finish(w)),
             }
         }
     })();

@@ -49,6 +49,23 @@ pub fn remove_temporary_files() -> (usize, MutexGuard<'static, Vec<PathBuf>>) {
     (n, guard)
 }
 
+/// Refuses a target that is a folder, or an existing node that is not a regular file (a
+/// device, pipe or socket, which the rename would replace). A symbolic link is judged by
+/// what it points to.
+fn check_target(path: &Path) -> Result<(), DataError> {
+    if path.is_dir() {
+        return Err(DataError::IsADirectory {
+            path: path.to_path_buf(),
+        });
+    }
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => Err(DataError::NotARegularFile {
+            path: path.to_path_buf(),
+        }),
+        _ => Ok(()),
+    }
+}
+
 /// Whether the process `pid` still runs. Only Linux says so cheaply (`/proc/PID`); elsewhere
 /// every process is assumed alive and nothing is swept.
 fn process_alive(pid: u32) -> bool {
@@ -110,11 +127,7 @@ impl AtomicFile {
     /// # Errors
     /// [`DataError::IsADirectory`] when `path` is a folder, [`DataError::Io`].
     pub fn create(path: &Path) -> Result<Self, DataError> {
-        if path.is_dir() {
-            return Err(DataError::IsADirectory {
-                path: path.to_path_buf(),
-            });
-        }
+        check_target(path)?;
         let parent = match path.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
@@ -134,7 +147,8 @@ impl AtomicFile {
         ));
         let file = {
             let mut live = live();
-            let file = File::create_new(&tmp).map_err(|e| DataError::io(&tmp, e))?;
+            // The error names the target the user gave, not the hidden temporary name.
+            let file = File::create_new(&tmp).map_err(|e| DataError::io(path, e))?;
             live.push(tmp.clone());
             file
         };
@@ -274,17 +288,13 @@ fn canonical(path: &Path) -> Option<PathBuf> {
 }
 
 /// Refuses an output path that names one of the inputs (after resolving `.`, `..` and
-/// symbolic links), or that is a folder. Each input is `(path, role)`, the role saying in
+/// symbolic links), or that is a folder, a device, a pipe or a socket. Each input is `(path, role)`, the role saying in
 /// the message what would be destroyed (`"the record"`, `"the manifest of --data"`).
 ///
 /// # Errors
 /// [`DataError::OutputIsInput`] or [`DataError::IsADirectory`].
 pub fn check_output(output: &Path, inputs: &[(PathBuf, String)]) -> Result<(), DataError> {
-    if output.is_dir() {
-        return Err(DataError::IsADirectory {
-            path: output.to_path_buf(),
-        });
-    }
+    check_target(output)?;
     let Some(out) = canonical(output) else {
         return Ok(());
     };
@@ -364,6 +374,23 @@ mod tests {
         assert!(!live().contains(&tmp));
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "y");
         std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn devices_and_pipes_are_refused_as_outputs_and_left_alone() {
+        // /dev/null is a character device on every Unix; nothing is written to it.
+        let null = Path::new("/dev/null");
+        if null.exists() {
+            assert!(matches!(
+                check_output(null, &[]),
+                Err(DataError::NotARegularFile { .. })
+            ));
+            assert!(matches!(
+                write_bytes(null, b"x"),
+                Err(DataError::NotARegularFile { .. })
+            ));
+            assert!(std::fs::metadata(null).is_ok_and(|m| !m.is_file()));
+        }
     }
 
     #[test]

@@ -239,6 +239,16 @@ pub enum DataError {
         /// The path.
         path: PathBuf,
     },
+    /// An output path names a device, a pipe or a socket: writing a file and renaming it
+    /// into place would replace the node itself (as root, `/dev/null` or `/dev/full`).
+    #[error(
+        "{}: is not a regular file (a device, pipe or socket); hxai writes its outputs as files and renames them into place, which would replace it: choose a file path",
+        path.display()
+    )]
+    NotARegularFile {
+        /// The path.
+        path: PathBuf,
+    },
     /// A path that must be a folder is a file.
     #[error("{}: is a file, not a folder", path.display())]
     NotADirectory {

@@ -91,6 +91,11 @@ pub struct Row {
     pub interval_um: Option<(f64, f64)>,
 }
 
+/// Most samples one window may hold in a stream (each estimate keeps a few copies of the
+/// window): 1e7, 80 MB per copy, a 10 s window at 1 MHz. A rate far above any accelerometer's
+/// (`--fs-hz 1e9`) is refused before anything is allocated.
+pub const MAX_WINDOW_SAMPLES: usize = 10_000_000;
+
 /// Columns of the streaming output, in order (`hxai stream`'s CSV header).
 pub const COLUMNS: [&str; 3] = ["time_s", "physics_um", "hybrid_um"];
 
@@ -186,6 +191,15 @@ impl Estimator {
         let physics = model.physics.check(fs_hz)?;
         model.window.check()?;
         let window = model.window.length_samples(fs_hz);
+        if window > MAX_WINDOW_SAMPLES {
+            return Err(HybridError::InvalidConfig(format!(
+                "one model window of {} s at {} Hz is {window} samples, more than the {} a \
+                 stream holds; is the sampling rate right (time_s in seconds)?",
+                crate::error::num(model.window.length_s),
+                crate::error::num(fs_hz),
+                MAX_WINDOW_SAMPLES
+            )));
+        }
         hxai_features::check_covers_one_period(window, fs_hz, frequency_hz)?;
         let sine = SlidingSine::new(
             whole_periods(window, fs_hz, frequency_hz),
