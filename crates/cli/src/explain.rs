@@ -123,7 +123,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         }
         Model::Process(model) => {
             let table = match &args.data {
-                Some(path) => Some(crate::hybrid::read(path, model.group.as_deref())?.table),
+                Some(path) => Some(crate::hybrid::read_for(path, &model, true)?.table),
                 None => None,
             };
             let e = model.explain(table.as_ref(), args.interval, method);

@@ -8,9 +8,9 @@ use crate::Global;
 use anyhow::{Context, Result};
 use hxai_data::{AtomicFile, SampleReader, UNIFORM_TIME_TOLERANCE, format_number};
 use hxai_hybrid::stream::{COLUMNS, Estimator, INTERVAL_COLUMNS, Row, Summary};
-use std::sync::{Arc, Mutex};
 use std::io::{BufWriter, Read, Write};
 use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 /// Arguments of `hxai stream`.
@@ -65,7 +65,8 @@ fn commit_shared(file: &SharedFile) -> Result<Option<String>> {
         .into_inner()
         .map_err(|e| anyhow::anyhow!("cannot write the output: {}", e.error()))?;
     let path = file.path().display().to_string();
-    file.commit().with_context(|| format!("cannot write {path}"))?;
+    file.commit()
+        .with_context(|| format!("cannot write {path}"))?;
     Ok(Some(path))
 }
 

@@ -9,7 +9,8 @@ use anyhow::{Context, Result};
 use args::{Common, CompareArgs, EvaluateArgs, FitArgs, PredictArgs, Sub};
 use hxai_data::NumericView;
 use hxai_hybrid::process::{
-    ProcessConfig, ProcessModel, ProcessProgress, check_text_columns, compare_process, fit_process,
+    ProcessConfig, ProcessModel, ProcessProgress, check_text_columns, check_used_columns,
+    compare_process, fit_process, model_columns,
 };
 use indicatif::ProgressBar;
 use print::{print_comparison, print_interval, print_model};
@@ -36,6 +37,19 @@ pub(crate) fn read(path: &Path, group: Option<&str>) -> Result<NumericView> {
         .with_context(|| format!("cannot read the table {}", path.display()))?
         .numeric_view(group)
         .with_context(|| format!("the table {} has no usable numeric column", path.display()))
+}
+
+/// Reads the table at `path` for the fitted `model`; the columns it reads (and the target,
+/// `with_target`) must be numbers, a bad cell named by its row.
+pub(crate) fn read_for(
+    path: &Path,
+    model: &ProcessModel,
+    with_target: bool,
+) -> Result<NumericView> {
+    let view = read(path, model.group.as_deref())?;
+    check_used_columns(&model_columns(model, with_target), &view.text)
+        .with_context(|| path.display().to_string())?;
+    Ok(view)
 }
 
 /// What `fit` and `compare` start from: the configuration, the table (checked for text
@@ -137,7 +151,7 @@ fn predict(a: PredictArgs) -> Result<()> {
         crate::safety::check_level(level, "--interval")?;
     }
     let model = load_model(&a.model)?;
-    let loaded = read(&a.data, model.group.as_deref())?;
+    let loaded = read_for(&a.data, &model, false)?;
     let p = model.predict(&loaded.table)?;
     crate::safety::warn(&model.range_warnings(&loaded.table));
     let bounds = match a.interval {
@@ -181,7 +195,7 @@ fn predict(a: PredictArgs) -> Result<()> {
 fn evaluate(a: EvaluateArgs) -> Result<()> {
     crate::safety::check_level(a.interval, "--interval")?;
     let model = load_model(&a.model)?;
-    let loaded = read(&a.data, model.group.as_deref())?;
+    let loaded = read_for(&a.data, &model, true)?;
     let e = match (a.interval_method, model.default_interval_method(a.interval)) {
         (None, None) => model.evaluate_at(&loaded.table, a.interval)?,
         (asked, _) => model.evaluate_with(

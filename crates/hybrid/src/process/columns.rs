@@ -5,19 +5,101 @@
 //! numbers, where a needed column that held text would be reported as missing. This module
 //! judges the text columns against the configuration first: a column the model names (the
 //! target, `features`, `extrapolate`, the physics) must be numbers; a column of numbers with
-//! an empty cell is a gap in the data, named by its row, not text; a real text column that
+//! a bad cell (empty, or a typo such as `12O.5`) is named by its row, not taken for text; a real text column that
 //! would have been a default feature is left out with a warning instead of in silence.
 
 use super::ProcessConfig;
 use crate::HybridError;
 
+/// The first cell of a text column that is not a number, as an error naming its row
+/// (counted from 1 as the file shows it) and content, when the column is numbers but for a
+/// few cells (more than half of its non-empty cells are numbers): a gap (`""`) or a typo
+/// (`12O.5`) in a column of numbers, which a reader that must choose one type per column
+/// reads as text. `None` for a column of real text.
+fn bad_cell(name: &str, cells: &[String]) -> Option<HybridError> {
+    let filled = cells.iter().filter(|v| !v.trim().is_empty()).count();
+    let numbers = cells
+        .iter()
+        .filter(|v| v.trim().parse::<f64>().is_ok_and(f64::is_finite))
+        .count();
+    if numbers == 0 || 2 * numbers <= filled {
+        return None;
+    }
+    let (row, cell) = cells
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !v.trim().parse::<f64>().is_ok_and(f64::is_finite))?;
+    let what = if cell.trim().is_empty() {
+        "the cell is empty".to_string()
+    } else {
+        format!("`{}` is not a number", cell.trim())
+    };
+    Some(HybridError::InvalidConfig(format!(
+        "row {}, column `{name}`: {what}; hxai hybrid needs a number in every row of a column \
+         it uses (mend the cell, remove the row, or --exclude {name})",
+        row + 1
+    )))
+}
+
+/// Whether the text cells are all true/false (a Parquet boolean, or such words in a CSV).
+fn flags(cells: &[String]) -> bool {
+    cells.iter().all(|v| {
+        let t = v.trim();
+        t.is_empty() || t.eq_ignore_ascii_case("true") || t.eq_ignore_ascii_case("false")
+    })
+}
+
+/// Refuses a text column among `used` (the columns a model reads): a column of numbers
+/// with a bad cell is named by its row and cell ([`bad_cell`]), another by what it holds.
+///
+/// # Errors
+/// [`HybridError::InvalidConfig`] for the first such column.
+pub fn check_used_columns(
+    used: &[String],
+    text: &[(String, Vec<String>)],
+) -> Result<(), HybridError> {
+    if let Some((n, cells)) = text.iter().find(|(n, _)| used.contains(n)) {
+        if let Some(e) = bad_cell(n, cells) {
+            return Err(e);
+        }
+        let holds = if flags(cells) {
+            "true/false values (write them as 1/0 to use them)"
+        } else {
+            "text"
+        };
+        let example = cells
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !v.trim().is_empty())
+            .map(|(i, v)| format!(" (row {}: `{}`)", i + 1, v.trim()))
+            .unwrap_or_default();
+        return Err(HybridError::InvalidConfig(format!(
+            "column `{n}` holds {holds}{example}, not numbers: hxai hybrid needs numeric columns \
+             (text is allowed only in the --group column)"
+        )));
+    }
+    Ok(())
+}
+
+/// The columns a fitted model reads to predict (the physics' columns and the correction's
+/// features, and the group column), and the target when `with_target` (to evaluate).
+pub fn model_columns(model: &super::ProcessModel, with_target: bool) -> Vec<String> {
+    let mut used = model.physics.columns.clone();
+    used.extend(model.correction.model.feature_names.iter().cloned());
+    used.extend(model.group.iter().cloned());
+    if with_target {
+        used.push(model.target.clone());
+    }
+    used
+}
+
 /// Checks the text columns of a table (each with its cells, rows in file order) against
 /// `cfg`, and returns the warnings for those left out of the correction's features.
 ///
 /// # Errors
-/// [`HybridError::InvalidConfig`]: a column the model uses, or a default feature, holds
-/// numbers with an empty cell (the row is named, counted from 1 as the file shows it); a
-/// column the model names holds text or true/false values.
+/// [`HybridError::InvalidConfig`]: a column the model names (target, features,
+/// extrapolation column, physics) holds text, or a column the model uses or would take as a
+/// default feature is numbers with a bad cell (a gap or a typo: the row and cell are named).
 pub fn check_text_columns(
     cfg: &ProcessConfig,
     text: &[(String, Vec<String>)],
@@ -28,42 +110,22 @@ pub fn check_text_columns(
     if let Ok(p) = hxai_symreg::infix::parse(&cfg.physics) {
         named.extend(p.names().into_iter().map(str::to_string));
     }
+    check_used_columns(&named, text)?;
     let default_feature = |n: &str| {
         cfg.features.is_none()
             && !cfg.exclude.iter().any(|e| e.trim() == n)
             && cfg.group.as_deref() != Some(n)
     };
     let mut left_out = Vec::new();
-    for (n, cells) in text {
-        if !named.contains(n) && !default_feature(n) {
-            continue;
+    for (n, cells) in text.iter().filter(|(n, _)| default_feature(n)) {
+        if let Some(e) = bad_cell(n, cells) {
+            return Err(e);
         }
-        let numbers_with_gaps = cells
-            .iter()
-            .all(|v| v.trim().is_empty() || v.trim().parse::<f64>().is_ok());
-        if numbers_with_gaps && let Some(row) = cells.iter().position(|v| v.trim().is_empty()) {
-            return Err(HybridError::InvalidConfig(format!(
-                "row {}, column `{n}`: the cell is empty; hxai hybrid needs a number in every row \
-                 of a column it uses (fill it, remove the row, or --exclude {n})",
-                row + 1
-            )));
-        }
-        // true/false (a Parquet boolean, or such words in a CSV) is not text to a reader
-        let flags = cells.iter().all(|v| {
-            let t = v.trim();
-            t.is_empty() || t.eq_ignore_ascii_case("true") || t.eq_ignore_ascii_case("false")
-        });
-        let holds = if flags {
+        let holds = if flags(cells) {
             "true/false values (write them as 1/0 to use them)"
         } else {
             "text"
         };
-        if named.contains(n) {
-            return Err(HybridError::InvalidConfig(format!(
-                "column `{n}` holds {holds}, not numbers: hxai hybrid needs numeric columns \
-                 (text is allowed only in the --group column)"
-            )));
-        }
         left_out.push(format!(
             "column `{n}` holds {holds} and is left out of the correction's features (--exclude {n} to say so)"
         ));
@@ -85,7 +147,8 @@ mod tests {
         let gap = vec![("v".to_string(), cells(&["1", "2", " ", "4"]))];
         let e = check_text_columns(&cfg, &gap).err().map(|e| e.to_string());
         assert!(
-            e.as_deref().is_some_and(|e| e.contains("row 3, column `v`: the cell is empty")),
+            e.as_deref()
+                .is_some_and(|e| e.contains("row 3, column `v`: the cell is empty")),
             "{e:?}"
         );
         let words = vec![
@@ -100,9 +163,34 @@ mod tests {
         let mut quiet = cfg.clone();
         quiet.exclude = vec!["batch".into(), "coolant".into()];
         assert_eq!(check_text_columns(&quiet, &words).ok(), Some(vec![]));
-        // named by the physics: refused
+        // named by the physics: refused, with a cell shown
         let named = ProcessConfig::new("y", "k*batch");
-        let e = check_text_columns(&named, &words).err().map(|e| e.to_string());
-        assert!(e.is_some_and(|e| e.contains("column `batch` holds text, not numbers")));
+        let e = check_text_columns(&named, &words)
+            .err()
+            .map(|e| e.to_string());
+        assert!(
+            e.as_deref()
+                .is_some_and(|e| e.contains("column `batch` holds text (row 1: `a`), not numbers")),
+            "{e:?}"
+        );
+        // a typo in a column of numbers is named by row and cell, used or not
+        let typo = vec![("v".to_string(), cells(&["120.5", "12O.5", "130", "140"]))];
+        for cfg in [
+            ProcessConfig::new("y", "k*x"),
+            ProcessConfig::new("y", "k*v"),
+        ] {
+            let e = check_text_columns(&cfg, &typo).err().map(|e| e.to_string());
+            assert!(
+                e.as_deref()
+                    .is_some_and(|e| e.contains("row 2, column `v`: `12O.5` is not a number")),
+                "{e:?}"
+            );
+        }
+        // a text column with a few numbers is still text
+        let ids = vec![("lot".to_string(), cells(&["A1", "B2", "7"]))];
+        assert_eq!(
+            check_text_columns(&cfg, &ids).map(|w| w.len()).ok(),
+            Some(1)
+        );
     }
 }

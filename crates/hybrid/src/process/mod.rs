@@ -54,7 +54,7 @@ mod split;
 pub mod traps;
 
 pub use crate::conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, ResidualScale};
-pub use columns::check_text_columns;
+pub use columns::{check_text_columns, check_used_columns, model_columns};
 pub use compare::{Comparison, CvScore, ModelScore, TTestScore, compare_process};
 pub use fit::{fit_process, fit_process_split, process_stability};
 pub use model::{
