@@ -1,0 +1,114 @@
+//! Evaluating a process hybrid on a table: physics against hybrid on the target column,
+//! with the coverage and width of its prediction intervals, on any table or on the test
+//! rows of the model's own split.
+
+use super::{ProcessEvaluation, ProcessModel, columns_of};
+use crate::HybridError;
+use crate::evaluate::{DEFAULT_INTERVAL, IntervalReport};
+use hxai_eval::IntervalMethod;
+use hxai_symreg::Table;
+
+impl ProcessModel {
+    /// Physics vs hybrid against the target column of `table`.
+    ///
+    /// # Errors
+    /// A missing column (the target included), a bad physics value, or fewer than two rows
+    /// or non-finite predictions (from the statistics).
+    pub fn evaluate(&self, table: &Table) -> Result<ProcessEvaluation, HybridError> {
+        self.evaluate_at(table, DEFAULT_INTERVAL)
+    }
+
+    /// [`ProcessModel::evaluate`] with the coverage and median width of the hybrid's
+    /// prediction intervals at `level` ([`ProcessEvaluation::interval`]) by the model's
+    /// default method ([`ProcessModel::default_interval_method`]), when it has one.
+    ///
+    /// # Errors
+    /// As [`ProcessModel::evaluate`], and a `level` outside (0, 1).
+    pub fn evaluate_at(&self, table: &Table, level: f64) -> Result<ProcessEvaluation, HybridError> {
+        match self.default_interval_method(level) {
+            Some(method) => self.evaluate_with(table, level, method),
+            None => {
+                let y = columns_of(table, std::slice::from_ref(&self.target), "target")?[0];
+                let p = self.predict(table)?;
+                let mut ev = evaluation(y, &p.physics, &p.hybrid)?;
+                ev.warnings = self.range_warnings(table);
+                Ok(ev)
+            }
+        }
+    }
+
+    /// [`ProcessModel::evaluate_at`] with the intervals made by `method`.
+    ///
+    /// # Errors
+    /// As [`ProcessModel::evaluate_at`], and those of [`ProcessModel::intervals_with`] (a
+    /// method the model file cannot serve among them).
+    pub fn evaluate_with(
+        &self,
+        table: &Table,
+        level: f64,
+        method: IntervalMethod,
+    ) -> Result<ProcessEvaluation, HybridError> {
+        let y = columns_of(table, std::slice::from_ref(&self.target), "target")?[0];
+        let p = self.predict(table)?;
+        let mut ev = evaluation(y, &p.physics, &p.hybrid)?;
+        let iv = self.intervals_with(table, level, method)?;
+        ev.interval = Some(IntervalReport::of(method, level, y, &iv));
+        ev.warnings = self.range_warnings(table);
+        Ok(ev)
+    }
+
+    /// The coverage and median width of the intervals by `method` at `level` on the test
+    /// rows of the model's own split of `table` (the table it was fitted on); `None` when
+    /// the split has no test rows.
+    ///
+    /// # Errors
+    /// A table with fewer rows than the split names, and those of
+    /// [`ProcessModel::intervals_with`].
+    pub fn test_interval(
+        &self,
+        table: &Table,
+        level: f64,
+        method: IntervalMethod,
+    ) -> Result<Option<IntervalReport>, HybridError> {
+        if self.split.test.is_empty() {
+            return Ok(None);
+        }
+        if let Some(&i) = self.split.test.iter().find(|&&i| i >= table.n_rows()) {
+            return Err(HybridError::InvalidConfig(format!(
+                "the model's split names row {} but the table has {} rows: pass the table the model was fitted on",
+                i + 1,
+                table.n_rows()
+            )));
+        }
+        let test = table.select_rows(&self.split.test)?;
+        let y = columns_of(&test, std::slice::from_ref(&self.target), "target")?[0];
+        let iv = self.intervals_with(&test, level, method)?;
+        Ok(Some(IntervalReport::of(method, level, y, &iv)))
+    }
+}
+
+pub(crate) fn evaluation(
+    y: &[f64],
+    physics: &[f64],
+    hybrid: &[f64],
+) -> Result<ProcessEvaluation, HybridError> {
+    if y.len() < 2 {
+        return Err(HybridError::InvalidConfig(format!(
+            "{} row(s) to evaluate on: R² and the paired t-test need at least 2",
+            y.len()
+        )));
+    }
+    let ps = hxai_eval::score(y, physics)?;
+    let hs = hxai_eval::score(y, hybrid)?;
+    let se_p = hxai_eval::squared_errors(y, physics)?;
+    let se_h = hxai_eval::squared_errors(y, hybrid)?;
+    Ok(ProcessEvaluation {
+        improvement_pct: hxai_eval::improvement_pct(ps.rmse, hs.rmse)?,
+        t_test: hxai_eval::paired_t_test(&se_p, &se_h)?,
+        physics: ps,
+        hybrid: hs,
+        n_samples: y.len(),
+        interval: None,
+        warnings: Vec::new(),
+    })
+}

@@ -1,0 +1,263 @@
+//! The model file of a process hybrid: physics equation and parameters, correction, the
+//! whole hybrid as one equation; prediction and evaluation on new tables.
+//!
+//! This file holds the model file's schema (the types serialised to JSON) and loading and
+//! checking a model; the physics compiled and the hybrid as one program are in `program.rs`,
+//! prediction, intervals and the explanation in `predict.rs`, evaluation on a table in
+//! `evaluate.rs`.
+
+mod evaluate;
+mod predict;
+mod program;
+
+pub(crate) use program::{
+    Combined, columns_of, combine, combine_values, compile_physics, finite_physics, forms,
+};
+
+use super::CorrectionForm;
+use crate::HybridError;
+use crate::conformal::ConformalInfo;
+use crate::evaluate::IntervalReport;
+use hxai_eval::Metrics;
+use hxai_symreg::{Model, ParamEstimate, Uncertainty};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Schema version of the process model file.
+pub const PROCESS_SCHEMA_VERSION: u32 = 1;
+
+/// The physics part of the model file.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct PhysicsInfo {
+    /// The equation as given (over column and parameter names).
+    pub equation: String,
+    /// Columns the equation uses, in order of first use.
+    pub columns: Vec<String>,
+    /// Every parameter's value: fitted (calibrated) or given (`--set`).
+    pub parameters: BTreeMap<String, f64>,
+    /// Standard error of each calibrated parameter (`null` where undefined).
+    pub standard_errors: BTreeMap<String, Option<f64>>,
+    /// The calibrated parameters.
+    pub calibrated: Vec<String>,
+    /// Starting values of the calibrated parameters (what `physics` means in `compare`).
+    pub initial: BTreeMap<String, f64>,
+    /// The equation with the parameter values substituted (sympy text, full precision).
+    pub sympy: String,
+    /// The same in LaTeX (4 significant digits).
+    pub latex: String,
+    /// Each calibrated parameter with its standard error and 95 % interval
+    /// (`value +- t_{n-k, 0.975} std_error`, `n` training rows, `k` calibrated parameters;
+    /// `null` where undefined). Empty in files written before it existed.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub params: BTreeMap<String, ParamEstimate>,
+}
+
+/// The correction part of the model file.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct CorrectionInfo {
+    /// `additive` (`y = f_p + delta`), `multiplicative` (`y = f_p (1 + delta)`) or `log`
+    /// (`y = f_p exp(delta)`).
+    pub kind: CorrectionForm,
+    /// The equation's forms, complexity and features (JSON keys `equation`, `sympy`,
+    /// `latex`, `complexity`, `features` beside `kind`).
+    #[serde(flatten)]
+    pub forms: hxai_symreg::ModelForms,
+    /// Feature columns the search was offered.
+    pub candidates: Vec<String>,
+    /// The fitted symbolic model (what `predict` evaluates).
+    pub model: Model,
+    /// The correction's constants as a template with named parameters and their
+    /// uncertainty, fitted to `delta` on the training rows (`hxai_symreg::uncertainty`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<Uncertainty>,
+    /// The Pareto front of the correction's search, for `hxai explain`; absent in files
+    /// written before it was stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pareto: Option<Vec<crate::explain::ParetoMember>>,
+    /// How the correction was selected, its structure's share over resamples (consensus or
+    /// stability runs) and the alternatives the data cannot tell apart from it
+    /// ([`hxai_symreg::SelectionReport`]); absent in files written before it was stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub selection: Option<hxai_symreg::SelectionReport>,
+}
+
+/// An equation in three forms.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct EquationInfo {
+    /// Plain text, 4 significant digits (for reading).
+    pub equation: String,
+    /// sympy-parseable text with full-precision constants: reproduces `predict` to
+    /// rounding (and parses back with `hxai_symreg::infix`).
+    pub sympy: String,
+    /// LaTeX, 4 significant digits.
+    pub latex: String,
+    /// For the hybrid: the whole equation as a template over the columns, the calibrated
+    /// parameters (by name) and the correction's free constants (`p0`, `p1`, ...), with
+    /// their covariance on the training rows, which prediction intervals use.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<Uncertainty>,
+}
+
+/// Which rows were used for fitting and which were held out.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct SplitInfo {
+    /// `random`, `grouped`, `extrapolate` or `given`.
+    pub kind: String,
+    /// Training rows (0-based, in the table's order).
+    pub train: Vec<usize>,
+    /// Test rows.
+    pub test: Vec<usize>,
+}
+
+/// Physics vs hybrid scores on one side of the split.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct PairScores {
+    /// The (calibrated) physics alone.
+    pub physics: Metrics,
+    /// The hybrid.
+    pub hybrid: Metrics,
+}
+
+/// Scores on the fitting table.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ScoresInfo {
+    /// On the training rows.
+    pub train: PairScores,
+    /// On the test rows (absent when the split left none).
+    pub test: Option<PairScores>,
+}
+
+/// The two-stage result that a joint refit replaced.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct JointInfo {
+    /// Physics parameters after calibration alone (before the joint refit).
+    pub sequential_parameters: BTreeMap<String, f64>,
+    /// Their standard errors.
+    pub sequential_standard_errors: BTreeMap<String, Option<f64>>,
+    /// The correction before the joint refit (sympy text).
+    pub sequential_correction: String,
+    /// Training RMSE of the hybrid before the joint refit.
+    pub sequential_train_rmse: f64,
+    /// Training RMSE after it.
+    pub joint_train_rmse: f64,
+}
+
+/// A fitted process hybrid: everything needed to predict, and its report.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ProcessModel {
+    /// [`PROCESS_SCHEMA_VERSION`].
+    pub schema_version: u32,
+    /// The target column.
+    pub target: String,
+    /// The physics equation and its parameters.
+    pub physics: PhysicsInfo,
+    /// The learned correction.
+    pub correction: CorrectionInfo,
+    /// The whole hybrid as one equation over the columns, every parameter substituted.
+    pub hybrid: EquationInfo,
+    /// The split of the fitting table.
+    pub split: SplitInfo,
+    /// The grouping column, if any.
+    pub group: Option<String>,
+    /// With a joint refit (`--joint`): the two-stage values it replaced.
+    pub joint: Option<JointInfo>,
+    /// Physics vs hybrid on the fitting table.
+    pub scores: ScoresInfo,
+    /// With `hxai hybrid fit --stability N`: the stability of the correction's structure
+    /// over bootstrap resamples of the training rows ([`super::process_stability`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stability: Option<hxai_symreg::Stability>,
+    /// What conformal prediction intervals need ([`ConformalInfo`]: CV+ over folds of the
+    /// training rows); absent in files written before it existed, or fitted with
+    /// `conformal_folds` 0, where the delta method is the only one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub conformal: Option<ConformalInfo>,
+    /// The fit's warnings: input that gave numbers that may not mean what they seem to
+    /// ([`super::traps`]); absent when there were none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
+}
+
+/// Per-row predictions of a process hybrid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProcessPrediction {
+    /// The physics equation.
+    pub physics: Vec<f64>,
+    /// The correction `delta`.
+    pub correction: Vec<f64>,
+    /// The hybrid.
+    pub hybrid: Vec<f64>,
+}
+
+/// Physics vs hybrid against the target on a table.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ProcessEvaluation {
+    /// Scores of the physics alone.
+    pub physics: Metrics,
+    /// Scores of the hybrid.
+    pub hybrid: Metrics,
+    /// `(rmse_physics - rmse_hybrid) / rmse_physics * 100`.
+    pub improvement_pct: f64,
+    /// Paired two-tailed t-test of the per-row squared errors (physics vs hybrid).
+    pub t_test: hxai_eval::TTest,
+    /// Rows evaluated.
+    pub n_samples: usize,
+    /// Coverage of the hybrid's prediction intervals (when the model stores the
+    /// uncertainty of the hybrid).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interval: Option<IntervalReport>,
+    /// Rows outside the training ranges, per column ([`ProcessModel::range_warnings`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
+}
+
+impl ProcessModel {
+    /// Pretty JSON of the model file.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// Reads a model file written by [`ProcessModel::to_json`] and checks it.
+    ///
+    /// # Errors
+    /// [`HybridError::ModelFormat`] for text that is not such a model,
+    /// [`HybridError::SchemaVersion`] for another version, or a physics equation that no
+    /// longer compiles.
+    pub fn from_json(text: &str) -> Result<Self, HybridError> {
+        let v: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        if v.get("target").is_none() && v.get("window").is_some() && v.get("features").is_some() {
+            return Err(HybridError::ModelFormat(
+                "this is a model of `hxai fit` (the tool position from an accelerometer), not of \
+                 `hxai hybrid fit`: apply it with `hxai predict`, `hxai evaluate` or `hxai stream`"
+                    .into(),
+            ));
+        }
+        match v.get("schema_version").and_then(serde_json::Value::as_u64) {
+            Some(n) if n == u64::from(PROCESS_SCHEMA_VERSION) => {}
+            other => {
+                return Err(HybridError::SchemaVersion {
+                    found: other.map_or_else(|| "none".to_string(), |n| n.to_string()),
+                    expected: PROCESS_SCHEMA_VERSION,
+                });
+            }
+        }
+        let m: ProcessModel =
+            serde_json::from_value(v).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        let phys = m.physics_program()?;
+        // the correction model checks itself on the way in
+        Model::from_json(&serde_json::to_string(&m.correction.model).unwrap_or_default())?;
+        if let Some(conf) = &m.conformal {
+            let c = combine(&phys, &m.correction.model, m.correction.kind);
+            conf.check(c.params.len())?;
+            if conf.scores.len() != m.split.train.len() {
+                return Err(HybridError::ModelFormat(format!(
+                    "`conformal` has {} scores for {} training rows",
+                    conf.scores.len(),
+                    m.split.train.len()
+                )));
+            }
+        }
+        Ok(m)
+    }
+}

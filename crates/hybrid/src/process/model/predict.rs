@@ -1,0 +1,271 @@
+//! Applying a process hybrid to a table: physics, correction and hybrid per row, the
+//! prediction intervals by each method, the rows outside the training ranges, and the
+//! explanation of the correction.
+
+use super::{ProcessModel, ProcessPrediction, columns_of, combine, combine_values};
+use super::{compile_physics, finite_physics};
+use crate::HybridError;
+use hxai_eval::IntervalMethod;
+use hxai_symreg::infix::Compiled;
+use hxai_symreg::{Table, expr::Expr};
+
+impl ProcessModel {
+    /// The physics equation compiled with the model's parameter values.
+    ///
+    /// # Errors
+    /// A corrupt model file (the equation does not parse or names an unknown symbol).
+    pub fn physics_program(&self) -> Result<Compiled, HybridError> {
+        compile_physics(
+            &self.physics.equation,
+            &self.physics.columns,
+            &self.physics.parameters,
+        )
+    }
+
+    /// Physics, correction and hybrid for every row of `table` (the target is not needed;
+    /// extra columns are ignored).
+    ///
+    /// # Errors
+    /// [`HybridError::MissingColumn`] for a column the model needs;
+    /// [`HybridError::BadPhysics`] naming the first row where the physics is not finite.
+    pub fn predict(&self, table: &Table) -> Result<ProcessPrediction, HybridError> {
+        let phys = self.physics_program()?;
+        let physics = finite_physics(table, &phys, &phys.inputs)?;
+        columns_of(
+            table,
+            &self.correction.model.feature_names,
+            "correction feature",
+        )?;
+        let correction = self.correction.model.predict(table)?;
+        if let Some((row, v)) = correction.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(HybridError::BadCorrection { row, value: *v });
+        }
+        let hybrid = physics
+            .iter()
+            .zip(&correction)
+            .map(|(p, d)| combine_values(self.correction.kind, *p, *d))
+            .collect();
+        Ok(ProcessPrediction {
+            physics,
+            correction,
+            hybrid,
+        })
+    }
+
+    /// Warnings for rows of `table` outside the ranges of the training rows, per input
+    /// column of the hybrid ([`crate::process::traps::range_warnings`]; the ranges are those the
+    /// conformal calibration stores, so a file fitted without it gives none).
+    pub fn range_warnings(&self, table: &Table) -> Vec<String> {
+        let Some(w) = self.conformal.as_ref().and_then(|c| c.widening.as_ref()) else {
+            return Vec::new();
+        };
+        let ranges: Vec<(String, f64, f64)> = w
+            .columns
+            .iter()
+            .zip(w.lo.iter().zip(&w.hi))
+            .map(|(n, (lo, hi))| (n.clone(), *lo, *hi))
+            .collect();
+        crate::process::traps::range_warnings(table, &ranges)
+    }
+
+    /// The interval method used at `level` when none is asked for: conformal (CV+) when the
+    /// file stores its calibration and it has enough scores for `level`
+    /// ([`crate::conformal::ConformalInfo::serves`]: 19 at 95 %), else the delta method when it stores the hybrid's
+    /// uncertainty, else none.
+    pub fn default_interval_method(&self, level: f64) -> Option<IntervalMethod> {
+        if self.conformal.as_ref().is_some_and(|c| c.serves(level)) {
+            Some(IntervalMethod::Conformal)
+        } else if self.hybrid.uncertainty.is_some() {
+            Some(IntervalMethod::Delta)
+        } else {
+            None
+        }
+    }
+
+    /// Prediction intervals `(lo, hi)` of the hybrid at `level` for every row of `table`, by
+    /// the model's default method ([`ProcessModel::default_interval_method`]).
+    ///
+    /// # Errors
+    /// As [`ProcessModel::intervals_with`]; [`HybridError::InvalidConfig`] when the file
+    /// stores neither conformal calibration nor uncertainty.
+    pub fn intervals(&self, table: &Table, level: f64) -> Result<Vec<(f64, f64)>, HybridError> {
+        let method = self
+            .default_interval_method(level)
+            .unwrap_or(IntervalMethod::Delta);
+        self.intervals_with(table, level, method)
+    }
+
+    /// Prediction intervals `(lo, hi)` of the hybrid at `level` for every row of `table` by
+    /// `method`:
+    ///
+    /// - [`IntervalMethod::Conformal`]: CV+ over the folds of the fit with scores
+    ///   normalised by the local scale ([`ConformalInfo`](crate::conformal::ConformalInfo));
+    ///   coverage at least `2 level - 1` (in practice near `level`) for rows exchangeable
+    ///   with the training rows.
+    /// - [`IntervalMethod::Split`]: split conformal with the first fold's model, calibrated
+    ///   on that fold's rows alone; coverage at least `level` for such rows.
+    /// - [`IntervalMethod::Delta`]: the delta method through the whole hybrid equation
+    ///   (calibrated physics parameters and the correction's free constants, with their
+    ///   covariance on the training rows) plus the residual variance of the hybrid on the
+    ///   training rows. Assumes independent residuals of constant variance and the structure
+    ///   fixed; the physics parameters and the correction were fitted one after the other,
+    ///   and their covariance is taken as if they had been fitted together (the joint fit's;
+    ///   see `hxai_symreg::uncertainty`).
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] when the model file cannot serve `method` (no
+    /// conformal calibration, or no uncertainty: a file written before they existed, or
+    /// fitted without conformal folds: refit), too few calibration scores for `level`, a
+    /// `level` outside (0, 1), a missing column, a non-finite value.
+    pub fn intervals_with(
+        &self,
+        table: &Table,
+        level: f64,
+        method: IntervalMethod,
+    ) -> Result<Vec<(f64, f64)>, HybridError> {
+        if !(level > 0.0 && level < 1.0) {
+            return Err(HybridError::InvalidConfig(format!(
+                "interval level {level}: give a probability between 0 and 1, such as 0.95"
+            )));
+        }
+        let phys = self.physics_program()?;
+        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        if method != IntervalMethod::Delta {
+            let Some(conf) = &self.conformal else {
+                return Err(HybridError::InvalidConfig(format!(
+                    "this model file stores no conformal calibration (written before conformal \
+                     intervals existed, or fitted with --conformal-folds 0): refit it with \
+                     `hxai hybrid fit`, or use --interval-method delta instead of {}",
+                    method.name()
+                )));
+            };
+            return crate::process::conformal::intervals(conf, &c, table, level, method);
+        }
+        let Some(unc) = &self.hybrid.uncertainty else {
+            return Err(HybridError::InvalidConfig(
+                "this model file stores no uncertainty (written before prediction intervals \
+                 existed): refit it with `hxai hybrid fit`"
+                    .into(),
+            ));
+        };
+        let cols = columns_of(table, &c.names, "column")?;
+        Ok(unc.intervals(&c.program, &c.params, &cols, table.n_rows(), level)?)
+    }
+
+    /// The explanation of the correction ([`crate::explain::explain`]): with `table` (the
+    /// table the model was fitted on, every row of its split present) the correction's
+    /// response to each feature it uses and predicted vs true `delta` (`y - f_p`,
+    /// `y / f_p - 1` for a multiplicative correction, `ln(y / f_p)` for the log form) on the
+    /// split's rows, with prediction intervals of the correction at `level` by `method`
+    /// (default: the file's,
+    /// [`ProcessModel::default_interval_method`]; none when the file stores no way to make
+    /// them); the Pareto front when the file stores it.
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] when `table` has fewer rows than the split names, and
+    /// those of [`ProcessModel::predict`] and [`crate::explain::explain`].
+    pub fn explain(
+        &self,
+        table: Option<&Table>,
+        level: f64,
+        method: Option<IntervalMethod>,
+    ) -> Result<crate::explain::Explanation, HybridError> {
+        let pareto = self.correction.pareto.as_deref();
+        let model = &self.correction.model;
+        let Some(table) = table else {
+            return crate::explain::explain(model, None, pareto, None, "delta", level);
+        };
+        let rows: Vec<usize> = self
+            .split
+            .train
+            .iter()
+            .chain(&self.split.test)
+            .copied()
+            .collect();
+        if let Some(&i) = rows.iter().find(|&&i| i >= table.n_rows()) {
+            return Err(HybridError::InvalidConfig(format!(
+                "the model was fitted on a table with at least {} rows, this one has {}: pass the table the model was fitted on",
+                i + 1,
+                table.n_rows()
+            )));
+        }
+        let y = columns_of(table, std::slice::from_ref(&self.target), "target")?[0];
+        let physics = self.predict(table)?.physics;
+        let delta = crate::process::deltas(self.correction.kind, y, &physics, &rows)?;
+        let features = table.select_rows(&rows)?;
+        let is_test: Vec<bool> = (0..rows.len())
+            .map(|k| k >= self.split.train.len())
+            .collect();
+        let data = crate::explain::ExplainData {
+            features: &features,
+            target: &delta,
+            is_test: &is_test,
+        };
+        // the columns a response grid lacks (the physics' own) are held at their median
+        // on the training rows, as the grid holds the correction's other features
+        let phys = self.physics_program()?;
+        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        let mut fill = Vec::new();
+        for name in &c.names {
+            let col = table.require(name)?;
+            let m = crate::explain::median(self.split.train.iter().map(|&i| col[i]))
+                .ok_or_else(|| HybridError::NoData("no training rows to explain on".into()))?;
+            fill.push((name.clone(), m));
+        }
+        let band = method
+            .or_else(|| self.default_interval_method(level))
+            .map(|m| {
+                (m, move |t: &Table, l: f64| {
+                    self.correction_intervals(t, l, m, &fill)
+                })
+            });
+        let band = band
+            .as_ref()
+            .map(|(m, b)| (b as &crate::explain::Band<'_>, *m));
+        crate::explain::explain(model, band, pareto, Some(&data), "delta", level)
+    }
+
+    /// Prediction intervals of the correction `delta` at `level` by `method` for the rows of
+    /// `features`: the hybrid's intervals ([`ProcessModel::intervals_with`]; a column
+    /// `features` lacks is held at its value in `fill`) taken back to `delta` through the
+    /// physics' prediction
+    /// ([`CorrectionForm::delta_interval`](crate::process::CorrectionForm::delta_interval)).
+    fn correction_intervals(
+        &self,
+        features: &Table,
+        level: f64,
+        method: IntervalMethod,
+        fill: &[(String, f64)],
+    ) -> Result<Vec<(f64, f64)>, HybridError> {
+        let mut names = features.names().to_vec();
+        let mut cols: Vec<Vec<f64>> = names
+            .iter()
+            .map(|n| features.require(n).map(<[f64]>::to_vec))
+            .collect::<Result<_, _>>()?;
+        for (name, v) in fill {
+            if !names.contains(name) {
+                names.push(name.clone());
+                cols.push(vec![*v; features.n_rows()]);
+            }
+        }
+        let full = Table::new(names, cols)?;
+        let iv = self.intervals_with(&full, level, method)?;
+        let phys = self.physics_program()?;
+        let physics = finite_physics(&full, &phys, &phys.inputs)?;
+        Ok(iv
+            .into_iter()
+            .zip(physics)
+            .map(|((lo, hi), p)| self.correction.kind.delta_interval(lo, hi, p))
+            .collect())
+    }
+
+    /// The whole hybrid as one expression over the columns.
+    ///
+    /// # Errors
+    /// A corrupt model file.
+    pub fn hybrid_expr(&self) -> Result<Expr, HybridError> {
+        let phys = self.physics_program()?;
+        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        Ok(Expr::from_program(&c.program, &c.params, &c.names))
+    }
+}

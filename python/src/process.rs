@@ -1,0 +1,136 @@
+//! The table hybrid (`hxai_hybrid::process`, docs/hybrid-tables.md), the glue of the
+//! Python `HybridRegressor`: `process_fit`, `process_predict` and `process_intervals`.
+
+use crate::convert::{err, method_of, par_of, parse_json, table_of, to_bytes};
+use crate::settings::with_overrides;
+use hxai_hybrid::IntervalMethod;
+use hxai_hybrid::conformal::DEFAULT_CONFORMAL_FOLDS;
+use hxai_hybrid::process::{CorrectionForm, ProcessConfig, ProcessModel, fit_process_split};
+use hxai_symreg::SearchConfig;
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+use serde::Deserialize;
+use serde_json::Value;
+use std::collections::BTreeMap;
+
+/// Settings of [`process_fit`] as the Python estimator sends them.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ProcessSettings {
+    target: String,
+    physics: String,
+    #[serde(default)]
+    calibrate: Vec<String>,
+    #[serde(default)]
+    init: BTreeMap<String, f64>,
+    #[serde(default)]
+    set: BTreeMap<String, f64>,
+    #[serde(default)]
+    features: Option<Vec<String>>,
+    #[serde(default)]
+    exclude: Vec<String>,
+    #[serde(default)]
+    correction: CorrectionForm,
+    #[serde(default)]
+    joint: bool,
+    #[serde(default = "default_conformal_folds")]
+    conformal_folds: usize,
+    #[serde(default)]
+    search: Value,
+}
+
+fn default_conformal_folds() -> usize {
+    DEFAULT_CONFORMAL_FOLDS
+}
+
+/// `process_fit(names, columns, settings_json, n_jobs=None)`: the table workflow's `fit`
+/// (docs/hybrid-tables.md) on every row of the table (the caller splits, as scikit-learn
+/// does), on the threads of `n_jobs` ([`par_of`]). The table holds the target column named
+/// in the settings. Returns the model file's JSON.
+#[pyfunction]
+#[pyo3(signature = (names, columns, settings_json, n_jobs=None))]
+pub(crate) fn process_fit(
+    py: Python<'_>,
+    names: Vec<String>,
+    columns: Vec<Bound<'_, PyBytes>>,
+    settings_json: &str,
+    n_jobs: Option<i64>,
+) -> PyResult<String> {
+    let table = table_of(names, &columns)?;
+    let s: ProcessSettings = parse_json(settings_json, "hybrid settings")?;
+    let mut search: SearchConfig = with_overrides("search", &s.search.to_string())?;
+    search.par = par_of(n_jobs)?;
+    let mut cfg = ProcessConfig::new(&s.target, &s.physics);
+    cfg.calibrate = s.calibrate;
+    cfg.init = s.init;
+    cfg.set = s.set;
+    cfg.features = s.features;
+    cfg.exclude = s.exclude;
+    cfg.correction = s.correction;
+    cfg.joint = s.joint;
+    cfg.conformal_folds = s.conformal_folds;
+    cfg.seed = search.seed;
+    cfg.search = search;
+    let split = hxai_eval::Split {
+        train: (0..table.n_rows()).collect(),
+        test: Vec::new(),
+    };
+    let model = py
+        .detach(move || fit_process_split(&table, &cfg, &split, &mut |_| {}))
+        .map_err(err)?;
+    Ok(model.to_json())
+}
+
+/// `process_predict(model_json, names, columns)` -> `(physics, correction, hybrid)`.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+pub(crate) fn process_predict<'py>(
+    py: Python<'py>,
+    model_json: &str,
+    names: Vec<String>,
+    columns: Vec<Bound<'py, PyBytes>>,
+) -> PyResult<(
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+)> {
+    let model = ProcessModel::from_json(model_json).map_err(err)?;
+    let table = table_of(names, &columns)?;
+    let p = py.detach(move || model.predict(&table)).map_err(err)?;
+    Ok((
+        to_bytes(py, &p.physics),
+        to_bytes(py, &p.correction),
+        to_bytes(py, &p.hybrid),
+    ))
+}
+
+/// `process_intervals(model_json, names, columns, level, method=None)` -> `(lo, hi,
+/// method)`: the table hybrid's prediction intervals at `level` on a table
+/// (`ProcessModel::intervals_with`), by `method` (`conformal`, `split` or `delta`; default:
+/// the model file's, conformal where it stores the calibration).
+#[pyfunction]
+#[pyo3(signature = (model_json, names, columns, level, method=None))]
+pub(crate) fn process_intervals<'py>(
+    py: Python<'py>,
+    model_json: &str,
+    names: Vec<String>,
+    columns: Vec<Bound<'py, PyBytes>>,
+    level: f64,
+    method: Option<&str>,
+) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>, String)> {
+    let model = ProcessModel::from_json(model_json).map_err(err)?;
+    let default = model
+        .default_interval_method(level)
+        .unwrap_or(IntervalMethod::Delta);
+    let method = method_of(method, default)?;
+    let table = table_of(names, &columns)?;
+    let iv = py
+        .detach(move || model.intervals_with(&table, level, method))
+        .map_err(err)?;
+    let (lo, hi): (Vec<f64>, Vec<f64>) = iv.into_iter().unzip();
+    Ok((
+        to_bytes(py, &lo),
+        to_bytes(py, &hi),
+        method.name().to_string(),
+    ))
+}

@@ -1,0 +1,164 @@
+//! Symbolic regression on a table, the glue of the Python `SymbolicRegressor`: `sr_fit`
+//! (search, uncertainty and conformal calibration), `sr_predict` and `sr_intervals`.
+
+use crate::convert::{err, floats, method_of, par_of, parse_json, table_of, to_bytes};
+use crate::settings::with_overrides;
+use hxai_hybrid::IntervalMethod;
+use hxai_hybrid::conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, calibrate_model};
+use hxai_symreg::{Model, SearchConfig};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+use serde_json::{Value, json};
+
+/// A model's forms, as the CLI's `hxai sr --json` reports them, plus the model itself.
+fn model_summary(m: &Model) -> Value {
+    let mut v = serde_json::to_value(hxai_symreg::ModelForms::of(m)).unwrap_or_default();
+    v["loss"] = json!(m.train_mse);
+    v["model"] = json!(m.to_json());
+    v
+}
+
+/// `sr_fit(names, columns, y, search_json, n_jobs=None, conformal_folds=5)`: symbolic
+/// regression of `y` on the columns with the search settings `search_json` (a JSON object
+/// over `SearchConfig`'s defaults), on the threads of `n_jobs` ([`par_of`]). Returns
+/// JSON `{best, pareto: [...], evaluations, seconds, uncertainty, conformal}`, each model as
+/// [`model_summary`]; `best` also has `template`, `params` and `reason`
+/// (`hxai_symreg::uncertainty`); `uncertainty` is the delta method's record and
+/// `conformal` the CV+ calibration over `conformal_folds` random folds of the rows
+/// (`hxai_hybrid::conformal::calibrate_model`: the constants refitted per fold), `null`
+/// with 0 folds or when a fold model is undefined on its held-out rows
+/// (`conformal_error` then says why).
+#[pyfunction]
+#[pyo3(signature = (names, columns, y, search_json, n_jobs=None, conformal_folds=DEFAULT_CONFORMAL_FOLDS))]
+pub(crate) fn sr_fit(
+    py: Python<'_>,
+    names: Vec<String>,
+    columns: Vec<Bound<'_, PyBytes>>,
+    y: &[u8],
+    search_json: &str,
+    n_jobs: Option<i64>,
+    conformal_folds: usize,
+) -> PyResult<String> {
+    if conformal_folds == 1 {
+        return Err(PyValueError::new_err(
+            "conformal_folds 1: CV+ needs at least 2 folds (or 0 to fit without conformal intervals)",
+        ));
+    }
+    let data = table_of(names, &columns)?;
+    let y = floats(y, "y")?;
+    let mut cfg: SearchConfig = with_overrides("search", search_json)?;
+    cfg.par = par_of(n_jobs)?;
+    let (res, unc) = py
+        .detach(|| -> Result<_, hxai_symreg::SrError> {
+            let res = hxai_symreg::search(&data, &y, &cfg, &mut |_| {})?;
+            let unc = res.best.uncertainty(&data, &y)?;
+            Ok((res, unc))
+        })
+        .map_err(err)?;
+    let (conformal, conformal_error) = if conformal_folds == 0 {
+        (None, None)
+    } else {
+        let calib = hxai_eval::kfold(y.len(), conformal_folds, cfg.seed)
+            .map_err(hxai_hybrid::HybridError::from)
+            .and_then(|splits| calibrate_model(&res.best, &data, &y, &splits));
+        match calib {
+            Ok(c) => (Some(c), None),
+            Err(e) => (None, Some(e.to_string())),
+        }
+    };
+    let mut best = model_summary(&res.best);
+    best["template"] = json!(unc.template);
+    best["params"] = serde_json::to_value(&unc).map_err(err)?["params"].take();
+    best["reason"] = json!(unc.reason);
+    let doc = json!({
+        "best": best,
+        "pareto": res.pareto.iter().map(model_summary).collect::<Vec<_>>(),
+        "selection": hxai_symreg::SelectionReport::of(&res, &cfg),
+        "evaluations": res.evaluations,
+        "seconds": res.seconds,
+        "uncertainty": unc,
+        "conformal": conformal,
+        "conformal_error": conformal_error,
+    });
+    Ok(doc.to_string())
+}
+
+/// `sr_intervals(model_json, uncertainty_json, conformal_json, names, columns, level,
+/// method=None)` -> `(lo, hi, method)`: prediction intervals at `level` of a symbolic model
+/// on a table, by `method` (`conformal`, `split` or `delta`; default conformal when
+/// `conformal_json` is not empty, else delta), from the records `sr_fit` returned.
+#[pyfunction]
+#[pyo3(signature = (model_json, uncertainty_json, conformal_json, names, columns, level, method=None))]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+pub(crate) fn sr_intervals<'py>(
+    py: Python<'py>,
+    model_json: &str,
+    uncertainty_json: &str,
+    conformal_json: &str,
+    names: Vec<String>,
+    columns: Vec<Bound<'py, PyBytes>>,
+    level: f64,
+    method: Option<&str>,
+) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>, String)> {
+    if !(level > 0.0 && level < 1.0) {
+        return Err(PyValueError::new_err(format!(
+            "level {level}: give a probability between 0 and 1, such as 0.95"
+        )));
+    }
+    let model = Model::from_json(model_json).map_err(err)?;
+    let conformal: Option<ConformalInfo> = if conformal_json.is_empty() {
+        None
+    } else {
+        Some(parse_json(conformal_json, "conformal calibration")?)
+    };
+    let default = if conformal.is_some() {
+        IntervalMethod::Conformal
+    } else {
+        IntervalMethod::Delta
+    };
+    let method = method_of(method, default)?;
+    let data = table_of(names, &columns)?;
+    let iv = py
+        .detach(|| -> Result<Vec<(f64, f64)>, String> {
+            if method == IntervalMethod::Delta {
+                let unc: hxai_symreg::Uncertainty =
+                    serde_json::from_str(uncertainty_json).map_err(|e| e.to_string())?;
+                return model
+                    .prediction_intervals(&unc, &data, level)
+                    .map_err(|e| e.to_string());
+            }
+            let Some(conf) = &conformal else {
+                return Err(format!(
+                    "no conformal calibration (fitted with conformal_folds=0, or a fold model was \
+                     undefined): use method='delta' instead of {}",
+                    method.name()
+                ));
+            };
+            conf.check(model.params.len()).map_err(|e| e.to_string())?;
+            conf.model_intervals(&model, &data, level, method)
+                .map_err(|e| e.to_string())
+        })
+        .map_err(PyValueError::new_err)?;
+    let (lo, hi): (Vec<f64>, Vec<f64>) = iv.into_iter().unzip();
+    Ok((
+        to_bytes(py, &lo),
+        to_bytes(py, &hi),
+        method.name().to_string(),
+    ))
+}
+
+/// `sr_predict(model_json, names, columns)`: a symbolic model's prediction on a table
+/// (columns found by name).
+#[pyfunction]
+pub(crate) fn sr_predict<'py>(
+    py: Python<'py>,
+    model_json: &str,
+    names: Vec<String>,
+    columns: Vec<Bound<'py, PyBytes>>,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let model = Model::from_json(model_json).map_err(err)?;
+    let data = table_of(names, &columns)?;
+    let pred = py.detach(move || model.predict(&data)).map_err(err)?;
+    Ok(to_bytes(py, &pred))
+}
