@@ -51,14 +51,51 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         .require(&args.target)
         .with_context(|| in_test("the target column"))?;
 
+    anyhow::ensure!(
+        y_test.len() >= 2,
+        "{}: the test table has {} row(s); R² and the other scores need at least 2",
+        args.test.display(),
+        y_test.len()
+    );
+    let columns = |x: &hxai_symreg::Table, y: &[f64]| -> Vec<Vec<f64>> {
+        let mut c: Vec<Vec<f64>> = x
+            .names()
+            .iter()
+            .filter_map(|n| x.column(n))
+            .map(<[f64]>::to_vec)
+            .collect();
+        c.push(y.to_vec());
+        c
+    };
+    let (train_cols, test_cols) = (columns(&x_train, &y_train), columns(&x_test, y_test));
+    let shared = hxai_eval::shared_rows(
+        &train_cols.iter().map(Vec::as_slice).collect::<Vec<_>>(),
+        &test_cols.iter().map(Vec::as_slice).collect::<Vec<_>>(),
+    );
+    if shared > 0 {
+        crate::safety::warn(&[format!(
+            "{shared} of the {} test rows repeat a training row (every input and the target \
+             equal): the test scores overstate how well the models predict new rows",
+            y_test.len()
+        )]);
+    }
+
     let mut models = table3_models(args.seed);
     let cfg = SearchConfig {
         seed: args.seed,
         ..SearchConfig::paper()
     };
     models.push(Box::new(SymbolicRegressor::new(cfg)));
-    let rows = hxai_baselines::compare(models, &x_train, &y_train, &x_test, y_test, &mut |_| {})
-        .context("the comparison failed")?;
+    let bar = crate::progress::styled(
+        models.len() as u64,
+        "{bar:30} {pos}/{len} models fitted [{elapsed}]",
+        args.json,
+    );
+    let rows = hxai_baselines::compare(models, &x_train, &y_train, &x_test, y_test, &mut |p| {
+        bar.set_position(p.done as u64);
+    })
+    .context("the comparison failed")?;
+    bar.finish_and_clear();
 
     if args.json {
         let models: Vec<_> = rows

@@ -86,7 +86,7 @@ enum Command {
 
 fn main() {
     safety::exit_quietly_on_broken_pipe();
-    let cli = Cli::parse();
+    let cli = parse();
     #[cfg(unix)]
     let installed = safety::remove_temporary_files_on_signal();
     #[cfg(not(unix))]
@@ -99,6 +99,30 @@ fn main() {
         }
         std::process::exit(1);
     }
+}
+
+/// The command line with every option that takes a value accepting a negative number
+/// (`--interval -0.5` reaches the option's own check and its message, instead of clap's
+/// "unexpected argument '-0'").
+fn command() -> clap::Command {
+    fn negative_values(c: clap::Command) -> clap::Command {
+        c.mut_args(|a| {
+            if a.get_action().takes_values() && !a.is_positional() {
+                a.allow_negative_numbers(true)
+            } else {
+                a
+            }
+        })
+        .mut_subcommands(negative_values)
+    }
+    use clap::CommandFactory;
+    negative_values(Cli::command())
+}
+
+fn parse() -> Cli {
+    use clap::FromArgMatches;
+    let matches = command().get_matches();
+    Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
 }
 
 fn run(cli: Cli) -> Result<()> {
@@ -136,7 +160,33 @@ mod tests {
     /// renamed argument left in a `conflicts_with` list fails here and not in a user's hands.
     #[test]
     fn the_command_line_definition_is_consistent() {
-        use clap::CommandFactory;
-        super::Cli::command().debug_assert();
+        super::command().debug_assert();
+    }
+
+    /// A negative number reaches the option's own check (`--interval -0.5` is "must lie
+    /// strictly between 0 and 1"), not clap's "unexpected argument '-0'".
+    #[test]
+    fn negative_numbers_are_values() {
+        use clap::FromArgMatches;
+        let m = super::command().try_get_matches_from([
+            "hxai", "sr", "--csv", "t.csv", "--target", "y", "--seed", "-1",
+        ]);
+        let e = m.map_err(|e| e.to_string()).err().unwrap_or_default();
+        assert!(!e.contains("unexpected argument"), "{e}");
+        let m = super::command().try_get_matches_from([
+            "hxai",
+            "hybrid",
+            "compare",
+            "--data",
+            "t.csv",
+            "--target",
+            "y",
+            "--physics",
+            "x",
+            "--interval",
+            "-0.5",
+        ]);
+        let cli = m.ok().and_then(|m| super::Cli::from_arg_matches(&m).ok());
+        assert!(cli.is_some());
     }
 }

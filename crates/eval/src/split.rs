@@ -201,3 +201,27 @@ pub fn grouped_kfold<G: Eq + Hash>(
         })
         .collect())
 }
+
+/// How many rows of `test` repeat a row of `train`, comparing every column (each side given
+/// as the same list of columns, equally long within a side; `-0` equals `0`). A test row
+/// that repeats a training row measures recall, not prediction: `hxai compare` and the
+/// table hybrid's traps warn about them.
+///
+/// ```
+/// let (x, y) = ([1.0, 2.0, 3.0], [0.0, 5.0, 6.0]);
+/// let (tx, ty) = ([2.0, 2.0, 3.0], [-0.0, 5.0, 7.0]);
+/// // row 2 of the test (2, 5) is row 2 of the training side; (2, -0) and (3, 7) are not
+/// assert_eq!(hxai_eval::shared_rows(&[&x, &y], &[&tx, &ty]), 1);
+/// assert_eq!(hxai_eval::shared_rows(&[&x, &y], &[&x, &y]), 3);
+/// ```
+pub fn shared_rows(train: &[&[f64]], test: &[&[f64]]) -> usize {
+    let key = |cols: &[&[f64]], i: usize| -> Vec<u64> {
+        cols.iter().map(|c| (c[i] + 0.0).to_bits()).collect()
+    };
+    let rows = |cols: &[&[f64]]| cols.first().map_or(0, |c| c.len());
+    let seen: std::collections::HashSet<Vec<u64>> =
+        (0..rows(train)).map(|i| key(train, i)).collect();
+    (0..rows(test))
+        .filter(|&i| seen.contains(&key(test, i)))
+        .count()
+}

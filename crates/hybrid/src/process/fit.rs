@@ -174,6 +174,9 @@ pub(crate) fn fit_inner(
     let mut model = model_of(job, &res, &ft, &found.pareto, fitted, y_all, &y_train)?;
     model.correction.selection = Some(selection);
     model.warnings = super::traps::fit_warnings(table, cfg, &res.features, split, y_all, &physics);
+    model.warnings.extend(super::traps::parameter_warnings(
+        &model.physics.standard_errors,
+    ));
     model.scores = scores_of(&model, table, y_all, split)?;
     if cfg.conformal_folds > 0 {
         model.conformal = Some(super::conformal::calibrate(

@@ -12,6 +12,10 @@
 //! - an extrapolation column with few distinct values (the split's "high end" is then one
 //!   or two settings, not a range);
 //! - a test split of one row (no test scores are given: R² needs two);
+//! - a target that is constant on the training rows (the correction can then only cancel
+//!   the physics, and a hybrid R² of 1 means nothing);
+//! - calibrated parameters without a standard error (the data cannot tell them apart, as
+//!   `a` and `b` in `a*b*x`: only their product is fitted);
 //! - at prediction, rows outside the training ranges ([`range_warnings`]).
 
 use super::{CorrectionForm, ProcessConfig};
@@ -46,6 +50,16 @@ pub(crate) fn fit_warnings(
         );
     }
     let train_y: Vec<f64> = split.train.iter().map(|&i| y[i]).collect();
+    if let Some(&first) = train_y.first()
+        && train_y.iter().all(|&v| v == first)
+    {
+        out.push(format!(
+            "the target `{}` is constant on the training rows ({}): the correction can only \
+             cancel the physics, and the hybrid's scores say nothing about the process",
+            cfg.target,
+            num(first)
+        ));
+    }
     for name in features {
         let Some(col) = table.column(name) else {
             continue;
@@ -66,13 +80,15 @@ pub(crate) fn fit_warnings(
     if !split.test.is_empty() {
         let mut used: Vec<&[f64]> = features.iter().filter_map(|n| table.column(n)).collect();
         used.push(y);
-        let key = |i: usize| -> Vec<u64> { used.iter().map(|c| (c[i] + 0.0).to_bits()).collect() };
-        let train: HashSet<Vec<u64>> = split.train.iter().map(|&i| key(i)).collect();
-        let shared = split
-            .test
-            .iter()
-            .filter(|&&i| train.contains(&key(i)))
-            .count();
+        let pick = |rows: &[usize]| -> Vec<Vec<f64>> {
+            used.iter()
+                .map(|c| rows.iter().map(|&i| c[i]).collect())
+                .collect()
+        };
+        let (train, test) = (pick(&split.train), pick(&split.test));
+        let train: Vec<&[f64]> = train.iter().map(Vec::as_slice).collect();
+        let test: Vec<&[f64]> = test.iter().map(Vec::as_slice).collect();
+        let shared = hxai_eval::shared_rows(&train, &test);
         if shared > 0 {
             out.push(format!(
                 "{shared} of the {} test rows repeat a training row (every feature and the \
@@ -109,6 +125,27 @@ pub(crate) fn fit_warnings(
         }
     }
     out
+}
+
+/// A warning naming the calibrated parameters whose standard error is undefined (a
+/// singular Jacobian: the data determine a combination of them, not each one).
+pub(crate) fn parameter_warnings(
+    standard_errors: &std::collections::BTreeMap<String, Option<f64>>,
+) -> Vec<String> {
+    let undefined: Vec<&str> = standard_errors
+        .iter()
+        .filter(|(_, se)| se.is_none())
+        .map(|(n, _)| n.as_str())
+        .collect();
+    if undefined.is_empty() {
+        return Vec::new();
+    }
+    vec![format!(
+        "the data cannot tell the calibrated parameter(s) {} apart from the others (no \
+         standard error: only a combination of them is determined, e.g. the product in a*b*x); \
+         calibrate fewer and --set the rest",
+        undefined.join(", ")
+    )]
 }
 
 /// Pearson's correlation of two equally long series (`None` when either is constant).
