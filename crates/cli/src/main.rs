@@ -86,7 +86,7 @@ enum Command {
 
 fn main() {
     safety::exit_quietly_on_broken_pipe();
-    let cli = parse();
+    let (cli, flags) = parse();
     #[cfg(unix)]
     let installed = safety::remove_temporary_files_on_signal();
     #[cfg(not(unix))]
@@ -95,7 +95,10 @@ fn main() {
         // One line on stderr: the reason, with its causes (each said once).
         #[allow(clippy::print_stderr)]
         {
-            eprintln!("error: {}", safety::one_line(&e));
+            eprintln!(
+                "error: {}",
+                safety::flag_names(&safety::one_line(&e), &flags)
+            );
         }
         std::process::exit(1);
     }
@@ -119,10 +122,25 @@ fn command() -> clap::Command {
     negative_values(Cli::command())
 }
 
-fn parse() -> Cli {
+/// The parsed command line and the long options of the subcommand that runs (for
+/// [`safety::flag_names`]).
+fn parse() -> (Cli, Vec<String>) {
     use clap::FromArgMatches;
-    let matches = command().get_matches();
-    Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+    let cmd = command();
+    let matches = cmd.clone().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    let (mut c, mut m) = (&cmd, &matches);
+    while let Some((name, sub)) = m.subcommand() {
+        match c.find_subcommand(name) {
+            Some(next) => (c, m) = (next, sub),
+            None => break,
+        }
+    }
+    let flags = c
+        .get_arguments()
+        .filter_map(|a| a.get_long().map(str::to_owned))
+        .collect();
+    (cli, flags)
 }
 
 fn run(cli: Cli) -> Result<()> {

@@ -177,6 +177,41 @@ pub fn exit_quietly_on_broken_pipe() {
     }));
 }
 
+/// `message` with each setting named as the user typed it: a library names a setting by
+/// its field (`max_complexity`, `duration_s`, `test_fraction`), the command line by its
+/// option (`--max-complexity`). A snake_case word that is one of `flags` (the running
+/// command's long options) with `_` for `-` becomes the option, unless it names a column or
+/// a key of a file (preceded by "column `" or "key `", or in the list of keys after
+/// "expected one of"), where the field name is right.
+pub fn flag_names(message: &str, flags: &[String]) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut word = String::new();
+    let flush = |out: &mut String, word: &mut String| {
+        let as_flag = word.replace('_', "-");
+        // a column, a key of a file, or the keys a file may hold keep their names
+        let quoted_name =
+            out.ends_with("column `") || out.ends_with("key `") || out.contains("expected one of ");
+        if word.contains('_') && !quoted_name && flags.contains(&as_flag) {
+            let dashes = if out.ends_with('-') { "" } else { "--" };
+            out.push_str(dashes);
+            out.push_str(&as_flag);
+        } else {
+            out.push_str(word);
+        }
+        word.clear();
+    };
+    for ch in message.chars() {
+        if ch.is_ascii_alphanumeric() || ch == '_' {
+            word.push(ch);
+        } else {
+            flush(&mut out, &mut word);
+            out.push(ch);
+        }
+    }
+    flush(&mut out, &mut word);
+    out
+}
+
 /// One line for an error and its causes: each cause is added only when it says something
 /// the line does not already say, and a cause that repeats the end of the line (the same
 /// path) is added without that repetition. So `reading r.csv` + `r.csv: missing column`
@@ -209,6 +244,42 @@ pub fn one_line(e: &anyhow::Error) -> String {
         }
     }
     line.replace('\n', " ")
+}
+
+#[cfg(test)]
+mod flag_tests {
+    use super::flag_names;
+
+    #[test]
+    fn settings_are_named_by_their_options() {
+        let flags: Vec<String> = ["max-complexity", "duration-s", "frequency-hz", "seed"]
+            .iter()
+            .map(|s| (*s).to_string())
+            .collect();
+        assert_eq!(
+            flag_names("invalid configuration: max_complexity is 0", &flags),
+            "invalid configuration: --max-complexity is 0"
+        );
+        assert_eq!(
+            flag_names(
+                "invalid simulator parameter `duration_s` = 0: lower `duration_s`",
+                &flags
+            ),
+            "invalid simulator parameter `--duration-s` = 0: lower `--duration-s`"
+        );
+        // columns and file keys keep their names; unknown words and already-dashed ones stay
+        assert_eq!(
+            flag_names(
+                "row 3, column `frequency_hz`: the key `duration_s` is missing",
+                &flags
+            ),
+            "row 3, column `frequency_hz`: the key `duration_s` is missing"
+        );
+        assert_eq!(
+            flag_names("feed_mm and --max-complexity", &flags),
+            "feed_mm and --max-complexity"
+        );
+    }
 }
 
 #[cfg(test)]

@@ -175,10 +175,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         Some(path) => {
             let text = hxai_data::read_text(path)
                 .with_context(|| format!("cannot read --config {}", path.display()))?;
-            serde_json::from_str::<SimConfig>(&text).with_context(|| {
-                format!(
-                    "--config {} is not a valid simulator configuration",
-                    path.display()
+            serde_json::from_str::<SimConfig>(&text).map_err(|e| {
+                anyhow::anyhow!(
+                    "--config {} is not a valid simulator configuration: {}",
+                    path.display(),
+                    hxai_table::plain_json_error(&e.to_string())
                 )
             })?
         }

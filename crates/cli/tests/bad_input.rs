@@ -431,7 +431,7 @@ fn bad_flags_are_refused_at_once() {
             "--config",
             &corpus("configs/typo_key.json"),
         ],
-        "unknown field `seeed`",
+        "unknown key `seeed`",
     );
     refused(
         &[

@@ -132,7 +132,7 @@ fn bad_input_gives_a_clear_error() -> TestResult {
                 "y".into(),
                 "--complexity-penalty=-1".into(),
             ],
-            "complexity_penalty",
+            "--complexity-penalty must be finite",
         ),
         (
             vec![
@@ -141,7 +141,7 @@ fn bad_input_gives_a_clear_error() -> TestResult {
                 "--max-evaluations".into(),
                 "0".into(),
             ],
-            "max_evaluations",
+            "--max-evaluations",
         ),
     ];
     for (extra, needle) in cases {

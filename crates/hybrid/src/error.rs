@@ -27,7 +27,7 @@ pub enum HybridError {
     #[error("table: {0}")]
     Table(#[from] hxai_table::TableError),
     /// A statistic could not be computed.
-    #[error("evaluation failed: {0}")]
+    #[error("{0}")]
     Eval(#[from] hxai_eval::EvalError),
     /// A record is too short for even one window.
     #[error(
@@ -179,7 +179,7 @@ pub enum HybridError {
     #[error("{0}")]
     NoFeatures(String),
     /// The physics prediction cannot be used at a row.
-    #[error("row {} of the table (counted from 1, header not counted): the physics prediction is {value}, {why}", row + 1)]
+    #[error("row {} of the table (counted from 1, header not counted): the physics prediction is {}, {why}", row + 1, num(*value))]
     BadPhysics {
         /// Row index, 0-based in the table's order.
         row: usize,

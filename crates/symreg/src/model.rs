@@ -205,8 +205,8 @@ impl Model {
     /// # Errors
     /// [`SrError::MalformedModel`] when the text is not a valid model.
     pub fn from_json(text: &str) -> Result<Self, SrError> {
-        let m: Model =
-            serde_json::from_str(text).map_err(|e| SrError::MalformedModel(e.to_string()))?;
+        let m: Model = serde_json::from_str(text)
+            .map_err(|e| SrError::MalformedModel(hxai_table::plain_json_error(&e.to_string())))?;
         m.validate()?;
         Ok(m)
     }

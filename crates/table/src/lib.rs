@@ -47,10 +47,12 @@
 #![deny(missing_docs)]
 
 mod par;
+mod words;
 
 pub use par::{Par, Pool};
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
+pub use words::plain_json_error;
 
 /// What is wrong with the columns given to a [`Table`] constructor or method.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

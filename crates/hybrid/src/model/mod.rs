@@ -313,8 +313,8 @@ impl HybridModel {
     /// Reads a model from JSON; a file of another [`SCHEMA_VERSION`] is a
     /// [`HybridError::SchemaVersion`] error, checked before anything else.
     pub fn from_json(text: &str) -> Result<Self, HybridError> {
-        let value: serde_json::Value =
-            serde_json::from_str(text).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        let value: serde_json::Value = serde_json::from_str(text)
+            .map_err(|e| HybridError::ModelFormat(hxai_table::plain_json_error(&e.to_string())))?;
         if value.get("target").is_some() && value.get("hybrid").is_some() {
             return Err(HybridError::ModelFormat(
                 "this is a model of `hxai hybrid fit` (a process on a table), not of `hxai fit`: \
@@ -346,8 +346,8 @@ impl HybridModel {
                 ));
             }
         }
-        let model: HybridModel =
-            serde_json::from_value(value).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        let model: HybridModel = serde_json::from_value(value)
+            .map_err(|e| HybridError::ModelFormat(hxai_table::plain_json_error(&e.to_string())))?;
         model.validate()?;
         Ok(model)
     }

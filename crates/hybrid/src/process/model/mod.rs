@@ -224,8 +224,8 @@ impl ProcessModel {
     /// [`HybridError::SchemaVersion`] for another version, or a physics equation that no
     /// longer compiles.
     pub fn from_json(text: &str) -> Result<Self, HybridError> {
-        let v: serde_json::Value =
-            serde_json::from_str(text).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        let v: serde_json::Value = serde_json::from_str(text)
+            .map_err(|e| HybridError::ModelFormat(hxai_table::plain_json_error(&e.to_string())))?;
         if v.get("target").is_none() && v.get("window").is_some() && v.get("features").is_some() {
             return Err(HybridError::ModelFormat(
                 "this is a model of `hxai fit` (the tool position from an accelerometer), not of \
@@ -242,8 +242,8 @@ impl ProcessModel {
                 });
             }
         }
-        let m: ProcessModel =
-            serde_json::from_value(v).map_err(|e| HybridError::ModelFormat(e.to_string()))?;
+        let m: ProcessModel = serde_json::from_value(v)
+            .map_err(|e| HybridError::ModelFormat(hxai_table::plain_json_error(&e.to_string())))?;
         let phys = m.physics_program()?;
         // the correction model checks itself on the way in
         Model::from_json(&serde_json::to_string(&m.correction.model).unwrap_or_default())?;

@@ -190,7 +190,29 @@ impl ProcessModel {
             )));
         }
         let y = columns_of(table, std::slice::from_ref(&self.target), "target")?[0];
-        let physics = self.predict(table)?.physics;
+        let prediction = self.predict(table)?;
+        // The split's row numbers mean something only on the table of the fit: another
+        // table of the same length would be drawn without a word. The hybrid's training
+        // RMSE on these rows must be the one the model file stores.
+        let train_y: Vec<f64> = self.split.train.iter().map(|&i| y[i]).collect();
+        let train_hybrid: Vec<f64> = self
+            .split
+            .train
+            .iter()
+            .map(|&i| prediction.hybrid[i])
+            .collect();
+        let rmse = hxai_eval::rmse(&train_y, &train_hybrid)?;
+        let stored = self.scores.train.hybrid.rmse;
+        if (rmse - stored).abs() > 1e-6 * stored.abs().max(f64::MIN_POSITIVE) + 1e-12 {
+            return Err(HybridError::InvalidConfig(format!(
+                "this is not the table the model was fitted on: the hybrid's RMSE on its \
+                 training rows is {} here and {} in the model file; pass the table given to \
+                 `hxai hybrid fit`",
+                crate::error::num(rmse),
+                crate::error::num(stored)
+            )));
+        }
+        let physics = prediction.physics;
         let delta = crate::process::deltas(self.correction.kind, y, &physics, &rows)?;
         let features = table.select_rows(&rows)?;
         let is_test: Vec<bool> = (0..rows.len())
