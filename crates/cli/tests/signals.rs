@@ -102,3 +102,94 @@ fn a_signal_while_writing_leaves_the_folder_as_it_was() {
     }
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+/// Ctrl-C is how a live stream ends: the rows written so far are kept in `--out` (whole
+/// rows, renamed into place), not lost with the temporary file.
+#[test]
+fn a_stopped_stream_keeps_its_rows() {
+    use std::io::Write;
+    let dir = scratch("hxai-signals", "stream").expect("scratch");
+    let data = dir.join("data");
+    hxai_ok(
+        &[
+            "simulate",
+            "--out",
+            s(&data),
+            "--repeats",
+            "1",
+            "--duration-s",
+            "0.8",
+            "--format",
+            "csv",
+            "--amplitudes",
+            "4",
+            "--frequencies",
+            "20",
+        ],
+        "a record",
+    )
+    .expect("run");
+    let record = std::fs::read_dir(&data)
+        .expect("list")
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .find(|p| p.file_name().is_some_and(|n| n != "manifest.csv"))
+        .expect("a record file");
+    let text = std::fs::read_to_string(&record).expect("read the record");
+    let model =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/bad/good/model.json");
+    let out = dir.join("o.csv");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hxai"))
+        .args([
+            "stream",
+            "--model",
+            s(&model),
+            "--frequency-hz",
+            "20",
+            "--out",
+            s(&out),
+        ])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start stream");
+    let mut stdin = child.stdin.take().expect("stdin");
+    stdin.write_all(text.as_bytes()).expect("feed the stream");
+    stdin.flush().expect("flush");
+    // The input stays open (a live stream); wait until the rows reach the temporary file.
+    let start = Instant::now();
+    let written = || {
+        std::fs::read_dir(&dir)
+            .into_iter()
+            .flatten()
+            .filter_map(Result::ok)
+            .any(|e| {
+                e.file_name().to_string_lossy().ends_with(".tmp")
+                    && e.metadata().is_ok_and(|m| m.len() > 0)
+            })
+    };
+    while !written() {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "no rows written"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    std::thread::sleep(Duration::from_millis(200));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status();
+    assert!(killed.is_ok_and(|k| k.success()));
+    let done = child.wait_with_output().expect("wait");
+    drop(stdin);
+    assert_eq!(done.status.code(), Some(130));
+    let err = String::from_utf8_lossy(&done.stderr);
+    assert!(err.contains("the rows so far are in"), "{err}");
+    let rows = std::fs::read_to_string(&out).expect("the rows were kept");
+    // one row per input sample after the header; every row whole
+    assert_eq!(rows.lines().count(), text.lines().count(), "{err}");
+    assert!(rows.ends_with('\n'));
+    assert_no_temporary_files(&dir);
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

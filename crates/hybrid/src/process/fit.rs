@@ -176,6 +176,7 @@ pub(crate) fn fit_inner(
     model.warnings = super::traps::fit_warnings(table, cfg, &res.features, split, y_all, &physics);
     model.warnings.extend(super::traps::parameter_warnings(
         &model.physics.standard_errors,
+        &model.physics.parameters,
     ));
     model.scores = scores_of(&model, table, y_all, split)?;
     if cfg.conformal_folds > 0 {

@@ -14,8 +14,9 @@
 //! - a test split of one row (no test scores are given: R² needs two);
 //! - a target that is constant on the training rows (the correction can then only cancel
 //!   the physics, and a hybrid R² of 1 means nothing);
-//! - calibrated parameters without a standard error (the data cannot tell them apart, as
-//!   `a` and `b` in `a*b*x`: only their product is fitted);
+//! - calibrated parameters without a standard error, or with one a hundred times their
+//!   value (the data cannot tell them apart, as `a` and `b` in `a*b*x`: only their product
+//!   is fitted);
 //! - at prediction, rows outside the training ranges ([`range_warnings`]).
 
 use super::{CorrectionForm, ProcessConfig};
@@ -127,24 +128,37 @@ pub(crate) fn fit_warnings(
     out
 }
 
-/// A warning naming the calibrated parameters whose standard error is undefined (a
-/// singular Jacobian: the data determine a combination of them, not each one).
+/// A calibrated parameter whose standard error exceeds its value this many times is taken
+/// as not determined by the data.
+pub const UNDETERMINED_RELATIVE_SE: f64 = 100.0;
+
+/// A warning naming the calibrated parameters the data do not determine: no standard error
+/// (a singular Jacobian) or one above [`UNDETERMINED_RELATIVE_SE`] times the value (nearly
+/// singular: the data fix a combination of them, as the product in `a*b*x`, not each).
 pub(crate) fn parameter_warnings(
     standard_errors: &std::collections::BTreeMap<String, Option<f64>>,
+    values: &std::collections::BTreeMap<String, f64>,
 ) -> Vec<String> {
-    let undefined: Vec<&str> = standard_errors
+    let undetermined: Vec<&str> = standard_errors
         .iter()
-        .filter(|(_, se)| se.is_none())
+        .filter(|(n, se)| match se {
+            None => true,
+            Some(se) => {
+                let v = values.get(*n).copied().unwrap_or(0.0).abs();
+                *se > UNDETERMINED_RELATIVE_SE * v
+            }
+        })
         .map(|(n, _)| n.as_str())
         .collect();
-    if undefined.is_empty() {
+    if undetermined.is_empty() {
         return Vec::new();
     }
     vec![format!(
         "the data cannot tell the calibrated parameter(s) {} apart from the others (no \
-         standard error: only a combination of them is determined, e.g. the product in a*b*x); \
-         calibrate fewer and --set the rest",
-        undefined.join(", ")
+         standard error, or one over {} times the value: only a combination of them is \
+         determined, e.g. the product in a*b*x); calibrate fewer and --set the rest",
+        undetermined.join(", "),
+        num(UNDETERMINED_RELATIVE_SE)
     )]
 }
 
