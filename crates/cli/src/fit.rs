@@ -240,15 +240,19 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         }
         None => None,
     };
-    model_file
-        .commit()
-        .with_context(|| format!("cannot write the model to {}", args.out.display()))?;
-    if let Some(f) = samples_file {
-        let shown = f.path().display().to_string();
-        f.commit()
-            .with_context(|| format!("cannot write the samples to {shown}"))?;
-    }
 
+    let out_path = args.out.clone();
+    let commit = move || -> Result<()> {
+        model_file
+            .commit()
+            .with_context(|| format!("cannot write the model to {}", out_path.display()))?;
+        if let Some(f) = samples_file {
+            let shown = f.path().display().to_string();
+            f.commit()
+                .with_context(|| format!("cannot write the samples to {shown}"))?;
+        }
+        Ok(())
+    };
     let m = &out.model;
     if args.json {
         // the correction's forms (the model file's keys), its constants and its selection
@@ -269,11 +273,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             "warnings": warnings,
         });
         let text = serde_json::to_string_pretty(&doc).context("cannot format JSON")?;
-        #[allow(clippy::print_stdout)]
-        {
-            println!("{text}");
-        }
+        // the document first: a full stdout then leaves the old files as they were
+        crate::safety::print_document(&text)?;
+        commit()?;
     } else {
+        commit()?;
         let t = &m.training;
         let fmt = |s: &Option<hxai_eval::Metrics>| {
             s.map(|s| format!("R^2 {:.4}, RMSE {:.4} um", s.r2, s.rmse))

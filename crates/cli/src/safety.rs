@@ -137,6 +137,19 @@ pub fn emit(text: &str) -> Result<()> {
     }
 }
 
+/// Prints a `--json` document on stdout before the command's outputs are renamed into
+/// place: a standard output that cannot be written is an error (and the staged outputs are
+/// then dropped, every existing file as it was); a closed pipe (`| head`) is not, as the
+/// reader has what it wanted and the outputs are still wanted.
+pub fn print_document(text: &str) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    match writeln!(out, "{text}").and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(anyhow::anyhow!("cannot write to standard output: {e}")),
+    }
+}
+
 /// Prints warnings on stderr, one line each.
 pub fn warn<S: std::fmt::Display>(warnings: &[S]) {
     for w in warnings {

@@ -99,6 +99,35 @@ fn a_full_standard_output_is_an_error_not_a_panic() {
         .output()
         .unwrap();
     refused(&o, "cannot write to standard output");
+    // a model file is renamed into place only after its --json document was printed
+    let m = dir.join("m.json");
+    std::fs::write(&m, "old").unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_hxai"))
+        .args([
+            "hybrid",
+            "fit",
+            "--data",
+            s(&t),
+            "--target",
+            "Ra_um",
+            "--physics",
+            PHYSICS,
+            "--calibrate",
+            "Ra0",
+            "--exclude",
+            "tool",
+            "--epochs",
+            "1",
+            "--out",
+            s(&m),
+            "--json",
+        ])
+        .stdout(std::fs::File::create("/dev/full").unwrap())
+        .output()
+        .unwrap();
+    refused(&o, "cannot write to standard output");
+    assert_eq!(std::fs::read_to_string(&m).unwrap(), "old");
+    common::assert_no_temporary_files(&dir);
 }
 
 #[test]

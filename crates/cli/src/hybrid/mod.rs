@@ -113,20 +113,22 @@ fn fit(a: FitArgs) -> Result<()> {
         }
     }
     let json = model.to_json();
-    hxai_data::write_text(&a.out, &json)
-        .with_context(|| format!("cannot write the model to {}", a.out.display()))?;
+    let cannot = || format!("cannot write the model to {}", a.out.display());
+    let staged = hxai_data::stage_text(&a.out, &json).with_context(cannot)?;
     if a.common.json {
-        println!("{json}");
-    } else {
-        print_model(&model);
-        if let Some(sel) = &model.correction.selection {
-            crate::sr::print_selection(sel);
-        }
-        if let Some(st) = &model.stability {
-            crate::sr::print_stability(st);
-        }
-        println!("model written to {}", a.out.display());
+        // the document first: a full stdout then leaves the old model file as it was
+        crate::safety::print_document(&json)?;
+        return staged.commit().with_context(cannot);
     }
+    staged.commit().with_context(cannot)?;
+    print_model(&model);
+    if let Some(sel) = &model.correction.selection {
+        crate::sr::print_selection(sel);
+    }
+    if let Some(st) = &model.stability {
+        crate::sr::print_stability(st);
+    }
+    println!("model written to {}", a.out.display());
     Ok(())
 }
 
