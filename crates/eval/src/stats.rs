@@ -45,6 +45,9 @@ pub struct TTest {
     pub df: f64,
     /// Two-tailed p-value `P(|T| >= |statistic|)`.
     pub p_value: f64,
+    /// Number of pairs `n` (rows, or windows).
+    #[serde(default)]
+    pub pairs: usize,
 }
 
 fn check_level(level: f64) -> Result<(), EvalError> {
@@ -177,6 +180,7 @@ pub fn paired_t_test(a: &[f64], b: &[f64]) -> Result<TTest, EvalError> {
             statistic: mean.signum() * f64::INFINITY,
             df,
             p_value: 0.0,
+            pairs: d.len(),
         });
     }
     let statistic = mean / (sd / n.sqrt());
@@ -184,6 +188,7 @@ pub fn paired_t_test(a: &[f64], b: &[f64]) -> Result<TTest, EvalError> {
         statistic,
         df,
         p_value: t_two_tailed_p(statistic, df),
+        pairs: d.len(),
     })
 }
 

@@ -71,19 +71,6 @@ pub(crate) mod metrics_um {
     }
 }
 
-/// Paired two-tailed t-test of per-window mean squared errors, physics vs hybrid.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct TTestReport {
-    /// t statistic of `mse_physics - mse_hybrid` (positive: the hybrid is better).
-    pub statistic: f64,
-    /// Degrees of freedom, number of windows - 1.
-    pub df: f64,
-    /// Two-tailed p-value.
-    pub p_value: f64,
-    /// Number of pairs (windows).
-    pub pairs: usize,
-}
-
 /// The result of [`evaluate`].
 ///
 /// Definition: for every evaluated window the truth is the ground truth minus its window
@@ -119,7 +106,7 @@ pub struct Evaluation {
     /// `(R^2_hybrid - R^2_phys) / R^2_phys * 100`, as the paper quotes it.
     pub r2_change_pct: f64,
     /// Paired t-test; `None` with fewer than two windows (or identical errors).
-    pub t_test: Option<TTestReport>,
+    pub t_test: Option<hxai_eval::TTest>,
     /// How well `delta_hat` matches `delta = A_true - A_phys` over the windows (`None`
     /// when it cannot be scored, e.g. a single window).
     #[serde(default, with = "metrics_um::option")]
@@ -283,14 +270,7 @@ where
     let physics_sine = hxai_eval::score(&truth, &sine)?;
     let hybrid_s = hxai_eval::score(&truth, &hyb)?;
     let t_test = if mse_p.len() >= 2 {
-        hxai_eval::paired_t_test(&mse_p, &mse_h)
-            .ok()
-            .map(|t| TTestReport {
-                statistic: t.statistic,
-                df: t.df,
-                p_value: t.p_value,
-                pairs: mse_p.len(),
-            })
+        hxai_eval::paired_t_test(&mse_p, &mse_h).ok()
     } else {
         None
     };

@@ -83,9 +83,7 @@ pub use composer::{
     corrected_latent,
 };
 pub use error::HybridError;
-pub use evaluate::{
-    DEFAULT_INTERVAL, EvalInput, Evaluation, IntervalReport, TTestReport, evaluate,
-};
+pub use evaluate::{DEFAULT_INTERVAL, EvalInput, Evaluation, IntervalReport, evaluate};
 pub use hxai_eval::IntervalMethod;
 pub use model::{
     CorrectionInfo, CorrectionKind, FeatureInfo, FitConfig, FitOutput, FitProgress, HybridModel,

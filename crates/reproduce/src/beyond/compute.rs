@@ -2,8 +2,7 @@
 
 use super::plots::{error_panel, parity, rows_of};
 use super::results::{
-    BeyondResults, CaseResult, CvRow, EquationRow, Goals, ParameterRow, SplitResult, TTestRow,
-    p_of, rmse_of,
+    BeyondResults, CaseResult, EquationRow, Goals, ParameterRow, SplitResult, p_of, rmse_of,
 };
 use super::{
     CaseSpec, DISTRACTOR, GOAL_COMPLEXITY, GOAL_FEATURES, GOAL_P, IDENTIFIER, STAGE, figure_name,
@@ -42,25 +41,8 @@ fn split_result(c: &Comparison, table: &Table, extrapolate: Option<&str>) -> Spl
         n_test: c.n_test,
         ranges,
         models: c.models.clone(),
-        cv: c
-            .cv
-            .iter()
-            .map(|s| CvRow {
-                name: s.name.clone(),
-                r2_mean: s.r2_mean,
-                r2_sd: s.r2_sd,
-                r2_ci: s.r2_ci,
-            })
-            .collect(),
-        t_tests: c
-            .t_tests
-            .iter()
-            .map(|t| TTestRow {
-                baseline: t.baseline.clone(),
-                statistic: t.test.statistic,
-                p_value: t.test.p_value,
-            })
-            .collect(),
+        cv: c.cv.clone(),
+        t_tests: c.t_tests.clone(),
         parameters: m
             .physics
             .calibrated

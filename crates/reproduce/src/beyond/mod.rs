@@ -25,9 +25,7 @@ mod results;
 pub use compute::compute;
 pub use plots::figure_name;
 pub use report::markdown;
-pub use results::{
-    BeyondResults, CaseResult, CvRow, EquationRow, Goals, ParameterRow, SplitResult, TTestRow,
-};
+pub use results::{BeyondResults, CaseResult, EquationRow, Goals, ParameterRow, SplitResult};
 
 use crate::{ReproduceConfig, ReproduceError};
 use hxai_hybrid::process::{CorrectionForm, ProcessConfig};

@@ -48,7 +48,7 @@ fn model_table(out: &mut String, s: &SplitResult, unit: &str) {
             .iter()
             .find(|t| t.baseline == m.name)
             .map_or("–".to_string(), |t| {
-                format!("{:.2}, {}", t.statistic, p_text(t.p_value))
+                format!("{:.2}, {}", t.test.statistic, p_text(t.test.p_value))
             });
         out.push_str(&format!(
             "| {} | {:.4} | {} | {} | {} |\n",

@@ -70,9 +70,9 @@ pub struct SplitResult {
     /// Test-split scores of every model.
     pub models: Vec<ModelScore>,
     /// k-fold cross-validation (empty at the extrapolation split).
-    pub cv: Vec<CvRow>,
+    pub cv: Vec<hxai_hybrid::process::CvScore>,
     /// Paired t-tests of the hybrid's squared errors against each other model's.
-    pub t_tests: Vec<TTestRow>,
+    pub t_tests: Vec<hxai_hybrid::process::TTestScore>,
     /// Physics parameters after calibration.
     pub parameters: Vec<ParameterRow>,
     /// The correction.
@@ -84,30 +84,6 @@ pub struct SplitResult {
     pub interval: Option<hxai_hybrid::IntervalReport>,
     /// The same by every method the model file offers ([`crate::intervals`]).
     pub intervals: Vec<crate::intervals::MethodInterval>,
-}
-
-/// Cross-validated R² of one model.
-#[derive(Debug, Clone, Serialize)]
-pub struct CvRow {
-    /// Model name.
-    pub name: String,
-    /// Mean R².
-    pub r2_mean: f64,
-    /// Sample standard deviation of R².
-    pub r2_sd: f64,
-    /// Student-t 95 % interval of the mean.
-    pub r2_ci: [f64; 2],
-}
-
-/// Paired two-tailed t-test of per-row squared errors, hybrid vs `baseline`.
-#[derive(Debug, Clone, Serialize)]
-pub struct TTestRow {
-    /// The other model.
-    pub baseline: String,
-    /// t statistic (positive: the hybrid's errors are smaller).
-    pub statistic: f64,
-    /// Two-tailed p-value.
-    pub p_value: f64,
 }
 
 /// One physics parameter.
@@ -174,5 +150,5 @@ pub(super) fn p_of(s: &SplitResult, baseline: &str) -> Option<f64> {
     s.t_tests
         .iter()
         .find(|t| t.baseline == baseline)
-        .map(|t| t.p_value)
+        .map(|t| t.test.p_value)
 }
