@@ -23,8 +23,8 @@ from conftest import FAST, hxai_binary
 SR_EXPECTED_FAILURES = {
     "check_fit2d_1sample": (
         "a search needs at least 8 rows (twice the parameters of the simplest model); the "
-        "refusal is a ValueError with the engine's message, '1 rows are too few: need at "
-        "least 8 rows ...', the CLI's wording rather than one of scikit-learn's phrases "
+        "refusal is a ValueError with the engine's message, 'too few rows (1): need at "
+        "least 8 ...', the CLI's wording rather than one of scikit-learn's phrases "
         "('1 sample', 'n_samples = 1')"
     ),
 }

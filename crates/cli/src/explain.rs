@@ -135,8 +135,14 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             (e, label)
         }
     };
-    let explanation = explanation
-        .with_context(|| format!("cannot explain the model {}", args.model.display()))?;
+    let explanation = explanation.with_context(|| match &args.data {
+        Some(d) => format!(
+            "cannot explain the model {} with --data {}",
+            args.model.display(),
+            d.display()
+        ),
+        None => format!("cannot explain the model {}", args.model.display()),
+    })?;
     let pictures = hxai_plot::explain::pictures(&explanation, &label, "")
         .context("cannot draw the pictures")?;
     if pictures.files.is_empty() {

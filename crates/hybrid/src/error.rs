@@ -32,7 +32,8 @@ pub enum HybridError {
     /// A record is too short for even one window.
     #[error(
         "record `{record}` lasts {} s but one window needs {} s \
-         ({} s discarded at each end + a {} s window); use a longer record or a shorter --window-s",
+         ({} s discarded at each end + a {} s window); use a longer record (or fit the model \
+         with a shorter --window-s or --discard-s)",
         num(*seconds), num(*needed_s), num(*discard_s), num(*window_s)
     )]
     RecordTooShort {

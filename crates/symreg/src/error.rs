@@ -36,7 +36,7 @@ pub enum SrError {
     ConstantTarget(f64),
     /// Too few rows.
     #[error(
-        "{rows} rows are too few: need at least {needed} rows (more than the parameters of the largest model)"
+        "too few rows ({rows}): need at least {needed} (more than the parameters of the largest model)"
     )]
     TooFewRows {
         /// Rows given.

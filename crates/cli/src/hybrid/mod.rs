@@ -211,14 +211,14 @@ fn evaluate(a: EvaluateArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&e)?);
     } else {
         println!(
-            "{} rows: physics RMSE {:.6e} R^2 {:.4}; hybrid RMSE {:.6e} R^2 {:.4}; improvement {:.2} %; paired t-test p = {:.3e}",
+            "{} rows: physics RMSE {} R^2 {:.4}; hybrid RMSE {} R^2 {:.4}; improvement {:.2} %; paired t-test p = {}",
             e.n_samples,
-            e.physics.rmse,
+            hxai_data::format_number(e.physics.rmse),
             e.physics.r2,
-            e.hybrid.rmse,
+            hxai_data::format_number(e.hybrid.rmse),
             e.hybrid.r2,
             e.improvement_pct,
-            e.t_test.p_value
+            hxai_data::format_number(e.t_test.p_value)
         );
         if let Some(iv) = e.interval {
             print_interval(&iv, "rows");

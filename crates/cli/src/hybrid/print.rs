@@ -1,10 +1,11 @@
 //! What `hxai hybrid` prints in text mode: the fitted model, interval coverage and the
 //! comparison table (the `--json` documents are the library's types, serialised).
+use hxai_data::format_number as n;
 use hxai_hybrid::process::{Comparison, ProcessModel};
 
 fn fmt_se(se: Option<&Option<f64>>) -> String {
     match se {
-        Some(Some(s)) => format!(" +- {s:.4e}"),
+        Some(Some(s)) => format!(" +- {}", n(*s)),
         Some(None) => " +- (undefined)".into(),
         None => String::new(),
     }
@@ -24,10 +25,11 @@ pub(super) fn print_model(m: &ProcessModel) {
             .params
             .get(name)
             .and_then(|p| p.ci95)
-            .map(|[lo, hi]| format!(", 95 % CI [{lo:.6e}, {hi:.6e}]"))
+            .map(|[lo, hi]| format!(", 95 % CI [{}, {}]", n(lo), n(hi)))
             .unwrap_or_default();
         println!(
-            "  {name} = {v:.6e}{}{ci} ({tag})",
+            "  {name} = {}{}{ci} ({tag})",
+            n(*v),
             fmt_se(m.physics.standard_errors.get(name))
         );
     }
@@ -40,27 +42,29 @@ pub(super) fn print_model(m: &ProcessModel) {
     println!("hybrid: {} = {}", m.target, m.hybrid.equation);
     if let Some(j) = &m.joint {
         println!(
-            "joint refit: train RMSE {:.6e} -> {:.6e} (two-stage correction: {})",
-            j.sequential_train_rmse, j.joint_train_rmse, j.sequential_correction
+            "joint refit: train RMSE {} -> {} (two-stage correction: {})",
+            n(j.sequential_train_rmse),
+            n(j.joint_train_rmse),
+            j.sequential_correction
         );
     }
     let s = &m.scores;
     println!(
-        "train ({} rows): physics RMSE {:.6e} R^2 {:.4}, hybrid RMSE {:.6e} R^2 {:.4}",
+        "train ({} rows): physics RMSE {} R^2 {:.4}, hybrid RMSE {} R^2 {:.4}",
         m.split.train.len(),
-        s.train.physics.rmse,
+        n(s.train.physics.rmse),
         s.train.physics.r2,
-        s.train.hybrid.rmse,
+        n(s.train.hybrid.rmse),
         s.train.hybrid.r2
     );
     if let Some(t) = &s.test {
         println!(
-            "test  ({} rows, {} split): physics RMSE {:.6e} R^2 {:.4}, hybrid RMSE {:.6e} R^2 {:.4}",
+            "test  ({} rows, {} split): physics RMSE {} R^2 {:.4}, hybrid RMSE {} R^2 {:.4}",
             m.split.test.len(),
             m.split.kind,
-            t.physics.rmse,
+            n(t.physics.rmse),
             t.physics.r2,
-            t.hybrid.rmse,
+            n(t.hybrid.rmse),
             t.hybrid.r2
         );
     }
@@ -74,8 +78,7 @@ pub(super) fn print_interval(iv: &hxai_hybrid::IntervalReport, what: &str) {
         100.0 * iv.nominal,
         100.0 * iv.coverage,
         iv.n,
-        iv.median_width
-            .map_or_else(|| "(none)".to_string(), |w| format!("{w:.4e}"))
+        iv.median_width.map_or_else(|| "(none)".to_string(), n)
     );
 }
 
@@ -88,8 +91,11 @@ pub(super) fn print_comparison(c: &Comparison) {
     println!("{:<20} {:>10} {:>14} {:>14}", "model", "R^2", "RMSE", "MAE");
     for m in &c.models {
         println!(
-            "{:<20} {:>10.4} {:>14.6e} {:>14.6e}",
-            m.name, m.metrics.r2, m.metrics.rmse, m.metrics.mae
+            "{:<20} {:>10.4} {:>14} {:>14}",
+            m.name,
+            m.metrics.r2,
+            n(m.metrics.rmse),
+            n(m.metrics.mae)
         );
     }
     if !c.cv.is_empty() {
@@ -106,8 +112,11 @@ pub(super) fn print_comparison(c: &Comparison) {
     }
     for t in &c.t_tests {
         println!(
-            "paired t-test {} vs {} (squared errors): t = {:.3}, p = {:.3e}",
-            t.model, t.baseline, t.test.statistic, t.test.p_value
+            "paired t-test {} vs {} (squared errors): t = {:.3}, p = {}",
+            t.model,
+            t.baseline,
+            t.test.statistic,
+            n(t.test.p_value)
         );
     }
     if let Some(iv) = &c.interval {
