@@ -50,7 +50,8 @@ fn flags(cells: &[String]) -> bool {
 }
 
 /// Refuses a text column among `used` (the columns a model reads): a column of numbers
-/// with a bad cell is named by its row and cell ([`bad_cell`]), another by what it holds.
+/// with a bad cell (more than half of its cells are numbers) is named by its row and cell,
+/// another by what it holds.
 ///
 /// # Errors
 /// [`HybridError::InvalidConfig`] for the first such column.
