@@ -89,7 +89,6 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let bar = crate::progress::styled(
         models.len() as u64,
         "{bar:30} {pos}/{len} models fitted [{elapsed}]",
-        args.json,
     );
     let rows = hxai_baselines::compare(models, &x_train, &y_train, &x_test, y_test, &mut |p| {
         bar.set_position(p.done as u64);

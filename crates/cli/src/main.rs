@@ -91,7 +91,9 @@ fn main() {
     let installed = safety::remove_temporary_files_on_signal();
     #[cfg(not(unix))]
     let installed: Result<()> = Ok(());
-    if let Err(e) = installed.and_then(|()| run(cli)) {
+    let result = installed.and_then(|()| run(cli));
+    safety::wait_if_stopping();
+    if let Err(e) = result {
         // One line on stderr: the reason, with its causes (each said once).
         #[allow(clippy::print_stderr)]
         {

@@ -24,12 +24,9 @@ pub fn bar(len: u64) -> ProgressBar {
     b
 }
 
-/// [`bar`] with indicatif's `template`, or a hidden bar when `hidden` (under `--json`, whose
-/// callers want nothing on stderr but warnings and errors).
-pub fn styled(len: u64, template: &str, hidden: bool) -> ProgressBar {
-    if hidden {
-        return ProgressBar::hidden();
-    }
+/// [`bar`] with indicatif's `template`. Under `--json` too: the document goes to stdout,
+/// progress to stderr, and a notebook running `!hxai ... --json` is as long as any other.
+pub fn styled(len: u64, template: &str) -> ProgressBar {
     let b = bar(len);
     b.set_style(
         ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),

@@ -22,6 +22,20 @@ type OnSignal = Box<dyn FnOnce() -> Option<String> + Send>;
 
 static ON_SIGNAL: std::sync::Mutex<Option<OnSignal>> = std::sync::Mutex::new(None);
 
+/// Set once a signal is being handled: the handler ends the process, so the main thread
+/// must not end it first (with its own exit code, or before the handler has kept or
+/// removed the outputs).
+static STOPPING: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Waits for the signal handler to end the process when a signal is being handled (a
+/// stream whose input ended because Ctrl-C stopped its producer too); returns at once
+/// otherwise.
+pub fn wait_if_stopping() {
+    while STOPPING.load(std::sync::atomic::Ordering::SeqCst) {
+        std::thread::park_timeout(std::time::Duration::from_secs(1));
+    }
+}
+
 /// Registers what the command does when stopped by a signal, before the unfinished outputs
 /// are removed: `hxai stream` keeps the rows written so far. The sentence it returns is
 /// printed after the signal's name.
@@ -40,6 +54,7 @@ pub fn remove_temporary_files_on_signal() -> Result<()> {
         .name("hxai-signals".into())
         .spawn(move || {
             if let Some(signal) = signals.forever().next() {
+                STOPPING.store(true, std::sync::atomic::Ordering::SeqCst);
                 let kept = ON_SIGNAL
                     .lock()
                     .ok()

@@ -190,7 +190,6 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let bar = crate::progress::styled(
         cfg.epochs as u64,
         "{bar:30} epoch {pos}/{len} {msg} [{elapsed}]",
-        args.json,
     );
     let res = search(&data, &y, &cfg, &mut |p| {
         bar.set_position(p.epoch as u64);
@@ -208,11 +207,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         .collect::<Result<Vec<_>>>()?;
     let stability = match args.stability {
         Some(runs) => {
-            let b = crate::progress::styled(
-                runs as u64,
-                "{bar:30} {pos}/{len} {msg} [{elapsed}]",
-                args.json,
-            );
+            let b = crate::progress::styled(runs as u64, "{bar:30} {pos}/{len} {msg} [{elapsed}]");
             b.set_message("stability runs");
             let bb = b.clone();
             let s = hxai_symreg::stability(&data, &y, &cfg, runs, &mut move |done, _| {

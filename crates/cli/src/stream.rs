@@ -47,8 +47,9 @@ pub struct Args {
 /// live stream usually ends, so the handler keeps the rows written so far (flushes and
 /// renames the file into place, as at the end of the input) instead of discarding them.
 /// Rows are written under the lock one whole row at a time, so the file never ends inside a
-/// row.
-type SharedFile = Arc<Mutex<Option<BufWriter<AtomicFile>>>>;
+/// row. Once committed it holds the path (`Err`), so whichever of the handler and the end of
+/// the run comes second knows the rows are kept.
+type SharedFile = Arc<Mutex<std::result::Result<BufWriter<AtomicFile>, String>>>;
 
 /// Where rows go.
 enum Sink {
@@ -57,17 +58,26 @@ enum Sink {
 }
 
 /// Flushes and renames the stream's file into place, once (the signal handler or the end of
-/// the run, whichever comes first); the message names the file.
-fn commit_shared(file: &SharedFile) -> Result<Option<String>> {
-    let taken = file.lock().map_or(None, |mut f| f.take());
-    let Some(w) = taken else { return Ok(None) };
+/// the run, whichever comes first, the other waiting on the lock); the path of the file.
+fn commit_shared(file: &SharedFile) -> Result<String> {
+    let mut guard = file
+        .lock()
+        .map_err(|_| anyhow::anyhow!("the output file is unusable"))?;
+    let w = match std::mem::replace(&mut *guard, Err(String::new())) {
+        Ok(w) => w,
+        Err(path) => {
+            *guard = Err(path.clone());
+            return Ok(path);
+        }
+    };
     let file = w
         .into_inner()
         .map_err(|e| anyhow::anyhow!("cannot write the output: {}", e.error()))?;
     let path = file.path().display().to_string();
     file.commit()
         .with_context(|| format!("cannot write {path}"))?;
-    Ok(Some(path))
+    *guard = Err(path.clone());
+    Ok(path)
 }
 
 impl Sink {
@@ -80,8 +90,8 @@ impl Sink {
                     .lock()
                     .map_err(|_| anyhow::anyhow!("the output file is unusable"))?;
                 match guard.as_mut() {
-                    Some(w) => f(w),
-                    None => anyhow::bail!("the stream was stopped"),
+                    Ok(w) => f(w),
+                    Err(_) => anyhow::bail!("the stream was stopped"),
                 }
             }
         }
@@ -323,14 +333,13 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     };
     let mut sink = match &args.out {
         Some(p) => {
-            let file: SharedFile = Arc::new(Mutex::new(Some(BufWriter::with_capacity(
+            let file: SharedFile = Arc::new(Mutex::new(Ok(BufWriter::with_capacity(
                 1 << 16,
                 AtomicFile::create(p).with_context(|| format!("cannot write {}", p.display()))?,
             ))));
             let on_signal = Arc::clone(&file);
             crate::safety::on_signal(move || match commit_shared(&on_signal) {
-                Ok(Some(path)) => Some(format!("the rows so far are in {path}")),
-                Ok(None) => None,
+                Ok(path) => Some(format!("the rows so far are in {path}")),
                 Err(e) => Some(format!("the rows so far could not be kept: {e:#}")),
             });
             Sink::File(file)

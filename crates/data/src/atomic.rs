@@ -49,6 +49,19 @@ pub fn remove_temporary_files() -> (usize, MutexGuard<'static, Vec<PathBuf>>) {
     (n, guard)
 }
 
+/// The file a symbolic link names (followed to the end), or `path` itself when it is not a
+/// link. A link to nothing is refused: writing through it would create a file elsewhere.
+fn resolve_link(path: &Path) -> Result<PathBuf, DataError> {
+    match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => {
+            path.canonicalize().map_err(|_| DataError::NotARegularFile {
+                path: path.to_path_buf(),
+            })
+        }
+        _ => Ok(path.to_path_buf()),
+    }
+}
+
 /// Refuses a target that is a folder, or an existing node that is not a regular file (a
 /// device, pipe or socket, which the rename would replace). A symbolic link is judged by
 /// what it points to.
@@ -127,6 +140,10 @@ impl AtomicFile {
     /// # Errors
     /// [`DataError::IsADirectory`] when `path` is a folder, [`DataError::Io`].
     pub fn create(path: &Path) -> Result<Self, DataError> {
+        // A symbolic link is written through: the file it names is replaced and the link
+        // kept (renaming over the link would replace it, as root even `/dev/stdout`).
+        let resolved = resolve_link(path)?;
+        let path = resolved.as_path();
         check_target(path)?;
         let parent = match path.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
@@ -294,7 +311,7 @@ fn canonical(path: &Path) -> Option<PathBuf> {
 /// # Errors
 /// [`DataError::OutputIsInput`] or [`DataError::IsADirectory`].
 pub fn check_output(output: &Path, inputs: &[(PathBuf, String)]) -> Result<(), DataError> {
-    check_target(output)?;
+    check_target(&resolve_link(output)?)?;
     let Some(out) = canonical(output) else {
         return Ok(());
     };
@@ -373,6 +390,27 @@ mod tests {
         staged.commit().unwrap();
         assert!(!live().contains(&tmp));
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "y");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_link_is_written_through_and_kept() {
+        let (d, target) = dir_with_file("link", "t.csv", "old");
+        let link = d.join("l.csv");
+        std::os::unix::fs::symlink(&target, &link).unwrap();
+        write_bytes(&link, b"new").unwrap();
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "new");
+        let dangling = d.join("d.csv");
+        std::os::unix::fs::symlink(d.join("nowhere.csv"), &dangling).unwrap();
+        assert!(write_bytes(&dangling, b"x").is_err());
+        assert!(!d.join("nowhere.csv").exists());
         std::fs::remove_dir_all(&d).unwrap();
     }
 

@@ -67,7 +67,6 @@ fn prepare(c: &Common) -> Result<(ProcessConfig, NumericView, Vec<String>, Progr
     let b = crate::progress::styled(
         cfg.search.epochs as u64,
         "{bar:30} {pos}/{len} {msg} [{elapsed}]",
-        c.json,
     );
     Ok((cfg, loaded, warnings, b))
 }
@@ -94,11 +93,7 @@ fn fit(a: FitArgs) -> Result<()> {
     crate::safety::warn(&warnings);
     crate::safety::warn(&model.warnings);
     if let Some(runs) = a.stability {
-        let sb = crate::progress::styled(
-            runs as u64,
-            "{bar:30} {pos}/{len} resamples [{elapsed}]",
-            a.common.json,
-        );
+        let sb = crate::progress::styled(runs as u64, "{bar:30} {pos}/{len} resamples [{elapsed}]");
         let sbb = sb.clone();
         model.stability = Some(hxai_hybrid::process::process_stability(
             &loaded.table,

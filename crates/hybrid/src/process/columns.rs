@@ -16,7 +16,7 @@ use crate::HybridError;
 /// few cells (more than half of its non-empty cells are numbers): a gap (`""`) or a typo
 /// (`12O.5`) in a column of numbers, which a reader that must choose one type per column
 /// reads as text. `None` for a column of real text.
-fn bad_cell(name: &str, cells: &[String]) -> Option<HybridError> {
+fn bad_cell(name: &str, cells: &[String], excludable: bool) -> Option<HybridError> {
     let filled = cells.iter().filter(|v| !v.trim().is_empty()).count();
     let numbers = cells
         .iter()
@@ -34,9 +34,14 @@ fn bad_cell(name: &str, cells: &[String]) -> Option<HybridError> {
     } else {
         format!("`{}` is not a number", cell.trim())
     };
-    Some(HybridError::InvalidConfig(format!(
+    let or_exclude = if excludable {
+        format!(", or --exclude {name}")
+    } else {
+        String::new()
+    };
+    Some(HybridError::NoData(format!(
         "row {}, column `{name}`: {what}; hxai hybrid needs a number in every row of a column \
-         it uses (mend the cell, remove the row, or --exclude {name})",
+         it uses (mend the cell or remove the row{or_exclude})",
         row + 1
     )))
 }
@@ -54,13 +59,13 @@ fn flags(cells: &[String]) -> bool {
 /// another by what it holds.
 ///
 /// # Errors
-/// [`HybridError::InvalidConfig`] for the first such column.
+/// [`HybridError::NoData`] for the first such column.
 pub fn check_used_columns(
     used: &[String],
     text: &[(String, Vec<String>)],
 ) -> Result<(), HybridError> {
     if let Some((n, cells)) = text.iter().find(|(n, _)| used.contains(n)) {
-        if let Some(e) = bad_cell(n, cells) {
+        if let Some(e) = bad_cell(n, cells, false) {
             return Err(e);
         }
         let holds = if flags(cells) {
@@ -74,7 +79,7 @@ pub fn check_used_columns(
             .find(|(_, v)| !v.trim().is_empty())
             .map(|(i, v)| format!(" (row {}: `{}`)", i + 1, v.trim()))
             .unwrap_or_default();
-        return Err(HybridError::InvalidConfig(format!(
+        return Err(HybridError::NoData(format!(
             "column `{n}` holds {holds}{example}, not numbers: hxai hybrid needs numeric columns \
              (text is allowed only in the --group column)"
         )));
@@ -98,7 +103,7 @@ pub fn model_columns(model: &super::ProcessModel, with_target: bool) -> Vec<Stri
 /// `cfg`, and returns the warnings for those left out of the correction's features.
 ///
 /// # Errors
-/// [`HybridError::InvalidConfig`]: a column the model names (target, features,
+/// [`HybridError::NoData`]: a column the model names (target, features,
 /// extrapolation column, physics) holds text, or a column the model uses or would take as a
 /// default feature is numbers with a bad cell (a gap or a typo: the row and cell are named).
 pub fn check_text_columns(
@@ -119,7 +124,7 @@ pub fn check_text_columns(
     };
     let mut left_out = Vec::new();
     for (n, cells) in text.iter().filter(|(n, _)| default_feature(n)) {
-        if let Some(e) = bad_cell(n, cells) {
+        if let Some(e) = bad_cell(n, cells, true) {
             return Err(e);
         }
         let holds = if flags(cells) {

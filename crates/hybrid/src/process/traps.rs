@@ -153,12 +153,22 @@ pub(crate) fn parameter_warnings(
     if undetermined.is_empty() {
         return Vec::new();
     }
-    vec![format!(
-        "the data cannot tell the calibrated parameter(s) {} apart from the others (no \
-         standard error, or one over {} times the value: only a combination of them is \
-         determined, e.g. the product in a*b*x); calibrate fewer and --set the rest",
-        undetermined.join(", "),
+    let why = format!(
+        "no standard error, or one over {} times the value",
         num(UNDETERMINED_RELATIVE_SE)
+    );
+    if standard_errors.len() == 1 {
+        return vec![format!(
+            "the data do not determine the calibrated parameter {} ({why}): check that the \
+             physics depends on it over the training rows",
+            undetermined.join(", ")
+        )];
+    }
+    vec![format!(
+        "the data cannot tell the calibrated parameter(s) {} apart from the others ({why}: \
+         only a combination of them is determined, e.g. the product in a*b*x); calibrate fewer \
+         and --set the rest",
+        undetermined.join(", ")
     )]
 }
 
