@@ -1,7 +1,6 @@
 //! `hxai explain`: pictures (SVG) of a fitted model's correction.
 use crate::Global;
 use anyhow::{Context, Result};
-use hxai_data::Column;
 use hxai_hybrid::explain::ExplainData;
 use std::path::{Path, PathBuf};
 
@@ -56,44 +55,17 @@ fn load(path: &Path) -> Result<Model> {
 
 /// The numeric columns of a samples table and its split flags (`split` = `test`).
 fn read_samples(path: &Path) -> Result<(hxai_table::Table, Vec<f64>, Vec<bool>)> {
-    let mixed = hxai_data::read_mixed_table(path)
-        .with_context(|| format!("cannot read the samples {}", path.display()))?;
-    let (table, _) = mixed
-        .numeric()
+    let view = hxai_data::read_mixed_table(path)
+        .with_context(|| format!("cannot read the samples {}", path.display()))?
+        .numeric_view(None)
         .with_context(|| format!("{}: no usable numeric columns", path.display()))?;
-    let delta = table
-        .require("delta")
-        .with_context(|| {
-            format!(
-                "{}: no numeric column `delta`; pass the table `hxai fit --samples` wrote",
-                path.display()
-            )
-        })?
-        .to_vec();
-    let is_test = match mixed.names.iter().position(|n| n == "split") {
-        None => vec![false; delta.len()],
-        Some(i) => match &mixed.columns[i] {
-            Column::Text(v) => v
-                .iter()
-                .enumerate()
-                .map(|(row, s)| match s.as_str() {
-                    "train" => Ok(false),
-                    "test" => Ok(true),
-                    other => Err(anyhow::anyhow!(
-                        "{}: row {}: `split` must be train or test, got `{}`",
-                        path.display(),
-                        row + 1,
-                        other.chars().take(20).collect::<String>()
-                    )),
-                })
-                .collect::<Result<Vec<bool>>>()?,
-            Column::Number(_) => anyhow::bail!(
-                "{}: `split` must be text (train or test), found numbers",
-                path.display()
-            ),
-        },
-    };
-    Ok((table, delta, is_test))
+    let split = view
+        .text
+        .iter()
+        .find(|(n, _)| n == "split")
+        .map(|(_, cells)| cells.as_slice());
+    hxai_hybrid::SamplesTable::read_back(view.table, split)
+        .with_context(|| path.display().to_string())
 }
 
 /// Runs `hxai explain`.

@@ -224,8 +224,9 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         Some(path) => {
             use hxai_data::Column;
             let s = out.samples_table().context("cannot tabulate the samples")?;
+            // the names of the library's samples table, its three label columns first
             let mut table = hxai_data::MixedTable {
-                names: vec!["record".into(), "window".into(), "split".into()],
+                names: s.names()[..3].to_vec(),
                 columns: vec![
                     Column::Text(s.record),
                     Column::Number(s.window.iter().map(|&w| w as f64).collect()),

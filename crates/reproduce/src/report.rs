@@ -372,18 +372,7 @@ pub fn markdown(r: &Results) -> String {
 /// `samples.csv`: one row per sample, columns `record,window,split,f1..f12,A_phys,A_true,delta`
 /// ([`hxai_hybrid::SamplesTable`]), numbers in Rust's shortest round-trip form.
 pub fn samples_csv(c: &Computed) -> Result<String, crate::ReproduceError> {
-    let t = c.fit.samples_table()?;
-    let mut s = t.names().join(",");
-    s.push('\n');
-    let columns = t.values.columns();
-    for (i, ((record, window), split)) in t.record.iter().zip(&t.window).zip(&t.split).enumerate() {
-        let _ = write!(s, "{record},{window},{split}");
-        for column in columns {
-            let _ = write!(s, ",{}", column[i]);
-        }
-        s.push('\n');
-    }
-    Ok(s)
+    Ok(c.fit.samples_table()?.to_csv())
 }
 
 /// The selected structure's share over the stability runs and the alternatives the data

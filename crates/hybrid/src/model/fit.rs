@@ -1,6 +1,7 @@
 //! Fitting the tool-position hybrid model: the samples of every record, a seeded split, and
 //! symbolic regression of `delta` on the training windows' features.
 
+use super::samples::{SamplesTable, samples_table};
 use super::{
     CorrectionInfo, FeatureInfo, HybridModel, SCHEMA_VERSION, SplitInfo, SplitKind, ToolHybrid,
     TrainingInfo, WindowId, check_band,
@@ -81,80 +82,6 @@ pub struct FitOutput {
     /// Implausible but legal input met while fitting ([`input_warnings`], and records whose
     /// probe and physics amplitudes differ by a units-like factor).
     pub warnings: Vec<Warning>,
-}
-
-/// The samples of a fit as columns, one row per sample in record then window order: the
-/// table `hxai fit --samples` and the reproduction's `samples.csv` write.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SamplesTable {
-    /// Record id of each sample (column `record`).
-    pub record: Vec<String>,
-    /// Window index within the record (column `window`).
-    pub window: Vec<usize>,
-    /// `train` or `test` (column `split`).
-    pub split: Vec<&'static str>,
-    /// The features (named by the feature map, `f1`..`f12`), then `A_phys`, `A_true` and
-    /// `delta = A_true - A_phys`, in micrometres.
-    pub values: Table,
-}
-
-impl SamplesTable {
-    /// Every column name in file order: `record`, `window`, `split`, then the values'.
-    pub fn names(&self) -> Vec<String> {
-        let mut names = vec!["record".to_string(), "window".into(), "split".into()];
-        names.extend(self.values.names().iter().cloned());
-        names
-    }
-}
-
-/// The samples table of `samples` (each with its truth) split by `is_test`, feature columns
-/// named `feature_names`.
-///
-/// # Errors
-/// [`HybridError::NoTruth`] for a sample without truth, [`HybridError::InvalidConfig`] when
-/// `is_test` or a sample's features do not match in length, [`HybridError::Table`] for a
-/// non-finite value.
-pub fn samples_table(
-    samples: &[WindowSample],
-    is_test: &[bool],
-    feature_names: &[String],
-) -> Result<SamplesTable, HybridError> {
-    if is_test.len() != samples.len() {
-        return Err(HybridError::InvalidConfig(format!(
-            "{} split flags for {} samples",
-            is_test.len(),
-            samples.len()
-        )));
-    }
-    let mut values = crate::composer::feature_table(feature_names.to_vec(), samples)?;
-    let truth = |w: &WindowSample| {
-        w.a_true()
-            .zip(w.delta())
-            .ok_or_else(|| HybridError::NoTruth {
-                record: w.record.clone(),
-            })
-    };
-    let (a_true, delta): (Vec<f64>, Vec<f64>) = samples
-        .iter()
-        .map(truth)
-        .collect::<Result<Vec<_>, _>>()?
-        .into_iter()
-        .unzip();
-    values.push_column(
-        "A_phys".into(),
-        samples.iter().map(|w| w.a_phys()).collect(),
-    )?;
-    values.push_column("A_true".into(), a_true)?;
-    values.push_column("delta".into(), delta)?;
-    Ok(SamplesTable {
-        record: samples.iter().map(|w| w.record.clone()).collect(),
-        window: samples.iter().map(|w| w.window).collect(),
-        split: is_test
-            .iter()
-            .map(|&t| if t { "test" } else { "train" })
-            .collect(),
-        values,
-    })
 }
 
 impl FitOutput {

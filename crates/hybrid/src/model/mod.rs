@@ -7,11 +7,12 @@
 mod evaluate;
 mod fit;
 mod predict;
+mod samples;
 
 pub use fit::{
-    FitConfig, FitOutput, FitProgress, SamplesTable, fit, samples_table, split_samples,
-    tool_hybrid, tool_hybrid_with,
+    FitConfig, FitOutput, FitProgress, fit, split_samples, tool_hybrid, tool_hybrid_with,
 };
+pub use samples::{SamplesTable, samples_table};
 
 use crate::HybridError;
 use crate::composer::{Hybrid, RecordInput};
