@@ -116,8 +116,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         vec![rec.time_s.clone(), d_um],
     )
     .context("the displacement is not a finite table")?;
-    hxai_data::write_table(&args.out, &table)
-        .with_context(|| format!("writing {}", args.out.display()))?;
+    let cannot = || format!("writing {}", args.out.display());
+    let staged = hxai_data::stage_table(&args.out, &table).with_context(cannot)?;
     let summary = serde_json::json!({
         "record": args.input.record.display().to_string(),
         "out": args.out.display().to_string(),
@@ -131,8 +131,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         "warnings": warnings,
     });
     if args.json {
-        crate::safety::emit(&summary.to_string())?;
+        // the document first: a full stdout then leaves an existing output as it was
+        crate::safety::print_document(&summary.to_string())?;
+        staged.commit().with_context(cannot)?;
     } else {
+        staged.commit().with_context(cannot)?;
         crate::safety::emit(&format!(
             "wrote {} ({} samples at {:.1} Hz); physics amplitude at {} Hz: {:.4} um",
             args.out.display(),

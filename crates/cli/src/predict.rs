@@ -101,8 +101,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     }
     let table =
         hxai_data::Table::new(names, columns).context("the prediction is not a finite table")?;
-    hxai_data::write_table(&args.out, &table)
-        .with_context(|| format!("cannot write {}", args.out.display()))?;
+    let cannot = || format!("cannot write {}", args.out.display());
+    let staged = hxai_data::stage_table(&args.out, &table).with_context(cannot)?;
     if args.json {
         let doc = serde_json::json!({
             "out": crate::safety::path_text(&args.out),
@@ -118,8 +118,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             "warnings": warnings,
         });
         let text = serde_json::to_string_pretty(&doc).context("cannot format JSON")?;
-        crate::safety::emit(&text)?;
+        // the document first: a full stdout then leaves an existing output as it was
+        crate::safety::print_document(&text)?;
+        staged.commit().with_context(cannot)?;
     } else {
+        staged.commit().with_context(cannot)?;
         crate::safety::emit(&format!(
             "wrote {} ({} samples, {} windows corrected)",
             args.out.display(),

@@ -133,8 +133,8 @@ fn run_case(case: CaseArg, args: &Args) -> Result<()> {
         std::fs::create_dir_all(parent)
             .with_context(|| format!("cannot create the folder {}", parent.display()))?;
     }
-    hxai_data::write_table(&args.out, &table)
-        .with_context(|| format!("cannot write {}", args.out.display()))?;
+    let cannot = || format!("cannot write {}", args.out.display());
+    let staged = hxai_data::stage_table(&args.out, &table).with_context(cannot)?;
     let doc = serde_json::json!({
         "out": args.out.display().to_string(),
         "case": case.name(),
@@ -148,7 +148,14 @@ fn run_case(case: CaseArg, args: &Args) -> Result<()> {
         seed,
         args.out.display()
     );
-    print_summary(args.json, &doc, &line)
+    if args.json {
+        // the document first: a full stdout then leaves an existing table as it was
+        let text = serde_json::to_string_pretty(&doc).context("cannot format JSON")?;
+        crate::safety::print_document(&text)?;
+        return staged.commit().with_context(cannot);
+    }
+    staged.commit().with_context(cannot)?;
+    print_summary(false, &doc, &line)
 }
 
 /// Prints what was written: `doc` as pretty JSON with `--json`, else the one `line`.

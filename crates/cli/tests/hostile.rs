@@ -127,6 +127,26 @@ fn a_full_standard_output_is_an_error_not_a_panic() {
         .unwrap();
     refused(&o, "cannot write to standard output");
     assert_eq!(std::fs::read_to_string(&m).unwrap(), "old");
+    // so is a table whose --json report cannot be printed
+    let table = dir.join("t2.csv");
+    std::fs::write(&table, "old").unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_hxai"))
+        .args([
+            "simulate",
+            "--case",
+            "roughness",
+            "--rows",
+            "40",
+            "--out",
+            s(&table),
+            "--json",
+            "--force",
+        ])
+        .stdout(std::fs::File::create("/dev/full").unwrap())
+        .output()
+        .unwrap();
+    refused(&o, "cannot write to standard output");
+    assert_eq!(std::fs::read_to_string(&table).unwrap(), "old");
     common::assert_no_temporary_files(&dir);
 }
 

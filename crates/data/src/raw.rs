@@ -233,17 +233,8 @@ fn check_parquet_type(path: &Path, column: &str, dtype: &ArrowDataType) -> Resul
     }
 }
 
-/// Writes columns (all of equal length, checked by the caller) as CSV or Parquet.
-pub(crate) fn write(
-    path: &Path,
-    format: Format,
-    names: &[String],
-    columns: &[OutColumn<'_>],
-) -> Result<(), DataError> {
-    stage(path, format, names, columns)?.commit()
-}
-
-/// [`write`] staged, not committed (see [`crate::stage`]).
+/// Writes columns (all of equal length, checked by the caller) as CSV or Parquet into a
+/// staged file, not committed (see [`crate::stage`]).
 pub(crate) fn stage(
     path: &Path,
     format: Format,

@@ -197,9 +197,15 @@ fn check_shape<'a>(
 /// Writes a numeric table; CSV or Parquet by extension. A [`Table`] is rectangular,
 /// uniquely named and finite by construction, so only the file can fail.
 pub fn write_table(path: &Path, table: &Table) -> Result<(), DataError> {
+    stage_table(path, table)?.commit()
+}
+
+/// [`write_table`] staged, not committed (see [`crate::stage`]): a command renames it into
+/// place once its report on stdout is printed.
+pub fn stage_table(path: &Path, table: &Table) -> Result<crate::AtomicFile, DataError> {
     let format = Format::from_path(path)?;
     let cols: Vec<OutColumn<'_>> = table.columns().iter().map(|c| OutColumn::Num(c)).collect();
-    raw::write(path, format, table.names(), &cols)
+    raw::stage(path, format, table.names(), &cols)
 }
 
 /// Writes a mixed table; CSV or Parquet by extension. Numeric values must be finite.
