@@ -41,7 +41,8 @@ fn roughness(dir: &Path, seed: &str) -> PathBuf {
 
 const PHYSICS: &str = "1000*feed_mm^2/(32*nose_radius_mm) + Ra0";
 
-fn hybrid_fit(table: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+/// The arguments of a quick `hybrid fit` of `table` written to `out`, then `extra`.
+fn hybrid_fit_args<'a>(table: &'a Path, out: &'a Path, extra: &[&'a str]) -> Vec<&'a str> {
     let mut args = vec![
         "hybrid",
         "fit",
@@ -63,7 +64,20 @@ fn hybrid_fit(table: &Path, out: &Path, extra: &[&str]) -> std::process::Output 
         s(out),
     ];
     args.extend_from_slice(extra);
-    hxai(&args).unwrap()
+    args
+}
+
+fn hybrid_fit(table: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    hxai(&hybrid_fit_args(table, out, extra)).unwrap()
+}
+
+/// Runs `hxai` with its standard output on `/dev/full` (a full disk).
+fn to_full_stdout(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_hxai"))
+        .args(args)
+        .stdout(std::fs::File::create("/dev/full").unwrap())
+        .output()
+        .unwrap()
 }
 
 /// Exit code 1 and `needle` in the one error line.
@@ -83,68 +97,37 @@ fn a_full_standard_output_is_an_error_not_a_panic() {
     }
     let dir = scratch("hxai-hostile", "full").unwrap();
     let t = roughness(&dir, "1");
-    let full = std::fs::File::create("/dev/full").unwrap();
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_hxai"))
-        .args([
-            "sr",
-            "--csv",
-            s(&t),
-            "--target",
-            "Ra_um",
-            "--epochs",
-            "1",
-            "--json",
-        ])
-        .stdout(full)
-        .output()
-        .unwrap();
+    let o = to_full_stdout(&[
+        "sr",
+        "--csv",
+        s(&t),
+        "--target",
+        "Ra_um",
+        "--epochs",
+        "1",
+        "--json",
+    ]);
     refused(&o, "cannot write to standard output");
     // a model file is renamed into place only after its --json document was printed
     let m = dir.join("m.json");
     std::fs::write(&m, "old").unwrap();
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_hxai"))
-        .args([
-            "hybrid",
-            "fit",
-            "--data",
-            s(&t),
-            "--target",
-            "Ra_um",
-            "--physics",
-            PHYSICS,
-            "--calibrate",
-            "Ra0",
-            "--exclude",
-            "tool",
-            "--epochs",
-            "1",
-            "--out",
-            s(&m),
-            "--json",
-        ])
-        .stdout(std::fs::File::create("/dev/full").unwrap())
-        .output()
-        .unwrap();
+    let o = to_full_stdout(&hybrid_fit_args(&t, &m, &["--json"]));
     refused(&o, "cannot write to standard output");
     assert_eq!(std::fs::read_to_string(&m).unwrap(), "old");
     // so is a table whose --json report cannot be printed
     let table = dir.join("t2.csv");
     std::fs::write(&table, "old").unwrap();
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_hxai"))
-        .args([
-            "simulate",
-            "--case",
-            "roughness",
-            "--rows",
-            "40",
-            "--out",
-            s(&table),
-            "--json",
-            "--force",
-        ])
-        .stdout(std::fs::File::create("/dev/full").unwrap())
-        .output()
-        .unwrap();
+    let o = to_full_stdout(&[
+        "simulate",
+        "--case",
+        "roughness",
+        "--rows",
+        "40",
+        "--out",
+        s(&table),
+        "--json",
+        "--force",
+    ]);
     refused(&o, "cannot write to standard output");
     assert_eq!(std::fs::read_to_string(&table).unwrap(), "old");
     common::assert_no_temporary_files(&dir);
