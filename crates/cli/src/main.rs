@@ -124,13 +124,41 @@ fn command() -> clap::Command {
     negative_values(Cli::command())
 }
 
+/// Ends the process with clap's report of a bad command line, the parse errors of Rust's
+/// integers said in words (`--seed -1` is "not a whole number of 0 or more", not "invalid
+/// digit found in string").
+fn exit_with(e: &clap::Error) -> ! {
+    if e.kind() != clap::error::ErrorKind::ValueValidation {
+        e.exit();
+    }
+    let text = e
+        .render()
+        .to_string()
+        .replace(
+            "invalid digit found in string",
+            "not a whole number of 0 or more",
+        )
+        .replace(
+            "number too large to fit in target type",
+            "too large a whole number",
+        );
+    #[allow(clippy::print_stderr)]
+    {
+        eprint!("{text}");
+    }
+    std::process::exit(e.exit_code());
+}
+
 /// The parsed command line and the long options of the subcommand that runs (for
 /// [`safety::flag_names`]).
 fn parse() -> (Cli, Vec<String>) {
     use clap::FromArgMatches;
     let cmd = command();
-    let matches = cmd.clone().get_matches();
-    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    let matches = cmd
+        .clone()
+        .try_get_matches()
+        .unwrap_or_else(|e| exit_with(&e));
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| exit_with(&e));
     let (mut c, mut m) = (&cmd, &matches);
     while let Some((name, sub)) = m.subcommand() {
         match c.find_subcommand(name) {
@@ -181,6 +209,22 @@ mod tests {
     #[test]
     fn the_command_line_definition_is_consistent() {
         super::command().debug_assert();
+    }
+
+    /// A negative or huge whole number is refused in words.
+    #[test]
+    fn whole_numbers_are_refused_in_words() {
+        let e = super::command()
+            .try_get_matches_from([
+                "hxai", "sr", "--csv", "t.csv", "--target", "y", "--epochs", "-1",
+            ])
+            .err()
+            .map(|e| e.render().to_string())
+            .unwrap_or_default();
+        assert!(
+            e.contains("invalid digit"),
+            "clap's own words, which exit_with replaces: {e}"
+        );
     }
 
     /// A negative number reaches the option's own check (`--interval -0.5` is "must lie

@@ -353,4 +353,12 @@ fn options_are_named_as_typed_and_take_negative_values() {
         "--test-fraction must lie strictly between 0 and 1, got -0.1",
     );
     assert!(!stderr(&o).contains("evaluation failed"));
+    // a negative whole number is refused in words by the parser (exit 2, as clap's errors)
+    let o = hxai(&["sr", "--csv", s(&t), "--target", "Ra_um", "--epochs", "-1"]).unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("'-1' for '--epochs <EPOCHS>': not a whole number of 0 or more"),
+        "{}",
+        stderr(&o)
+    );
 }
