@@ -57,21 +57,13 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         args.test.display(),
         y_test.len()
     );
-    let columns = |x: &hxai_symreg::Table, y: &[f64]| -> Vec<Vec<f64>> {
-        let mut c: Vec<Vec<f64>> = x
-            .names()
-            .iter()
-            .filter_map(|n| x.column(n))
-            .map(<[f64]>::to_vec)
-            .collect();
-        c.push(y.to_vec());
+    /// Every input column and the target, as slices of the tables (no copies).
+    fn columns<'a>(x: &'a hxai_symreg::Table, y: &'a [f64]) -> Vec<&'a [f64]> {
+        let mut c: Vec<&[f64]> = x.columns().iter().map(Vec::as_slice).collect();
+        c.push(y);
         c
-    };
-    let (train_cols, test_cols) = (columns(&x_train, &y_train), columns(&x_test, y_test));
-    let shared = hxai_eval::shared_rows(
-        &train_cols.iter().map(Vec::as_slice).collect::<Vec<_>>(),
-        &test_cols.iter().map(Vec::as_slice).collect::<Vec<_>>(),
-    );
+    }
+    let shared = hxai_eval::shared_rows(&columns(&x_train, &y_train), &columns(&x_test, y_test));
     if shared > 0 {
         crate::safety::warn(&[format!(
             "{shared} of the {} test rows repeat a training row (every input and the target \

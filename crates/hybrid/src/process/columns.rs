@@ -46,12 +46,18 @@ fn bad_cell(name: &str, cells: &[String], excludable: bool) -> Option<HybridErro
     )))
 }
 
-/// Whether the text cells are all true/false (a Parquet boolean, or such words in a CSV).
-fn flags(cells: &[String]) -> bool {
-    cells.iter().all(|v| {
+/// What a text column holds, for a message: true/false values (a Parquet boolean, or such
+/// words in a CSV), with how to use them, or text.
+fn holds(cells: &[String]) -> &'static str {
+    let flags = cells.iter().all(|v| {
         let t = v.trim();
         t.is_empty() || t.eq_ignore_ascii_case("true") || t.eq_ignore_ascii_case("false")
-    })
+    });
+    if flags {
+        "true/false values (write them as 1/0 to use them)"
+    } else {
+        "text"
+    }
 }
 
 /// Refuses a text column among `used` (the columns a model reads): a column of numbers
@@ -68,11 +74,7 @@ pub fn check_used_columns(
         if let Some(e) = bad_cell(n, cells, false) {
             return Err(e);
         }
-        let holds = if flags(cells) {
-            "true/false values (write them as 1/0 to use them)"
-        } else {
-            "text"
-        };
+        let holds = holds(cells);
         let example = cells
             .iter()
             .enumerate()
@@ -127,11 +129,7 @@ pub fn check_text_columns(
         if let Some(e) = bad_cell(n, cells, true) {
             return Err(e);
         }
-        let holds = if flags(cells) {
-            "true/false values (write them as 1/0 to use them)"
-        } else {
-            "text"
-        };
+        let holds = holds(cells);
         left_out.push(format!(
             "column `{n}` holds {holds} and is left out of the correction's features (--exclude {n} to say so)"
         ));
