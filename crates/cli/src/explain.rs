@@ -82,7 +82,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         inputs.push(crate::safety::input(path, "the data (--data)"));
     }
     let method = args.interval_method.map(hxai_hybrid::IntervalMethod::from);
-    let (explanation, label) = match load(&args.model)? {
+    let (explanation, label, selection) = match load(&args.model)? {
         Model::Tool(model) => {
             let samples = args.data.as_deref().map(read_samples).transpose()?;
             let data = samples.as_ref().map(|(t, d, s)| ExplainData {
@@ -91,7 +91,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
                 is_test: s,
             });
             let e = model.explain(data.as_ref(), args.interval, method);
-            (e, hxai_plot::explain::DELTA_AXIS.to_owned())
+            let sel = model.correction.selection.clone();
+            (e, hxai_plot::explain::DELTA_AXIS.to_owned(), sel)
         }
         Model::Process(model) => {
             let table = match &args.data {
@@ -104,7 +105,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
                 model.correction.kind.name(),
                 model.target
             );
-            (e, label)
+            (e, label, model.correction.selection.clone())
         }
     };
     let explanation = explanation.with_context(|| match &args.data {
@@ -138,6 +139,10 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         hxai_data::write_text(p, svg).with_context(|| format!("cannot write {}", p.display()))?;
     }
     let mut lines = vec![format!("correction: delta = {}", explanation.equation)];
+    // its share over resamples and the alternatives the data cannot tell apart (issue 23)
+    if let Some(sel) = &selection {
+        lines.extend(crate::sr::selection_lines(sel));
+    }
     if let Some(m) = explanation.method {
         lines.push(format!(
             "prediction intervals: {} %, {}",

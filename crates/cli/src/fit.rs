@@ -214,8 +214,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         }
         None => None,
     };
-    if let (Some(st), Some(sel)) = (&stability, out.model.correction.selection.take()) {
-        out.model.correction.selection = Some(sel.with_stability(st));
+    // (a tuple of both would take the selection out even without a stability run, and the
+    // model file would lose it)
+    if let Some(st) = &stability {
+        let sel = out.model.correction.selection.take();
+        out.model.correction.selection = sel.map(|sel| sel.with_stability(st));
     }
     let json = out.model.to_json().context("cannot serialise the model")?;
     let model_file = hxai_data::stage_text(&args.out, &json)

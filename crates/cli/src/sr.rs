@@ -103,26 +103,37 @@ fn summary(m: &Model, data: &Table, y: &[f64]) -> Result<Value> {
     Ok(v)
 }
 
-/// Prints how a model was selected: its structure's share over resamples when measured, and
-/// the alternatives the data cannot tell apart from it.
-#[allow(clippy::print_stdout)]
-pub fn print_selection(sel: &hxai_symreg::SelectionReport) {
+/// How a model was selected, in lines: its structure's share over resamples when measured,
+/// and the alternatives the data cannot tell apart from it (`hxai sr`, `fit`, `hybrid fit`
+/// and `explain` print these).
+pub fn selection_lines(sel: &hxai_symreg::SelectionReport) -> Vec<String> {
     let share = |s: Option<f64>| s.map(|v| format!("{:.0} %", 100.0 * v));
-    match (share(sel.share), sel.runs) {
-        (Some(s), Some(runs)) => println!(
+    let mut lines = vec![match (share(sel.share), sel.runs) {
+        (Some(s), Some(runs)) => format!(
             "selected by {}: structure {} (given back by {s} of {runs} resamples)",
             sel.method, sel.structure
         ),
-        _ => println!("selected by {}: structure {}", sel.method, sel.structure),
-    }
+        _ => format!("selected by {}: structure {}", sel.method, sel.structure),
+    }];
     if !sel.alternatives.is_empty() {
-        println!("the data cannot tell these apart from it (cross-validated loss within one SE):");
+        lines.push(
+            "the data cannot tell these apart from it (cross-validated loss within one SE):".into(),
+        );
         for a in &sel.alternatives {
             let s = share(a.share)
                 .map(|s| format!("  [{s}]"))
                 .unwrap_or_default();
-            println!("  {:>3}  {}{s}", a.complexity, a.equation);
+            lines.push(format!("  {:>3}  {}{s}", a.complexity, a.equation));
         }
+    }
+    lines
+}
+
+/// Prints [`selection_lines`].
+#[allow(clippy::print_stdout)]
+pub fn print_selection(sel: &hxai_symreg::SelectionReport) {
+    for line in selection_lines(sel) {
+        println!("{line}");
     }
 }
 

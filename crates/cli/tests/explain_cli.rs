@@ -132,6 +132,14 @@ fn explain_draws_the_response_the_parity_and_the_front() -> TestResult {
         .find_map(|l| l.strip_prefix("prediction intervals: 95 %, "))
         .ok_or(format!("no interval method said: {said}"))?;
     assert!(["conformal", "delta"].contains(&method), "{method}");
+    // the equation comes with how it was selected, as the model file stores it
+    let how = m["correction"]["selection"]["method"]
+        .as_str()
+        .ok_or(format!("no selection stored: {m}"))?;
+    assert!(
+        said.contains(&format!("selected by {how}: structure ")),
+        "{said}"
+    );
     let band = format!("95 % prediction interval ({method})");
     for f in ["response.svg", "predicted_vs_true.svg", "pareto.svg"] {
         assert!(

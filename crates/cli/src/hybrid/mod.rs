@@ -103,8 +103,9 @@ fn fit(a: FitArgs) -> Result<()> {
             &mut move |done, _| sbb.set_position(done as u64),
         )?);
         sb.finish_and_clear();
-        if let (Some(st), Some(sel)) = (&model.stability, model.correction.selection.take()) {
-            model.correction.selection = Some(sel.with_stability(st));
+        if let Some(st) = &model.stability {
+            let sel = model.correction.selection.take();
+            model.correction.selection = sel.map(|sel| sel.with_stability(st));
         }
     }
     let json = model.to_json();

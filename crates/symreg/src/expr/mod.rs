@@ -295,6 +295,31 @@ mod tests {
         assert_eq!(e.to_latex(3), "2 \\cdot 3");
     }
 
+    /// A number times a quotient of a number folds into one numerator: the search writes
+    /// `4.8 * (1 / (f + 0.5))` (a snapped 1 over an input), which read `4.8*1/(f + 0.5)`.
+    #[test]
+    fn a_number_times_a_numeric_quotient_is_one_quotient() {
+        let q = |num: f64, den: Box<Expr>| Expr::Bin(Op::Div, Box::new(Expr::Num(num)), den);
+        let sum = Box::new(Expr::Bin(Op::Add, var("f"), Box::new(Expr::Num(0.5))));
+        let e = Expr::Bin(
+            Op::Mul,
+            Box::new(Expr::Num(4.8)),
+            Box::new(q(1.0, sum.clone())),
+        );
+        let s = e.clone().simplify();
+        assert_eq!(s.to_text(Some(4), true), "4.8/(f + 0.5)");
+        let e2 = Expr::Bin(Op::Mul, Box::new(q(2.0, sum)), Box::new(Expr::Num(3.4)));
+        assert_eq!(
+            e2.clone().simplify().to_text(Some(4), true),
+            "6.8/(f + 0.5)"
+        );
+        for x in [0.1, 0.4, 3.0] {
+            let at = |e: &Expr| e.eval(&|_: &str| x);
+            assert!((at(&s) - at(&e)).abs() <= 1e-15 * at(&e).abs());
+            assert!((at(&e2.clone().simplify()) - at(&e2)).abs() <= 1e-15 * at(&e2).abs());
+        }
+    }
+
     /// log(exp(u)) is u and log(gaussian(u)) is -u^2, so reported equations do not carry
     /// the pair (it appeared in a selected delta model).
     #[test]
