@@ -79,7 +79,11 @@ def main():
     ap.add_argument("--consensus-runs", type=int, default=10)
     ap.add_argument("--extra", default="",
                     help="more flags for every fit, space-separated (e.g. '--operators add,mul')")
+    ap.add_argument("--forms", default="",
+                    help="correction forms other than the results page's, as CASE=FORM,... "
+                         "(e.g. 'cutting-force=log')")
     a = ap.parse_args()
+    forms = dict(kv.split("=", 1) for kv in a.forms.split(",") if kv)
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     hx = [a.hxai]
@@ -108,12 +112,13 @@ def main():
     for name, target, physics, calibrate, init, form in TABLES:
         if name not in cases:
             continue
+        form = forms.get(name, form)
         table = out / f"{name}.csv"
         if not table.exists():
             run(hx + ["simulate", "--case", name.replace("-", "_"), "--out", str(table),
                       "--seed", "42", "--rows", "400"])
         for crit in criteria:
-            model = out / f"{name}-{crit}.json"
+            model = out / f"{name}-{form}-{crit}.json"
             _, secs = run(hx + ["hybrid", "fit", "--data", str(table), "--target", target,
                                 "--physics", physics, "--calibrate", calibrate, "--init", init,
                                 "--correction", form, "--exclude", "tool",
