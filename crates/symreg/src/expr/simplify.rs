@@ -180,29 +180,21 @@ impl Expr {
                             Neg(Box::new(e)).simplify()
                         } else {
                             match e {
-                                Bin(Op::Mul, inner_a, inner_b) => match *inner_a {
-                                    Num(y) => {
-                                        Bin(Op::Mul, Box::new(Num(x * y)), inner_b).simplify()
+                                // x * (y * e) is (x y) * e, and x * (y / d) is (x y) / d:
+                                // `4.8*1/(f + 0.5)` reads `4.8/(f + 0.5)`
+                                Bin(inner @ (Op::Mul | Op::Div), inner_a, inner_b) => {
+                                    match *inner_a {
+                                        Num(y) => {
+                                            Bin(inner, Box::new(Num(x * y)), inner_b).simplify()
+                                        }
+                                        other => Bin(
+                                            Op::Mul,
+                                            Box::new(Num(x)),
+                                            Box::new(Bin(inner, Box::new(other), inner_b)),
+                                        ),
                                     }
-                                    other => Bin(
-                                        Op::Mul,
-                                        Box::new(Num(x)),
-                                        Box::new(Bin(Op::Mul, Box::new(other), inner_b)),
-                                    ),
-                                },
+                                }
                                 Neg(inner) => Bin(Op::Mul, Box::new(Num(-x)), inner),
-                                // x * (y / d) is (x y) / d: `4.8*1/(f + 0.5)` reads
-                                // `4.8/(f + 0.5)`
-                                Bin(Op::Div, inner_a, inner_b) => match *inner_a {
-                                    Num(y) => {
-                                        Bin(Op::Div, Box::new(Num(x * y)), inner_b).simplify()
-                                    }
-                                    other => Bin(
-                                        Op::Mul,
-                                        Box::new(Num(x)),
-                                        Box::new(Bin(Op::Div, Box::new(other), inner_b)),
-                                    ),
-                                },
                                 e => Bin(Op::Mul, Box::new(Num(x)), Box::new(e)),
                             }
                         }
