@@ -67,11 +67,13 @@
 
 mod composer;
 pub mod conformal;
+mod correction;
 mod error;
 pub mod evaluate;
 pub mod explain;
 mod model;
 pub mod process;
+mod split;
 pub mod stream;
 mod tool;
 mod traits;
@@ -82,14 +84,16 @@ pub use composer::{
     Hybrid, RecordInput, RecordPrediction, RecordSamples, WindowPrediction, WindowSample,
     corrected_latent,
 };
+pub use correction::CorrectionInfo;
 pub use error::HybridError;
 pub use evaluate::{DEFAULT_INTERVAL, EvalInput, Evaluation, IntervalReport, evaluate};
 pub use hxai_eval::IntervalMethod;
 pub use model::{
-    CorrectionInfo, CorrectionKind, FeatureInfo, FitConfig, FitOutput, FitProgress, HybridModel,
-    LoadedCorrection, SCHEMA_VERSION, SamplesTable, SplitInfo, SplitKind, ToolHybrid, TrainingInfo,
-    WindowId, fit, samples_table, split_samples, tool_hybrid, tool_hybrid_with,
+    CorrectionKind, FeatureInfo, FitConfig, FitOutput, FitProgress, HybridModel, LoadedCorrection,
+    SCHEMA_VERSION, SamplesTable, SplitKind, ToolHybrid, TrainingInfo, fit, samples_table,
+    split_samples, tool_hybrid, tool_hybrid_with,
 };
+pub use split::{SplitInfo, WindowId};
 pub use tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
 pub use traits::{
     Correction, Decomposition, FeatureMap, Latent, PhysicsModel, SymbolicCorrection, ZeroCorrection,

@@ -2,10 +2,10 @@
 #![allow(clippy::unwrap_used)]
 
 use hxai_hybrid::{
-    Correction, CorrectionInfo, Decomposition, FeatureInfo, HybridError, HybridModel, Latent,
-    RecordInput, SCHEMA_VERSION, SineDecomposition, SplitInfo, SplitKind, TrainingInfo,
-    WindowConfig, WindowId, WindowSample, ZeroCorrection, corrected_latent, split_samples,
-    tool_hybrid,
+    Correction, CorrectionInfo, CorrectionKind, Decomposition, FeatureInfo, HybridError,
+    HybridModel, Latent, RecordInput, SCHEMA_VERSION, SineDecomposition, SplitInfo, SplitKind,
+    TrainingInfo, WindowConfig, WindowId, WindowSample, ZeroCorrection, corrected_latent,
+    split_samples, tool_hybrid,
 };
 use hxai_signal::PhysicsConfig;
 use hxai_symreg::{Strategy as SearchStrategy, Table};
@@ -196,7 +196,7 @@ fn model_strategy() -> impl Strategy<Value = HybridModel> {
                 correction: if zero {
                     CorrectionInfo::zero()
                 } else {
-                    CorrectionInfo::symbolic(symbolic_model().clone())
+                    CorrectionInfo::symbolic(CorrectionKind::Symbolic, symbolic_model().clone())
                 },
                 split: SplitInfo {
                     kind: if zero {
@@ -204,14 +204,14 @@ fn model_strategy() -> impl Strategy<Value = HybridModel> {
                     } else {
                         SplitKind::Record
                     },
-                    seed,
-                    test_fraction: 0.2,
+                    seed: Some(seed),
+                    test_fraction: Some(0.2),
                     train: train.to_vec(),
                     test: test.to_vec(),
-                    test_windows: vec![WindowId {
+                    test_windows: Some(vec![WindowId {
                         record: test[0].clone(),
                         window: 1,
-                    }],
+                    }]),
                 },
                 training: TrainingInfo {
                     strategy: Some(SearchStrategy::Combined),
@@ -313,11 +313,11 @@ fn model_zero() -> HybridModel {
         correction: CorrectionInfo::zero(),
         split: SplitInfo {
             kind: SplitKind::Record,
-            seed: 1,
-            test_fraction: 0.2,
+            seed: Some(1),
+            test_fraction: Some(0.2),
             train: vec!["a".into()],
             test: vec!["b".into()],
-            test_windows: vec![],
+            test_windows: Some(vec![]),
         },
         training: TrainingInfo {
             strategy: None,

@@ -58,7 +58,7 @@ impl HybridModel {
         method: IntervalMethod,
     ) -> Result<Evaluation, HybridError> {
         let mut by_record: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
-        for w in &self.split.test_windows {
+        for w in self.split.test_windows.iter().flatten() {
             by_record
                 .entry(w.record.as_str())
                 .or_default()

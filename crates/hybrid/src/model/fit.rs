@@ -3,12 +3,13 @@
 
 use super::samples::{SamplesTable, samples_table};
 use super::{
-    CorrectionInfo, FeatureInfo, HybridModel, SCHEMA_VERSION, SplitInfo, SplitKind, ToolHybrid,
-    TrainingInfo, WindowId, check_band,
+    CorrectionKind, FeatureInfo, HybridModel, SCHEMA_VERSION, SplitKind, ToolHybrid, TrainingInfo,
+    check_band,
 };
 use crate::HybridError;
 use crate::composer::{Hybrid, RecordInput, WindowSample};
-use crate::explain::ParetoMember;
+use crate::correction::CorrectionInfo;
+use crate::split::{SplitInfo, WindowId};
 use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
 use crate::traits::{Correction, SymbolicCorrection};
 use crate::warnings::{Warning, input_warnings, units_warning};
@@ -290,19 +291,21 @@ pub fn fit(
             ..FeatureInfo::default()
         },
         window: cfg.window,
-        correction: CorrectionInfo {
-            uncertainty: Some(result.best.uncertainty(&train_table, &train_delta)?),
-            pareto: Some(ParetoMember::front(&result.pareto)),
-            selection: Some(hxai_symreg::SelectionReport::of(&result, &cfg.search)),
-            ..CorrectionInfo::symbolic(result.best.clone())
-        },
+        correction: CorrectionInfo::learned(
+            CorrectionKind::Symbolic,
+            result.best.clone(),
+            &train_table,
+            &train_delta,
+            &result.pareto,
+            hxai_symreg::SelectionReport::of(&result, &cfg.search),
+        )?,
         split: SplitInfo {
             kind: cfg.split,
-            seed: cfg.seed,
-            test_fraction: cfg.test_fraction,
+            seed: Some(cfg.seed),
+            test_fraction: Some(cfg.test_fraction),
             train: side(false),
             test: side(true),
-            test_windows,
+            test_windows: Some(test_windows),
         },
         training: TrainingInfo {
             strategy: Some(cfg.search.strategy),

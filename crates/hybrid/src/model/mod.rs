@@ -16,8 +16,9 @@ pub use samples::{SamplesTable, samples_table};
 
 use crate::HybridError;
 use crate::composer::{Hybrid, RecordInput};
+use crate::correction::CorrectionInfo;
 use crate::evaluate::metrics_um;
-use crate::explain::ParetoMember;
+use crate::split::SplitInfo;
 use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
 use crate::traits::{Correction, FeatureMap, SymbolicCorrection, ZeroCorrection};
 use crate::window::WindowConfig;
@@ -47,33 +48,6 @@ pub enum SplitKind {
     Window,
 }
 
-/// A window named by record id and index.
-#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
-pub struct WindowId {
-    /// Record id.
-    pub record: String,
-    /// Window index within the record.
-    pub window: usize,
-}
-
-/// The split stored in the model file.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SplitInfo {
-    /// Record or window split.
-    pub kind: SplitKind,
-    /// Seed of the split.
-    pub seed: u64,
-    /// Fraction of groups (records or windows) held out.
-    pub test_fraction: f64,
-    /// Records with at least one training window (sorted).
-    pub train: Vec<String>,
-    /// Records with at least one test window (sorted).
-    pub test: Vec<String>,
-    /// With a window split, the test windows (empty for a record split).
-    #[serde(default)]
-    pub test_windows: Vec<WindowId>,
-}
-
 /// Kind of correction stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -84,53 +58,13 @@ pub enum CorrectionKind {
     Zero,
 }
 
-/// The correction as stored: the readable forms and the model itself.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct CorrectionInfo {
-    /// Symbolic or zero.
-    pub kind: CorrectionKind,
-    /// The equation's forms, complexity and features (JSON keys `equation`, `sympy`,
-    /// `latex`, `complexity`, `features` beside `kind`).
-    #[serde(flatten)]
-    pub forms: hxai_symreg::ModelForms,
-    /// The serialised symbolic model (absent for the zero correction).
-    pub model: Option<hxai_symreg::Model>,
-    /// The model's constants as a template with named parameters, their standard errors
-    /// and 95 % intervals, and the covariance prediction intervals use, on the training
-    /// windows (`hxai_symreg::uncertainty`). Absent for the zero correction and in files
-    /// written before it existed.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub uncertainty: Option<hxai_symreg::Uncertainty>,
-    /// The Pareto front of the search the model was chosen from (complexity, training loss
-    /// and equation of each member), for `hxai explain`. Absent for the zero correction and
-    /// in files written before it was stored.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pareto: Option<Vec<ParetoMember>>,
-    /// How the correction was selected, its structure's share over resamples (consensus or
-    /// stability runs) and the alternatives the data cannot tell apart from it
-    /// ([`hxai_symreg::SelectionReport`]); absent in files written before it was stored.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub selection: Option<hxai_symreg::SelectionReport>,
-}
-
-impl CorrectionInfo {
-    /// Stores a symbolic model.
-    pub fn symbolic(model: hxai_symreg::Model) -> Self {
-        Self {
-            kind: CorrectionKind::Symbolic,
-            forms: hxai_symreg::ModelForms::of(&model),
-            model: Some(model),
-            uncertainty: None,
-            pareto: None,
-            selection: None,
-        }
-    }
-
-    /// The zero correction.
+impl CorrectionInfo<CorrectionKind> {
+    /// The zero correction of a record model.
     pub fn zero() -> Self {
         Self {
             kind: CorrectionKind::Zero,
             forms: hxai_symreg::ModelForms::zero(),
+            candidates: Vec::new(),
             model: None,
             uncertainty: None,
             pareto: None,
@@ -231,9 +165,9 @@ pub struct HybridModel {
     /// Window settings.
     pub window: WindowConfig,
     /// The correction.
-    pub correction: CorrectionInfo,
+    pub correction: CorrectionInfo<CorrectionKind>,
     /// Train and test records.
-    pub split: SplitInfo,
+    pub split: SplitInfo<SplitKind, String>,
     /// Training details.
     pub training: TrainingInfo,
     /// What conformal prediction intervals of the corrected amplitude need
@@ -347,8 +281,10 @@ impl HybridModel {
                 ));
             }
         }
-        let model: HybridModel = serde_json::from_value(value)
+        let mut model: HybridModel = serde_json::from_value(value)
             .map_err(|e| HybridError::ModelFormat(hxai_table::plain_json_error(&e.to_string())))?;
+        // a record model always writes its test windows, empty for a record split
+        model.split.test_windows.get_or_insert_with(Vec::new);
         model.validate()?;
         Ok(model)
     }

@@ -200,11 +200,6 @@ impl HybridModel {
         level: f64,
         method: Option<IntervalMethod>,
     ) -> Result<Explanation, HybridError> {
-        let Some(model) = &self.correction.model else {
-            return Err(HybridError::InvalidConfig(
-                "the model's correction is zero: there is no equation to explain".into(),
-            ));
-        };
         let band = method
             .or_else(|| self.default_interval_method(level))
             .map(|m| {
@@ -212,13 +207,10 @@ impl HybridModel {
                     self.correction_intervals(t, l, m)
                 })
             });
-        crate::explain::explain(
-            model,
+        self.correction.explain(
             band.as_ref()
                 .map(|(m, b)| (b as &crate::explain::Band<'_>, *m)),
-            self.correction.pareto.as_deref(),
             data,
-            "delta",
             level,
         )
     }

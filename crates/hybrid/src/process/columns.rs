@@ -93,7 +93,13 @@ pub fn check_used_columns(
 /// features, and the group column), and the target when `with_target` (to evaluate).
 pub fn model_columns(model: &super::ProcessModel, with_target: bool) -> Vec<String> {
     let mut used = model.physics.columns.clone();
-    used.extend(model.correction.model.feature_names.iter().cloned());
+    used.extend(
+        model
+            .correction
+            .model
+            .iter()
+            .flat_map(|m| m.feature_names.iter().cloned()),
+    );
     used.extend(model.group.iter().cloned());
     if with_target {
         used.push(model.target.clone());

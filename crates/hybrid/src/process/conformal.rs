@@ -152,7 +152,7 @@ pub(crate) fn calibrate(
     let mut held_pred = vec![f64::NAN; train.len()];
     for (k, s) in splits.iter().enumerate() {
         let rows: Vec<usize> = s.train.iter().map(|&i| train[i]).collect();
-        let c = fold_fit(table, cfg, res, &model.correction.model, &rows)?;
+        let c = fold_fit(table, cfg, res, model.correction.fitted()?, &rows)?;
         let pred = predict_with(&c, &c.params, table)?;
         for &i in &s.test {
             let row = train[i];
@@ -198,7 +198,7 @@ fn widening(
     info: &ConformalInfo,
 ) -> Result<RangeWidening, HybridError> {
     let phys = model.physics_program()?;
-    let c = combine(&phys, &model.correction.model, model.correction.kind);
+    let c = combine(&phys, model.correction.fitted()?, model.correction.kind);
     let cols = columns_of(table, &c.names, "column")?;
     let y = table.require(&cfg.target)?;
     let extent = |rows: &[usize]| -> (Vec<f64>, Vec<f64>) {
@@ -232,7 +232,7 @@ fn widening(
             if out.is_empty() || fit.len() <= c.params.len() {
                 continue;
             }
-            let Ok(f) = fold_fit(table, cfg, res, &model.correction.model, &fit) else {
+            let Ok(f) = fold_fit(table, cfg, res, model.correction.fitted()?, &fit) else {
                 continue;
             };
             let pred = predict_with(&f, &f.params, table)?;

@@ -2,8 +2,8 @@
 //! entry points, and the stability of the correction's structure.
 
 use super::model::{
-    CorrectionInfo, EquationInfo, JointInfo, PROCESS_SCHEMA_VERSION, PairScores, PhysicsInfo,
-    ProcessModel, ScoresInfo, SplitInfo, columns_of, combine, combine_values, forms,
+    EquationInfo, JointInfo, PROCESS_SCHEMA_VERSION, PairScores, PhysicsInfo, ProcessModel,
+    ScoresInfo, columns_of, combine, combine_values, forms,
 };
 use super::physics::{
     calibrate_physics, calibrated_slots, deltas, gather, named_values, physics_values,
@@ -12,6 +12,7 @@ use super::resolve::{Resolved, resolve};
 use super::split::{check_rows, process_split};
 use super::{CorrectionForm, ProcessConfig, ProcessProgress, calibrate};
 use crate::HybridError;
+use crate::{CorrectionInfo, SplitInfo};
 use hxai_eval::Split;
 use hxai_symreg::infix::Compiled;
 use hxai_symreg::{ParamEstimate, Table, Uncertainty};
@@ -169,10 +170,10 @@ pub(crate) fn fit_inner(
         phys,
         ses,
         correction,
+        selection,
         joint,
     };
     let mut model = model_of(job, &res, &ft, &found.pareto, fitted, y_all, &y_train)?;
-    model.correction.selection = Some(selection);
     model.warnings = super::traps::fit_warnings(table, cfg, &res.features, split, y_all, &physics);
     model.warnings.extend(super::traps::parameter_warnings(
         &model.physics.standard_errors,
@@ -193,11 +194,13 @@ pub(crate) fn fit_inner(
 }
 
 /// What a fit found, before it is written down as a [`ProcessModel`]: the physics with its
-/// parameters and their standard errors, the correction, and the joint refit's record.
+/// parameters and their standard errors, the correction and how it was selected, and the
+/// joint refit's record.
 struct Fitted {
     phys: Compiled,
     ses: BTreeMap<String, Option<f64>>,
     correction: hxai_symreg::Model,
+    selection: hxai_symreg::SelectionReport,
     joint: Option<JointInfo>,
 }
 
@@ -281,13 +284,11 @@ fn model_of(
         phys,
         ses,
         correction,
+        selection,
         joint,
     } = fitted;
     let parameters = named_values(&phys);
-    let correction_uncertainty = correction.uncertainty(
-        ft,
-        &delta_train(cfg, y_all, &physics_values(table, res, &phys)?, split)?,
-    )?;
+    let correction_delta = delta_train(cfg, y_all, &physics_values(table, res, &phys)?, split)?;
     let hybrid_uncertainty =
         hybrid_uncertainty(table, res, &phys, &correction, cfg, split, y_train)?;
     let n_cal = res.calibrate.len();
@@ -324,23 +325,21 @@ fn model_of(
             params: physics_params,
         },
         correction: CorrectionInfo {
-            kind: cfg.correction,
-            forms: hxai_symreg::ModelForms::of(&correction),
             candidates: res.features.clone(),
-            model: correction,
-            uncertainty: Some(correction_uncertainty),
-            pareto: Some(crate::explain::ParetoMember::front(pareto)),
-            selection: None,
+            ..CorrectionInfo::learned(
+                cfg.correction,
+                correction,
+                ft,
+                &correction_delta,
+                pareto,
+                selection,
+            )?
         },
         hybrid: EquationInfo {
             uncertainty: Some(hybrid_uncertainty),
             ..forms(&hybrid_expr)
         },
-        split: SplitInfo {
-            kind: kind.to_string(),
-            train: split.train.clone(),
-            test: split.test.clone(),
-        },
+        split: SplitInfo::rows(kind.to_string(), split),
         group: cfg.group.clone(),
         joint,
         stability: None,

@@ -58,8 +58,8 @@ pub use columns::{check_text_columns, check_used_columns, model_columns};
 pub use compare::{Comparison, CvScore, ModelScore, TTestScore, compare_process};
 pub use fit::{fit_process, fit_process_split, process_stability};
 pub use model::{
-    CorrectionInfo, EquationInfo, JointInfo, PROCESS_SCHEMA_VERSION, PairScores, PhysicsInfo,
-    ProcessEvaluation, ProcessModel, ProcessPrediction, ScoresInfo, SplitInfo,
+    EquationInfo, JointInfo, PROCESS_SCHEMA_VERSION, PairScores, PhysicsInfo, ProcessEvaluation,
+    ProcessModel, ProcessPrediction, ScoresInfo,
 };
 pub use split::process_split;
 

@@ -17,7 +17,9 @@ pub(crate) use program::{
 use super::CorrectionForm;
 use crate::HybridError;
 use crate::conformal::ConformalInfo;
+use crate::correction::CorrectionInfo;
 use crate::evaluate::IntervalReport;
+use crate::split::SplitInfo;
 use hxai_eval::Metrics;
 use hxai_symreg::{Model, ParamEstimate, Uncertainty};
 use serde::{Deserialize, Serialize};
@@ -52,35 +54,6 @@ pub struct PhysicsInfo {
     pub params: BTreeMap<String, ParamEstimate>,
 }
 
-/// The correction part of the model file.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct CorrectionInfo {
-    /// `additive` (`y = f_p + delta`), `multiplicative` (`y = f_p (1 + delta)`) or `log`
-    /// (`y = f_p exp(delta)`).
-    pub kind: CorrectionForm,
-    /// The equation's forms, complexity and features (JSON keys `equation`, `sympy`,
-    /// `latex`, `complexity`, `features` beside `kind`).
-    #[serde(flatten)]
-    pub forms: hxai_symreg::ModelForms,
-    /// Feature columns the search was offered.
-    pub candidates: Vec<String>,
-    /// The fitted symbolic model (what `predict` evaluates).
-    pub model: Model,
-    /// The correction's constants as a template with named parameters and their
-    /// uncertainty, fitted to `delta` on the training rows (`hxai_symreg::uncertainty`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub uncertainty: Option<Uncertainty>,
-    /// The Pareto front of the correction's search, for `hxai explain`; absent in files
-    /// written before it was stored.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pareto: Option<Vec<crate::explain::ParetoMember>>,
-    /// How the correction was selected, its structure's share over resamples (consensus or
-    /// stability runs) and the alternatives the data cannot tell apart from it
-    /// ([`hxai_symreg::SelectionReport`]); absent in files written before it was stored.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub selection: Option<hxai_symreg::SelectionReport>,
-}
-
 /// An equation in three forms.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct EquationInfo {
@@ -96,17 +69,6 @@ pub struct EquationInfo {
     /// their covariance on the training rows, which prediction intervals use.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uncertainty: Option<Uncertainty>,
-}
-
-/// Which rows were used for fitting and which were held out.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct SplitInfo {
-    /// `random`, `grouped`, `extrapolate` or `given`.
-    pub kind: String,
-    /// Training rows (0-based, in the table's order).
-    pub train: Vec<usize>,
-    /// Test rows.
-    pub test: Vec<usize>,
 }
 
 /// Physics vs hybrid scores on one side of the split.
@@ -152,11 +114,11 @@ pub struct ProcessModel {
     /// The physics equation and its parameters.
     pub physics: PhysicsInfo,
     /// The learned correction.
-    pub correction: CorrectionInfo,
+    pub correction: CorrectionInfo<CorrectionForm>,
     /// The whole hybrid as one equation over the columns, every parameter substituted.
     pub hybrid: EquationInfo,
     /// The split of the fitting table.
-    pub split: SplitInfo,
+    pub split: SplitInfo<String, usize>,
     /// The grouping column, if any.
     pub group: Option<String>,
     /// With a joint refit (`--joint`): the two-stage values it replaced.
@@ -246,9 +208,9 @@ impl ProcessModel {
             .map_err(|e| HybridError::ModelFormat(hxai_table::plain_json_error(&e.to_string())))?;
         let phys = m.physics_program()?;
         // the correction model checks itself on the way in
-        Model::from_json(&serde_json::to_string(&m.correction.model).unwrap_or_default())?;
+        Model::from_json(&serde_json::to_string(m.correction.fitted()?).unwrap_or_default())?;
         if let Some(conf) = &m.conformal {
-            let c = combine(&phys, &m.correction.model, m.correction.kind);
+            let c = combine(&phys, m.correction.fitted()?, m.correction.kind);
             conf.check(c.params.len())?;
             if conf.scores.len() != m.split.train.len() {
                 return Err(HybridError::ModelFormat(format!(

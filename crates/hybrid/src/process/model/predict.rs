@@ -31,12 +31,9 @@ impl ProcessModel {
     pub fn predict(&self, table: &Table) -> Result<ProcessPrediction, HybridError> {
         let phys = self.physics_program()?;
         let physics = finite_physics(table, &phys, &phys.inputs)?;
-        columns_of(
-            table,
-            &self.correction.model.feature_names,
-            "correction feature",
-        )?;
-        let correction = self.correction.model.predict(table)?;
+        let model = self.correction.fitted()?;
+        columns_of(table, &model.feature_names, "correction feature")?;
+        let correction = model.predict(table)?;
         if let Some((row, v)) = correction.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(HybridError::BadCorrection { row, value: *v });
         }
@@ -129,7 +126,7 @@ impl ProcessModel {
             )));
         }
         let phys = self.physics_program()?;
-        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        let c = combine(&phys, self.correction.fitted()?, self.correction.kind);
         if method != IntervalMethod::Delta {
             let Some(conf) = &self.conformal else {
                 return Err(HybridError::InvalidConfig(format!(
@@ -170,10 +167,8 @@ impl ProcessModel {
         level: f64,
         method: Option<IntervalMethod>,
     ) -> Result<crate::explain::Explanation, HybridError> {
-        let pareto = self.correction.pareto.as_deref();
-        let model = &self.correction.model;
         let Some(table) = table else {
-            return crate::explain::explain(model, None, pareto, None, "delta", level);
+            return self.correction.explain(None, None, level);
         };
         let rows: Vec<usize> = self
             .split
@@ -228,7 +223,7 @@ impl ProcessModel {
         // the columns a response grid lacks (the physics' own) are held at their median
         // on the training rows, as the grid holds the correction's other features
         let phys = self.physics_program()?;
-        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        let c = combine(&phys, self.correction.fitted()?, self.correction.kind);
         let mut fill = Vec::new();
         for name in &c.names {
             let col = table.require(name)?;
@@ -246,7 +241,7 @@ impl ProcessModel {
         let band = band
             .as_ref()
             .map(|(m, b)| (b as &crate::explain::Band<'_>, *m));
-        crate::explain::explain(model, band, pareto, Some(&data), "delta", level)
+        self.correction.explain(band, Some(&data), level)
     }
 
     /// Prediction intervals of the correction `delta` at `level` by `method` for the rows of
@@ -289,7 +284,7 @@ impl ProcessModel {
     /// A corrupt model file.
     pub fn hybrid_expr(&self) -> Result<Expr, HybridError> {
         let phys = self.physics_program()?;
-        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        let c = combine(&phys, self.correction.fitted()?, self.correction.kind);
         Ok(Expr::from_program(&c.program, &c.params, &c.names))
     }
 }
