@@ -1,8 +1,8 @@
 //! Step 5, validation against the ground truth: physics vs hybrid on chosen windows.
 
 use crate::HybridError;
-use crate::composer::{Hybrid, RecordInput};
-use crate::traits::{Correction, Decomposition, FeatureMap, PhysicsModel};
+use crate::composer::{RecordInput, ToolHybrid};
+use crate::correction::CorrectionInfo;
 use hxai_eval::{IntervalMethod, Metrics};
 use serde::{Deserialize, Serialize};
 
@@ -203,18 +203,12 @@ fn mse(truth: &[f64], pred: &[f64]) -> f64 {
 ///
 /// # Errors
 /// [`HybridError::NoTruth`] for a record without truth, [`HybridError::NoData`] when no
-/// window is selected, and the errors of [`Hybrid::predict`].
-pub fn evaluate<P, D, F, C>(
-    hybrid: &Hybrid<P, D, F>,
-    correction: &C,
+/// window is selected, and the errors of [`ToolHybrid::predict`].
+pub fn evaluate<K>(
+    hybrid: &ToolHybrid,
+    correction: &CorrectionInfo<K>,
     inputs: &[EvalInput<'_>],
-) -> Result<Evaluation, HybridError>
-where
-    P: PhysicsModel,
-    D: Decomposition,
-    F: FeatureMap,
-    C: Correction + ?Sized,
-{
+) -> Result<Evaluation, HybridError> {
     let (mut truth, mut phys, mut sine, mut hyb) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let (mut mse_p, mut mse_h) = (Vec::new(), Vec::new());
     let (mut delta, mut delta_hat) = (Vec::new(), Vec::new());
@@ -239,8 +233,7 @@ where
             let tw: Vec<f64> = tw.iter().map(|v| v - m).collect();
             let pw = &pred.physics[r.clone()];
             let hw = &pred.hybrid[r.clone()];
-            let sw = hybrid.decomposition.reconstruct(
-                &crate::composer::corrected_latent(&s.physics, 0.0),
+            let sw = crate::composer::corrected_latent(&s.physics, 0.0).sine(
                 rec.fs_hz,
                 rec.frequency_hz,
                 0,

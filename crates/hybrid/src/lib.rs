@@ -42,7 +42,7 @@
 //! # Example
 //!
 //! ```
-//! use hxai_hybrid::{RecordInput, ZeroCorrection, tool_hybrid, WindowConfig};
+//! use hxai_hybrid::{CorrectionInfo, RecordInput, tool_hybrid, WindowConfig};
 //! use hxai_signal::PhysicsConfig;
 //! # fn main() -> Result<(), hxai_hybrid::HybridError> {
 //! let (fs, f, amp_um) = (2000.0, 20.0, 5.0);
@@ -58,7 +58,7 @@
 //! let a_phys = samples.windows[0].a_phys();
 //! assert!((a_phys - amp_um).abs() < 0.05 * amp_um);
 //! // With a zero correction the hybrid is the physics model's sine representation.
-//! let pred = hybrid.predict(&rec, &ZeroCorrection)?;
+//! let pred = hybrid.predict(&rec, &CorrectionInfo::zero())?;
 //! assert_eq!(pred.windows[0].corrected.amplitude, a_phys);
 //! # Ok(())
 //! # }
@@ -75,29 +75,23 @@ mod model;
 pub mod process;
 mod split;
 pub mod stream;
-mod tool;
-mod traits;
 mod warnings;
 mod window;
 
 pub use composer::{
-    Hybrid, RecordInput, RecordPrediction, RecordSamples, WindowPrediction, WindowSample,
-    corrected_latent,
+    Latent, RecordInput, RecordPrediction, RecordSamples, ToolHybrid, WindowPrediction,
+    WindowSample, corrected_latent, feature_names, reconstruct_record,
 };
 pub use correction::CorrectionInfo;
 pub use error::HybridError;
 pub use evaluate::{DEFAULT_INTERVAL, EvalInput, Evaluation, IntervalReport, evaluate};
 pub use hxai_eval::IntervalMethod;
 pub use model::{
-    CorrectionKind, FeatureInfo, FitConfig, FitOutput, FitProgress, HybridModel, LoadedCorrection,
-    SCHEMA_VERSION, SamplesTable, SplitKind, ToolHybrid, TrainingInfo, fit, samples_table,
-    split_samples, tool_hybrid, tool_hybrid_with,
+    CorrectionKind, FeatureInfo, FitConfig, FitOutput, FitProgress, HybridModel, SCHEMA_VERSION,
+    SamplesTable, SplitKind, TrainingInfo, fit, samples_table, split_samples, tool_hybrid,
+    tool_hybrid_with,
 };
 pub use split::{SplitInfo, WindowId};
-pub use tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
-pub use traits::{
-    Correction, Decomposition, FeatureMap, Latent, PhysicsModel, SymbolicCorrection, ZeroCorrection,
-};
 pub use warnings::{
     AMPLITUDE_RATIO_LIMIT, MIN_PERIODS_PER_WINDOW, PLAUSIBLE_FS_HZ, Warning, amplitude_warning,
     input_warnings, record_warnings, units_warning,

@@ -67,8 +67,7 @@
 //! ```
 
 use crate::model::{HybridModel, check_band_hz};
-use crate::traits::Correction;
-use crate::{HybridError, LoadedCorrection};
+use crate::{CorrectionInfo, CorrectionKind, HybridError};
 use hxai_features::SlidingFeatures;
 use hxai_signal::SlidingSine;
 use hxai_table::Table;
@@ -169,7 +168,7 @@ pub struct Estimator {
     gain: f64,
     level: Option<f64>,
     model: HybridModel,
-    correction: LoadedCorrection,
+    correction: CorrectionInfo<CorrectionKind>,
     names: Vec<String>,
     sine: SlidingSine,
     features: SlidingFeatures,
@@ -214,7 +213,7 @@ impl Estimator {
             gain: physics.gain_at(frequency_hz),
             level: None,
             model: model.clone(),
-            correction: model.correction()?,
+            correction: model.correction()?.clone(),
             names: model.features.names.clone(),
             sine,
             features,

@@ -2,29 +2,16 @@
 #![allow(clippy::unwrap_used)]
 
 use hxai_hybrid::{
-    Correction, CorrectionInfo, CorrectionKind, Decomposition, FeatureInfo, HybridError,
-    HybridModel, Latent, RecordInput, SCHEMA_VERSION, SineDecomposition, SplitInfo, SplitKind,
-    TrainingInfo, WindowConfig, WindowId, WindowSample, ZeroCorrection, corrected_latent,
-    split_samples, tool_hybrid,
+    CorrectionInfo, CorrectionKind, FeatureInfo, HybridError, HybridModel, Latent, RecordInput,
+    SCHEMA_VERSION, SplitInfo, SplitKind, TrainingInfo, WindowConfig, WindowId, WindowSample,
+    corrected_latent, split_samples, tool_hybrid,
 };
 use hxai_signal::PhysicsConfig;
-use hxai_symreg::{Strategy as SearchStrategy, Table};
+use hxai_symreg::Strategy as SearchStrategy;
 use proptest::prelude::*;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
-
-/// A constant correction, to test the composition without a fitted model.
-struct Constant(f64);
-
-impl Correction for Constant {
-    fn equation(&self) -> String {
-        self.0.to_string()
-    }
-    fn predict(&self, f: &Table) -> Result<Vec<f64>, HybridError> {
-        Ok(vec![self.0; f.n_rows()])
-    }
-}
 
 /// A clean 2 s record: displacement `amp sin(w t + ph)` um and its exact acceleration.
 fn record(fs: f64, f: f64, amp: f64, ph: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
@@ -53,8 +40,8 @@ proptest! {
     ) {
         let n = (periods as f64 * fs / f).ceil() as usize;
         let lat = Latent { amplitude: amp, phase, offset: 0.0 };
-        let x = SineDecomposition.reconstruct(&lat, fs, f, 0, n);
-        let back = SineDecomposition.decompose(&x, fs, f).unwrap();
+        let x = lat.sine(fs, f, 0, n);
+        let back = Latent::fit(&x, fs, f).unwrap();
         prop_assert!((back.amplitude - amp).abs() <= 1e-9 * amp);
         let dphi = (back.phase - phase + PI).rem_euclid(2.0 * PI) - PI;
         prop_assert!(dphi.abs() <= 1e-9, "phase {} vs {}", back.phase, phase);
@@ -78,7 +65,9 @@ proptest! {
         let (accel, probe) = record(fs, f, amp, ph, 4000);
         let h = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
         let rec = RecordInput { id: "r", fs_hz: fs, frequency_hz: f, signal: &accel, truth: Some(&probe) };
-        let pred = h.predict(&rec, &Constant(c)).unwrap();
+        // a constant correction, applied without a fitted model
+        let samples = h.samples(&rec).unwrap();
+        let pred = h.apply(&rec, samples, &[c; 3]);
         for (w, s) in pred.windows.iter().zip(&pred.samples) {
             prop_assert_eq!(w.corrected.amplitude, s.a_phys() + c);
             prop_assert_eq!(w.delta_hat, c);
@@ -99,7 +88,7 @@ proptest! {
         let (accel, probe) = record(fs, f, amp, ph, 4000);
         let h = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
         let rec = RecordInput { id: "r", fs_hz: fs, frequency_hz: f, signal: &accel, truth: Some(&probe) };
-        let pred = h.predict(&rec, &ZeroCorrection).unwrap();
+        let pred = h.predict(&rec, &CorrectionInfo::zero()).unwrap();
         prop_assert_eq!(pred.windows.len(), 3);
         for (w, s) in pred.windows.iter().zip(&pred.samples) {
             let sine = Latent { amplitude: s.a_phys(), phase: s.physics.phase, offset: 0.0 }

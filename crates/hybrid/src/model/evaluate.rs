@@ -103,7 +103,7 @@ impl HybridModel {
         for i in &inputs {
             self.check_band(&i.record)?;
         }
-        let mut ev = evaluate(&self.hybrid(), &self.correction()?, &inputs)?;
+        let mut ev = evaluate(&self.hybrid(), self.correction()?, &inputs)?;
         if self.correction.uncertainty.is_some() {
             let hybrid = self.hybrid();
             let mut samples = Vec::new();

@@ -3,15 +3,12 @@
 
 use super::samples::{SamplesTable, samples_table};
 use super::{
-    CorrectionKind, FeatureInfo, HybridModel, SCHEMA_VERSION, SplitKind, ToolHybrid, TrainingInfo,
-    check_band,
+    CorrectionKind, FeatureInfo, HybridModel, SCHEMA_VERSION, SplitKind, TrainingInfo, check_band,
 };
 use crate::HybridError;
-use crate::composer::{Hybrid, RecordInput, WindowSample};
+use crate::composer::{RecordInput, ToolHybrid, WindowSample};
 use crate::correction::CorrectionInfo;
 use crate::split::{SplitInfo, WindowId};
-use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
-use crate::traits::{Correction, SymbolicCorrection};
 use crate::warnings::{Warning, input_warnings, units_warning};
 use crate::window::WindowConfig;
 use hxai_signal::PhysicsConfig;
@@ -150,14 +147,9 @@ pub fn tool_hybrid_with(
     features: &hxai_features::FeatureConfig,
     window: WindowConfig,
 ) -> ToolHybrid {
-    Hybrid {
-        physics: DoubleIntegration {
-            config: physics.clone(),
-        },
-        decomposition: SineDecomposition,
-        features: AccelFeatures {
-            config: features.clone(),
-        },
+    ToolHybrid {
+        physics: physics.clone(),
+        features: features.clone(),
         window,
     }
 }
@@ -247,9 +239,6 @@ pub fn fit(
     let result = hxai_symreg::search(&train_table, &train_delta, &cfg.search, &mut |p| {
         progress(FitProgress::Search(p.clone()));
     })?;
-    let correction = SymbolicCorrection {
-        model: result.best.clone(),
-    };
     let conformal = if cfg.conformal_folds > 0 {
         Some(conformal_of(
             &result.best,
@@ -261,6 +250,14 @@ pub fn fit(
     } else {
         None
     };
+    let correction = CorrectionInfo::learned(
+        CorrectionKind::Symbolic,
+        result.best.clone(),
+        &train_table,
+        &train_delta,
+        &result.pareto,
+        hxai_symreg::SelectionReport::of(&result, &cfg.search),
+    )?;
     let hat_train = correction.predict(&train_table)?;
     let hat_test = correction.predict(&test_table)?;
 
@@ -291,14 +288,7 @@ pub fn fit(
             ..FeatureInfo::default()
         },
         window: cfg.window,
-        correction: CorrectionInfo::learned(
-            CorrectionKind::Symbolic,
-            result.best.clone(),
-            &train_table,
-            &train_delta,
-            &result.pareto,
-            hxai_symreg::SelectionReport::of(&result, &cfg.search),
-        )?,
+        correction,
         split: SplitInfo {
             kind: cfg.split,
             seed: Some(cfg.seed),

@@ -15,24 +15,18 @@ pub use fit::{
 pub use samples::{SamplesTable, samples_table};
 
 use crate::HybridError;
-use crate::composer::{Hybrid, RecordInput};
+use crate::composer::{RecordInput, ToolHybrid, feature_names};
 use crate::correction::CorrectionInfo;
 use crate::evaluate::metrics_um;
 use crate::split::SplitInfo;
-use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
-use crate::traits::{Correction, FeatureMap, SymbolicCorrection, ZeroCorrection};
 use crate::window::WindowConfig;
 use hxai_eval::Metrics;
 use hxai_signal::PhysicsConfig;
 use hxai_symreg::Strategy;
-use hxai_table::Table;
 use serde::{Deserialize, Serialize};
 
 /// Version of the model file layout this code writes and reads.
 pub const SCHEMA_VERSION: u32 = 1;
-
-/// The composer of the tool-position case.
-pub type ToolHybrid = Hybrid<DoubleIntegration, SineDecomposition, AccelFeatures>;
 
 /// How samples are split into train and test.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -92,7 +86,7 @@ impl Default for FeatureInfo {
             extractor: "hxai_features::extract (paper Table 2)".into(),
             input: "raw acceleration window (m/s^2); f1 = commanded frequency from the manifest"
                 .into(),
-            names: AccelFeatures::default().names(),
+            names: feature_names(),
             config: hxai_features::FeatureConfig::default(),
         }
     }
@@ -214,31 +208,6 @@ pub(crate) fn check_band_hz(
     }
 }
 
-/// A correction loaded from a model file.
-#[derive(Debug, Clone, PartialEq)]
-pub enum LoadedCorrection {
-    /// Symbolic model.
-    Symbolic(SymbolicCorrection),
-    /// Zero.
-    Zero(ZeroCorrection),
-}
-
-impl Correction for LoadedCorrection {
-    fn equation(&self) -> String {
-        match self {
-            LoadedCorrection::Symbolic(s) => s.equation(),
-            LoadedCorrection::Zero(z) => z.equation(),
-        }
-    }
-
-    fn predict(&self, features: &Table) -> Result<Vec<f64>, HybridError> {
-        match self {
-            LoadedCorrection::Symbolic(s) => s.predict(features),
-            LoadedCorrection::Zero(z) => z.predict(features),
-        }
-    }
-}
-
 impl HybridModel {
     /// The model as pretty JSON.
     pub fn to_json(&self) -> Result<String, HybridError> {
@@ -297,7 +266,7 @@ impl HybridModel {
     /// [`HybridError::ModelFormat`], [`HybridError::UnknownFeature`],
     /// [`HybridError::InvalidConfig`] or [`HybridError::Signal`], naming what is wrong.
     pub fn validate(&self) -> Result<(), HybridError> {
-        let expected = AccelFeatures::default().names();
+        let expected = feature_names();
         if self.features.names != expected {
             return Err(HybridError::ModelFormat(format!(
                 "`features.names` must be {} (the features this hxai computes), found {}",
@@ -345,12 +314,21 @@ impl HybridModel {
         tool_hybrid_with(&self.physics, &self.features.config, self.window)
     }
 
-    /// The correction as a [`Correction`].
-    pub fn correction(&self) -> Result<LoadedCorrection, HybridError> {
+    /// The correction, checked: a symbolic correction has its model and reads only the
+    /// feature map's features; a zero correction has no model.
+    ///
+    /// # Errors
+    /// [`HybridError::ModelFormat`] or [`HybridError::UnknownFeature`], naming what is wrong.
+    pub fn correction(&self) -> Result<&CorrectionInfo<CorrectionKind>, HybridError> {
         match (&self.correction.kind, &self.correction.model) {
-            (CorrectionKind::Zero, _) => Ok(LoadedCorrection::Zero(ZeroCorrection)),
+            (CorrectionKind::Zero, None) => {}
+            (CorrectionKind::Zero, Some(_)) => {
+                return Err(HybridError::ModelFormat(
+                    "the correction is zero but `correction.model` holds a model".into(),
+                ));
+            }
             (CorrectionKind::Symbolic, Some(m)) => {
-                let available = self.features.names.clone();
+                let available = &self.features.names;
                 for f in m.features() {
                     if !available.contains(&f) {
                         return Err(HybridError::UnknownFeature {
@@ -359,13 +337,13 @@ impl HybridModel {
                         });
                     }
                 }
-                Ok(LoadedCorrection::Symbolic(SymbolicCorrection {
-                    model: m.clone(),
-                }))
             }
-            (CorrectionKind::Symbolic, None) => Err(HybridError::ModelFormat(
-                "the correction is symbolic but `correction.model` is missing".into(),
-            )),
+            (CorrectionKind::Symbolic, None) => {
+                return Err(HybridError::ModelFormat(
+                    "the correction is symbolic but `correction.model` is missing".into(),
+                ));
+            }
         }
+        Ok(&self.correction)
     }
 }

@@ -17,7 +17,7 @@ impl HybridModel {
     /// physics model's band, and the composer's errors.
     pub fn predict(&self, record: &RecordInput<'_>) -> Result<RecordPrediction, HybridError> {
         self.check_band(record)?;
-        let mut p = self.hybrid().predict(record, &self.correction()?)?;
+        let mut p = self.hybrid().predict(record, self.correction()?)?;
         p.warnings = input_warnings(record, &self.window);
         Ok(p)
     }
@@ -157,7 +157,6 @@ impl HybridModel {
     ) -> Result<(RecordPrediction, Vec<f64>, Vec<f64>), HybridError> {
         let p = self.predict(record)?;
         let iv = self.amplitude_intervals_with(&p.samples, level, method)?;
-        let hybrid = self.hybrid();
         let with = |pick: fn(&(f64, f64)) -> f64| -> Vec<f64> {
             let windows: Vec<_> = p
                 .windows
@@ -171,7 +170,7 @@ impl HybridModel {
                     ..*w
                 })
                 .collect();
-            hybrid.reconstruct_record(
+            crate::composer::reconstruct_record(
                 &windows,
                 record.signal.len(),
                 record.fs_hz,
