@@ -4,7 +4,7 @@
 //! Both halves learn the same thing: a symbolic model of the physics' error `delta` from
 //! feature columns. They differ in what `kind` says (the record half: a symbolic or a zero
 //! correction, always added to the latent amplitude; the table half: the form in which the
-//! correction enters, [`CorrectionForm`](crate::process::CorrectionForm)), so the type is
+//! correction enters, [`CorrectionForm`](crate::tables::CorrectionForm)), so the type is
 //! generic over the kind and nothing else.
 
 use crate::HybridError;
@@ -18,8 +18,8 @@ use serde::{Deserialize, Serialize};
 /// model with its uncertainty, Pareto front and selection (JSON `correction`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CorrectionInfo<K> {
-    /// What kind of correction: [`CorrectionKind`](crate::CorrectionKind) in a
-    /// record model, [`CorrectionForm`](crate::process::CorrectionForm) in a table model.
+    /// What kind of correction: [`CorrectionKind`](crate::records::CorrectionKind) in a
+    /// record model, [`CorrectionForm`](crate::tables::CorrectionForm) in a table model.
     pub kind: K,
     /// The equation's forms, complexity and features (JSON keys `equation`, `sympy`,
     /// `latex`, `complexity`, `features` beside `kind`).

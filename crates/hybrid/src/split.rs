@@ -18,7 +18,7 @@ pub struct WindowId {
 
 /// Which members were used for fitting and which were held out (JSON `split`).
 ///
-/// - Record models: `kind` a [`SplitKind`](crate::SplitKind), members record ids (sorted;
+/// - Record models: `kind` a [`SplitKind`](crate::records::SplitKind), members record ids (sorted;
 ///   a record is on a side when at least one of its windows is), with `seed`,
 ///   `test_fraction` and `test_windows` (the test windows of a window split, empty for a
 ///   record split).

@@ -1,11 +1,11 @@
 //! Property tests of the hybrid composer: each invariant in words, then the test.
 #![allow(clippy::unwrap_used)]
 
-use hxai_hybrid::{
-    CorrectionInfo, CorrectionKind, FeatureInfo, HybridError, HybridModel, Latent, RecordInput,
-    SCHEMA_VERSION, SplitInfo, SplitKind, TrainingInfo, WindowConfig, WindowId, WindowSample,
-    corrected_latent, split_samples, tool_hybrid,
+use hxai_hybrid::records::{
+    CorrectionKind, FeatureInfo, Latent, RecordInput, RecordModel, SCHEMA_VERSION, SplitKind,
+    TrainingInfo, WindowConfig, WindowSample, corrected_latent, record_hybrid, split_samples,
 };
+use hxai_hybrid::{CorrectionInfo, HybridError, SplitInfo, WindowId};
 use hxai_signal::PhysicsConfig;
 use hxai_symreg::Strategy as SearchStrategy;
 use proptest::prelude::*;
@@ -63,7 +63,7 @@ proptest! {
 
         let fs = 2000.0;
         let (accel, probe) = record(fs, f, amp, ph, 4000);
-        let h = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
+        let h = record_hybrid(&PhysicsConfig::default(), WindowConfig::default());
         let rec = RecordInput { id: "r", fs_hz: fs, frequency_hz: f, signal: &accel, truth: Some(&probe) };
         // a constant correction, applied without a fitted model
         let samples = h.samples(&rec).unwrap();
@@ -86,7 +86,7 @@ proptest! {
     ) {
         let fs = 2000.0;
         let (accel, probe) = record(fs, f, amp, ph, 4000);
-        let h = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
+        let h = record_hybrid(&PhysicsConfig::default(), WindowConfig::default());
         let rec = RecordInput { id: "r", fs_hz: fs, frequency_hz: f, signal: &accel, truth: Some(&probe) };
         let pred = h.predict(&rec, &CorrectionInfo::zero()).unwrap();
         prop_assert_eq!(pred.windows.len(), 3);
@@ -155,7 +155,7 @@ fn symbolic_model() -> &'static hxai_symreg::Model {
     })
 }
 
-fn model_strategy() -> impl Strategy<Value = HybridModel> {
+fn model_strategy() -> impl Strategy<Value = RecordModel> {
     (
         1.0f64..9.0,
         100.0f64..400.0,
@@ -169,7 +169,7 @@ fn model_strategy() -> impl Strategy<Value = HybridModel> {
         .prop_map(|(low, high, order, len, discard, zero, ids, seed)| {
             let ids: Vec<String> = ids.into_iter().collect();
             let (test, train) = ids.split_at(1);
-            HybridModel {
+            RecordModel {
                 schema_version: SCHEMA_VERSION,
                 physics: PhysicsConfig {
                     low_hz: low,
@@ -231,7 +231,7 @@ proptest! {
     #[test]
     fn model_json_round_trip(m in model_strategy()) {
         let text = m.to_json().unwrap();
-        let back = HybridModel::from_json(&text).unwrap();
+        let back = RecordModel::from_json(&text).unwrap();
         prop_assert_eq!(&back, &m);
         let v: serde_json::Value = serde_json::from_str(&text).unwrap();
         prop_assert_eq!(v["schema_version"].as_u64(), Some(u64::from(SCHEMA_VERSION)));
@@ -246,12 +246,12 @@ proptest! {
 fn other_schema_version_is_a_clear_error() -> Result<(), Box<dyn std::error::Error>> {
     let mut v: serde_json::Value = serde_json::from_str(&model_zero().to_json()?)?;
     v["schema_version"] = serde_json::json!(SCHEMA_VERSION + 1);
-    let err = HybridModel::from_json(&v.to_string())
+    let err = RecordModel::from_json(&v.to_string())
         .err()
         .ok_or("expected an error")?;
     assert!(matches!(err, HybridError::SchemaVersion { .. }), "{err:?}");
     assert!(err.to_string().contains("refit"), "{err}");
-    let err = HybridModel::from_json("{\"physics\": 1}")
+    let err = RecordModel::from_json("{\"physics\": 1}")
         .err()
         .ok_or("expected an error")?;
     assert!(matches!(err, HybridError::ModelFormat(_)), "{err:?}");
@@ -270,12 +270,12 @@ fn model_files_with_the_old_engine_key_still_load() -> Result<(), Box<dyn std::e
     training.remove("strategy");
     training.insert("engine".into(), serde_json::json!("none"));
     assert_eq!(
-        HybridModel::from_json(&v.to_string())?.training.strategy,
+        RecordModel::from_json(&v.to_string())?.training.strategy,
         None
     );
     v["training"]["engine"] = serde_json::json!("qlattice");
     v["training"]["delta_test"] = serde_json::json!({"rmse_um": 0.5, "r2": 0.9, "mae_um": 0.4});
-    let back = HybridModel::from_json(&v.to_string())?;
+    let back = RecordModel::from_json(&v.to_string())?;
     assert_eq!(back.training.strategy, Some(SearchStrategy::QLattice));
     assert_eq!(
         back.training.delta_test,
@@ -293,8 +293,8 @@ fn model_files_with_the_old_engine_key_still_load() -> Result<(), Box<dyn std::e
     Ok(())
 }
 
-fn model_zero() -> HybridModel {
-    HybridModel {
+fn model_zero() -> RecordModel {
+    RecordModel {
         schema_version: SCHEMA_VERSION,
         physics: PhysicsConfig::default(),
         features: FeatureInfo::default(),
@@ -325,7 +325,7 @@ fn model_zero() -> HybridModel {
 
 #[test]
 fn short_record_error_names_record_and_need() -> Result<(), Box<dyn std::error::Error>> {
-    let h = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
+    let h = record_hybrid(&PhysicsConfig::default(), WindowConfig::default());
     let (accel, _) = record(2000.0, 20.0, 5.0, 0.0, 1500); // 0.75 s < 1 s needed
     let rec = RecordInput {
         id: "short",
@@ -360,7 +360,7 @@ fn samples_table_columns_and_missing_truth() -> Result<(), Box<dyn std::error::E
     };
     let names = vec!["a".to_string(), "b".to_string()];
     let samples = [sample("r1", 0, Some(4.5)), sample("r2", 3, Some(3.75))];
-    let t = hxai_hybrid::samples_table(&samples, &[false, true], &names)?;
+    let t = hxai_hybrid::records::samples_table(&samples, &[false, true], &names)?;
     assert_eq!(
         t.names(),
         [
@@ -372,7 +372,7 @@ fn samples_table_columns_and_missing_truth() -> Result<(), Box<dyn std::error::E
     assert_eq!(t.split, ["train", "test"]);
     assert_eq!(t.values.column("delta"), Some(&[0.5, -0.25][..]));
     assert_eq!(t.values.column("A_phys"), Some(&[4.0, 4.0][..]));
-    let err = hxai_hybrid::samples_table(&[sample("r3", 0, None)], &[false], &names)
+    let err = hxai_hybrid::records::samples_table(&[sample("r3", 0, None)], &[false], &names)
         .err()
         .ok_or("expected an error")?;
     assert!(

@@ -4,12 +4,12 @@
 //! The paper describes its framework as four parts (physics model, latent-variable
 //! decomposition, feature map, correction). Here they are plain functions of the case
 //! study's settings, not traits: each has one implementation, and the other processes the
-//! framework serves (the table half, [`crate::process`]) have no windows, no latent
+//! framework serves (the table half, [`crate::tables`]) have no windows, no latent
 //! variable and no reconstruction, so no second implementation would plug in.
 
 use crate::HybridError;
 use crate::correction::CorrectionInfo;
-use crate::window::WindowConfig;
+use crate::records::window::WindowConfig;
 use hxai_signal::PhysicsConfig;
 use hxai_table::Table;
 use serde::{Deserialize, Serialize};
@@ -156,9 +156,9 @@ pub struct RecordPrediction {
     pub windows: Vec<WindowPrediction>,
     /// The samples (features, latent variables).
     pub samples: Vec<WindowSample>,
-    /// Implausible but legal input (filled by [`crate::HybridModel::predict`]; empty from
+    /// Implausible but legal input (filled by [`crate::records::RecordModel::predict`]; empty from
     /// the generic composer).
-    pub warnings: Vec<crate::Warning>,
+    pub warnings: Vec<crate::records::Warning>,
 }
 
 /// The composer of the record half (paper section 2): the physics model (band-pass
@@ -167,7 +167,7 @@ pub struct RecordPrediction {
 /// ([`hxai_features::extract_with`], paper Table 2; `f1` is the commanded frequency), on
 /// records cut into windows by [`WindowConfig`].
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct ToolHybrid {
+pub struct RecordHybrid {
     /// Step 1, the physics model's filter and integration settings.
     pub physics: PhysicsConfig,
     /// The feature map's sigma convention and PSD estimator.
@@ -180,7 +180,7 @@ fn mean(x: &[f64]) -> f64 {
     x.iter().sum::<f64>() / x.len() as f64
 }
 
-impl ToolHybrid {
+impl RecordHybrid {
     /// Step 1 and 2: the physics prediction of the whole record, then per window the
     /// physics latent variables, the features of the raw signal and, when there is a
     /// truth, the truth's latent variables (of the truth minus its window mean).
@@ -245,7 +245,7 @@ impl ToolHybrid {
     /// reconstruct `x_hat = A_corr sin(omega t + phi_phys)`.
     ///
     /// # Errors
-    /// Those of [`ToolHybrid::samples`] and of the correction.
+    /// Those of [`RecordHybrid::samples`] and of the correction.
     pub fn predict<K>(
         &self,
         input: &RecordInput<'_>,

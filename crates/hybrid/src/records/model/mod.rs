@@ -10,16 +10,16 @@ mod predict;
 mod samples;
 
 pub use fit::{
-    FitConfig, FitOutput, FitProgress, fit, split_samples, tool_hybrid, tool_hybrid_with,
+    FitOutput, FitProgress, RecordConfig, fit, record_hybrid, record_hybrid_with, split_samples,
 };
 pub use samples::{SamplesTable, samples_table};
 
 use crate::HybridError;
-use crate::composer::{RecordInput, ToolHybrid, feature_names};
 use crate::correction::CorrectionInfo;
-use crate::evaluate::metrics_um;
+use crate::records::composer::{RecordHybrid, RecordInput, feature_names};
+use crate::records::metrics_um;
+use crate::records::window::WindowConfig;
 use crate::split::SplitInfo;
-use crate::window::WindowConfig;
 use hxai_eval::Metrics;
 use hxai_signal::PhysicsConfig;
 use hxai_symreg::Strategy;
@@ -149,7 +149,7 @@ mod strategy_name {
 /// A fitted tool-position hybrid model: everything needed to predict, and the record of
 /// how it was made. Serialises to the model file (`hxai fit --out MODEL.json`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct HybridModel {
+pub struct RecordModel {
     /// [`SCHEMA_VERSION`] of the writer.
     pub schema_version: u32,
     /// Physics settings.
@@ -208,7 +208,7 @@ pub(crate) fn check_band_hz(
     }
 }
 
-impl HybridModel {
+impl RecordModel {
     /// The model as pretty JSON.
     pub fn to_json(&self) -> Result<String, HybridError> {
         serde_json::to_string_pretty(self).map_err(|e| HybridError::ModelFormat(e.to_string()))
@@ -250,7 +250,7 @@ impl HybridModel {
                 ));
             }
         }
-        let mut model: HybridModel = serde_json::from_value(value)
+        let mut model: RecordModel = serde_json::from_value(value)
             .map_err(|e| HybridError::ModelFormat(hxai_table::plain_json_error(&e.to_string())))?;
         // a record model always writes its test windows, empty for a record split
         model.split.test_windows.get_or_insert_with(Vec::new);
@@ -258,7 +258,7 @@ impl HybridModel {
         Ok(model)
     }
 
-    /// Checks a model in full before it is used (done by [`HybridModel::from_json`]): the
+    /// Checks a model in full before it is used (done by [`RecordModel::from_json`]): the
     /// symbolic model's program, parameters and input indices, that its features are the
     /// feature map's, the window settings, and the physics settings (band and orders).
     ///
@@ -310,8 +310,8 @@ impl HybridModel {
     }
 
     /// The composer with this model's physics and window settings.
-    pub fn hybrid(&self) -> ToolHybrid {
-        tool_hybrid_with(&self.physics, &self.features.config, self.window)
+    pub fn hybrid(&self) -> RecordHybrid {
+        record_hybrid_with(&self.physics, &self.features.config, self.window)
     }
 
     /// The correction, checked: a symbolic correction has its model and reads only the
