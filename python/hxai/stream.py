@@ -1,5 +1,5 @@
 """The tool position in real time: a model written by ``hxai fit`` applied sample by sample,
-causally, in bounded memory (``hxai_hybrid::stream::Estimator``, ``hxai stream``).
+causally, in bounded memory (``hxai_hybrid::records::stream::Estimator``, ``hxai stream``).
 
 :class:`StreamEstimator` keeps the state of one stream between calls: push the samples of
 acceleration as they arrive, in chunks of any size, and get back one row per sample (the

@@ -22,7 +22,7 @@
 //! `process_intervals`, `tool_predict`,
 //! `butter`, `sosfilt`, `sosfiltfilt`, `welch`, `fit_sine`, `displacement`,
 //! `features_extract`, `simulate_tool`, `simulate_case`, `defaults`, and the class
-//! `StreamEstimator` (the causal estimator of `hxai_hybrid::stream`, which keeps state
+//! `StreamEstimator` (the causal estimator of `hxai_hybrid::records::stream`, which keeps state
 //! between calls).
 //!
 //! Modules, one job each; this file only assembles them into `hxai._hxai`: `symbolic`

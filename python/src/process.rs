@@ -1,11 +1,11 @@
-//! The table hybrid (`hxai_hybrid::process`, docs/hybrid-tables.md), the glue of the
+//! The table hybrid (`hxai_hybrid::tables`, docs/hybrid-tables.md), the glue of the
 //! Python `HybridRegressor`: `process_fit`, `process_predict` and `process_intervals`.
 
 use crate::convert::{err, method_of, par_of, parse_json, table_of, to_bytes};
 use crate::settings::with_overrides;
 use hxai_hybrid::IntervalMethod;
 use hxai_hybrid::conformal::DEFAULT_CONFORMAL_FOLDS;
-use hxai_hybrid::process::{CorrectionForm, ProcessConfig, ProcessModel, fit_process_split};
+use hxai_hybrid::tables::{CorrectionForm, TableConfig, TableModel, fit_split};
 use hxai_symreg::SearchConfig;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -60,7 +60,7 @@ pub(crate) fn process_fit(
     let s: ProcessSettings = parse_json(settings_json, "hybrid settings")?;
     let mut search: SearchConfig = with_overrides("search", &s.search.to_string())?;
     search.par = par_of(n_jobs)?;
-    let mut cfg = ProcessConfig::new(&s.target, &s.physics);
+    let mut cfg = TableConfig::new(&s.target, &s.physics);
     cfg.calibrate = s.calibrate;
     cfg.init = s.init;
     cfg.set = s.set;
@@ -76,7 +76,7 @@ pub(crate) fn process_fit(
         test: Vec::new(),
     };
     let model = py
-        .detach(move || fit_process_split(&table, &cfg, &split, &mut |_| {}))
+        .detach(move || fit_split(&table, &cfg, &split, &mut |_| {}))
         .map_err(err)?;
     Ok(model.to_json())
 }
@@ -94,7 +94,7 @@ pub(crate) fn process_predict<'py>(
     Bound<'py, PyBytes>,
     Bound<'py, PyBytes>,
 )> {
-    let model = ProcessModel::from_json(model_json).map_err(err)?;
+    let model = TableModel::from_json(model_json).map_err(err)?;
     let table = table_of(names, &columns)?;
     let p = py.detach(move || model.predict(&table)).map_err(err)?;
     Ok((
@@ -106,7 +106,7 @@ pub(crate) fn process_predict<'py>(
 
 /// `process_intervals(model_json, names, columns, level, method=None)` -> `(lo, hi,
 /// method)`: the table hybrid's prediction intervals at `level` on a table
-/// (`ProcessModel::intervals_with`), by `method` (`conformal`, `split` or `delta`; default:
+/// (`TableModel::intervals_with`), by `method` (`conformal`, `split` or `delta`; default:
 /// the model file's, conformal where it stores the calibration).
 #[pyfunction]
 #[pyo3(signature = (model_json, names, columns, level, method=None))]
@@ -118,7 +118,7 @@ pub(crate) fn process_intervals<'py>(
     level: f64,
     method: Option<&str>,
 ) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>, String)> {
-    let model = ProcessModel::from_json(model_json).map_err(err)?;
+    let model = TableModel::from_json(model_json).map_err(err)?;
     let default = model
         .default_interval_method(level)
         .unwrap_or(IntervalMethod::Delta);

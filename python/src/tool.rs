@@ -3,8 +3,8 @@
 //! `hxai stream` runs it).
 
 use crate::convert::{err, floats, to_bytes};
-use hxai_hybrid::stream::Estimator;
-use hxai_hybrid::{HybridModel, RecordInput};
+use hxai_hybrid::records::stream::Estimator;
+use hxai_hybrid::records::{RecordInput, RecordModel};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use serde_json::{Value, json};
@@ -29,7 +29,7 @@ pub(crate) fn tool_predict<'py>(
     String,
     Vec<String>,
 )> {
-    let model = HybridModel::from_json(model_json).map_err(err)?;
+    let model = RecordModel::from_json(model_json).map_err(err)?;
     let accel = floats(accel, "accel")?;
     let id = record_id.to_string();
     let (pred, names) = py
@@ -78,7 +78,7 @@ pub(crate) fn tool_predict<'py>(
 }
 
 /// `StreamEstimator(model_json, frequency_hz, fs_hz, interval=None)`: the tool position in
-/// real time (`hxai_hybrid::stream::Estimator`), a model written by `hxai fit` applied
+/// real time (`hxai_hybrid::records::stream::Estimator`), a model written by `hxai fit` applied
 /// sample by sample, causally. `interval` (a level in (0, 1), e.g. 0.95) adds the hybrid's
 /// prediction bounds to every row.
 ///
@@ -114,7 +114,7 @@ impl StreamEstimator {
         fs_hz: f64,
         interval: Option<f64>,
     ) -> PyResult<Self> {
-        let model = HybridModel::from_json(model_json).map_err(err)?;
+        let model = RecordModel::from_json(model_json).map_err(err)?;
         let mut inner = Estimator::new(&model, frequency_hz, fs_hz).map_err(err)?;
         if let Some(level) = interval {
             inner = inner.with_interval(level).map_err(err)?;

@@ -1,4 +1,4 @@
-"""hxai.StreamEstimator: the causal streaming estimator (hxai_hybrid::stream) from Python.
+"""hxai.StreamEstimator: the causal streaming estimator (hxai_hybrid::records::stream) from Python.
 Chunking does not change the rows, the rows track the probe as well as the offline
 `ToolModel.predict`, the warm-up is NaN, the interval brackets the hybrid, bad input is a
 ValueError."""

@@ -32,9 +32,9 @@ pub struct Args {
 /// A model file of either kind.
 enum Model {
     /// `hxai fit`.
-    Tool(Box<hxai_hybrid::HybridModel>),
+    Tool(Box<hxai_hybrid::records::RecordModel>),
     /// `hxai hybrid fit`.
-    Process(Box<hxai_hybrid::process::ProcessModel>),
+    Process(Box<hxai_hybrid::tables::TableModel>),
 }
 
 /// Reads a model file of `hxai fit` or `hxai hybrid fit` (told apart by the process model's
@@ -46,9 +46,9 @@ fn load(path: &Path) -> Result<Model> {
         .ok()
         .is_some_and(|v| v.get("target").is_some() && v.get("hybrid").is_some());
     let loaded = if is_process {
-        hxai_hybrid::process::ProcessModel::from_json(&text).map(|m| Model::Process(Box::new(m)))
+        hxai_hybrid::tables::TableModel::from_json(&text).map(|m| Model::Process(Box::new(m)))
     } else {
-        hxai_hybrid::HybridModel::from_json(&text).map(|m| Model::Tool(Box::new(m)))
+        hxai_hybrid::records::RecordModel::from_json(&text).map(|m| Model::Tool(Box::new(m)))
     };
     loaded.with_context(|| format!("cannot load the model {}", path.display()))
 }
@@ -64,7 +64,7 @@ fn read_samples(path: &Path) -> Result<(hxai_table::Table, Vec<f64>, Vec<bool>)>
         .iter()
         .find(|(n, _)| n == "split")
         .map(|(_, cells)| cells.as_slice());
-    hxai_hybrid::SamplesTable::read_back(view.table, split)
+    hxai_hybrid::records::SamplesTable::read_back(view.table, split)
         .with_context(|| path.display().to_string())
 }
 

@@ -2,7 +2,7 @@
 use crate::Global;
 use crate::strategy::{CriterionArg, StrategyArg};
 use anyhow::{Context, Result};
-use hxai_hybrid::{FitConfig, FitProgress, SplitKind, WindowConfig};
+use hxai_hybrid::records::{FitProgress, RecordConfig, SplitKind, WindowConfig};
 use hxai_symreg::SearchConfig;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -165,7 +165,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         search.consensus_runs = b;
     }
     search.check()?;
-    let cfg = FitConfig {
+    let cfg = RecordConfig {
         window: WindowConfig {
             length_s: args.window_s,
             discard_s: args.discard_s,
@@ -178,12 +178,12 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         seed: args.seed,
         search,
         conformal_folds: args.conformal_folds,
-        ..FitConfig::default()
+        ..RecordConfig::default()
     };
     let samples_bar = bar(inputs.len() as u64, "samples");
     let search_bar = bar(cfg.search.epochs as u64, "search");
     search_bar.set_position(0);
-    let mut out = hxai_hybrid::fit(&inputs, &cfg, &mut |p| match p {
+    let mut out = hxai_hybrid::records::fit(&inputs, &cfg, &mut |p| match p {
         FitProgress::Samples { done, .. } => {
             samples_bar.set_position(done as u64);
             if done == inputs.len() {

@@ -18,7 +18,7 @@ impl RecordArgs {
     /// The plausibility warnings on the record read from `self.record` (sampling rate,
     /// length, frequency), printed on stderr and returned for the JSON output.
     pub fn warn(&self, rec: &hxai_data::Record) -> Vec<String> {
-        let warnings: Vec<String> = hxai_hybrid::record_warnings(
+        let warnings: Vec<String> = hxai_hybrid::records::record_warnings(
             &self.record.display().to_string(),
             rec.fs_hz(),
             self.frequency_hz,

@@ -2,7 +2,7 @@
 use crate::Global;
 use crate::one_record::RecordArgs;
 use anyhow::{Context, Result};
-use hxai_hybrid::{HybridModel, RecordInput};
+use hxai_hybrid::records::{RecordInput, RecordModel};
 use std::path::PathBuf;
 
 /// Arguments of `hxai predict`.
@@ -32,10 +32,10 @@ pub struct Args {
 }
 
 /// Reads a model file written by `hxai fit`.
-pub fn load_model(path: &std::path::Path) -> Result<HybridModel> {
+pub fn load_model(path: &std::path::Path) -> Result<RecordModel> {
     let text = hxai_data::read_text(path)
         .with_context(|| format!("cannot read the model {}", path.display()))?;
-    HybridModel::from_json(&text)
+    RecordModel::from_json(&text)
         .with_context(|| format!("cannot load the model {}", path.display()))
 }
 

@@ -3,7 +3,7 @@
 
 use anyhow::{Context, Result};
 use hxai_data::{DataFolder, ManifestEntry, Record};
-use hxai_hybrid::RecordInput;
+use hxai_hybrid::records::RecordInput;
 use indicatif::ProgressBar;
 
 /// Reads `entries` of `folder`, ticking `pb`; every record must carry `probe_um`, which
@@ -54,7 +54,7 @@ pub fn amplitude_warnings(entries: &[&ManifestEntry], inputs: &[RecordInput<'_>]
     entries
         .iter()
         .zip(inputs)
-        .filter_map(|(e, r)| hxai_hybrid::amplitude_warning(r, e.amplitude_um))
+        .filter_map(|(e, r)| hxai_hybrid::records::amplitude_warning(r, e.amplitude_um))
         .map(|w| w.to_string())
         .collect()
 }

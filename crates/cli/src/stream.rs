@@ -1,13 +1,13 @@
 //! `hxai stream`: the tool position sample by sample, from a CSV stream of acceleration
 //! (a file, or standard input that may never end) to one CSV row per sample.
 //!
-//! The computation is `hxai_hybrid::stream::Estimator`; this module reads lines, detects gaps
+//! The computation is `hxai_hybrid::records::stream::Estimator`; this module reads lines, detects gaps
 //! in time, writes rows and flushes them whenever the input has no whole line ready, so a
 //! reader of the output sees each row as soon as its sample is read.
 use crate::Global;
 use anyhow::{Context, Result};
 use hxai_data::{AtomicFile, SampleReader, UNIFORM_TIME_TOLERANCE, format_number};
-use hxai_hybrid::stream::{COLUMNS, Estimator, INTERVAL_COLUMNS, Row, Summary};
+use hxai_hybrid::records::stream::{COLUMNS, Estimator, INTERVAL_COLUMNS, Row, Summary};
 use std::io::{BufWriter, Read, Write};
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
@@ -124,7 +124,7 @@ struct Run {
     args_fs: Option<f64>,
     frequency_hz: f64,
     interval: Option<f64>,
-    model: hxai_hybrid::HybridModel,
+    model: hxai_hybrid::records::RecordModel,
     estimator: Option<Estimator>,
     /// The first sample, held until the second gives the sampling rate.
     first: Option<hxai_data::Sample>,
@@ -148,7 +148,7 @@ impl Run {
             None => est,
         };
         crate::safety::warn(
-            &hxai_hybrid::record_warnings("the stream", fs, self.frequency_hz, usize::MAX)
+            &hxai_hybrid::records::record_warnings("the stream", fs, self.frequency_hz, usize::MAX)
                 .iter()
                 .map(ToString::to_string)
                 .collect::<Vec<_>>(),
@@ -319,7 +319,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     if let Some(fs) = args.fs_hz {
         Estimator::new(&model, args.frequency_hz, fs).context("cannot stream with this model")?;
     } else {
-        hxai_hybrid::stream::check_frequency(&model, args.frequency_hz)
+        hxai_hybrid::records::stream::check_frequency(&model, args.frequency_hz)
             .context("cannot stream with this model")?;
     }
     let (reader, source): (Box<dyn Read>, String) = match &args.input {

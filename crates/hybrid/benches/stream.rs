@@ -1,5 +1,5 @@
-//! The streaming estimator (`hxai_hybrid::stream`) against the offline prediction
-//! (`HybridModel::predict`, what `hxai predict` runs) on the same samples, in the same run:
+//! The streaming estimator (`hxai_hybrid::records::stream`) against the offline prediction
+//! (`RecordModel::predict`, what `hxai predict` runs) on the same samples, in the same run:
 //! - `push_one`: one sample per call (the per-sample cost of a live stream; the estimator is
 //!   warmed up first, so every call does the full work);
 //! - `push_batch/10000`: a batch of 10,000 samples (1 s at 10 kHz) per call;
@@ -12,8 +12,8 @@
 #![allow(missing_docs, clippy::unwrap_used)]
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use hxai_hybrid::stream::Estimator;
-use hxai_hybrid::{HybridModel, RecordInput};
+use hxai_hybrid::records::stream::Estimator;
+use hxai_hybrid::records::{RecordInput, RecordModel};
 use std::hint::black_box;
 
 fn accel(n: usize, fs: f64, f: f64) -> Vec<f64> {
@@ -31,7 +31,7 @@ fn accel(n: usize, fs: f64, f: f64) -> Vec<f64> {
 
 fn bench(c: &mut Criterion) {
     let model =
-        HybridModel::from_json(include_str!("../../../testdata/bad/good/model.json")).unwrap();
+        RecordModel::from_json(include_str!("../../../testdata/bad/good/model.json")).unwrap();
     let (fs, f) = (10_000.0, 25.0);
     let x = accel(10_000, fs, f);
     let mut g = c.benchmark_group("stream");

@@ -1,18 +1,18 @@
 //! The distribution of the cost of one `push` of one sample into the streaming estimator
-//! (`hxai_hybrid::stream`), which criterion's means do not show: 2,000,000 pushes at 10 kHz
+//! (`hxai_hybrid::records::stream`), which criterion's means do not show: 2,000,000 pushes at 10 kHz
 //! and 25 Hz (200 s of stream) after a warm-up, each timed on its own, then the median, the
 //! 99th and 99.9th percentiles and the maximum, and the throughput of the whole loop.
 //!
 //! `cargo run --release -p hxai-hybrid --example stream_latency` (docs/benchmarks.md).
 #![allow(missing_docs, clippy::unwrap_used, clippy::print_stdout)]
 
-use hxai_hybrid::HybridModel;
-use hxai_hybrid::stream::Estimator;
+use hxai_hybrid::records::RecordModel;
+use hxai_hybrid::records::stream::Estimator;
 use std::time::Instant;
 
 fn main() {
     let model =
-        HybridModel::from_json(include_str!("../../../testdata/bad/good/model.json")).unwrap();
+        RecordModel::from_json(include_str!("../../../testdata/bad/good/model.json")).unwrap();
     let (fs, f) = (10_000.0, 25.0);
     let w = 2.0 * std::f64::consts::PI * f;
     let n = 2_000_000usize;

@@ -3,7 +3,7 @@
 //! normalised score, the scale model) and the intervals computed from it, CV+ (Barber et al.
 //! 2021) or split conformal (Lei et al. 2018), from the fold models' predictions at the new
 //! rows. How the folds are fitted belongs to each half: the table hybrid refits its physics
-//! and correction (`process/conformal.rs`), the tool case its correction of the amplitude
+//! and correction (`tables/conformal.rs`), the tool case its correction of the amplitude
 //! (`model/fit.rs`).
 use crate::HybridError;
 use hxai_eval::{IntervalMethod, ScaleModel, Split};

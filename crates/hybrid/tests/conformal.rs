@@ -18,7 +18,7 @@
 #![allow(clippy::unwrap_used)]
 use hxai_eval::Split;
 use hxai_hybrid::IntervalMethod;
-use hxai_hybrid::process::{CorrectionForm, ProcessConfig, ResidualScale, fit_process_split};
+use hxai_hybrid::tables::{CorrectionForm, ResidualScale, TableConfig, fit_split};
 use hxai_symreg::Table;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -101,8 +101,8 @@ fn table(noise: Noise, n: usize, rng: &mut ChaCha8Rng) -> (Table, Vec<f64>, Vec<
     (Table::new(names, cols).unwrap(), truth, band)
 }
 
-fn config(noise: Noise, seed: u64) -> ProcessConfig {
-    let mut cfg = ProcessConfig::new("y", "k*x1");
+fn config(noise: Noise, seed: u64) -> TableConfig {
+    let mut cfg = TableConfig::new("y", "k*x1");
     cfg.calibrate = vec!["k".into()];
     cfg.correction = noise.correction();
     cfg.seed = seed;
@@ -147,7 +147,7 @@ fn measure(noise: Noise, method: IntervalMethod) -> Measured {
             train: (0..N_TRAIN).collect(),
             test: Vec::new(),
         };
-        let model = fit_process_split(&train, &config(noise, draw), &split, &mut |_| {}).unwrap();
+        let model = fit_split(&train, &config(noise, draw), &split, &mut |_| {}).unwrap();
         // multiplicative scatter is scored on the log scale, for both forms that multiply
         let scale = model.conformal.as_ref().unwrap().scale;
         let log = matches!(noise, Noise::Multiplicative | Noise::LogForm);
@@ -228,7 +228,7 @@ fn conformal_keeps_its_promise_under_heteroscedastic_noise() {
 fn quick_fit(
     n: usize,
     folds: usize,
-) -> Result<(hxai_hybrid::process::ProcessModel, Table), hxai_hybrid::HybridError> {
+) -> Result<(hxai_hybrid::tables::TableModel, Table), hxai_hybrid::HybridError> {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let (train, _, _) = table(Noise::Homoscedastic, n, &mut rng);
     let mut cfg = config(Noise::Homoscedastic, 7);
@@ -237,18 +237,18 @@ fn quick_fit(
         train: (0..n).collect(),
         test: Vec::new(),
     };
-    let model = fit_process_split(&train, &cfg, &split, &mut |_| {})?;
+    let model = fit_split(&train, &cfg, &split, &mut |_| {})?;
     Ok((model, train))
 }
 
 #[test]
 fn the_model_file_keeps_the_calibration_and_old_files_fall_back_to_delta() {
-    use hxai_hybrid::process::ProcessModel;
+    use hxai_hybrid::tables::TableModel;
     let (model, t) = quick_fit(60, 5).unwrap();
     let conf = model.conformal.as_ref().unwrap();
     assert_eq!(conf.folds, 5);
     assert_eq!(conf.scores.len(), 60);
-    let back = ProcessModel::from_json(&model.to_json()).unwrap();
+    let back = TableModel::from_json(&model.to_json()).unwrap();
     assert_eq!(back, model);
     assert_eq!(
         back.default_interval_method(LEVEL),
@@ -263,7 +263,7 @@ fn the_model_file_keeps_the_calibration_and_old_files_fall_back_to_delta() {
     // a file written before the key existed: delta by default, conformal refused by name
     let mut old: serde_json::Value = serde_json::from_str(&model.to_json()).unwrap();
     old.as_object_mut().unwrap().remove("conformal");
-    let old = ProcessModel::from_json(&old.to_string()).unwrap();
+    let old = TableModel::from_json(&old.to_string()).unwrap();
     assert_eq!(
         old.default_interval_method(LEVEL),
         Some(IntervalMethod::Delta)
@@ -281,7 +281,7 @@ fn the_model_file_keeps_the_calibration_and_old_files_fall_back_to_delta() {
     // a calibration that does not fit the model is refused on the way in
     let mut bad: serde_json::Value = serde_json::from_str(&model.to_json()).unwrap();
     bad["conformal"]["scores"] = serde_json::json!([1.0, 2.0]);
-    let e = ProcessModel::from_json(&bad.to_string())
+    let e = TableModel::from_json(&bad.to_string())
         .unwrap_err()
         .to_string();
     assert!(e.contains("conformal"), "{e}");
@@ -332,7 +332,7 @@ fn the_interval_widens_outside_the_training_ranges_only() {
     let t = Table::new(names, vec![vec![2.5, 6.0, 8.0], vec![0.5, 0.5, 0.5]]).unwrap();
     let mut plain = model.clone();
     plain.conformal.as_mut().unwrap().widening = None;
-    let width = |m: &hxai_hybrid::process::ProcessModel| -> Vec<f64> {
+    let width = |m: &hxai_hybrid::tables::TableModel| -> Vec<f64> {
         m.intervals_with(&t, LEVEL, IntervalMethod::Conformal)
             .unwrap()
             .iter()

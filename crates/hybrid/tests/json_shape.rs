@@ -5,8 +5,8 @@
 //! reorganised, the files may not). Older files that use a legacy spelling (`engine` for
 //! `strategy`) load and are written in today's spelling, so they are not fixtures here.
 #![allow(clippy::unwrap_used)]
-use hxai_hybrid::HybridModel;
-use hxai_hybrid::process::ProcessModel;
+use hxai_hybrid::records::RecordModel;
+use hxai_hybrid::tables::TableModel;
 use serde_json::Value;
 
 fn fixture(path: &str) -> String {
@@ -52,7 +52,7 @@ fn same(before: &str, after: &str, what: &str) {
 #[test]
 fn a_table_hybrid_model_file_is_written_back_unchanged() {
     let text = fixture("testdata/models/process_model.json");
-    let m = ProcessModel::from_json(&text).unwrap();
+    let m = TableModel::from_json(&text).unwrap();
     same(&text, &m.to_json(), "process_model.json");
 }
 
@@ -60,6 +60,6 @@ fn a_table_hybrid_model_file_is_written_back_unchanged() {
 fn a_tool_model_file_is_written_back_unchanged() {
     let path = "testdata/models/tool_model.json";
     let text = fixture(path);
-    let m = HybridModel::from_json(&text).unwrap();
+    let m = RecordModel::from_json(&text).unwrap();
     same(&text, &m.to_json().unwrap(), path);
 }

@@ -1,11 +1,10 @@
-//! The process hybrid (`hxai_hybrid::process`) on synthetic tables with known laws:
+//! The process hybrid (`hxai_hybrid::tables`) on synthetic tables with known laws:
 //! calibration and its standard errors, the one-equation hybrid against `predict`, splits,
 //! the comparison, and every bad-input error naming what is wrong.
 #![allow(clippy::unwrap_used)]
 use hxai_hybrid::HybridError;
-use hxai_hybrid::process::{
-    CorrectionForm, ProcessConfig, ProcessModel, compare_process, fit_process, fit_process_split,
-    process_split,
+use hxai_hybrid::tables::{
+    CorrectionForm, TableConfig, TableModel, compare, fit, fit_split, split_rows,
 };
 use hxai_symreg::Table;
 use hxai_symreg::infix::compile_text;
@@ -42,14 +41,14 @@ fn roughness(n: usize, noise: f64, seed: u64) -> Table {
     .unwrap()
 }
 
-fn quick(mut cfg: ProcessConfig) -> ProcessConfig {
+fn quick(mut cfg: TableConfig) -> TableConfig {
     cfg.search.epochs = 3;
     cfg.search.candidates_per_epoch = 300;
     cfg
 }
 
-fn cfg_roughness() -> ProcessConfig {
-    let mut c = quick(ProcessConfig::new("Ra", "k*f^2/(32*r)"));
+fn cfg_roughness() -> TableConfig {
+    let mut c = quick(TableConfig::new("Ra", "k*f^2/(32*r)"));
     c.calibrate = vec!["k".into()];
     c
 }
@@ -60,12 +59,12 @@ fn fit_calibrated<const N: usize>(
     columns: [(&str, Vec<f64>); N],
     physics: &str,
     calibrate: &[&str],
-) -> ProcessModel {
+) -> TableModel {
     let (names, cols) = columns.into_iter().map(|(n, c)| (n.to_string(), c)).unzip();
     let t = Table::new(names, cols).unwrap();
-    let mut cfg = quick(ProcessConfig::new("y", physics));
+    let mut cfg = quick(TableConfig::new("y", physics));
     cfg.calibrate = calibrate.iter().map(|p| p.to_string()).collect();
-    fit_process(&t, &cfg, &mut |_| {}).unwrap()
+    fit(&t, &cfg, &mut |_| {}).unwrap()
 }
 
 /// Evaluates `text` (infix, e.g. the model's sympy form) on every row of `table`.
@@ -173,7 +172,7 @@ fn hybrid_equation_reproduces_predict() {
         let mut cfg = cfg_roughness();
         cfg.correction = form;
         cfg.joint = joint;
-        let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
+        let m = fit(&t, &cfg, &mut |_| {}).unwrap();
         let p = m.predict(&t).unwrap();
         let from_text = eval_text(&m.hybrid.sympy, &t);
         assert_rel(
@@ -199,7 +198,7 @@ fn hybrid_equation_reproduces_predict() {
             assert_eq!(*h, want);
         }
         assert!(!m.hybrid.latex.is_empty() && !m.hybrid.equation.is_empty());
-        assert_eq!(ProcessModel::from_json(&m.to_json()).unwrap(), m);
+        assert_eq!(TableModel::from_json(&m.to_json()).unwrap(), m);
         if joint {
             let j = m.joint.as_ref().unwrap();
             assert!(j.joint_train_rmse <= j.sequential_train_rmse * (1.0 + 1e-12));
@@ -215,7 +214,7 @@ fn hybrid_equation_reproduces_predict() {
 #[test]
 fn hybrid_beats_the_physics_and_round_trips_through_json() {
     let t = roughness(400, 1e-4, 2);
-    let m = fit_process(&t, &cfg_roughness(), &mut |_| {}).unwrap();
+    let m = fit(&t, &cfg_roughness(), &mut |_| {}).unwrap();
     let test = m.scores.test.unwrap();
     assert!(
         test.hybrid.rmse * 3.0 < test.physics.rmse,
@@ -228,7 +227,7 @@ fn hybrid_beats_the_physics_and_round_trips_through_json() {
         "{:?}",
         m.correction.forms.features
     );
-    let back = ProcessModel::from_json(&m.to_json()).unwrap();
+    let back = TableModel::from_json(&m.to_json()).unwrap();
     assert_eq!(back, m);
     let ev = back
         .evaluate(&t.select_rows(&m.split.test).unwrap())
@@ -255,7 +254,7 @@ fn explain_draws_the_intervals_of_the_chosen_method() {
     let t = roughness(200, 1e-3, 4);
     let mut cfg = cfg_roughness();
     cfg.correction = CorrectionForm::Multiplicative;
-    let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
+    let m = fit(&t, &cfg, &mut |_| {}).unwrap();
     let test = t.select_rows(&m.split.test).unwrap();
     let physics = m.predict(&test).unwrap().physics;
     for (asked, want) in [
@@ -299,7 +298,7 @@ fn explain_draws_the_intervals_of_the_chosen_method() {
 #[test]
 fn the_traps_of_a_table_fit_are_warned_about() {
     let clean = roughness(120, 1e-3, 8);
-    let m = fit_process(&clean, &cfg_roughness(), &mut |_| {}).unwrap();
+    let m = fit(&clean, &cfg_roughness(), &mut |_| {}).unwrap();
     assert!(m.warnings.is_empty(), "{:?}", m.warnings);
     let has = |w: &[String], needle: &str| w.iter().any(|x| x.contains(needle));
     // a copy of the target, and the first 30 rows repeated (some copies land in the test)
@@ -308,7 +307,7 @@ fn the_traps_of_a_table_fit_are_warned_about() {
     let mut t = clean.select_rows(&rows).unwrap();
     let copy: Vec<f64> = rows.iter().map(|&i| 2.0 * ra[i] + 1.0).collect();
     t.push_column("copy".into(), copy).unwrap();
-    let m = fit_process(&t, &cfg_roughness(), &mut |_| {}).unwrap();
+    let m = fit(&t, &cfg_roughness(), &mut |_| {}).unwrap();
     assert!(
         has(&m.warnings, "`copy` nearly copies the target"),
         "{:?}",
@@ -323,7 +322,7 @@ fn the_traps_of_a_table_fit_are_warned_about() {
     let mut c = cfg_roughness();
     c.physics = "k*f^2/(32*r) - 0.002".into();
     c.correction = CorrectionForm::Multiplicative;
-    let m = fit_process(&clean, &c, &mut |_| {}).unwrap();
+    let m = fit(&clean, &c, &mut |_| {}).unwrap();
     assert!(has(&m.warnings, "changes sign"), "{:?}", m.warnings);
     // an extrapolation column of three values
     let mut t = clean.clone();
@@ -332,14 +331,14 @@ fn the_traps_of_a_table_fit_are_warned_about() {
     let mut c = cfg_roughness();
     c.extrapolate = Some("level".into());
     c.exclude = vec!["level".into()];
-    let m = fit_process(&t, &c, &mut |_| {}).unwrap();
+    let m = fit(&t, &c, &mut |_| {}).unwrap();
     assert!(
         has(&m.warnings, "has 3 distinct values"),
         "{:?}",
         m.warnings
     );
     // predictions outside the training ranges (feed in µm instead of mm)
-    let m = fit_process(&clean, &cfg_roughness(), &mut |_| {}).unwrap();
+    let m = fit(&clean, &cfg_roughness(), &mut |_| {}).unwrap();
     let inside = clean.select_rows(&m.split.train).unwrap();
     assert!(m.range_warnings(&inside).is_empty());
     let f: Vec<f64> = clean
@@ -364,7 +363,7 @@ fn extrapolation_and_grouped_splits() {
     t.push_column("batch".into(), g.clone()).unwrap();
     let mut cfg = cfg_roughness();
     cfg.extrapolate = Some("v".into());
-    let (s, kind) = process_split(&t, &cfg).unwrap();
+    let (s, kind) = split_rows(&t, &cfg).unwrap();
     assert_eq!(kind, "extrapolate");
     assert_eq!(s.test.len(), 20);
     let v = t.column("v").unwrap();
@@ -372,19 +371,19 @@ fn extrapolation_and_grouped_splits() {
     assert!(s.train.iter().all(|&i| v[i] < lowest_test));
     let mut cfg = cfg_roughness();
     cfg.group = Some("batch".into());
-    let (s, kind) = process_split(&t, &cfg).unwrap();
+    let (s, kind) = split_rows(&t, &cfg).unwrap();
     assert_eq!(kind, "grouped");
     for &i in &s.test {
         assert!(s.train.iter().all(|&j| g[j] != g[i]));
     }
     // and with both, whole groups by their mean
     cfg.extrapolate = Some("v".into());
-    let (s, _) = process_split(&t, &cfg).unwrap();
+    let (s, _) = split_rows(&t, &cfg).unwrap();
     for &i in &s.test {
         assert!(s.train.iter().all(|&j| g[j] != g[i]));
     }
     // the group column is not a default feature
-    let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
+    let m = fit(&t, &cfg, &mut |_| {}).unwrap();
     assert!(!m.correction.candidates.contains(&"batch".to_string()));
     assert_eq!(m.group.as_deref(), Some("batch"));
     // ties at the cut stay on one side: a column of ten values, each on ten rows, and a
@@ -396,7 +395,7 @@ fn extrapolation_and_grouped_splits() {
     let steps: Vec<f64> = (0..100).map(|i| (i % 10) as f64).collect();
     let mut t2 = t.clone();
     t2.push_column("batch10".into(), steps.clone()).unwrap();
-    let (s, _) = process_split(&t2, &cfg).unwrap();
+    let (s, _) = split_rows(&t2, &cfg).unwrap();
     let lowest_test = s
         .test
         .iter()
@@ -410,7 +409,7 @@ fn extrapolation_and_grouped_splits() {
     // a constant column has no high end to test on
     t2.push_column("flat".into(), vec![2.0; 100]).unwrap();
     cfg.extrapolate = Some("flat".into());
-    let e = process_split(&t2, &cfg).unwrap_err().to_string();
+    let e = split_rows(&t2, &cfg).unwrap_err().to_string();
     assert!(
         e.contains("`flat`") && e.contains("no value above the others"),
         "{e}"
@@ -424,7 +423,7 @@ fn compare_reports_every_model_and_the_folds() {
     let mut cfg = cfg_roughness();
     cfg.search.epochs = 2;
     cfg.search.candidates_per_epoch = 150;
-    let c = compare_process(&t, &cfg, 3, &mut |_| {}).unwrap();
+    let c = compare(&t, &cfg, 3, &mut |_| {}).unwrap();
     let names: Vec<&str> = c.models.iter().map(|m| m.name.as_str()).collect();
     assert_eq!(names, COMPARE_MODELS);
     assert_eq!(c.cv.len(), 5);
@@ -439,7 +438,7 @@ fn compare_reports_every_model_and_the_folds() {
     assert!(score("physics_calibrated") < score("physics"));
     assert!(score("hybrid") < score("physics_calibrated"));
     // same split as fit
-    let m = fit_process(&t, &cfg, &mut |_| {}).unwrap();
+    let m = fit(&t, &cfg, &mut |_| {}).unwrap();
     assert_eq!(m.split, c.hybrid.split);
 }
 
@@ -458,16 +457,16 @@ fn uses_pi_word_boundaries() -> bool {
         vec![pipe, api, y],
     )
     .unwrap();
-    let mut c = quick(ProcessConfig::new("y", "k*pipe"));
+    let mut c = quick(TableConfig::new("y", "k*pipe"));
     c.calibrate = vec!["k".into()];
-    match fit_process(&t, &c, &mut |_| {}) {
+    match fit(&t, &c, &mut |_| {}) {
         Ok(_) => true,
         Err(e) => panic!("{e}"),
     }
 }
 
-fn err(cfg: &ProcessConfig, t: &Table) -> String {
-    let e = fit_process(t, cfg, &mut |_| {}).unwrap_err();
+fn err(cfg: &TableConfig, t: &Table) -> String {
+    let e = fit(t, cfg, &mut |_| {}).unwrap_err();
     let s = e.to_string();
     assert!(!s.contains('\n'), "one line: {s}");
     s
@@ -506,7 +505,7 @@ fn bad_input_is_named() {
     let s = err(&c, &t);
     assert!(s.contains("no feature column"), "{s}");
     assert!(matches!(
-        fit_process(&t, &c, &mut |_| {}),
+        fit(&t, &c, &mut |_| {}),
         Err(HybridError::NoFeatures(_))
     ));
     // the target inside the physics
@@ -547,13 +546,13 @@ fn bad_input_is_named() {
     assert!(s.contains("`pi`") && s.contains("--exclude pi"), "{s}");
     let mut c = cfg_roughness();
     c.exclude = vec!["pi".into()];
-    assert!(fit_process(&named_pi, &c, &mut |_| {}).is_ok());
+    assert!(fit(&named_pi, &c, &mut |_| {}).is_ok());
     assert!(uses_pi_word_boundaries());
     // one test row: no test scores (a warning says why), and neither evaluate nor compare
     // scores it
     let mut c = cfg_roughness();
     c.test_fraction = 0.01;
-    let m = fit_process(&t, &c, &mut |_| {}).unwrap();
+    let m = fit(&t, &c, &mut |_| {}).unwrap();
     assert_eq!(m.split.test.len(), 1);
     assert!(m.scores.test.is_none());
     assert!(
@@ -564,15 +563,13 @@ fn bad_input_is_named() {
     let one = t.select_rows(&m.split.test).unwrap();
     let e = m.evaluate(&one).unwrap_err().to_string();
     assert!(e.contains("at least 2"), "{e}");
-    let e = compare_process(&t, &c, 0, &mut |_| {})
-        .unwrap_err()
-        .to_string();
+    let e = compare(&t, &c, 0, &mut |_| {}).unwrap_err().to_string();
     assert!(
         e.contains("at least") && e.contains("--test-fraction"),
         "{e}"
     );
     // one fold: nothing to train on (0 skips the cross-validation)
-    let e = compare_process(&t, &cfg_roughness(), 1, &mut |_| {}).unwrap_err();
+    let e = compare(&t, &cfg_roughness(), 1, &mut |_| {}).unwrap_err();
     assert!(e.to_string().contains("at least 2 folds"), "{e}");
     // a missing target, an unknown feature
     let mut c = cfg_roughness();
@@ -604,14 +601,14 @@ fn unusable_physics_names_the_row() {
         train: (0..50).collect(),
         test: vec![],
     };
-    let e = fit_process_split(&t, &c, &split, &mut |_| {})
+    let e = fit_split(&t, &c, &split, &mut |_| {})
         .unwrap_err()
         .to_string();
     // Index 17 is row 18 counted from 1, as the file shows it (issue 27: one convention).
     assert!(e.contains("row 18 ") && e.contains("multiplicative"), "{e}");
     c.physics = "k*log(z)".into();
     c.correction = CorrectionForm::Additive;
-    let e = fit_process_split(&t, &c, &split, &mut |_| {})
+    let e = fit_split(&t, &c, &split, &mut |_| {})
         .unwrap_err()
         .to_string();
     assert!(e.contains("row 18 ") && e.contains("finite"), "{e}");

@@ -1,30 +1,17 @@
 //! Property tests of the hybrid composer: each invariant in words, then the test.
 #![allow(clippy::unwrap_used)]
 
-use hxai_hybrid::{
-    Correction, CorrectionInfo, Decomposition, FeatureInfo, HybridError, HybridModel, Latent,
-    RecordInput, SCHEMA_VERSION, SineDecomposition, SplitInfo, SplitKind, TrainingInfo,
-    WindowConfig, WindowId, WindowSample, ZeroCorrection, corrected_latent, split_samples,
-    tool_hybrid,
+use hxai_hybrid::records::{
+    CorrectionKind, FeatureInfo, Latent, RecordInput, RecordModel, SCHEMA_VERSION, SplitKind,
+    TrainingInfo, WindowConfig, WindowSample, corrected_latent, record_hybrid, split_samples,
 };
+use hxai_hybrid::{CorrectionInfo, HybridError, SplitInfo, WindowId};
 use hxai_signal::PhysicsConfig;
-use hxai_symreg::{Strategy as SearchStrategy, Table};
+use hxai_symreg::Strategy as SearchStrategy;
 use proptest::prelude::*;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
-
-/// A constant correction, to test the composition without a fitted model.
-struct Constant(f64);
-
-impl Correction for Constant {
-    fn equation(&self) -> String {
-        self.0.to_string()
-    }
-    fn predict(&self, f: &Table) -> Result<Vec<f64>, HybridError> {
-        Ok(vec![self.0; f.n_rows()])
-    }
-}
 
 /// A clean 2 s record: displacement `amp sin(w t + ph)` um and its exact acceleration.
 fn record(fs: f64, f: f64, amp: f64, ph: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
@@ -53,8 +40,8 @@ proptest! {
     ) {
         let n = (periods as f64 * fs / f).ceil() as usize;
         let lat = Latent { amplitude: amp, phase, offset: 0.0 };
-        let x = SineDecomposition.reconstruct(&lat, fs, f, 0, n);
-        let back = SineDecomposition.decompose(&x, fs, f).unwrap();
+        let x = lat.sine(fs, f, 0, n);
+        let back = Latent::fit(&x, fs, f).unwrap();
         prop_assert!((back.amplitude - amp).abs() <= 1e-9 * amp);
         let dphi = (back.phase - phase + PI).rem_euclid(2.0 * PI) - PI;
         prop_assert!(dphi.abs() <= 1e-9, "phase {} vs {}", back.phase, phase);
@@ -76,9 +63,11 @@ proptest! {
 
         let fs = 2000.0;
         let (accel, probe) = record(fs, f, amp, ph, 4000);
-        let h = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
+        let h = record_hybrid(&PhysicsConfig::default(), WindowConfig::default());
         let rec = RecordInput { id: "r", fs_hz: fs, frequency_hz: f, signal: &accel, truth: Some(&probe) };
-        let pred = h.predict(&rec, &Constant(c)).unwrap();
+        // a constant correction, applied without a fitted model
+        let samples = h.samples(&rec).unwrap();
+        let pred = h.apply(&rec, samples, &[c; 3]);
         for (w, s) in pred.windows.iter().zip(&pred.samples) {
             prop_assert_eq!(w.corrected.amplitude, s.a_phys() + c);
             prop_assert_eq!(w.delta_hat, c);
@@ -97,9 +86,9 @@ proptest! {
     ) {
         let fs = 2000.0;
         let (accel, probe) = record(fs, f, amp, ph, 4000);
-        let h = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
+        let h = record_hybrid(&PhysicsConfig::default(), WindowConfig::default());
         let rec = RecordInput { id: "r", fs_hz: fs, frequency_hz: f, signal: &accel, truth: Some(&probe) };
-        let pred = h.predict(&rec, &ZeroCorrection).unwrap();
+        let pred = h.predict(&rec, &CorrectionInfo::zero()).unwrap();
         prop_assert_eq!(pred.windows.len(), 3);
         for (w, s) in pred.windows.iter().zip(&pred.samples) {
             let sine = Latent { amplitude: s.a_phys(), phase: s.physics.phase, offset: 0.0 }
@@ -166,7 +155,7 @@ fn symbolic_model() -> &'static hxai_symreg::Model {
     })
 }
 
-fn model_strategy() -> impl Strategy<Value = HybridModel> {
+fn model_strategy() -> impl Strategy<Value = RecordModel> {
     (
         1.0f64..9.0,
         100.0f64..400.0,
@@ -180,7 +169,7 @@ fn model_strategy() -> impl Strategy<Value = HybridModel> {
         .prop_map(|(low, high, order, len, discard, zero, ids, seed)| {
             let ids: Vec<String> = ids.into_iter().collect();
             let (test, train) = ids.split_at(1);
-            HybridModel {
+            RecordModel {
                 schema_version: SCHEMA_VERSION,
                 physics: PhysicsConfig {
                     low_hz: low,
@@ -196,7 +185,7 @@ fn model_strategy() -> impl Strategy<Value = HybridModel> {
                 correction: if zero {
                     CorrectionInfo::zero()
                 } else {
-                    CorrectionInfo::symbolic(symbolic_model().clone())
+                    CorrectionInfo::symbolic(CorrectionKind::Symbolic, symbolic_model().clone())
                 },
                 split: SplitInfo {
                     kind: if zero {
@@ -204,14 +193,14 @@ fn model_strategy() -> impl Strategy<Value = HybridModel> {
                     } else {
                         SplitKind::Record
                     },
-                    seed,
-                    test_fraction: 0.2,
+                    seed: Some(seed),
+                    test_fraction: Some(0.2),
                     train: train.to_vec(),
                     test: test.to_vec(),
-                    test_windows: vec![WindowId {
+                    test_windows: Some(vec![WindowId {
                         record: test[0].clone(),
                         window: 1,
-                    }],
+                    }]),
                 },
                 training: TrainingInfo {
                     strategy: Some(SearchStrategy::Combined),
@@ -242,7 +231,7 @@ proptest! {
     #[test]
     fn model_json_round_trip(m in model_strategy()) {
         let text = m.to_json().unwrap();
-        let back = HybridModel::from_json(&text).unwrap();
+        let back = RecordModel::from_json(&text).unwrap();
         prop_assert_eq!(&back, &m);
         let v: serde_json::Value = serde_json::from_str(&text).unwrap();
         prop_assert_eq!(v["schema_version"].as_u64(), Some(u64::from(SCHEMA_VERSION)));
@@ -257,12 +246,12 @@ proptest! {
 fn other_schema_version_is_a_clear_error() -> Result<(), Box<dyn std::error::Error>> {
     let mut v: serde_json::Value = serde_json::from_str(&model_zero().to_json()?)?;
     v["schema_version"] = serde_json::json!(SCHEMA_VERSION + 1);
-    let err = HybridModel::from_json(&v.to_string())
+    let err = RecordModel::from_json(&v.to_string())
         .err()
         .ok_or("expected an error")?;
     assert!(matches!(err, HybridError::SchemaVersion { .. }), "{err:?}");
     assert!(err.to_string().contains("refit"), "{err}");
-    let err = HybridModel::from_json("{\"physics\": 1}")
+    let err = RecordModel::from_json("{\"physics\": 1}")
         .err()
         .ok_or("expected an error")?;
     assert!(matches!(err, HybridError::ModelFormat(_)), "{err:?}");
@@ -281,12 +270,12 @@ fn model_files_with_the_old_engine_key_still_load() -> Result<(), Box<dyn std::e
     training.remove("strategy");
     training.insert("engine".into(), serde_json::json!("none"));
     assert_eq!(
-        HybridModel::from_json(&v.to_string())?.training.strategy,
+        RecordModel::from_json(&v.to_string())?.training.strategy,
         None
     );
     v["training"]["engine"] = serde_json::json!("qlattice");
     v["training"]["delta_test"] = serde_json::json!({"rmse_um": 0.5, "r2": 0.9, "mae_um": 0.4});
-    let back = HybridModel::from_json(&v.to_string())?;
+    let back = RecordModel::from_json(&v.to_string())?;
     assert_eq!(back.training.strategy, Some(SearchStrategy::QLattice));
     assert_eq!(
         back.training.delta_test,
@@ -304,8 +293,8 @@ fn model_files_with_the_old_engine_key_still_load() -> Result<(), Box<dyn std::e
     Ok(())
 }
 
-fn model_zero() -> HybridModel {
-    HybridModel {
+fn model_zero() -> RecordModel {
+    RecordModel {
         schema_version: SCHEMA_VERSION,
         physics: PhysicsConfig::default(),
         features: FeatureInfo::default(),
@@ -313,11 +302,11 @@ fn model_zero() -> HybridModel {
         correction: CorrectionInfo::zero(),
         split: SplitInfo {
             kind: SplitKind::Record,
-            seed: 1,
-            test_fraction: 0.2,
+            seed: Some(1),
+            test_fraction: Some(0.2),
             train: vec!["a".into()],
             test: vec!["b".into()],
-            test_windows: vec![],
+            test_windows: Some(vec![]),
         },
         training: TrainingInfo {
             strategy: None,
@@ -336,7 +325,7 @@ fn model_zero() -> HybridModel {
 
 #[test]
 fn short_record_error_names_record_and_need() -> Result<(), Box<dyn std::error::Error>> {
-    let h = tool_hybrid(&PhysicsConfig::default(), WindowConfig::default());
+    let h = record_hybrid(&PhysicsConfig::default(), WindowConfig::default());
     let (accel, _) = record(2000.0, 20.0, 5.0, 0.0, 1500); // 0.75 s < 1 s needed
     let rec = RecordInput {
         id: "short",
@@ -371,7 +360,7 @@ fn samples_table_columns_and_missing_truth() -> Result<(), Box<dyn std::error::E
     };
     let names = vec!["a".to_string(), "b".to_string()];
     let samples = [sample("r1", 0, Some(4.5)), sample("r2", 3, Some(3.75))];
-    let t = hxai_hybrid::samples_table(&samples, &[false, true], &names)?;
+    let t = hxai_hybrid::records::samples_table(&samples, &[false, true], &names)?;
     assert_eq!(
         t.names(),
         [
@@ -383,7 +372,7 @@ fn samples_table_columns_and_missing_truth() -> Result<(), Box<dyn std::error::E
     assert_eq!(t.split, ["train", "test"]);
     assert_eq!(t.values.column("delta"), Some(&[0.5, -0.25][..]));
     assert_eq!(t.values.column("A_phys"), Some(&[4.0, 4.0][..]));
-    let err = hxai_hybrid::samples_table(&[sample("r3", 0, None)], &[false], &names)
+    let err = hxai_hybrid::records::samples_table(&[sample("r3", 0, None)], &[false], &names)
         .err()
         .ok_or("expected an error")?;
     assert!(

@@ -1,12 +1,12 @@
-//! The streaming estimator (`hxai_hybrid::stream`): causal, the same in any chunking,
+//! The streaming estimator (`hxai_hybrid::records::stream`): causal, the same in any chunking,
 //! restartable, and as accurate as the offline prediction on simulated
 //! records.
 
-use hxai_hybrid::stream::{Estimator, Row};
-use hxai_hybrid::{HybridModel, RecordInput};
+use hxai_hybrid::records::stream::{Estimator, Row};
+use hxai_hybrid::records::{RecordInput, RecordModel};
 
-fn model() -> HybridModel {
-    HybridModel::from_json(include_str!("../../../testdata/bad/good/model.json"))
+fn model() -> RecordModel {
+    RecordModel::from_json(include_str!("../../../testdata/bad/good/model.json"))
         .expect("the test model loads")
 }
 
@@ -32,7 +32,7 @@ fn simulate(
 
 /// The test model with the uncertainty of its correction computed on the windows of a few
 /// simulated records (the file predates stored uncertainties), for the interval rows.
-fn model_with_uncertainty() -> HybridModel {
+fn model_with_uncertainty() -> RecordModel {
     let mut m = model();
     let hybrid = m.hybrid();
     let mut samples = Vec::new();
@@ -198,7 +198,7 @@ fn bad_input_is_refused() {
     assert_eq!(est.samples(), 2);
 }
 
-/// Accuracy against the offline prediction (`HybridModel::predict`, what `hxai predict`
+/// Accuracy against the offline prediction (`RecordModel::predict`, what `hxai predict`
 /// runs) on simulated records at the test matrix's frequencies: after the warm-up, the
 /// streaming hybrid's RMSE against the probe is at most 1.1 times the offline one on the
 /// same samples.

@@ -3,8 +3,8 @@
 // Implementing `GlobalAlloc` needs `unsafe impl`, allowed in this test binary only.
 #![allow(unsafe_code)]
 
-use hxai_hybrid::HybridModel;
-use hxai_hybrid::stream::Estimator;
+use hxai_hybrid::records::RecordModel;
+use hxai_hybrid::records::stream::Estimator;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicIsize, Ordering};
 
@@ -42,7 +42,7 @@ fn accel(n: usize, fs: f64, f: f64) -> Vec<f64> {
 fn memory_does_not_grow_with_the_stream() {
     let (fs, f) = (10_000.0, 30.0);
     let chunk = accel(10_000, fs, f);
-    let model = HybridModel::from_json(include_str!("../../../testdata/bad/good/model.json"))
+    let model = RecordModel::from_json(include_str!("../../../testdata/bad/good/model.json"))
         .expect("the test model loads");
     let mut est = Estimator::new(&model, f, fs).expect("estimator");
     let mut rows = Vec::with_capacity(chunk.len());

@@ -5,7 +5,7 @@
 use crate::beyond::BeyondResults;
 use hxai_hybrid::IntervalMethod;
 use hxai_hybrid::IntervalReport;
-use hxai_hybrid::process::ProcessModel;
+use hxai_hybrid::tables::TableModel;
 use hxai_table::Table;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -32,7 +32,7 @@ pub struct MethodInterval {
 /// model cannot serve on these rows (for example split conformal with too few scores) is
 /// left out.
 pub fn of_table(
-    model: &ProcessModel,
+    model: &TableModel,
     table: &Table,
     rows: &[usize],
     level: f64,

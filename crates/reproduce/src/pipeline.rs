@@ -5,7 +5,7 @@ use crate::results::{
 };
 use crate::{Progress, ReproduceConfig, ReproduceError};
 use hxai_baselines::{Regressor, SymbolicRegressor};
-use hxai_hybrid::{FitConfig, FitOutput, FitProgress, RecordInput};
+use hxai_hybrid::records::{FitOutput, FitProgress, RecordConfig, RecordInput};
 use hxai_sim::SimRecord;
 use hxai_symreg::SearchConfig;
 use std::time::Instant;
@@ -67,15 +67,15 @@ pub fn compute(
             truth: Some(&r.probe_um),
         })
         .collect();
-    let fit_cfg = FitConfig {
+    let fit_cfg = RecordConfig {
         seed: cfg.seed,
         test_fraction: cfg.test_fraction,
         search: search_config(cfg),
-        ..FitConfig::default()
+        ..RecordConfig::default()
     };
     let epochs = fit_cfg.search.epochs as u64;
     progress(Progress::start("fit", epochs));
-    let fit = hxai_hybrid::fit(&inputs, &fit_cfg, &mut |p| {
+    let fit = hxai_hybrid::records::fit(&inputs, &fit_cfg, &mut |p| {
         if let FitProgress::Search(s) = p {
             progress(Progress {
                 stage: "fit",

@@ -4,7 +4,7 @@
 use crate::ReproduceError;
 use crate::figures::{Panel, Series, draw};
 use crate::pipeline::Computed;
-use hxai_hybrid::RecordInput;
+use hxai_hybrid::records::RecordInput;
 use hxai_sim::SimRecord;
 use std::collections::BTreeMap;
 
@@ -239,7 +239,8 @@ fn test_amplitudes(c: &Computed) -> Vec<(f64, f64, f64, f64, f64)> {
         .filter(|(i, _)| c.fit.is_test[*i])
         .filter_map(|(i, w)| {
             let (a, f) = conds.get(w.record.as_str())?;
-            let a_corr = hxai_hybrid::corrected_latent(&w.physics, c.delta_hat[i]).amplitude;
+            let a_corr =
+                hxai_hybrid::records::corrected_latent(&w.physics, c.delta_hat[i]).amplitude;
             Some((w.a_true()?, w.a_phys(), a_corr, *a, *f))
         })
         .collect()

@@ -370,7 +370,7 @@ pub fn markdown(r: &Results) -> String {
 }
 
 /// `samples.csv`: one row per sample, columns `record,window,split,f1..f12,A_phys,A_true,delta`
-/// ([`hxai_hybrid::SamplesTable`]), numbers in Rust's shortest round-trip form.
+/// ([`hxai_hybrid::records::SamplesTable`]), numbers in Rust's shortest round-trip form.
 pub fn samples_csv(c: &Computed) -> Result<String, crate::ReproduceError> {
     Ok(c.fit.samples_table()?.to_csv())
 }
@@ -458,7 +458,7 @@ fn streaming_section(s: &mut String, st: &crate::streaming::StreamingSummary) {
         s,
         "\n## The tool position in real time (`hxai stream`)\n\n\
          The fitted model applied to every test record sample by sample by the causal \
-         streaming estimator (`hxai_hybrid::stream`: the physics model at the command frequency \
+         streaming estimator (`hxai_hybrid::records::stream`: the physics model at the command frequency \
          by a sliding sine fit of the acceleration, the twelve features on the trailing \
          window, the correction updated every {} samples), against the offline prediction of \
          `hxai predict` on the same samples: every sample after the warm-up, against the probe \

@@ -5,7 +5,7 @@
 
 use crate::{ReproduceError, paper};
 use hxai_eval::Metrics;
-use hxai_hybrid::Evaluation;
+use hxai_hybrid::records::Evaluation;
 use hxai_sim::SimRecord;
 use hxai_table::Table;
 use serde::Serialize;

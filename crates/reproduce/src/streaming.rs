@@ -1,12 +1,12 @@
 //! The tool position in real time: the fitted model applied to every test record sample by
-//! sample by the causal streaming estimator (`hxai_hybrid::stream`, what `hxai stream`
+//! sample by the causal streaming estimator (`hxai_hybrid::records::stream`, what `hxai stream`
 //! runs), against the offline prediction (`hxai predict`) on the same samples.
 
 use crate::ReproduceError;
 use crate::figures::{Panel, Series};
 use crate::pipeline::Computed;
-use hxai_hybrid::stream::Estimator;
-use hxai_hybrid::{HybridModel, RecordInput};
+use hxai_hybrid::records::stream::Estimator;
+use hxai_hybrid::records::{RecordInput, RecordModel};
 use hxai_sim::SimRecord;
 use serde::Serialize;
 
@@ -84,7 +84,7 @@ fn input(r: &SimRecord) -> RecordInput<'_> {
 /// offline physics, offline hybrid)`, the streaming ones `None` during the warm-up.
 #[allow(clippy::type_complexity)]
 fn predictions(
-    model: &HybridModel,
+    model: &RecordModel,
     r: &SimRecord,
 ) -> Result<
     (
@@ -112,7 +112,7 @@ fn predictions(
 ///
 /// # Errors
 /// The estimator's and the offline prediction's errors.
-pub fn compute(all: &[SimRecord], model: &HybridModel) -> Result<StreamingSummary, ReproduceError> {
+pub fn compute(all: &[SimRecord], model: &RecordModel) -> Result<StreamingSummary, ReproduceError> {
     let test = &model.split.test;
     let mut records = Vec::new();
     // (frequency, [se stream hybrid, se offline hybrid, se stream physics, se offline physics], n, records)

@@ -163,7 +163,7 @@ impl ValidPhysics {
     /// filter passes `|H_d(f)|^2` after each integration. A linear drift removal is a
     /// projection that leaves a sine of whole periods unchanged and is taken as 1. Frequency
     /// integration: `1 / w^2` inside the band, 0 outside. The streaming estimator
-    /// (`hxai_hybrid::stream`) uses this to turn the acceleration's sine at the command
+    /// (`hxai_hybrid::records::stream`) uses this to turn the acceleration's sine at the command
     /// frequency into the physics model's displacement without integrating.
     pub fn gain_at(&self, frequency_hz: f64) -> f64 {
         let w = 2.0 * PI * frequency_hz;

@@ -1,6 +1,6 @@
 //! Estimates over a sliding window, updated one sample at a time: the sine fit and the Welch
 //! PSD of the last `n` samples of a stream, for the streaming estimator of the tool position
-//! (`hxai_hybrid::stream`).
+//! (`hxai_hybrid::records::stream`).
 //!
 //! Both keep memory bounded by the window (never by the stream's length) and cost O(1) per
 //! sample, amortised:

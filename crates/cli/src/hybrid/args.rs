@@ -1,12 +1,12 @@
 //! The options of `hxai hybrid fit | predict | evaluate | compare` (clap). Defaults that the
-//! library owns (split, seed, search budget) are read from `ProcessConfig::new`, so the
+//! library owns (split, seed, search budget) are read from `TableConfig::new`, so the
 //! help shows the values a fit uses and no number is written twice.
-use hxai_hybrid::process::{CorrectionForm, ProcessConfig};
+use hxai_hybrid::tables::{CorrectionForm, TableConfig};
 use std::path::PathBuf;
 
 /// The library's settings of a table hybrid, for the defaults shown and used here.
-fn defaults() -> ProcessConfig {
-    ProcessConfig::new("", "")
+fn defaults() -> TableConfig {
+    TableConfig::new("", "")
 }
 
 /// Arguments of `hxai hybrid`.
@@ -198,9 +198,9 @@ pub(crate) struct EvaluateArgs {
 
 impl Common {
     /// The library's configuration for these options.
-    pub(crate) fn config(&self) -> anyhow::Result<ProcessConfig> {
+    pub(crate) fn config(&self) -> anyhow::Result<TableConfig> {
         let c = self;
-        let mut cfg = ProcessConfig::new(&c.target, &c.physics);
+        let mut cfg = TableConfig::new(&c.target, &c.physics);
         cfg.calibrate = c.calibrate.iter().map(|s| s.trim().to_string()).collect();
         cfg.init = crate::strategy::pairs(&c.init, "--init", "a number")?;
         cfg.set = crate::strategy::pairs(&c.set, "--set", "a number")?;

@@ -2,15 +2,15 @@
 //! (a physics equation over the columns, its error learned by symbolic regression).
 //!
 //! This module parses options, reads and writes files and prints; every computation is
-//! `hxai_hybrid::process`.
+//! `hxai_hybrid::tables`.
 use crate::Global;
 use crate::strategy::interval_method;
 use anyhow::{Context, Result};
 use args::{Common, CompareArgs, EvaluateArgs, FitArgs, PredictArgs, Sub};
 use hxai_data::NumericView;
-use hxai_hybrid::process::{
-    ProcessConfig, ProcessModel, ProcessProgress, check_text_columns, check_used_columns,
-    compare_process, fit_process, model_columns,
+use hxai_hybrid::tables::{
+    self, TableConfig, TableModel, TableProgress, check_text_columns, check_used_columns,
+    model_columns,
 };
 use indicatif::ProgressBar;
 use print::{print_comparison, print_interval, print_model};
@@ -41,11 +41,7 @@ pub(crate) fn read(path: &Path, group: Option<&str>) -> Result<NumericView> {
 
 /// Reads the table at `path` for the fitted `model`; the columns it reads (and the target,
 /// `with_target`) must be numbers, a bad cell named by its row.
-pub(crate) fn read_for(
-    path: &Path,
-    model: &ProcessModel,
-    with_target: bool,
-) -> Result<NumericView> {
+pub(crate) fn read_for(path: &Path, model: &TableModel, with_target: bool) -> Result<NumericView> {
     let view = read(path, model.group.as_deref())?;
     check_used_columns(&model_columns(model, with_target), &view.text)
         .with_context(|| path.display().to_string())?;
@@ -55,7 +51,7 @@ pub(crate) fn read_for(
 /// What `fit` and `compare` start from: the configuration, the table (checked for text
 /// where numbers are needed), the warnings about it (said once the command has succeeded)
 /// and the progress bar of the search.
-fn prepare(c: &Common) -> Result<(ProcessConfig, NumericView, Vec<String>, ProgressBar)> {
+fn prepare(c: &Common) -> Result<(TableConfig, NumericView, Vec<String>, ProgressBar)> {
     let mut cfg = c.config()?;
     let loaded = read(&c.data, cfg.group.as_deref())?;
     let warnings =
@@ -71,8 +67,8 @@ fn prepare(c: &Common) -> Result<(ProcessConfig, NumericView, Vec<String>, Progr
     Ok((cfg, loaded, warnings, b))
 }
 
-fn on_progress(b: &ProgressBar) -> impl FnMut(&ProcessProgress) + '_ {
-    move |p: &ProcessProgress| {
+fn on_progress(b: &ProgressBar) -> impl FnMut(&TableProgress) + '_ {
+    move |p: &TableProgress| {
         let e = p.search.epochs as u64;
         b.set_length(p.tasks as u64 * e);
         b.set_position((p.task as u64 - 1) * e + p.search.epoch as u64);
@@ -88,14 +84,14 @@ fn fit(a: FitArgs) -> Result<()> {
         &[crate::safety::input(&a.common.data, "the table (--data)")],
     )?;
     let (cfg, loaded, warnings, b) = prepare(&a.common)?;
-    let mut model = fit_process(&loaded.table, &cfg, &mut on_progress(&b))?;
+    let mut model = tables::fit(&loaded.table, &cfg, &mut on_progress(&b))?;
     b.finish_and_clear();
     crate::safety::warn(&warnings);
     crate::safety::warn(&model.warnings);
     if let Some(runs) = a.stability {
         let sb = crate::progress::styled(runs as u64, "{bar:30} {pos}/{len} resamples [{elapsed}]");
         let sbb = sb.clone();
-        model.stability = Some(hxai_hybrid::process::process_stability(
+        model.stability = Some(hxai_hybrid::tables::stability(
             &loaded.table,
             &cfg,
             &model,
@@ -128,10 +124,10 @@ fn fit(a: FitArgs) -> Result<()> {
     Ok(())
 }
 
-fn load_model(path: &Path) -> Result<ProcessModel> {
+fn load_model(path: &Path) -> Result<TableModel> {
     let text = hxai_data::read_text(path)
         .with_context(|| format!("cannot read the model {}", path.display()))?;
-    ProcessModel::from_json(&text)
+    TableModel::from_json(&text)
         .with_context(|| format!("cannot load the model {}", path.display()))
 }
 
@@ -227,7 +223,7 @@ fn evaluate(a: EvaluateArgs) -> Result<()> {
 fn compare(a: CompareArgs) -> Result<()> {
     crate::safety::check_level(a.interval, "--interval")?;
     let (cfg, loaded, warnings, b) = prepare(&a.common)?;
-    let mut c = compare_process(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
+    let mut c = tables::compare(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
     b.finish_and_clear();
     crate::safety::warn(&c.hybrid.warnings);
     if a.interval_method.is_some() || a.interval != hxai_hybrid::DEFAULT_INTERVAL {

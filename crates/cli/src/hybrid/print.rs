@@ -1,7 +1,7 @@
 //! What `hxai hybrid` prints in text mode: the fitted model, interval coverage and the
 //! comparison table (the `--json` documents are the library's types, serialised).
 use hxai_data::format_number as n;
-use hxai_hybrid::process::{Comparison, ProcessModel};
+use hxai_hybrid::tables::{Comparison, TableModel};
 
 fn fmt_se(se: Option<&Option<f64>>) -> String {
     match se {
@@ -12,7 +12,7 @@ fn fmt_se(se: Option<&Option<f64>>) -> String {
 }
 
 #[allow(clippy::print_stdout)]
-pub(super) fn print_model(m: &ProcessModel) {
+pub(super) fn print_model(m: &TableModel) {
     println!("physics: {}", m.physics.equation);
     for (name, v) in &m.physics.parameters {
         let tag = if m.physics.calibrated.contains(name) {

@@ -1,4 +1,4 @@
-//! Runs both cases: [`compare_process`] at both splits, the goals measured, the figures drawn.
+//! Runs both cases: [`compare`] at both splits, the goals measured, the figures drawn.
 
 use super::plots::{error_panel, parity, rows_of};
 use super::results::{
@@ -10,11 +10,11 @@ use super::{
 };
 use crate::figures::draw;
 use crate::{Progress, ReproduceConfig, ReproduceError};
-use hxai_hybrid::process::{Comparison, ProcessModel, compare_process};
+use hxai_hybrid::tables::{Comparison, TableModel, compare};
 use hxai_table::Table;
 
 fn split_result(c: &Comparison, table: &Table, extrapolate: Option<&str>) -> SplitResult {
-    let m: &ProcessModel = &c.hybrid;
+    let m: &TableModel = &c.hybrid;
     let ranges = extrapolate.and_then(|col| {
         let v = table.column(col)?;
         let pick = |rows: &[usize]| {
@@ -161,7 +161,7 @@ pub fn compute(
                     "random"
                 }
             );
-            let mut on_search = |p: &hxai_hybrid::process::ProcessProgress| {
+            let mut on_search = |p: &hxai_hybrid::tables::TableProgress| {
                 progress(Progress {
                     stage: STAGE,
                     done,
@@ -169,7 +169,7 @@ pub fn compute(
                     message: format!("{label}, task {}/{}", p.task, p.tasks),
                 });
             };
-            let c = compare_process(&spec.table, &pc, folds, &mut on_search)?;
+            let c = compare(&spec.table, &pc, folds, &mut on_search)?;
             let rows = rows_of(&c.hybrid, spec)?;
             panels.push(parity(
                 &rows,

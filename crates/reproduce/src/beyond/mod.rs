@@ -1,8 +1,8 @@
 //! "Beyond the paper: the framework on three more processes": the hybrid of any process
-//! (`hxai_hybrid::process`) on the roughness, cutting-force and tool-life tables of `hxai_sim::cases`
+//! (`hxai_hybrid::tables`) on the roughness, cutting-force and tool-life tables of `hxai_sim::cases`
 //! (hidden truths in `docs/cases.md`).
 //!
-//! Per case: [`compare_process`](hxai_hybrid::process::compare_process) at a random split
+//! Per case: [`compare`](hxai_hybrid::tables::compare) at a random split
 //! (with k-fold cross-validation) and at an extrapolation split (train on the low values of
 //! one column, test on the high ones), the calibrated parameters with standard errors, the
 //! correction and the hybrid as equations, the goals measured (not assumed), and one
@@ -28,7 +28,7 @@ pub use report::markdown;
 pub use results::{BeyondResults, CaseResult, EquationRow, Goals, ParameterRow, SplitResult};
 
 use crate::{ReproduceConfig, ReproduceError};
-use hxai_hybrid::process::{CorrectionForm, ProcessConfig};
+use hxai_hybrid::tables::{CorrectionForm, TableConfig};
 use hxai_sim::cases::{
     CuttingForceConfig, RoughnessConfig, ToolLifeConfig, cutting_force,
     cutting_force::HANDBOOK_KC11, cutting_force::HANDBOOK_MC, roughness, tool_life,
@@ -165,8 +165,8 @@ fn rows(cfg: &ReproduceConfig) -> usize {
     if cfg.quick { 200 } else { 400 }
 }
 
-fn process_config(spec: &CaseSpec, cfg: &ReproduceConfig, extrapolate: bool) -> ProcessConfig {
-    let mut p = ProcessConfig::new(spec.target, spec.physics);
+fn process_config(spec: &CaseSpec, cfg: &ReproduceConfig, extrapolate: bool) -> TableConfig {
+    let mut p = TableConfig::new(spec.target, spec.physics);
     p.calibrate = spec.init.iter().map(|(n, _)| n.to_string()).collect();
     p.init = spec.init.iter().map(|(n, v)| (n.to_string(), *v)).collect();
     p.exclude = spec.exclude.iter().map(|s| s.to_string()).collect();

@@ -3,7 +3,7 @@
 use super::CaseSpec;
 use crate::ReproduceError;
 use crate::figures::{Panel, Series};
-use hxai_hybrid::process::ProcessModel;
+use hxai_hybrid::tables::TableModel;
 
 fn span(v: impl Iterator<Item = f64>) -> [f64; 2] {
     v.fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], x| {
@@ -14,7 +14,7 @@ fn span(v: impl Iterator<Item = f64>) -> [f64; 2] {
 /// Per-row values a figure needs: `(measured, physics, hybrid, extrapolated column, is_test)`.
 type Rows = Vec<(f64, f64, f64, f64, bool)>;
 
-pub(super) fn rows_of(m: &ProcessModel, spec: &CaseSpec) -> Result<Rows, ReproduceError> {
+pub(super) fn rows_of(m: &TableModel, spec: &CaseSpec) -> Result<Rows, ReproduceError> {
     let pred = m.predict(&spec.table)?;
     let col = |name: &str| {
         spec.table

@@ -1,6 +1,6 @@
 //! The section's results as they go into `results.json` (key `beyond_the_paper`).
 
-use hxai_hybrid::process::ModelScore;
+use hxai_hybrid::tables::ModelScore;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -70,9 +70,9 @@ pub struct SplitResult {
     /// Test-split scores of every model.
     pub models: Vec<ModelScore>,
     /// k-fold cross-validation (empty at the extrapolation split).
-    pub cv: Vec<hxai_hybrid::process::CvScore>,
+    pub cv: Vec<hxai_hybrid::tables::CvScore>,
     /// Paired t-tests of the hybrid's squared errors against each other model's.
-    pub t_tests: Vec<hxai_hybrid::process::TTestScore>,
+    pub t_tests: Vec<hxai_hybrid::tables::TTestScore>,
     /// Physics parameters after calibration.
     pub parameters: Vec<ParameterRow>,
     /// The correction.

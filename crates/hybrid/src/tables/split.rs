@@ -1,20 +1,20 @@
-//! The train/test split of a process fit: extrapolation, grouped or random, and the check
+//! The train/test split of a table fit: extrapolation, grouped or random, and the check
 //! of a given split's rows.
 
-use super::ProcessConfig;
+use super::TableConfig;
 use super::resolve::cols_list;
 use crate::HybridError;
 use hxai_eval::Split;
 use hxai_symreg::Table;
 use std::collections::BTreeMap;
 
-/// The split [`fit_process`](super::fit_process) uses: with `extrapolate`, the rows (or groups, by their mean)
+/// The split [`fit`](super::fit) uses: with `extrapolate`, the rows (or groups, by their mean)
 /// with the top `test_fraction` of that column are the test set; otherwise a seeded random
 /// split, grouped when `group` is set.
 ///
 /// # Errors
 /// A missing column, `test_fraction` outside (0, 1), or a side left empty.
-pub fn process_split(table: &Table, cfg: &ProcessConfig) -> Result<(Split, String), HybridError> {
+pub fn split_rows(table: &Table, cfg: &TableConfig) -> Result<(Split, String), HybridError> {
     let n = table.n_rows();
     let groups: Option<Vec<u64>> = match &cfg.group {
         Some(g) => {

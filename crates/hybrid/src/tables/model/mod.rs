@@ -1,4 +1,4 @@
-//! The model file of a process hybrid: physics equation and parameters, correction, the
+//! The model file of a table hybrid: physics equation and parameters, correction, the
 //! whole hybrid as one equation; prediction and evaluation on new tables.
 //!
 //! This file holds the model file's schema (the types serialised to JSON) and loading and
@@ -17,14 +17,16 @@ pub(crate) use program::{
 use super::CorrectionForm;
 use crate::HybridError;
 use crate::conformal::ConformalInfo;
-use crate::evaluate::IntervalReport;
+use crate::correction::CorrectionInfo;
+use crate::intervals::IntervalReport;
+use crate::split::SplitInfo;
 use hxai_eval::Metrics;
 use hxai_symreg::{Model, ParamEstimate, Uncertainty};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-/// Schema version of the process model file.
-pub const PROCESS_SCHEMA_VERSION: u32 = 1;
+/// Schema version of the table model file.
+pub const SCHEMA_VERSION: u32 = 1;
 
 /// The physics part of the model file.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -52,35 +54,6 @@ pub struct PhysicsInfo {
     pub params: BTreeMap<String, ParamEstimate>,
 }
 
-/// The correction part of the model file.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct CorrectionInfo {
-    /// `additive` (`y = f_p + delta`), `multiplicative` (`y = f_p (1 + delta)`) or `log`
-    /// (`y = f_p exp(delta)`).
-    pub kind: CorrectionForm,
-    /// The equation's forms, complexity and features (JSON keys `equation`, `sympy`,
-    /// `latex`, `complexity`, `features` beside `kind`).
-    #[serde(flatten)]
-    pub forms: hxai_symreg::ModelForms,
-    /// Feature columns the search was offered.
-    pub candidates: Vec<String>,
-    /// The fitted symbolic model (what `predict` evaluates).
-    pub model: Model,
-    /// The correction's constants as a template with named parameters and their
-    /// uncertainty, fitted to `delta` on the training rows (`hxai_symreg::uncertainty`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub uncertainty: Option<Uncertainty>,
-    /// The Pareto front of the correction's search, for `hxai explain`; absent in files
-    /// written before it was stored.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pareto: Option<Vec<crate::explain::ParetoMember>>,
-    /// How the correction was selected, its structure's share over resamples (consensus or
-    /// stability runs) and the alternatives the data cannot tell apart from it
-    /// ([`hxai_symreg::SelectionReport`]); absent in files written before it was stored.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub selection: Option<hxai_symreg::SelectionReport>,
-}
-
 /// An equation in three forms.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct EquationInfo {
@@ -96,17 +69,6 @@ pub struct EquationInfo {
     /// their covariance on the training rows, which prediction intervals use.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uncertainty: Option<Uncertainty>,
-}
-
-/// Which rows were used for fitting and which were held out.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct SplitInfo {
-    /// `random`, `grouped`, `extrapolate` or `given`.
-    pub kind: String,
-    /// Training rows (0-based, in the table's order).
-    pub train: Vec<usize>,
-    /// Test rows.
-    pub test: Vec<usize>,
 }
 
 /// Physics vs hybrid scores on one side of the split.
@@ -142,21 +104,21 @@ pub struct JointInfo {
     pub joint_train_rmse: f64,
 }
 
-/// A fitted process hybrid: everything needed to predict, and its report.
+/// A fitted table hybrid: everything needed to predict, and its report.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct ProcessModel {
-    /// [`PROCESS_SCHEMA_VERSION`].
+pub struct TableModel {
+    /// [`SCHEMA_VERSION`].
     pub schema_version: u32,
     /// The target column.
     pub target: String,
     /// The physics equation and its parameters.
     pub physics: PhysicsInfo,
     /// The learned correction.
-    pub correction: CorrectionInfo,
+    pub correction: CorrectionInfo<CorrectionForm>,
     /// The whole hybrid as one equation over the columns, every parameter substituted.
     pub hybrid: EquationInfo,
     /// The split of the fitting table.
-    pub split: SplitInfo,
+    pub split: SplitInfo<String, usize>,
     /// The grouping column, if any.
     pub group: Option<String>,
     /// With a joint refit (`--joint`): the two-stage values it replaced.
@@ -164,7 +126,7 @@ pub struct ProcessModel {
     /// Physics vs hybrid on the fitting table.
     pub scores: ScoresInfo,
     /// With `hxai hybrid fit --stability N`: the stability of the correction's structure
-    /// over bootstrap resamples of the training rows ([`super::process_stability`]).
+    /// over bootstrap resamples of the training rows ([`super::stability`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stability: Option<hxai_symreg::Stability>,
     /// What conformal prediction intervals need ([`ConformalInfo`]: CV+ over folds of the
@@ -178,9 +140,9 @@ pub struct ProcessModel {
     pub warnings: Vec<String>,
 }
 
-/// Per-row predictions of a process hybrid.
+/// Per-row predictions of a table hybrid.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ProcessPrediction {
+pub struct TablePrediction {
     /// The physics equation.
     pub physics: Vec<f64>,
     /// The correction `delta`.
@@ -191,7 +153,7 @@ pub struct ProcessPrediction {
 
 /// Physics vs hybrid against the target on a table.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct ProcessEvaluation {
+pub struct TableEvaluation {
     /// Scores of the physics alone.
     pub physics: Metrics,
     /// Scores of the hybrid.
@@ -206,18 +168,18 @@ pub struct ProcessEvaluation {
     /// uncertainty of the hybrid).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub interval: Option<IntervalReport>,
-    /// Rows outside the training ranges, per column ([`ProcessModel::range_warnings`]).
+    /// Rows outside the training ranges, per column ([`TableModel::range_warnings`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
 }
 
-impl ProcessModel {
+impl TableModel {
     /// Pretty JSON of the model file.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_default()
     }
 
-    /// Reads a model file written by [`ProcessModel::to_json`] and checks it.
+    /// Reads a model file written by [`TableModel::to_json`] and checks it.
     ///
     /// # Errors
     /// [`HybridError::ModelFormat`] for text that is not such a model,
@@ -234,21 +196,21 @@ impl ProcessModel {
             ));
         }
         match v.get("schema_version").and_then(serde_json::Value::as_u64) {
-            Some(n) if n == u64::from(PROCESS_SCHEMA_VERSION) => {}
+            Some(n) if n == u64::from(SCHEMA_VERSION) => {}
             other => {
                 return Err(HybridError::SchemaVersion {
                     found: other.map_or_else(|| "none".to_string(), |n| n.to_string()),
-                    expected: PROCESS_SCHEMA_VERSION,
+                    expected: SCHEMA_VERSION,
                 });
             }
         }
-        let m: ProcessModel = serde_json::from_value(v)
+        let m: TableModel = serde_json::from_value(v)
             .map_err(|e| HybridError::ModelFormat(hxai_table::plain_json_error(&e.to_string())))?;
         let phys = m.physics_program()?;
         // the correction model checks itself on the way in
-        Model::from_json(&serde_json::to_string(&m.correction.model).unwrap_or_default())?;
+        Model::from_json(&serde_json::to_string(m.correction.fitted()?).unwrap_or_default())?;
         if let Some(conf) = &m.conformal {
-            let c = combine(&phys, &m.correction.model, m.correction.kind);
+            let c = combine(&phys, m.correction.fitted()?, m.correction.kind);
             conf.check(c.params.len())?;
             if conf.scores.len() != m.split.train.len() {
                 return Err(HybridError::ModelFormat(format!(

@@ -3,7 +3,7 @@
 
 use super::model::{Combined, columns_of, finite_physics};
 use super::resolve::Resolved;
-use super::{CorrectionForm, ProcessConfig, calibrate};
+use super::{CorrectionForm, TableConfig, calibrate};
 use crate::HybridError;
 use hxai_symreg::Table;
 use hxai_symreg::infix::Compiled;
@@ -17,7 +17,7 @@ pub(crate) fn gather(col: &[f64], rows: &[usize]) -> Vec<f64> {
 /// The physics calibrated on `rows`: parameters updated in `compiled`, standard errors.
 pub(crate) fn calibrate_physics(
     table: &Table,
-    cfg: &ProcessConfig,
+    cfg: &TableConfig,
     res: &Resolved,
     rows: &[usize],
 ) -> Result<(Compiled, BTreeMap<String, Option<f64>>), HybridError> {

@@ -3,23 +3,21 @@
 
 use super::samples::{SamplesTable, samples_table};
 use super::{
-    CorrectionInfo, FeatureInfo, HybridModel, SCHEMA_VERSION, SplitInfo, SplitKind, ToolHybrid,
-    TrainingInfo, WindowId, check_band,
+    CorrectionKind, FeatureInfo, RecordModel, SCHEMA_VERSION, SplitKind, TrainingInfo, check_band,
 };
 use crate::HybridError;
-use crate::composer::{Hybrid, RecordInput, WindowSample};
-use crate::explain::ParetoMember;
-use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
-use crate::traits::{Correction, SymbolicCorrection};
-use crate::warnings::{Warning, input_warnings, units_warning};
-use crate::window::WindowConfig;
+use crate::correction::CorrectionInfo;
+use crate::records::composer::{RecordHybrid, RecordInput, WindowSample};
+use crate::records::warnings::{Warning, input_warnings, units_warning};
+use crate::records::window::WindowConfig;
+use crate::split::{SplitInfo, WindowId};
 use hxai_signal::PhysicsConfig;
 use hxai_table::Table;
 use std::collections::BTreeSet;
 
 /// Settings of [`fit`].
 #[derive(Debug, Clone)]
-pub struct FitConfig {
+pub struct RecordConfig {
     /// Physics settings.
     pub physics: PhysicsConfig,
     /// Feature settings.
@@ -39,7 +37,7 @@ pub struct FitConfig {
     pub conformal_folds: usize,
 }
 
-impl Default for FitConfig {
+impl Default for RecordConfig {
     fn default() -> Self {
         Self {
             physics: PhysicsConfig::default(),
@@ -72,7 +70,7 @@ pub enum FitProgress {
 #[derive(Debug, Clone)]
 pub struct FitOutput {
     /// The model.
-    pub model: HybridModel,
+    pub model: RecordModel,
     /// Every sample, in record then window order.
     pub samples: Vec<WindowSample>,
     /// Whether each sample is on the test side.
@@ -139,24 +137,19 @@ impl FitOutput {
 }
 
 /// The tool-position composer for the given settings.
-pub fn tool_hybrid(physics: &PhysicsConfig, window: WindowConfig) -> ToolHybrid {
-    tool_hybrid_with(physics, &hxai_features::FeatureConfig::default(), window)
+pub fn record_hybrid(physics: &PhysicsConfig, window: WindowConfig) -> RecordHybrid {
+    record_hybrid_with(physics, &hxai_features::FeatureConfig::default(), window)
 }
 
 /// The tool-position composer with explicit feature settings.
-pub fn tool_hybrid_with(
+pub fn record_hybrid_with(
     physics: &PhysicsConfig,
     features: &hxai_features::FeatureConfig,
     window: WindowConfig,
-) -> ToolHybrid {
-    Hybrid {
-        physics: DoubleIntegration {
-            config: physics.clone(),
-        },
-        decomposition: SineDecomposition,
-        features: AccelFeatures {
-            config: features.clone(),
-        },
+) -> RecordHybrid {
+    RecordHybrid {
+        physics: physics.clone(),
+        features: features.clone(),
         window,
     }
 }
@@ -190,7 +183,7 @@ pub fn split_samples(
 /// ([`HybridError::Symreg`]).
 pub fn fit(
     records: &[RecordInput<'_>],
-    cfg: &FitConfig,
+    cfg: &RecordConfig,
     progress: &mut dyn FnMut(FitProgress),
 ) -> Result<FitOutput, HybridError> {
     if !(cfg.test_fraction > 0.0 && cfg.test_fraction < 1.0) {
@@ -200,7 +193,7 @@ pub fn fit(
         )));
     }
     cfg.window.check()?;
-    let hybrid = tool_hybrid_with(&cfg.physics, &cfg.features, cfg.window);
+    let hybrid = record_hybrid_with(&cfg.physics, &cfg.features, cfg.window);
     let mut samples = Vec::new();
     let mut warnings = Vec::new();
     for r in records {
@@ -246,9 +239,6 @@ pub fn fit(
     let result = hxai_symreg::search(&train_table, &train_delta, &cfg.search, &mut |p| {
         progress(FitProgress::Search(p.clone()));
     })?;
-    let correction = SymbolicCorrection {
-        model: result.best.clone(),
-    };
     let conformal = if cfg.conformal_folds > 0 {
         Some(conformal_of(
             &result.best,
@@ -260,6 +250,14 @@ pub fn fit(
     } else {
         None
     };
+    let correction = CorrectionInfo::learned(
+        CorrectionKind::Symbolic,
+        result.best.clone(),
+        &train_table,
+        &train_delta,
+        &result.pareto,
+        hxai_symreg::SelectionReport::of(&result, &cfg.search),
+    )?;
     let hat_train = correction.predict(&train_table)?;
     let hat_test = correction.predict(&test_table)?;
 
@@ -282,7 +280,7 @@ pub fn fit(
             })
             .collect(),
     };
-    let model = HybridModel {
+    let model = RecordModel {
         schema_version: SCHEMA_VERSION,
         physics: cfg.physics.clone(),
         features: FeatureInfo {
@@ -290,19 +288,14 @@ pub fn fit(
             ..FeatureInfo::default()
         },
         window: cfg.window,
-        correction: CorrectionInfo {
-            uncertainty: Some(result.best.uncertainty(&train_table, &train_delta)?),
-            pareto: Some(ParetoMember::front(&result.pareto)),
-            selection: Some(hxai_symreg::SelectionReport::of(&result, &cfg.search)),
-            ..CorrectionInfo::symbolic(result.best.clone())
-        },
+        correction,
         split: SplitInfo {
             kind: cfg.split,
-            seed: cfg.seed,
-            test_fraction: cfg.test_fraction,
+            seed: Some(cfg.seed),
+            test_fraction: Some(cfg.test_fraction),
             train: side(false),
             test: side(true),
-            test_windows,
+            test_windows: Some(test_windows),
         },
         training: TrainingInfo {
             strategy: Some(cfg.search.strategy),
@@ -334,7 +327,7 @@ fn conformal_of(
     train: &[&WindowSample],
     table: &Table,
     delta: &[f64],
-    cfg: &FitConfig,
+    cfg: &RecordConfig,
 ) -> Result<crate::conformal::ConformalInfo, HybridError> {
     let k = cfg.conformal_folds;
     let records: Vec<&str> = train.iter().map(|s| s.record.as_str()).collect();

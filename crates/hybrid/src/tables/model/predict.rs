@@ -1,15 +1,15 @@
-//! Applying a process hybrid to a table: physics, correction and hybrid per row, the
+//! Applying a table hybrid to a table: physics, correction and hybrid per row, the
 //! prediction intervals by each method, the rows outside the training ranges, and the
 //! explanation of the correction.
 
-use super::{ProcessModel, ProcessPrediction, columns_of, combine, combine_values};
+use super::{TableModel, TablePrediction, columns_of, combine, combine_values};
 use super::{compile_physics, finite_physics};
 use crate::HybridError;
 use hxai_eval::IntervalMethod;
 use hxai_symreg::infix::Compiled;
 use hxai_symreg::{Table, expr::Expr};
 
-impl ProcessModel {
+impl TableModel {
     /// The physics equation compiled with the model's parameter values.
     ///
     /// # Errors
@@ -28,15 +28,12 @@ impl ProcessModel {
     /// # Errors
     /// [`HybridError::MissingColumn`] for a column the model needs;
     /// [`HybridError::BadPhysics`] naming the first row where the physics is not finite.
-    pub fn predict(&self, table: &Table) -> Result<ProcessPrediction, HybridError> {
+    pub fn predict(&self, table: &Table) -> Result<TablePrediction, HybridError> {
         let phys = self.physics_program()?;
         let physics = finite_physics(table, &phys, &phys.inputs)?;
-        columns_of(
-            table,
-            &self.correction.model.feature_names,
-            "correction feature",
-        )?;
-        let correction = self.correction.model.predict(table)?;
+        let model = self.correction.fitted()?;
+        columns_of(table, &model.feature_names, "correction feature")?;
+        let correction = model.predict(table)?;
         if let Some((row, v)) = correction.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(HybridError::BadCorrection { row, value: *v });
         }
@@ -45,7 +42,7 @@ impl ProcessModel {
             .zip(&correction)
             .map(|(p, d)| combine_values(self.correction.kind, *p, *d))
             .collect();
-        Ok(ProcessPrediction {
+        Ok(TablePrediction {
             physics,
             correction,
             hybrid,
@@ -53,7 +50,7 @@ impl ProcessModel {
     }
 
     /// Warnings for rows of `table` outside the ranges of the training rows, per input
-    /// column of the hybrid ([`crate::process::traps::range_warnings`]; the ranges are those the
+    /// column of the hybrid ([`crate::tables::traps::range_warnings`]; the ranges are those the
     /// conformal calibration stores, so a file fitted without it gives none).
     pub fn range_warnings(&self, table: &Table) -> Vec<String> {
         let Some(w) = self.conformal.as_ref().and_then(|c| c.widening.as_ref()) else {
@@ -65,7 +62,7 @@ impl ProcessModel {
             .zip(w.lo.iter().zip(&w.hi))
             .map(|(n, (lo, hi))| (n.clone(), *lo, *hi))
             .collect();
-        crate::process::traps::range_warnings(table, &ranges)
+        crate::tables::traps::range_warnings(table, &ranges)
     }
 
     /// The interval method used at `level` when none is asked for: conformal (CV+) when the
@@ -83,10 +80,10 @@ impl ProcessModel {
     }
 
     /// Prediction intervals `(lo, hi)` of the hybrid at `level` for every row of `table`, by
-    /// the model's default method ([`ProcessModel::default_interval_method`]).
+    /// the model's default method ([`TableModel::default_interval_method`]).
     ///
     /// # Errors
-    /// As [`ProcessModel::intervals_with`]; [`HybridError::InvalidConfig`] when the file
+    /// As [`TableModel::intervals_with`]; [`HybridError::InvalidConfig`] when the file
     /// stores neither conformal calibration nor uncertainty.
     pub fn intervals(&self, table: &Table, level: f64) -> Result<Vec<(f64, f64)>, HybridError> {
         let method = self
@@ -129,7 +126,7 @@ impl ProcessModel {
             )));
         }
         let phys = self.physics_program()?;
-        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        let c = combine(&phys, self.correction.fitted()?, self.correction.kind);
         if method != IntervalMethod::Delta {
             let Some(conf) = &self.conformal else {
                 return Err(HybridError::InvalidConfig(format!(
@@ -139,7 +136,7 @@ impl ProcessModel {
                     method.name()
                 )));
             };
-            return crate::process::conformal::intervals(conf, &c, table, level, method);
+            return crate::tables::conformal::intervals(conf, &c, table, level, method);
         }
         let Some(unc) = &self.hybrid.uncertainty else {
             return Err(HybridError::InvalidConfig(
@@ -158,22 +155,20 @@ impl ProcessModel {
     /// `y / f_p - 1` for a multiplicative correction, `ln(y / f_p)` for the log form) on the
     /// split's rows, with prediction intervals of the correction at `level` by `method`
     /// (default: the file's,
-    /// [`ProcessModel::default_interval_method`]; none when the file stores no way to make
+    /// [`TableModel::default_interval_method`]; none when the file stores no way to make
     /// them); the Pareto front when the file stores it.
     ///
     /// # Errors
     /// [`HybridError::InvalidConfig`] when `table` has fewer rows than the split names, and
-    /// those of [`ProcessModel::predict`] and [`crate::explain::explain`].
+    /// those of [`TableModel::predict`] and [`crate::explain::explain`].
     pub fn explain(
         &self,
         table: Option<&Table>,
         level: f64,
         method: Option<IntervalMethod>,
     ) -> Result<crate::explain::Explanation, HybridError> {
-        let pareto = self.correction.pareto.as_deref();
-        let model = &self.correction.model;
         let Some(table) = table else {
-            return crate::explain::explain(model, None, pareto, None, "delta", level);
+            return self.correction.explain(None, None, level);
         };
         let rows: Vec<usize> = self
             .split
@@ -215,7 +210,7 @@ impl ProcessModel {
             )));
         }
         let physics = prediction.physics;
-        let delta = crate::process::deltas(self.correction.kind, y, &physics, &rows)?;
+        let delta = crate::tables::deltas(self.correction.kind, y, &physics, &rows)?;
         let features = table.select_rows(&rows)?;
         let is_test: Vec<bool> = (0..rows.len())
             .map(|k| k >= self.split.train.len())
@@ -228,7 +223,7 @@ impl ProcessModel {
         // the columns a response grid lacks (the physics' own) are held at their median
         // on the training rows, as the grid holds the correction's other features
         let phys = self.physics_program()?;
-        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        let c = combine(&phys, self.correction.fitted()?, self.correction.kind);
         let mut fill = Vec::new();
         for name in &c.names {
             let col = table.require(name)?;
@@ -246,14 +241,14 @@ impl ProcessModel {
         let band = band
             .as_ref()
             .map(|(m, b)| (b as &crate::explain::Band<'_>, *m));
-        crate::explain::explain(model, band, pareto, Some(&data), "delta", level)
+        self.correction.explain(band, Some(&data), level)
     }
 
     /// Prediction intervals of the correction `delta` at `level` by `method` for the rows of
-    /// `features`: the hybrid's intervals ([`ProcessModel::intervals_with`]; a column
+    /// `features`: the hybrid's intervals ([`TableModel::intervals_with`]; a column
     /// `features` lacks is held at its value in `fill`) taken back to `delta` through the
     /// physics' prediction
-    /// ([`CorrectionForm::delta_interval`](crate::process::CorrectionForm::delta_interval)).
+    /// ([`CorrectionForm::delta_interval`](crate::tables::CorrectionForm::delta_interval)).
     fn correction_intervals(
         &self,
         features: &Table,
@@ -289,7 +284,7 @@ impl ProcessModel {
     /// A corrupt model file.
     pub fn hybrid_expr(&self) -> Result<Expr, HybridError> {
         let phys = self.physics_program()?;
-        let c = combine(&phys, &self.correction.model, self.correction.kind);
+        let c = combine(&phys, self.correction.fitted()?, self.correction.kind);
         Ok(Expr::from_program(&c.program, &c.params, &c.names))
     }
 }

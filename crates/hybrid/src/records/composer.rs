@@ -1,12 +1,72 @@
-//! The generic composer: physics model + decomposition + feature map (+ a correction) on
-//! records cut into windows.
+//! The record half's composer: the physics model, the latent variables and the features of
+//! records cut into windows, and a correction applied to them (paper section 2, steps 1-4).
+//!
+//! The paper describes its framework as four parts (physics model, latent-variable
+//! decomposition, feature map, correction). Here they are plain functions of the case
+//! study's settings, not traits: each has one implementation, and the other processes the
+//! framework serves (the table half, [`crate::tables`]) have no windows, no latent
+//! variable and no reconstruction, so no second implementation would plug in.
 
 use crate::HybridError;
-use crate::traits::{Correction, Decomposition, FeatureMap, Latent, PhysicsModel};
-use crate::window::WindowConfig;
+use crate::correction::CorrectionInfo;
+use crate::records::window::WindowConfig;
+use hxai_signal::PhysicsConfig;
 use hxai_table::Table;
 use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
 use std::ops::Range;
+
+/// The latent variables of a periodic response at a known frequency `f`:
+/// `x(t) ~ offset + amplitude * sin(2 pi f t + phase)` (paper eq. 8), `t = i / fs` counted
+/// from the first sample of the piece that was decomposed.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Latent {
+    /// Peak amplitude (the latent variable that is corrected).
+    pub amplitude: f64,
+    /// Phase, radians.
+    pub phase: f64,
+    /// Constant offset.
+    pub offset: f64,
+}
+
+impl Latent {
+    /// The latent-variable decomposition (LVD, eq. 8-11): the latent variables of `x`
+    /// (sampled at `fs`) at frequency `frequency_hz`, by [`hxai_signal::fit_sine`] (least
+    /// squares at the known frequency).
+    ///
+    /// # Errors
+    /// Those of the sine fit.
+    pub fn fit(x: &[f64], fs: f64, frequency_hz: f64) -> Result<Self, HybridError> {
+        let f = hxai_signal::fit_sine(x, fs, frequency_hz)?;
+        Ok(Latent {
+            amplitude: f.amplitude,
+            phase: f.phase,
+            offset: f.offset,
+        })
+    }
+
+    /// The reconstruction: the sine `offset + amplitude * sin(2 pi f (start + i) / fs +
+    /// phase)` for `i = 0..n`; `start` may be negative or beyond the decomposed piece to
+    /// extend it.
+    pub fn sine(&self, fs: f64, frequency_hz: f64, start: i64, n: usize) -> Vec<f64> {
+        let w = 2.0 * PI * frequency_hz / fs;
+        (0..n)
+            .map(|i| {
+                let k = (start + i as i64) as f64;
+                self.offset + self.amplitude * (w * k + self.phase).sin()
+            })
+            .collect()
+    }
+}
+
+/// The names of the features of every window, in the order the composer computes them:
+/// the twelve of the paper's Table 2 ([`hxai_features::Features::NAMES`]).
+pub fn feature_names() -> Vec<String> {
+    hxai_features::Features::NAMES
+        .iter()
+        .map(|s| (*s).to_owned())
+        .collect()
+}
 
 /// One record as the composer sees it (no files: the caller reads them).
 #[derive(Debug, Clone, Copy)]
@@ -96,21 +156,22 @@ pub struct RecordPrediction {
     pub windows: Vec<WindowPrediction>,
     /// The samples (features, latent variables).
     pub samples: Vec<WindowSample>,
-    /// Implausible but legal input (filled by [`crate::HybridModel::predict`]; empty from
+    /// Implausible but legal input (filled by [`crate::records::RecordModel::predict`]; empty from
     /// the generic composer).
-    pub warnings: Vec<crate::Warning>,
+    pub warnings: Vec<crate::records::Warning>,
 }
 
-/// The generic hybrid composer (paper section 2): any physics model, decomposition and
-/// feature map, on records cut into windows by [`WindowConfig`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct Hybrid<P, D, F> {
-    /// Step 1, the physics model.
-    pub physics: P,
-    /// The latent-variable decomposition.
-    pub decomposition: D,
-    /// The feature map.
-    pub features: F,
+/// The composer of the record half (paper section 2): the physics model (band-pass
+/// filtering and double integration, [`hxai_signal::displacement`]), the latent variables
+/// of each window ([`Latent::fit`]) and the features of the raw signal in each window
+/// ([`hxai_features::extract_with`], paper Table 2; `f1` is the commanded frequency), on
+/// records cut into windows by [`WindowConfig`].
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RecordHybrid {
+    /// Step 1, the physics model's filter and integration settings.
+    pub physics: PhysicsConfig,
+    /// The feature map's sigma convention and PSD estimator.
+    pub features: hxai_features::FeatureConfig,
     /// How records become samples.
     pub window: WindowConfig,
 }
@@ -119,7 +180,7 @@ fn mean(x: &[f64]) -> f64 {
     x.iter().sum::<f64>() / x.len() as f64
 }
 
-impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
+impl RecordHybrid {
     /// Step 1 and 2: the physics prediction of the whole record, then per window the
     /// physics latent variables, the features of the raw signal and, when there is a
     /// truth, the truth's latent variables (of the truth minus its window mean).
@@ -136,32 +197,28 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
         let ranges = self
             .window
             .windows(input.signal.len(), input.fs_hz, input.id)?;
-        let physics = self
-            .physics
-            .predict(input.signal, input.fs_hz)
-            .map_err(|e| e.in_record(input.id, None))?;
+        let physics = hxai_signal::displacement(input.signal, input.fs_hz, &self.physics)
+            .map_err(|e| HybridError::from(e).in_record(input.id, None))?;
         let mut windows = Vec::with_capacity(ranges.len());
         for (k, r) in ranges.into_iter().enumerate() {
             let ctx = |e: HybridError| e.in_record(input.id, Some(k));
-            let phys = self
-                .decomposition
-                .decompose(&physics[r.clone()], input.fs_hz, input.frequency_hz)
-                .map_err(ctx)?;
-            let feats = self
-                .features
-                .features(&input.signal[r.clone()], input.fs_hz, input.frequency_hz)
-                .map_err(ctx)?;
+            let phys =
+                Latent::fit(&physics[r.clone()], input.fs_hz, input.frequency_hz).map_err(ctx)?;
+            let feats = hxai_features::extract_with(
+                &input.signal[r.clone()],
+                input.fs_hz,
+                input.frequency_hz,
+                &self.features,
+            )
+            .map_err(|e| ctx(e.into()))?
+            .to_vec();
             let truth = match input.truth {
                 None => None,
                 Some(t) => {
                     let w = &t[r.clone()];
                     let m = mean(w);
                     let centred: Vec<f64> = w.iter().map(|v| v - m).collect();
-                    Some(
-                        self.decomposition
-                            .decompose(&centred, input.fs_hz, input.frequency_hz)
-                            .map_err(ctx)?,
-                    )
+                    Some(Latent::fit(&centred, input.fs_hz, input.frequency_hz).map_err(ctx)?)
                 }
             };
             windows.push(WindowSample {
@@ -181,25 +238,39 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
         &self,
         samples: impl IntoIterator<Item = &'s WindowSample>,
     ) -> Result<Table, HybridError> {
-        feature_table(self.features.names(), samples)
+        feature_table(feature_names(), samples)
     }
 
     /// Steps 3-4 on one record: correct each window's amplitude by `correction` and
     /// reconstruct `x_hat = A_corr sin(omega t + phi_phys)`.
-    pub fn predict<C: Correction + ?Sized>(
+    ///
+    /// # Errors
+    /// Those of [`RecordHybrid::samples`] and of the correction.
+    pub fn predict<K>(
         &self,
         input: &RecordInput<'_>,
-        correction: &C,
+        correction: &CorrectionInfo<K>,
     ) -> Result<RecordPrediction, HybridError> {
         let rs = self.samples(input)?;
         let table = self.feature_table(&rs.windows)?;
         let delta_hat = correction
             .predict(&table)
             .map_err(|e| e.in_record(input.id, None))?;
-        let windows: Vec<WindowPrediction> = rs
+        Ok(self.apply(input, rs, &delta_hat))
+    }
+
+    /// Step 3-4 with given corrections: each window of `samples` (of `input`) corrected by
+    /// its `delta_hat`, and the record reconstructed.
+    pub fn apply(
+        &self,
+        input: &RecordInput<'_>,
+        samples: RecordSamples,
+        delta_hat: &[f64],
+    ) -> RecordPrediction {
+        let windows: Vec<WindowPrediction> = samples
             .windows
             .iter()
-            .zip(&delta_hat)
+            .zip(delta_hat)
             .map(|(s, &d)| WindowPrediction {
                 window: s.window,
                 start: s.range.start,
@@ -209,53 +280,48 @@ impl<P: PhysicsModel, D: Decomposition, F: FeatureMap> Hybrid<P, D, F> {
                 corrected: corrected_latent(&s.physics, d),
             })
             .collect();
-        let hybrid = self.reconstruct_record(
+        let hybrid = reconstruct_record(
             &windows,
             input.signal.len(),
             input.fs_hz,
             input.frequency_hz,
         );
-        Ok(RecordPrediction {
-            physics: rs.physics,
+        RecordPrediction {
+            physics: samples.physics,
             hybrid,
             windows,
-            samples: rs.windows,
+            samples: samples.windows,
             warnings: Vec::new(),
-        })
-    }
-
-    /// The whole-record signal from per-window latent variables: each sample uses the
-    /// window it lies in; samples before the first window (after the last) use the first
-    /// (last) window's reconstruction, extended.
-    pub fn reconstruct_record(
-        &self,
-        windows: &[WindowPrediction],
-        n: usize,
-        fs: f64,
-        frequency_hz: f64,
-    ) -> Vec<f64> {
-        let mut out = vec![0.0; n];
-        for (k, w) in windows.iter().enumerate() {
-            let from = if k == 0 { 0 } else { w.start };
-            let to = if k + 1 == windows.len() {
-                n
-            } else {
-                (w.start + w.len).min(n)
-            };
-            if from >= to {
-                continue;
-            }
-            let piece = self.decomposition.reconstruct(
-                &w.corrected,
-                fs,
-                frequency_hz,
-                from as i64 - w.start as i64,
-                to - from,
-            );
-            out[from..to].copy_from_slice(&piece);
         }
-        out
     }
+}
+
+/// The whole-record signal from per-window latent variables: each sample uses the
+/// window it lies in; samples before the first window (after the last) use the first
+/// (last) window's reconstruction, extended.
+pub fn reconstruct_record(
+    windows: &[WindowPrediction],
+    n: usize,
+    fs: f64,
+    frequency_hz: f64,
+) -> Vec<f64> {
+    let mut out = vec![0.0; n];
+    for (k, w) in windows.iter().enumerate() {
+        let from = if k == 0 { 0 } else { w.start };
+        let to = if k + 1 == windows.len() {
+            n
+        } else {
+            (w.start + w.len).min(n)
+        };
+        if from >= to {
+            continue;
+        }
+        let piece = w
+            .corrected
+            .sine(fs, frequency_hz, from as i64 - w.start as i64, to - from);
+        out[from..to].copy_from_slice(&piece);
+    }
+    out
 }
 
 /// The features of `samples` as a table, one column per name of `names`.

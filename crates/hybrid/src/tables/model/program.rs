@@ -4,7 +4,7 @@
 
 use super::EquationInfo;
 use crate::HybridError;
-use crate::process::CorrectionForm;
+use crate::tables::CorrectionForm;
 use hxai_symreg::infix::{Compiled, compile, parse};
 use hxai_symreg::{Model, Node, Op, Program, Table, expr::Expr};
 use std::collections::BTreeMap;

@@ -8,7 +8,7 @@
 //! a bad cell (empty, or a typo such as `12O.5`) is named by its row, not taken for text; a real text column that
 //! would have been a default feature is left out with a warning instead of in silence.
 
-use super::ProcessConfig;
+use super::TableConfig;
 use crate::HybridError;
 
 /// The first cell of a text column that is not a number, as an error naming its row
@@ -91,9 +91,15 @@ pub fn check_used_columns(
 
 /// The columns a fitted model reads to predict (the physics' columns and the correction's
 /// features, and the group column), and the target when `with_target` (to evaluate).
-pub fn model_columns(model: &super::ProcessModel, with_target: bool) -> Vec<String> {
+pub fn model_columns(model: &super::TableModel, with_target: bool) -> Vec<String> {
     let mut used = model.physics.columns.clone();
-    used.extend(model.correction.model.feature_names.iter().cloned());
+    used.extend(
+        model
+            .correction
+            .model
+            .iter()
+            .flat_map(|m| m.feature_names.iter().cloned()),
+    );
     used.extend(model.group.iter().cloned());
     if with_target {
         used.push(model.target.clone());
@@ -109,7 +115,7 @@ pub fn model_columns(model: &super::ProcessModel, with_target: bool) -> Vec<Stri
 /// extrapolation column, physics) holds text, or a column the model uses or would take as a
 /// default feature is numbers with a bad cell (a gap or a typo: the row and cell are named).
 pub fn check_text_columns(
-    cfg: &ProcessConfig,
+    cfg: &TableConfig,
     text: &[(String, Vec<String>)],
 ) -> Result<Vec<String>, HybridError> {
     let mut named: Vec<String> = vec![cfg.target.clone()];
@@ -147,7 +153,7 @@ mod tests {
 
     #[test]
     fn gaps_text_and_flags_are_told_apart() {
-        let cfg = ProcessConfig::new("y", "k*x");
+        let cfg = TableConfig::new("y", "k*x");
         let gap = vec![("v".to_string(), cells(&["1", "2", " ", "4"]))];
         let e = check_text_columns(&cfg, &gap).err().map(|e| e.to_string());
         assert!(
@@ -168,7 +174,7 @@ mod tests {
         quiet.exclude = vec!["batch".into(), "coolant".into()];
         assert_eq!(check_text_columns(&quiet, &words).ok(), Some(vec![]));
         // named by the physics: refused, with a cell shown
-        let named = ProcessConfig::new("y", "k*batch");
+        let named = TableConfig::new("y", "k*batch");
         let e = check_text_columns(&named, &words)
             .err()
             .map(|e| e.to_string());
@@ -179,10 +185,7 @@ mod tests {
         );
         // a typo in a column of numbers is named by row and cell, used or not
         let typo = vec![("v".to_string(), cells(&["120.5", "12O.5", "130", "140"]))];
-        for cfg in [
-            ProcessConfig::new("y", "k*x"),
-            ProcessConfig::new("y", "k*v"),
-        ] {
+        for cfg in [TableConfig::new("y", "k*x"), TableConfig::new("y", "k*v")] {
             let e = check_text_columns(&cfg, &typo).err().map(|e| e.to_string());
             assert!(
                 e.as_deref()

@@ -5,7 +5,7 @@
 //! here only.
 
 use crate::HybridError;
-use crate::composer::WindowSample;
+use crate::records::composer::WindowSample;
 use hxai_table::Table;
 use std::fmt::Write;
 
@@ -52,7 +52,7 @@ pub fn samples_table(
             samples.len()
         )));
     }
-    let mut values = crate::composer::feature_table(feature_names.to_vec(), samples)?;
+    let mut values = crate::records::composer::feature_table(feature_names.to_vec(), samples)?;
     let truth = |w: &WindowSample| {
         w.a_true()
             .zip(w.delta())

@@ -1,9 +1,10 @@
 //! Step 5, validation against the ground truth: physics vs hybrid on chosen windows.
 
 use crate::HybridError;
-use crate::composer::{Hybrid, RecordInput};
-use crate::traits::{Correction, Decomposition, FeatureMap, PhysicsModel};
-use hxai_eval::{IntervalMethod, Metrics};
+use crate::IntervalReport;
+use crate::correction::CorrectionInfo;
+use crate::records::composer::{RecordHybrid, RecordInput};
+use hxai_eval::Metrics;
 use serde::{Deserialize, Serialize};
 
 /// The serde form of a [`Metrics`] in the truth's unit (micrometres in the tool-position
@@ -112,73 +113,15 @@ pub struct Evaluation {
     #[serde(default, with = "metrics_um::option")]
     pub delta: Option<Metrics>,
     /// Implausible but legal input, one line each (filled by
-    /// [`crate::HybridModel::evaluate`]; empty from [`evaluate`]). Left out of the JSON
+    /// [`crate::records::RecordModel::evaluate`]; empty from [`evaluate`]). Left out of the JSON
     /// when empty, so stored results do not change; `hxai evaluate --json` always has it.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
     /// Coverage of the prediction intervals of the corrected amplitude (filled by
-    /// [`crate::HybridModel::evaluate`] when the model stores the uncertainty of its
+    /// [`crate::records::RecordModel::evaluate`] when the model stores the uncertainty of its
     /// correction; absent otherwise).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub interval: Option<IntervalReport>,
-}
-
-/// The nominal level of prediction intervals when none is given: 95 %.
-pub const DEFAULT_INTERVAL: f64 = 0.95;
-
-/// How often the truth falls inside prediction intervals, and how wide they are (JSON
-/// `interval`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct IntervalReport {
-    /// How the intervals were made (`conformal`, `split` or `delta`; reports written before
-    /// the key existed were all `delta`).
-    #[serde(default = "delta_method")]
-    pub method: IntervalMethod,
-    /// The nominal level `P` of the intervals.
-    pub nominal: f64,
-    /// The share of points whose truth lies inside (closed interval).
-    pub coverage: f64,
-    /// How many points were checked.
-    pub n: usize,
-    /// The median of `hi - lo` over the points (`null` when there are none, and in reports
-    /// written before the key existed).
-    #[serde(default)]
-    pub median_width: Option<f64>,
-}
-
-fn delta_method() -> IntervalMethod {
-    IntervalMethod::Delta
-}
-
-impl IntervalReport {
-    /// The report of `intervals` (made by `method`) against `truth` at level `nominal`.
-    pub fn of(
-        method: IntervalMethod,
-        nominal: f64,
-        truth: &[f64],
-        intervals: &[(f64, f64)],
-    ) -> Self {
-        let inside = truth
-            .iter()
-            .zip(intervals)
-            .filter(|(t, (lo, hi))| lo <= *t && *t <= hi)
-            .count();
-        let n = truth.len().min(intervals.len());
-        let mut widths: Vec<f64> = intervals[..n].iter().map(|(lo, hi)| hi - lo).collect();
-        widths.sort_by(f64::total_cmp);
-        let median_width = match n {
-            0 => None,
-            n if n % 2 == 1 => Some(widths[n / 2]),
-            n => Some(0.5 * (widths[n / 2 - 1] + widths[n / 2])),
-        };
-        IntervalReport {
-            method,
-            nominal,
-            coverage: if n > 0 { inside as f64 / n as f64 } else { 0.0 },
-            n,
-            median_width,
-        }
-    }
 }
 
 /// Which windows of a record to evaluate.
@@ -203,18 +146,12 @@ fn mse(truth: &[f64], pred: &[f64]) -> f64 {
 ///
 /// # Errors
 /// [`HybridError::NoTruth`] for a record without truth, [`HybridError::NoData`] when no
-/// window is selected, and the errors of [`Hybrid::predict`].
-pub fn evaluate<P, D, F, C>(
-    hybrid: &Hybrid<P, D, F>,
-    correction: &C,
+/// window is selected, and the errors of [`RecordHybrid::predict`].
+pub fn evaluate<K>(
+    hybrid: &RecordHybrid,
+    correction: &CorrectionInfo<K>,
     inputs: &[EvalInput<'_>],
-) -> Result<Evaluation, HybridError>
-where
-    P: PhysicsModel,
-    D: Decomposition,
-    F: FeatureMap,
-    C: Correction + ?Sized,
-{
+) -> Result<Evaluation, HybridError> {
     let (mut truth, mut phys, mut sine, mut hyb) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let (mut mse_p, mut mse_h) = (Vec::new(), Vec::new());
     let (mut delta, mut delta_hat) = (Vec::new(), Vec::new());
@@ -239,8 +176,7 @@ where
             let tw: Vec<f64> = tw.iter().map(|v| v - m).collect();
             let pw = &pred.physics[r.clone()];
             let hw = &pred.hybrid[r.clone()];
-            let sw = hybrid.decomposition.reconstruct(
-                &crate::composer::corrected_latent(&s.physics, 0.0),
+            let sw = crate::records::composer::corrected_latent(&s.physics, 0.0).sine(
                 rec.fs_hz,
                 rec.frequency_hz,
                 0,

@@ -1,30 +1,30 @@
-//! Evaluating a process hybrid on a table: physics against hybrid on the target column,
+//! Evaluating a table hybrid on a table: physics against hybrid on the target column,
 //! with the coverage and width of its prediction intervals, on any table or on the test
 //! rows of the model's own split.
 
-use super::{ProcessEvaluation, ProcessModel, columns_of};
+use super::{TableEvaluation, TableModel, columns_of};
 use crate::HybridError;
-use crate::evaluate::{DEFAULT_INTERVAL, IntervalReport};
+use crate::intervals::{DEFAULT_INTERVAL, IntervalReport};
 use hxai_eval::IntervalMethod;
 use hxai_symreg::Table;
 
-impl ProcessModel {
+impl TableModel {
     /// Physics vs hybrid against the target column of `table`.
     ///
     /// # Errors
     /// A missing column (the target included), a bad physics value, or fewer than two rows
     /// or non-finite predictions (from the statistics).
-    pub fn evaluate(&self, table: &Table) -> Result<ProcessEvaluation, HybridError> {
+    pub fn evaluate(&self, table: &Table) -> Result<TableEvaluation, HybridError> {
         self.evaluate_at(table, DEFAULT_INTERVAL)
     }
 
-    /// [`ProcessModel::evaluate`] with the coverage and median width of the hybrid's
-    /// prediction intervals at `level` ([`ProcessEvaluation::interval`]) by the model's
-    /// default method ([`ProcessModel::default_interval_method`]), when it has one.
+    /// [`TableModel::evaluate`] with the coverage and median width of the hybrid's
+    /// prediction intervals at `level` ([`TableEvaluation::interval`]) by the model's
+    /// default method ([`TableModel::default_interval_method`]), when it has one.
     ///
     /// # Errors
-    /// As [`ProcessModel::evaluate`], and a `level` outside (0, 1).
-    pub fn evaluate_at(&self, table: &Table, level: f64) -> Result<ProcessEvaluation, HybridError> {
+    /// As [`TableModel::evaluate`], and a `level` outside (0, 1).
+    pub fn evaluate_at(&self, table: &Table, level: f64) -> Result<TableEvaluation, HybridError> {
         match self.default_interval_method(level) {
             Some(method) => self.evaluate_with(table, level, method),
             None => {
@@ -37,17 +37,17 @@ impl ProcessModel {
         }
     }
 
-    /// [`ProcessModel::evaluate_at`] with the intervals made by `method`.
+    /// [`TableModel::evaluate_at`] with the intervals made by `method`.
     ///
     /// # Errors
-    /// As [`ProcessModel::evaluate_at`], and those of [`ProcessModel::intervals_with`] (a
+    /// As [`TableModel::evaluate_at`], and those of [`TableModel::intervals_with`] (a
     /// method the model file cannot serve among them).
     pub fn evaluate_with(
         &self,
         table: &Table,
         level: f64,
         method: IntervalMethod,
-    ) -> Result<ProcessEvaluation, HybridError> {
+    ) -> Result<TableEvaluation, HybridError> {
         let y = columns_of(table, std::slice::from_ref(&self.target), "target")?[0];
         let p = self.predict(table)?;
         let mut ev = evaluation(y, &p.physics, &p.hybrid)?;
@@ -63,7 +63,7 @@ impl ProcessModel {
     ///
     /// # Errors
     /// A table with fewer rows than the split names, and those of
-    /// [`ProcessModel::intervals_with`].
+    /// [`TableModel::intervals_with`].
     pub fn test_interval(
         &self,
         table: &Table,
@@ -91,7 +91,7 @@ pub(crate) fn evaluation(
     y: &[f64],
     physics: &[f64],
     hybrid: &[f64],
-) -> Result<ProcessEvaluation, HybridError> {
+) -> Result<TableEvaluation, HybridError> {
     if y.len() < 2 {
         return Err(HybridError::InvalidConfig(format!(
             "{} row(s) to evaluate on: R² and the paired t-test need at least 2",
@@ -102,7 +102,7 @@ pub(crate) fn evaluation(
     let hs = hxai_eval::score(y, hybrid)?;
     let se_p = hxai_eval::squared_errors(y, physics)?;
     let se_h = hxai_eval::squared_errors(y, hybrid)?;
-    Ok(ProcessEvaluation {
+    Ok(TableEvaluation {
         improvement_pct: hxai_eval::improvement_pct(ps.rmse, hs.rmse)?,
         t_test: hxai_eval::paired_t_test(&se_p, &se_h)?,
         physics: ps,

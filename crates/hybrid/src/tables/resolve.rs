@@ -1,7 +1,7 @@
 //! The physics equation and the feature columns resolved against a table: every name in
 //! the equation a column or a parameter, the settings checked against the table.
 
-use super::ProcessConfig;
+use super::TableConfig;
 use super::model::compile_physics;
 use crate::HybridError;
 use hxai_symreg::Table;
@@ -36,7 +36,7 @@ fn require_column(table: &Table, name: &str, what: &'static str) -> Result<(), H
 /// Checks the configuration against the table: every name in the equation is a column or
 /// a parameter, parameters are not columns and appear in the equation, the target is not
 /// in the equation, at least one feature.
-pub(crate) fn resolve(table: &Table, cfg: &ProcessConfig) -> Result<Resolved, HybridError> {
+pub(crate) fn resolve(table: &Table, cfg: &TableConfig) -> Result<Resolved, HybridError> {
     require_column(table, &cfg.target, "target")?;
     if let Some(g) = &cfg.group {
         require_column(table, g, "group column")?;
@@ -172,7 +172,7 @@ fn uses_word(text: &str, word: &str) -> bool {
     })
 }
 
-fn feature_columns(table: &Table, cfg: &ProcessConfig) -> Result<Vec<String>, HybridError> {
+fn feature_columns(table: &Table, cfg: &TableConfig) -> Result<Vec<String>, HybridError> {
     let features: Vec<String> = match &cfg.features {
         Some(list) => {
             for f in list {

@@ -1,14 +1,14 @@
 //! Applying a tool-position hybrid model: prediction of a record, prediction intervals of
 //! the corrected amplitude and of the displacement, and the explanation of the correction.
 
-use super::HybridModel;
+use super::RecordModel;
 use crate::HybridError;
-use crate::composer::{RecordInput, RecordPrediction, WindowSample};
 use crate::explain::{ExplainData, Explanation};
-use crate::warnings::input_warnings;
+use crate::records::composer::{RecordInput, RecordPrediction, WindowSample};
+use crate::records::warnings::input_warnings;
 use hxai_eval::IntervalMethod;
 
-impl HybridModel {
+impl RecordModel {
     /// Physics and hybrid prediction of one record, with warnings about implausible input
     /// ([`input_warnings`]) in [`RecordPrediction::warnings`].
     ///
@@ -17,7 +17,7 @@ impl HybridModel {
     /// physics model's band, and the composer's errors.
     pub fn predict(&self, record: &RecordInput<'_>) -> Result<RecordPrediction, HybridError> {
         self.check_band(record)?;
-        let mut p = self.hybrid().predict(record, &self.correction()?)?;
+        let mut p = self.hybrid().predict(record, self.correction()?)?;
         p.warnings = input_warnings(record, &self.window);
         Ok(p)
     }
@@ -37,10 +37,10 @@ impl HybridModel {
     }
 
     /// Prediction intervals at `level` of the corrected amplitude by the model's default
-    /// method ([`HybridModel::default_interval_method`]).
+    /// method ([`RecordModel::default_interval_method`]).
     ///
     /// # Errors
-    /// As [`HybridModel::amplitude_intervals_with`].
+    /// As [`RecordModel::amplitude_intervals_with`].
     pub fn amplitude_intervals(
         &self,
         samples: &[WindowSample],
@@ -87,10 +87,10 @@ impl HybridModel {
 
     /// Prediction intervals at `level` of the correction `delta_hat` by `method` for every
     /// row of a feature table (the windows' features, named as the feature map names them):
-    /// the part of [`HybridModel::amplitude_intervals_with`] before the shift by `A_phys`.
+    /// the part of [`RecordModel::amplitude_intervals_with`] before the shift by `A_phys`.
     ///
     /// # Errors
-    /// As [`HybridModel::amplitude_intervals_with`].
+    /// As [`RecordModel::amplitude_intervals_with`].
     pub fn correction_intervals(
         &self,
         table: &hxai_table::Table,
@@ -125,14 +125,14 @@ impl HybridModel {
         })
     }
 
-    /// [`HybridModel::predict`] with pointwise bounds of the displacement: each window's
+    /// [`RecordModel::predict`] with pointwise bounds of the displacement: each window's
     /// sine reconstructed with the lower and the upper corrected amplitude of
-    /// [`HybridModel::amplitude_intervals`] (the model's default method; the smaller and
+    /// [`RecordModel::amplitude_intervals`] (the model's default method; the smaller and
     /// larger value at each sample). The band carries the amplitude's uncertainty only, not the phase's or the noise of
     /// the probe.
     ///
     /// # Errors
-    /// As [`HybridModel::predict`] and [`HybridModel::amplitude_intervals`].
+    /// As [`RecordModel::predict`] and [`RecordModel::amplitude_intervals`].
     pub fn predict_with_intervals(
         &self,
         record: &RecordInput<'_>,
@@ -144,11 +144,11 @@ impl HybridModel {
         self.predict_with_intervals_by(record, level, method)
     }
 
-    /// [`HybridModel::predict_with_intervals`] with the amplitude's intervals made by
-    /// `method` ([`HybridModel::amplitude_intervals_with`]).
+    /// [`RecordModel::predict_with_intervals`] with the amplitude's intervals made by
+    /// `method` ([`RecordModel::amplitude_intervals_with`]).
     ///
     /// # Errors
-    /// As [`HybridModel::predict`] and [`HybridModel::amplitude_intervals_with`].
+    /// As [`RecordModel::predict`] and [`RecordModel::amplitude_intervals_with`].
     pub fn predict_with_intervals_by(
         &self,
         record: &RecordInput<'_>,
@@ -157,21 +157,20 @@ impl HybridModel {
     ) -> Result<(RecordPrediction, Vec<f64>, Vec<f64>), HybridError> {
         let p = self.predict(record)?;
         let iv = self.amplitude_intervals_with(&p.samples, level, method)?;
-        let hybrid = self.hybrid();
         let with = |pick: fn(&(f64, f64)) -> f64| -> Vec<f64> {
             let windows: Vec<_> = p
                 .windows
                 .iter()
                 .zip(&iv)
-                .map(|(w, b)| crate::composer::WindowPrediction {
-                    corrected: crate::composer::corrected_latent(
+                .map(|(w, b)| crate::records::composer::WindowPrediction {
+                    corrected: crate::records::composer::corrected_latent(
                         &w.physics,
                         pick(b) - w.physics.amplitude,
                     ),
                     ..*w
                 })
                 .collect();
-            hybrid.reconstruct_record(
+            crate::records::composer::reconstruct_record(
                 &windows,
                 record.signal.len(),
                 record.fs_hz,
@@ -188,7 +187,7 @@ impl HybridModel {
     /// The explanation of the correction ([`crate::explain::explain`]): with `data` (the
     /// samples of a fit: features, `delta`, split) its response to each feature it uses and
     /// predicted vs true `delta`, with prediction intervals of the correction at `level` by
-    /// `method` (default: the file's, [`HybridModel::default_interval_method`]; none for a
+    /// `method` (default: the file's, [`RecordModel::default_interval_method`]; none for a
     /// file that stores no way to make them); the Pareto front when the file stores it.
     ///
     /// # Errors
@@ -200,11 +199,6 @@ impl HybridModel {
         level: f64,
         method: Option<IntervalMethod>,
     ) -> Result<Explanation, HybridError> {
-        let Some(model) = &self.correction.model else {
-            return Err(HybridError::InvalidConfig(
-                "the model's correction is zero: there is no equation to explain".into(),
-            ));
-        };
         let band = method
             .or_else(|| self.default_interval_method(level))
             .map(|m| {
@@ -212,13 +206,10 @@ impl HybridModel {
                     self.correction_intervals(t, l, m)
                 })
             });
-        crate::explain::explain(
-            model,
+        self.correction.explain(
             band.as_ref()
                 .map(|(m, b)| (b as &crate::explain::Band<'_>, *m)),
-            self.correction.pareto.as_deref(),
             data,
-            "delta",
             level,
         )
     }

@@ -44,10 +44,10 @@
 //!
 //! # Example
 //! ```
-//! use hxai_hybrid::stream::Estimator;
+//! use hxai_hybrid::records::stream::Estimator;
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
-//! let model = hxai_hybrid::HybridModel::from_json(include_str!(
-//!     "../../../testdata/bad/good/model.json"
+//! let model = hxai_hybrid::records::RecordModel::from_json(include_str!(
+//!     "../../../../testdata/bad/good/model.json"
 //! ))?;
 //! let (fs, f, amp_um) = (2000.0, 20.0, 6.0);
 //! let w = 2.0 * std::f64::consts::PI * f;
@@ -66,9 +66,9 @@
 //! # }
 //! ```
 
-use crate::model::{HybridModel, check_band_hz};
-use crate::traits::Correction;
-use crate::{HybridError, LoadedCorrection};
+use crate::records::CorrectionKind;
+use crate::records::model::{RecordModel, check_band_hz};
+use crate::{CorrectionInfo, HybridError};
 use hxai_features::SlidingFeatures;
 use hxai_signal::SlidingSine;
 use hxai_table::Table;
@@ -155,7 +155,7 @@ fn whole_periods(window: usize, fs_hz: f64, frequency_hz: f64) -> usize {
 ///
 /// # Errors
 /// [`HybridError::FrequencyOutOfBand`], and the model's correction errors.
-pub fn check_frequency(model: &HybridModel, frequency_hz: f64) -> Result<(), HybridError> {
+pub fn check_frequency(model: &RecordModel, frequency_hz: f64) -> Result<(), HybridError> {
     check_band_hz(&model.physics, "stream", frequency_hz)?;
     model.correction().map(|_| ())
 }
@@ -168,8 +168,8 @@ pub struct Estimator {
     window: usize,
     gain: f64,
     level: Option<f64>,
-    model: HybridModel,
-    correction: LoadedCorrection,
+    model: RecordModel,
+    correction: CorrectionInfo<CorrectionKind>,
     names: Vec<String>,
     sine: SlidingSine,
     features: SlidingFeatures,
@@ -186,7 +186,7 @@ impl Estimator {
     /// [`HybridError::Signal`] / [`HybridError::Features`] for a sampling rate the physics
     /// chain or the features cannot use (a band above Nyquist, a window shorter than a
     /// period), [`HybridError::RecordTooShort`]-like config errors for the window.
-    pub fn new(model: &HybridModel, frequency_hz: f64, fs_hz: f64) -> Result<Self, HybridError> {
+    pub fn new(model: &RecordModel, frequency_hz: f64, fs_hz: f64) -> Result<Self, HybridError> {
         check_band_hz(&model.physics, "stream", frequency_hz)?;
         let physics = model.physics.check(fs_hz)?;
         model.window.check()?;
@@ -214,7 +214,7 @@ impl Estimator {
             gain: physics.gain_at(frequency_hz),
             level: None,
             model: model.clone(),
-            correction: model.correction()?,
+            correction: model.correction()?.clone(),
             names: model.features.names.clone(),
             sine,
             features,

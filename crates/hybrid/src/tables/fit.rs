@@ -1,17 +1,18 @@
-//! Fitting a process model: the steps of one fit on one split ([`fit_inner`]), its public
+//! Fitting a table model: the steps of one fit on one split ([`fit_inner`]), its public
 //! entry points, and the stability of the correction's structure.
 
 use super::model::{
-    CorrectionInfo, EquationInfo, JointInfo, PROCESS_SCHEMA_VERSION, PairScores, PhysicsInfo,
-    ProcessModel, ScoresInfo, SplitInfo, columns_of, combine, combine_values, forms,
+    EquationInfo, JointInfo, PairScores, PhysicsInfo, SCHEMA_VERSION, ScoresInfo, TableModel,
+    columns_of, combine, combine_values, forms,
 };
 use super::physics::{
     calibrate_physics, calibrated_slots, deltas, gather, named_values, physics_values,
 };
 use super::resolve::{Resolved, resolve};
-use super::split::{check_rows, process_split};
-use super::{CorrectionForm, ProcessConfig, ProcessProgress, calibrate};
+use super::split::{check_rows, split_rows};
+use super::{CorrectionForm, TableConfig, TableProgress, calibrate};
 use crate::HybridError;
+use crate::{CorrectionInfo, SplitInfo};
 use hxai_eval::Split;
 use hxai_symreg::infix::Compiled;
 use hxai_symreg::{ParamEstimate, Table, Uncertainty};
@@ -24,10 +25,10 @@ use std::collections::BTreeMap;
 ///
 /// # Errors
 /// A missing column, a physics value that cannot be used, and the search's errors.
-pub fn process_stability(
+pub fn stability(
     table: &Table,
-    cfg: &ProcessConfig,
-    model: &ProcessModel,
+    cfg: &TableConfig,
+    model: &TableModel,
     runs: usize,
     progress: &mut (dyn FnMut(usize, usize) + Send),
 ) -> Result<hxai_symreg::Stability, HybridError> {
@@ -46,31 +47,31 @@ pub fn process_stability(
     )?)
 }
 
-/// Fits on the split [`process_split`] chooses.
+/// Fits on the split [`split_rows`] chooses.
 ///
 /// # Errors
 /// Bad configuration (see [`HybridError`]'s variants `UnknownName`, `ParameterIsColumn`,
 /// `ParameterNotInEquation`, `TargetInPhysics`, `MissingColumn`, `NoFeatures`,
 /// `Equation`), a physics value that cannot be used (`BadPhysics`), or a failed search.
-pub fn fit_process(
+pub fn fit(
     table: &Table,
-    cfg: &ProcessConfig,
-    progress: &mut dyn FnMut(&ProcessProgress),
-) -> Result<ProcessModel, HybridError> {
-    let (split, kind) = process_split(table, cfg)?;
+    cfg: &TableConfig,
+    progress: &mut dyn FnMut(&TableProgress),
+) -> Result<TableModel, HybridError> {
+    let (split, kind) = split_rows(table, cfg)?;
     fit_inner(SplitJob::single(table, cfg, &split, &kind), progress)
 }
 
 /// Fits on a given split (test rows may be empty: everything is then training data).
 ///
 /// # Errors
-/// As [`fit_process`], and row indices out of range.
-pub fn fit_process_split(
+/// As [`fit`], and row indices out of range.
+pub fn fit_split(
     table: &Table,
-    cfg: &ProcessConfig,
+    cfg: &TableConfig,
     split: &Split,
-    progress: &mut dyn FnMut(&ProcessProgress),
-) -> Result<ProcessModel, HybridError> {
+    progress: &mut dyn FnMut(&TableProgress),
+) -> Result<TableModel, HybridError> {
     fit_inner(SplitJob::single(table, cfg, split, "given"), progress)
 }
 
@@ -81,18 +82,18 @@ pub fn fit_process_split(
 pub(crate) fn search_training_rows(
     table: &Table,
     res: &Resolved,
-    cfg: &ProcessConfig,
+    cfg: &TableConfig,
     split: &Split,
     y: &[f64],
     task: (usize, usize),
     label: String,
-    progress: &mut dyn FnMut(&ProcessProgress),
+    progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<(Table, hxai_symreg::SearchResult), HybridError> {
     let ft = table
         .select_columns(&res.features)?
         .select_rows(&split.train)?;
     let found = hxai_symreg::search(&ft, y, &cfg.search_config(), &mut |p| {
-        progress(&ProcessProgress {
+        progress(&TableProgress {
             task: task.0,
             tasks: task.1,
             label: label.clone(),
@@ -107,7 +108,7 @@ pub(crate) fn search_training_rows(
 #[derive(Clone, Copy)]
 pub(crate) struct SplitJob<'a> {
     pub(crate) table: &'a Table,
-    pub(crate) cfg: &'a ProcessConfig,
+    pub(crate) cfg: &'a TableConfig,
     pub(crate) split: &'a Split,
     /// Split kind, as the model file reports it (`random`, `given`, `fold`, ...).
     pub(crate) kind: &'a str,
@@ -117,7 +118,7 @@ pub(crate) struct SplitJob<'a> {
 
 impl<'a> SplitJob<'a> {
     /// The only task of a run.
-    fn single(table: &'a Table, cfg: &'a ProcessConfig, split: &'a Split, kind: &'a str) -> Self {
+    fn single(table: &'a Table, cfg: &'a TableConfig, split: &'a Split, kind: &'a str) -> Self {
         let task = (1, 1);
         Self {
             table,
@@ -134,8 +135,8 @@ impl<'a> SplitJob<'a> {
 /// with `conformal_folds`, its conformal calibration.
 pub(crate) fn fit_inner(
     job: SplitJob,
-    progress: &mut dyn FnMut(&ProcessProgress),
-) -> Result<ProcessModel, HybridError> {
+    progress: &mut dyn FnMut(&TableProgress),
+) -> Result<TableModel, HybridError> {
     let (table, cfg, split, task) = (job.table, job.cfg, job.split, job.task);
     check_rows(table, split)?;
     let res = resolve(table, cfg)?;
@@ -169,10 +170,10 @@ pub(crate) fn fit_inner(
         phys,
         ses,
         correction,
+        selection,
         joint,
     };
     let mut model = model_of(job, &res, &ft, &found.pareto, fitted, y_all, &y_train)?;
-    model.correction.selection = Some(selection);
     model.warnings = super::traps::fit_warnings(table, cfg, &res.features, split, y_all, &physics);
     model.warnings.extend(super::traps::parameter_warnings(
         &model.physics.standard_errors,
@@ -192,12 +193,14 @@ pub(crate) fn fit_inner(
     Ok(model)
 }
 
-/// What a fit found, before it is written down as a [`ProcessModel`]: the physics with its
-/// parameters and their standard errors, the correction, and the joint refit's record.
+/// What a fit found, before it is written down as a [`TableModel`]: the physics with its
+/// parameters and their standard errors, the correction and how it was selected, and the
+/// joint refit's record.
 struct Fitted {
     phys: Compiled,
     ses: BTreeMap<String, Option<f64>>,
     correction: hxai_symreg::Model,
+    selection: hxai_symreg::SelectionReport,
     joint: Option<JointInfo>,
 }
 
@@ -275,19 +278,17 @@ fn model_of(
     fitted: Fitted,
     y_all: &[f64],
     y_train: &[f64],
-) -> Result<ProcessModel, HybridError> {
+) -> Result<TableModel, HybridError> {
     let (table, cfg, split, kind) = (job.table, job.cfg, job.split, job.kind);
     let Fitted {
         phys,
         ses,
         correction,
+        selection,
         joint,
     } = fitted;
     let parameters = named_values(&phys);
-    let correction_uncertainty = correction.uncertainty(
-        ft,
-        &delta_train(cfg, y_all, &physics_values(table, res, &phys)?, split)?,
-    )?;
+    let correction_delta = delta_train(cfg, y_all, &physics_values(table, res, &phys)?, split)?;
     let hybrid_uncertainty =
         hybrid_uncertainty(table, res, &phys, &correction, cfg, split, y_train)?;
     let n_cal = res.calibrate.len();
@@ -309,8 +310,8 @@ fn model_of(
     let combined = combine(&phys, &correction, cfg.correction);
     let hybrid_expr =
         hxai_symreg::expr::Expr::from_program(&combined.program, &combined.params, &combined.names);
-    Ok(ProcessModel {
-        schema_version: PROCESS_SCHEMA_VERSION,
+    Ok(TableModel {
+        schema_version: SCHEMA_VERSION,
         target: cfg.target.clone(),
         physics: PhysicsInfo {
             equation: cfg.physics.clone(),
@@ -324,23 +325,21 @@ fn model_of(
             params: physics_params,
         },
         correction: CorrectionInfo {
-            kind: cfg.correction,
-            forms: hxai_symreg::ModelForms::of(&correction),
             candidates: res.features.clone(),
-            model: correction,
-            uncertainty: Some(correction_uncertainty),
-            pareto: Some(crate::explain::ParetoMember::front(pareto)),
-            selection: None,
+            ..CorrectionInfo::learned(
+                cfg.correction,
+                correction,
+                ft,
+                &correction_delta,
+                pareto,
+                selection,
+            )?
         },
         hybrid: EquationInfo {
             uncertainty: Some(hybrid_uncertainty),
             ..forms(&hybrid_expr)
         },
-        split: SplitInfo {
-            kind: kind.to_string(),
-            train: split.train.clone(),
-            test: split.test.clone(),
-        },
+        split: SplitInfo::rows(kind.to_string(), split),
         group: cfg.group.clone(),
         joint,
         stability: None,
@@ -359,7 +358,7 @@ fn model_of(
 /// The scores of `model`'s physics and hybrid on the training rows of `split` and, when
 /// there are any, its test rows.
 fn scores_of(
-    model: &ProcessModel,
+    model: &TableModel,
     table: &Table,
     y_all: &[f64],
     split: &Split,
@@ -385,7 +384,7 @@ fn scores_of(
 /// `delta` on the training rows with the final physics parameters (those of the joint refit
 /// when there was one), the target of the correction's uncertainty.
 fn delta_train(
-    cfg: &ProcessConfig,
+    cfg: &TableConfig,
     y_all: &[f64],
     physics: &[f64],
     split: &Split,
@@ -402,7 +401,7 @@ fn hybrid_uncertainty(
     res: &Resolved,
     phys: &Compiled,
     correction: &hxai_symreg::Model,
-    cfg: &ProcessConfig,
+    cfg: &TableConfig,
     split: &Split,
     y_train: &[f64],
 ) -> Result<Uncertainty, HybridError> {

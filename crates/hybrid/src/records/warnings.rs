@@ -1,8 +1,8 @@
 //! Warnings: input that is legal but implausible, reported with the result instead of
 //! refused (the caller decides whether to show them; this crate prints nothing).
 
-use crate::composer::{RecordInput, WindowSample};
-use crate::window::WindowConfig;
+use crate::records::composer::{RecordInput, WindowSample};
+use crate::records::window::WindowConfig;
 use serde::{Deserialize, Serialize};
 
 /// Sampling rates outside this range, Hz, are legal but suggest `time_s` is not in seconds

@@ -24,10 +24,10 @@
 //! fold models' predictions there ([`hxai_eval::cv_plus`]); split conformal uses the first
 //! fold's model and that fold's scores alone ([`hxai_eval::conformal_quantile`]).
 use super::CorrectionForm;
-use super::model::{Combined, ProcessModel, columns_of, combine};
+use super::model::{Combined, TableModel, columns_of, combine};
 use super::physics::{calibrate_physics, calibrated_slots, deltas, gather, physics_values};
 use super::resolve::Resolved;
-use super::{ProcessConfig, calibrate};
+use super::{TableConfig, calibrate};
 use crate::HybridError;
 use crate::conformal::{ConformalInfo, RangeWidening, refit_constants};
 use hxai_eval::{IntervalMethod, Split};
@@ -38,7 +38,7 @@ use hxai_symreg::{Model, Table};
 /// Folds of the training rows: grouped by `group` when the fit has one.
 fn folds_of(
     table: &Table,
-    cfg: &ProcessConfig,
+    cfg: &TableConfig,
     train: &[usize],
     k: usize,
 ) -> Result<Vec<Split>, HybridError> {
@@ -86,7 +86,7 @@ fn refit_correction(
 /// `joint` both together (kept only when it lowers the error on `rows`).
 fn fold_fit(
     table: &Table,
-    cfg: &ProcessConfig,
+    cfg: &TableConfig,
     res: &Resolved,
     correction: &Model,
     rows: &[usize],
@@ -134,9 +134,9 @@ fn predict_with(c: &Combined, params: &[f64], table: &Table) -> Result<Vec<f64>,
 /// hybrid is not finite on its held-out rows, and the physics' errors on a fold.
 pub(crate) fn calibrate(
     table: &Table,
-    cfg: &ProcessConfig,
+    cfg: &TableConfig,
     res: &Resolved,
-    model: &ProcessModel,
+    model: &TableModel,
     train: &[usize],
     folds: usize,
 ) -> Result<ConformalInfo, HybridError> {
@@ -152,7 +152,7 @@ pub(crate) fn calibrate(
     let mut held_pred = vec![f64::NAN; train.len()];
     for (k, s) in splits.iter().enumerate() {
         let rows: Vec<usize> = s.train.iter().map(|&i| train[i]).collect();
-        let c = fold_fit(table, cfg, res, &model.correction.model, &rows)?;
+        let c = fold_fit(table, cfg, res, model.correction.fitted()?, &rows)?;
         let pred = predict_with(&c, &c.params, table)?;
         for &i in &s.test {
             let row = train[i];
@@ -191,14 +191,14 @@ const RANGE_HOLDOUT: f64 = 0.2;
 /// that leaves fewer rows than the hybrid has constants, is skipped.
 fn widening(
     table: &Table,
-    cfg: &ProcessConfig,
+    cfg: &TableConfig,
     res: &Resolved,
-    model: &ProcessModel,
+    model: &TableModel,
     train: &[usize],
     info: &ConformalInfo,
 ) -> Result<RangeWidening, HybridError> {
     let phys = model.physics_program()?;
-    let c = combine(&phys, &model.correction.model, model.correction.kind);
+    let c = combine(&phys, model.correction.fitted()?, model.correction.kind);
     let cols = columns_of(table, &c.names, "column")?;
     let y = table.require(&cfg.target)?;
     let extent = |rows: &[usize]| -> (Vec<f64>, Vec<f64>) {
@@ -232,7 +232,7 @@ fn widening(
             if out.is_empty() || fit.len() <= c.params.len() {
                 continue;
             }
-            let Ok(f) = fold_fit(table, cfg, res, &model.correction.model, &fit) else {
+            let Ok(f) = fold_fit(table, cfg, res, model.correction.fitted()?, &fit) else {
                 continue;
             };
             let pred = predict_with(&f, &f.params, table)?;

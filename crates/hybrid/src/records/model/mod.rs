@@ -10,28 +10,23 @@ mod predict;
 mod samples;
 
 pub use fit::{
-    FitConfig, FitOutput, FitProgress, fit, split_samples, tool_hybrid, tool_hybrid_with,
+    FitOutput, FitProgress, RecordConfig, fit, record_hybrid, record_hybrid_with, split_samples,
 };
 pub use samples::{SamplesTable, samples_table};
 
 use crate::HybridError;
-use crate::composer::{Hybrid, RecordInput};
-use crate::evaluate::metrics_um;
-use crate::explain::ParetoMember;
-use crate::tool::{AccelFeatures, DoubleIntegration, SineDecomposition};
-use crate::traits::{Correction, FeatureMap, SymbolicCorrection, ZeroCorrection};
-use crate::window::WindowConfig;
+use crate::correction::CorrectionInfo;
+use crate::records::composer::{RecordHybrid, RecordInput, feature_names};
+use crate::records::metrics_um;
+use crate::records::window::WindowConfig;
+use crate::split::SplitInfo;
 use hxai_eval::Metrics;
 use hxai_signal::PhysicsConfig;
 use hxai_symreg::Strategy;
-use hxai_table::Table;
 use serde::{Deserialize, Serialize};
 
 /// Version of the model file layout this code writes and reads.
 pub const SCHEMA_VERSION: u32 = 1;
-
-/// The composer of the tool-position case.
-pub type ToolHybrid = Hybrid<DoubleIntegration, SineDecomposition, AccelFeatures>;
 
 /// How samples are split into train and test.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -47,33 +42,6 @@ pub enum SplitKind {
     Window,
 }
 
-/// A window named by record id and index.
-#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
-pub struct WindowId {
-    /// Record id.
-    pub record: String,
-    /// Window index within the record.
-    pub window: usize,
-}
-
-/// The split stored in the model file.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SplitInfo {
-    /// Record or window split.
-    pub kind: SplitKind,
-    /// Seed of the split.
-    pub seed: u64,
-    /// Fraction of groups (records or windows) held out.
-    pub test_fraction: f64,
-    /// Records with at least one training window (sorted).
-    pub train: Vec<String>,
-    /// Records with at least one test window (sorted).
-    pub test: Vec<String>,
-    /// With a window split, the test windows (empty for a record split).
-    #[serde(default)]
-    pub test_windows: Vec<WindowId>,
-}
-
 /// Kind of correction stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -84,53 +52,13 @@ pub enum CorrectionKind {
     Zero,
 }
 
-/// The correction as stored: the readable forms and the model itself.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct CorrectionInfo {
-    /// Symbolic or zero.
-    pub kind: CorrectionKind,
-    /// The equation's forms, complexity and features (JSON keys `equation`, `sympy`,
-    /// `latex`, `complexity`, `features` beside `kind`).
-    #[serde(flatten)]
-    pub forms: hxai_symreg::ModelForms,
-    /// The serialised symbolic model (absent for the zero correction).
-    pub model: Option<hxai_symreg::Model>,
-    /// The model's constants as a template with named parameters, their standard errors
-    /// and 95 % intervals, and the covariance prediction intervals use, on the training
-    /// windows (`hxai_symreg::uncertainty`). Absent for the zero correction and in files
-    /// written before it existed.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub uncertainty: Option<hxai_symreg::Uncertainty>,
-    /// The Pareto front of the search the model was chosen from (complexity, training loss
-    /// and equation of each member), for `hxai explain`. Absent for the zero correction and
-    /// in files written before it was stored.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pareto: Option<Vec<ParetoMember>>,
-    /// How the correction was selected, its structure's share over resamples (consensus or
-    /// stability runs) and the alternatives the data cannot tell apart from it
-    /// ([`hxai_symreg::SelectionReport`]); absent in files written before it was stored.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub selection: Option<hxai_symreg::SelectionReport>,
-}
-
-impl CorrectionInfo {
-    /// Stores a symbolic model.
-    pub fn symbolic(model: hxai_symreg::Model) -> Self {
-        Self {
-            kind: CorrectionKind::Symbolic,
-            forms: hxai_symreg::ModelForms::of(&model),
-            model: Some(model),
-            uncertainty: None,
-            pareto: None,
-            selection: None,
-        }
-    }
-
-    /// The zero correction.
+impl CorrectionInfo<CorrectionKind> {
+    /// The zero correction of a record model.
     pub fn zero() -> Self {
         Self {
             kind: CorrectionKind::Zero,
             forms: hxai_symreg::ModelForms::zero(),
+            candidates: Vec::new(),
             model: None,
             uncertainty: None,
             pareto: None,
@@ -158,7 +86,7 @@ impl Default for FeatureInfo {
             extractor: "hxai_features::extract (paper Table 2)".into(),
             input: "raw acceleration window (m/s^2); f1 = commanded frequency from the manifest"
                 .into(),
-            names: AccelFeatures::default().names(),
+            names: feature_names(),
             config: hxai_features::FeatureConfig::default(),
         }
     }
@@ -221,7 +149,7 @@ mod strategy_name {
 /// A fitted tool-position hybrid model: everything needed to predict, and the record of
 /// how it was made. Serialises to the model file (`hxai fit --out MODEL.json`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct HybridModel {
+pub struct RecordModel {
     /// [`SCHEMA_VERSION`] of the writer.
     pub schema_version: u32,
     /// Physics settings.
@@ -231,9 +159,9 @@ pub struct HybridModel {
     /// Window settings.
     pub window: WindowConfig,
     /// The correction.
-    pub correction: CorrectionInfo,
+    pub correction: CorrectionInfo<CorrectionKind>,
     /// Train and test records.
-    pub split: SplitInfo,
+    pub split: SplitInfo<SplitKind, String>,
     /// Training details.
     pub training: TrainingInfo,
     /// What conformal prediction intervals of the corrected amplitude need
@@ -280,32 +208,7 @@ pub(crate) fn check_band_hz(
     }
 }
 
-/// A correction loaded from a model file.
-#[derive(Debug, Clone, PartialEq)]
-pub enum LoadedCorrection {
-    /// Symbolic model.
-    Symbolic(SymbolicCorrection),
-    /// Zero.
-    Zero(ZeroCorrection),
-}
-
-impl Correction for LoadedCorrection {
-    fn equation(&self) -> String {
-        match self {
-            LoadedCorrection::Symbolic(s) => s.equation(),
-            LoadedCorrection::Zero(z) => z.equation(),
-        }
-    }
-
-    fn predict(&self, features: &Table) -> Result<Vec<f64>, HybridError> {
-        match self {
-            LoadedCorrection::Symbolic(s) => s.predict(features),
-            LoadedCorrection::Zero(z) => z.predict(features),
-        }
-    }
-}
-
-impl HybridModel {
+impl RecordModel {
     /// The model as pretty JSON.
     pub fn to_json(&self) -> Result<String, HybridError> {
         serde_json::to_string_pretty(self).map_err(|e| HybridError::ModelFormat(e.to_string()))
@@ -347,13 +250,15 @@ impl HybridModel {
                 ));
             }
         }
-        let model: HybridModel = serde_json::from_value(value)
+        let mut model: RecordModel = serde_json::from_value(value)
             .map_err(|e| HybridError::ModelFormat(hxai_table::plain_json_error(&e.to_string())))?;
+        // a record model always writes its test windows, empty for a record split
+        model.split.test_windows.get_or_insert_with(Vec::new);
         model.validate()?;
         Ok(model)
     }
 
-    /// Checks a model in full before it is used (done by [`HybridModel::from_json`]): the
+    /// Checks a model in full before it is used (done by [`RecordModel::from_json`]): the
     /// symbolic model's program, parameters and input indices, that its features are the
     /// feature map's, the window settings, and the physics settings (band and orders).
     ///
@@ -361,7 +266,7 @@ impl HybridModel {
     /// [`HybridError::ModelFormat`], [`HybridError::UnknownFeature`],
     /// [`HybridError::InvalidConfig`] or [`HybridError::Signal`], naming what is wrong.
     pub fn validate(&self) -> Result<(), HybridError> {
-        let expected = AccelFeatures::default().names();
+        let expected = feature_names();
         if self.features.names != expected {
             return Err(HybridError::ModelFormat(format!(
                 "`features.names` must be {} (the features this hxai computes), found {}",
@@ -405,16 +310,25 @@ impl HybridModel {
     }
 
     /// The composer with this model's physics and window settings.
-    pub fn hybrid(&self) -> ToolHybrid {
-        tool_hybrid_with(&self.physics, &self.features.config, self.window)
+    pub fn hybrid(&self) -> RecordHybrid {
+        record_hybrid_with(&self.physics, &self.features.config, self.window)
     }
 
-    /// The correction as a [`Correction`].
-    pub fn correction(&self) -> Result<LoadedCorrection, HybridError> {
+    /// The correction, checked: a symbolic correction has its model and reads only the
+    /// feature map's features; a zero correction has no model.
+    ///
+    /// # Errors
+    /// [`HybridError::ModelFormat`] or [`HybridError::UnknownFeature`], naming what is wrong.
+    pub fn correction(&self) -> Result<&CorrectionInfo<CorrectionKind>, HybridError> {
         match (&self.correction.kind, &self.correction.model) {
-            (CorrectionKind::Zero, _) => Ok(LoadedCorrection::Zero(ZeroCorrection)),
+            (CorrectionKind::Zero, None) => {}
+            (CorrectionKind::Zero, Some(_)) => {
+                return Err(HybridError::ModelFormat(
+                    "the correction is zero but `correction.model` holds a model".into(),
+                ));
+            }
             (CorrectionKind::Symbolic, Some(m)) => {
-                let available = self.features.names.clone();
+                let available = &self.features.names;
                 for f in m.features() {
                     if !available.contains(&f) {
                         return Err(HybridError::UnknownFeature {
@@ -423,13 +337,13 @@ impl HybridModel {
                         });
                     }
                 }
-                Ok(LoadedCorrection::Symbolic(SymbolicCorrection {
-                    model: m.clone(),
-                }))
             }
-            (CorrectionKind::Symbolic, None) => Err(HybridError::ModelFormat(
-                "the correction is symbolic but `correction.model` is missing".into(),
-            )),
+            (CorrectionKind::Symbolic, None) => {
+                return Err(HybridError::ModelFormat(
+                    "the correction is symbolic but `correction.model` is missing".into(),
+                ));
+            }
         }
+        Ok(&self.correction)
     }
 }

@@ -7,14 +7,14 @@
 //! learned by symbolic regression on feature columns, and the hybrid printed as one
 //! equation over the columns.
 //!
-//! - [`ProcessConfig`]: target, physics text, parameters to calibrate / fix, features,
+//! - [`TableConfig`]: target, physics text, parameters to calibrate / fix, features,
 //!   correction form ([`CorrectionForm`]), split, search settings.
-//! - [`fit_process`] (and [`fit_process_split`] for a given split) returns a
-//!   [`ProcessModel`], the serialisable model file, with [`ProcessModel::predict`],
-//!   [`ProcessModel::evaluate`], [`ProcessModel::to_json`] and [`ProcessModel::from_json`].
-//! - Prediction intervals ([`ProcessModel::intervals_with`]): conformal (CV+ over folds of
+//! - [`fit`] (and [`fit_split`] for a given split) returns a
+//!   [`TableModel`], the serialisable model file, with [`TableModel::predict`],
+//!   [`TableModel::evaluate`], [`TableModel::to_json`] and [`TableModel::from_json`].
+//! - Prediction intervals ([`TableModel::intervals_with`]): conformal (CV+ over folds of
 //!   the training rows, [`ConformalInfo`]), split conformal, or the delta method.
-//! - [`compare_process`]: physics as given, calibrated physics, symbolic regression alone,
+//! - [`compare`]: physics as given, calibrated physics, symbolic regression alone,
 //!   physics + random forest, and the hybrid on the same split, with k-fold CV and paired
 //!   t-tests ([`Comparison`]).
 //!
@@ -25,20 +25,20 @@
 //! its printed form is the one equation of the model file, which reproduces `predict`.
 //!
 //! ```
-//! use hxai_hybrid::process::{ProcessConfig, fit_process};
+//! use hxai_hybrid::tables::{TableConfig, fit};
 //! use hxai_symreg::Table;
 //! let f: Vec<f64> = (0..120).map(|i| 0.05 + 0.002 * i as f64).collect();
 //! let r: Vec<f64> = (0..120).map(|i| 0.4 + 0.4 * ((i * 7) % 11) as f64 / 10.0).collect();
 //! // "measured" roughness: twice the kinematic law plus an offset
 //! let ra: Vec<f64> = f.iter().zip(&r).map(|(f, r)| 2.0 * f * f / (32.0 * r) + 1e-4).collect();
 //! let table = Table::new(vec!["f".into(), "r".into(), "Ra".into()], vec![f, r, ra])?;
-//! let mut cfg = ProcessConfig::new("Ra", "k*f^2/(32*r)");
+//! let mut cfg = TableConfig::new("Ra", "k*f^2/(32*r)");
 //! cfg.calibrate = vec!["k".into()];
 //! cfg.search.epochs = 2;
 //! cfg.search.candidates_per_epoch = 200;
-//! let model = fit_process(&table, &cfg, &mut |_| {})?;
+//! let model = fit(&table, &cfg, &mut |_| {})?;
 //! assert!((model.physics.parameters["k"] - 2.0).abs() < 0.05);
-//! let back = hxai_hybrid::process::ProcessModel::from_json(&model.to_json())?;
+//! let back = hxai_hybrid::tables::TableModel::from_json(&model.to_json())?;
 //! assert_eq!(back, model);
 //! # Ok::<(), hxai_hybrid::HybridError>(())
 //! ```
@@ -55,13 +55,13 @@ pub mod traps;
 
 pub use crate::conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, ResidualScale};
 pub use columns::{check_text_columns, check_used_columns, model_columns};
-pub use compare::{Comparison, CvScore, ModelScore, TTestScore, compare_process};
-pub use fit::{fit_process, fit_process_split, process_stability};
+pub use compare::{Comparison, CvScore, ModelScore, TTestScore, compare};
+pub use fit::{fit, fit_split, stability};
 pub use model::{
-    CorrectionInfo, EquationInfo, JointInfo, PROCESS_SCHEMA_VERSION, PairScores, PhysicsInfo,
-    ProcessEvaluation, ProcessModel, ProcessPrediction, ScoresInfo, SplitInfo,
+    EquationInfo, JointInfo, PairScores, PhysicsInfo, SCHEMA_VERSION, ScoresInfo, TableEvaluation,
+    TableModel, TablePrediction,
 };
-pub use split::process_split;
+pub use split::split_rows;
 
 use fit::{SplitJob, fit_inner, search_training_rows};
 use hxai_symreg::SearchConfig;
@@ -114,9 +114,9 @@ impl CorrectionForm {
     }
 }
 
-/// Settings of [`fit_process`] and [`compare_process`].
+/// Settings of [`fit`] and [`compare`].
 #[derive(Clone, Debug)]
-pub struct ProcessConfig {
+pub struct TableConfig {
     /// The target column.
     pub target: String,
     /// The physics equation (infix text, see [`hxai_symreg::infix`]).
@@ -152,7 +152,7 @@ pub struct ProcessConfig {
     pub conformal_folds: usize,
 }
 
-impl ProcessConfig {
+impl TableConfig {
     /// Defaults: additive correction, 20 % random test split, seed 42, the search of
     /// [`SearchConfig::laws`] (law operators, readable nesting, cross-validated selection;
     /// complexity at most 10), conformal intervals calibrated over
@@ -187,7 +187,7 @@ impl ProcessConfig {
 
 /// Reported while fitting: which task of how many, and the search's own progress.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ProcessProgress {
+pub struct TableProgress {
     /// Task index (1-based).
     pub task: usize,
     /// Tasks planned.

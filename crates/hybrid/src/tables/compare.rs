@@ -1,8 +1,8 @@
 //! Every way of modelling the target on the same splits (`hxai hybrid compare`).
 use super::model::{columns_of, combine_values};
 use super::{
-    ProcessConfig, ProcessModel, ProcessProgress, SplitJob, calibrate_physics, check_rows, deltas,
-    fit_inner, gather, physics_values, process_split, resolve, search_training_rows,
+    SplitJob, TableConfig, TableModel, TableProgress, calibrate_physics, check_rows, deltas,
+    fit_inner, gather, physics_values, resolve, search_training_rows, split_rows,
 };
 use crate::HybridError;
 use hxai_baselines::{Par, RandomForest, Regressor};
@@ -50,7 +50,7 @@ pub struct TTestScore {
     pub test: TTest,
 }
 
-/// What [`compare_process`] returns.
+/// What [`compare`] returns.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Comparison {
     /// The target column.
@@ -79,14 +79,14 @@ pub struct Comparison {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub interval: Option<crate::IntervalReport>,
     /// The hybrid fitted on the test split's training rows.
-    pub hybrid: ProcessModel,
+    pub hybrid: TableModel,
 }
 
 /// Test-row predictions of every model on one split.
 struct SplitPredictions {
     names: Vec<&'static str>,
     preds: Vec<Vec<f64>>,
-    model: ProcessModel,
+    model: TableModel,
 }
 
 fn forest_delta(
@@ -108,7 +108,7 @@ fn forest_delta(
 
 fn predictions_on(
     job: SplitJob,
-    progress: &mut dyn FnMut(&ProcessProgress),
+    progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<SplitPredictions, HybridError> {
     let (table, cfg, split, tasks) = (job.table, job.cfg, job.split, job.task);
     check_rows(table, split)?;
@@ -195,7 +195,7 @@ fn t_test(
     })
 }
 
-/// Fits and scores, on the split of [`fit_process`](super::fit_process): `physics` (the
+/// Fits and scores, on the split of [`fit`](super::fit): `physics` (the
 /// equation with `--init`/`--set` values, uncalibrated), `physics_calibrated` (when
 /// parameters are calibrated), `symbolic` (symbolic regression of the target on the
 /// features, no physics), `physics_forest` (calibrated physics + a random forest on the
@@ -205,22 +205,22 @@ fn t_test(
 /// folds the symmetric interval can reach past it).
 ///
 /// # Errors
-/// As [`fit_process`](super::fit_process), fewer rows (or groups) than folds, a test split
+/// As [`fit`](super::fit), fewer rows (or groups) than folds, a test split
 /// of fewer than 2 rows, and
 /// `folds` of 1 ([`HybridError::InvalidConfig`]: one fold has nothing to train on; 0 skips
 /// the cross-validation).
-pub fn compare_process(
+pub fn compare(
     table: &Table,
-    cfg: &ProcessConfig,
+    cfg: &TableConfig,
     folds: usize,
-    progress: &mut dyn FnMut(&ProcessProgress),
+    progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<Comparison, HybridError> {
     if folds == 1 {
         return Err(HybridError::InvalidConfig(
             "1 fold: cross-validation needs at least 2 folds (0 skips it)".into(),
         ));
     }
-    let (split, kind) = process_split(table, cfg)?;
+    let (split, kind) = split_rows(table, cfg)?;
     if split.test.len() < 2 {
         return Err(HybridError::InvalidConfig(format!(
             "the test split has {} row(s): the comparison's R² and paired t-tests need at least \

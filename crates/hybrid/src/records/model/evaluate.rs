@@ -1,15 +1,16 @@
 //! Evaluating a tool-position hybrid model on records: physics against hybrid on the
 //! model's test data (or every window), with the coverage of its prediction intervals.
 
-use super::{HybridModel, SplitKind};
+use super::{RecordModel, SplitKind};
 use crate::HybridError;
-use crate::composer::RecordInput;
-use crate::evaluate::{DEFAULT_INTERVAL, EvalInput, Evaluation, IntervalReport, evaluate};
-use crate::warnings::input_warnings;
+use crate::intervals::{DEFAULT_INTERVAL, IntervalReport};
+use crate::records::composer::RecordInput;
+use crate::records::evaluation::{EvalInput, Evaluation, evaluate};
+use crate::records::warnings::input_warnings;
 use hxai_eval::IntervalMethod;
 use std::collections::BTreeMap;
 
-impl HybridModel {
+impl RecordModel {
     /// Evaluates the model on records. With `all` false, only this model's test data is
     /// used: the test records (record split) or the test windows (window split) among
     /// `records`; records not in the test set are skipped. With `all` true, every window
@@ -25,14 +26,14 @@ impl HybridModel {
         self.evaluate_at(records, all, DEFAULT_INTERVAL)
     }
 
-    /// [`HybridModel::evaluate`] with the coverage of prediction intervals at `level` by the
-    /// model's default method ([`HybridModel::default_interval_method`])
+    /// [`RecordModel::evaluate`] with the coverage of prediction intervals at `level` by the
+    /// model's default method ([`RecordModel::default_interval_method`])
     /// ([`Evaluation::interval`]: the share of evaluated windows whose true amplitude lies
     /// inside the interval of the corrected amplitude), when the model stores the
     /// uncertainty of its correction.
     ///
     /// # Errors
-    /// As [`HybridModel::evaluate`], and a `level` outside (0, 1).
+    /// As [`RecordModel::evaluate`], and a `level` outside (0, 1).
     pub fn evaluate_at(
         &self,
         records: &[RecordInput<'_>],
@@ -45,11 +46,11 @@ impl HybridModel {
         self.evaluate_with(records, all, level, method)
     }
 
-    /// [`HybridModel::evaluate_at`] with the intervals made by `method`
-    /// ([`HybridModel::amplitude_intervals_with`]).
+    /// [`RecordModel::evaluate_at`] with the intervals made by `method`
+    /// ([`RecordModel::amplitude_intervals_with`]).
     ///
     /// # Errors
-    /// As [`HybridModel::evaluate_at`], and a method the model file cannot serve.
+    /// As [`RecordModel::evaluate_at`], and a method the model file cannot serve.
     pub fn evaluate_with(
         &self,
         records: &[RecordInput<'_>],
@@ -58,7 +59,7 @@ impl HybridModel {
         method: IntervalMethod,
     ) -> Result<Evaluation, HybridError> {
         let mut by_record: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
-        for w in &self.split.test_windows {
+        for w in self.split.test_windows.iter().flatten() {
             by_record
                 .entry(w.record.as_str())
                 .or_default()
@@ -103,7 +104,7 @@ impl HybridModel {
         for i in &inputs {
             self.check_band(&i.record)?;
         }
-        let mut ev = evaluate(&self.hybrid(), &self.correction()?, &inputs)?;
+        let mut ev = evaluate(&self.hybrid(), self.correction()?, &inputs)?;
         if self.correction.uncertainty.is_some() {
             let hybrid = self.hybrid();
             let mut samples = Vec::new();

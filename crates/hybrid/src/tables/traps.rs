@@ -1,6 +1,6 @@
 //! Warnings for the traps of a table fit: input that is legal and gives numbers, but numbers
 //! that do not mean what they seem to (issue 27 item 4). They are stored with the model
-//! (`ProcessModel::warnings`, JSON `warnings`) and printed by the command line on stderr;
+//! (`TableModel::warnings`, JSON `warnings`) and printed by the command line on stderr;
 //! nothing here refuses anything.
 //!
 //! - a feature column that nearly copies the target (the correction can then reproduce the
@@ -19,7 +19,7 @@
 //!   is fitted);
 //! - at prediction, rows outside the training ranges ([`range_warnings`]).
 
-use super::{CorrectionForm, ProcessConfig};
+use super::{CorrectionForm, TableConfig};
 use crate::error::num;
 use hxai_eval::Split;
 use hxai_symreg::Table;
@@ -36,7 +36,7 @@ pub const MIN_EXTRAPOLATION_VALUES: usize = 5;
 /// correction's candidate columns, `physics` the physics' prediction on every row.
 pub(crate) fn fit_warnings(
     table: &Table,
-    cfg: &ProcessConfig,
+    cfg: &TableConfig,
     features: &[String],
     split: &Split,
     y: &[f64],

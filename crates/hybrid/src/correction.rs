@@ -1,0 +1,145 @@
+//! The learned correction, one type for both halves: what a model file stores of it, how
+//! it is made from a search, how it predicts `delta_hat` and how it is explained.
+//!
+//! Both halves learn the same thing: a symbolic model of the physics' error `delta` from
+//! feature columns. They differ in what `kind` says (the record half: a symbolic or a zero
+//! correction, always added to the latent amplitude; the table half: the form in which the
+//! correction enters, [`CorrectionForm`](crate::tables::CorrectionForm)), so the type is
+//! generic over the kind and nothing else.
+
+use crate::HybridError;
+use crate::explain::{Band, ExplainData, Explanation, ParetoMember};
+use hxai_eval::IntervalMethod;
+use hxai_symreg::{Model, ModelForms, SelectionReport, Uncertainty};
+use hxai_table::Table;
+use serde::{Deserialize, Serialize};
+
+/// The correction as a model file stores it: its kind, the readable forms and the fitted
+/// model with its uncertainty, Pareto front and selection (JSON `correction`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CorrectionInfo<K> {
+    /// What kind of correction: [`CorrectionKind`](crate::records::CorrectionKind) in a
+    /// record model, [`CorrectionForm`](crate::tables::CorrectionForm) in a table model.
+    pub kind: K,
+    /// The equation's forms, complexity and features (JSON keys `equation`, `sympy`,
+    /// `latex`, `complexity`, `features` beside `kind`).
+    #[serde(flatten)]
+    pub forms: ModelForms,
+    /// Feature columns the search was offered (table models; absent in record models,
+    /// whose features are the feature map's).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub candidates: Vec<String>,
+    /// The fitted symbolic model (`null` for the record half's zero correction; a table
+    /// model always has one).
+    pub model: Option<Model>,
+    /// The model's constants as a template with named parameters, their standard errors
+    /// and 95 % intervals, and the covariance prediction intervals use, fitted to `delta`
+    /// on the training rows (`hxai_symreg::uncertainty`). Absent for the zero correction
+    /// and in files written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<Uncertainty>,
+    /// The Pareto front of the search the model was chosen from (complexity, training loss
+    /// and equation of each member), for `hxai explain`. Absent for the zero correction and
+    /// in files written before it was stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pareto: Option<Vec<ParetoMember>>,
+    /// How the correction was selected, its structure's share over resamples (consensus or
+    /// stability runs) and the alternatives the data cannot tell apart from it
+    /// ([`SelectionReport`]); absent in files written before it was stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub selection: Option<SelectionReport>,
+}
+
+impl<K> CorrectionInfo<K> {
+    /// A symbolic model of kind `kind`, with its readable forms and nothing else.
+    pub fn symbolic(kind: K, model: Model) -> Self {
+        Self {
+            kind,
+            forms: ModelForms::of(&model),
+            candidates: Vec::new(),
+            model: Some(model),
+            uncertainty: None,
+            pareto: None,
+            selection: None,
+        }
+    }
+
+    /// The correction a search learned: `model` (the selected one, or it refitted) with the
+    /// uncertainty of its constants on the training rows (`features`, `delta`), the front
+    /// `pareto` it was chosen from, and how it was selected.
+    ///
+    /// # Errors
+    /// Those of [`Model::uncertainty`].
+    pub fn learned(
+        kind: K,
+        model: Model,
+        features: &Table,
+        delta: &[f64],
+        pareto: &[Model],
+        selection: SelectionReport,
+    ) -> Result<Self, HybridError> {
+        Ok(Self {
+            uncertainty: Some(model.uncertainty(features, delta)?),
+            pareto: Some(ParetoMember::front(pareto)),
+            selection: Some(selection),
+            ..Self::symbolic(kind, model)
+        })
+    }
+
+    /// The fitted model.
+    ///
+    /// # Errors
+    /// [`HybridError::ModelFormat`] for a correction without one (`correction.model` is
+    /// missing or `null`).
+    pub fn fitted(&self) -> Result<&Model, HybridError> {
+        self.model.as_ref().ok_or_else(|| {
+            HybridError::ModelFormat("the correction stores no model (`correction.model`)".into())
+        })
+    }
+
+    /// `delta_hat` for every row of `features` (columns looked up by name): the model's
+    /// prediction, or 0 for a correction without a model (the zero correction).
+    ///
+    /// # Errors
+    /// [`HybridError::UnknownFeature`] for a feature the model reads that `features` lacks,
+    /// and the model's errors.
+    pub fn predict(&self, features: &Table) -> Result<Vec<f64>, HybridError> {
+        let Some(model) = &self.model else {
+            return Ok(vec![0.0; features.n_rows()]);
+        };
+        for name in model.features() {
+            if features.index_of(&name).is_none() {
+                return Err(HybridError::UnknownFeature {
+                    name,
+                    available: features.names().join(", "),
+                });
+            }
+        }
+        if features.n_rows() == 0 {
+            return Ok(Vec::new());
+        }
+        Ok(model.predict(features)?)
+    }
+
+    /// The explanation of the correction ([`crate::explain::explain`]): with `data` its
+    /// response to each feature it uses and predicted vs true `delta`, with the band
+    /// `band` (the correction's prediction intervals by one method); the Pareto front when
+    /// the file stores it.
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] for a correction without a model (nothing to
+    /// explain), and those of [`crate::explain::explain`].
+    pub fn explain(
+        &self,
+        band: Option<(&Band<'_>, IntervalMethod)>,
+        data: Option<&ExplainData<'_>>,
+        level: f64,
+    ) -> Result<Explanation, HybridError> {
+        let Some(model) = &self.model else {
+            return Err(HybridError::InvalidConfig(
+                "the model's correction is zero: there is no equation to explain".into(),
+            ));
+        };
+        crate::explain::explain(model, band, self.pareto.as_deref(), data, "delta", level)
+    }
+}
