@@ -450,6 +450,11 @@ fn stability_section(s: &mut String, st: &hxai_symreg::Stability) {
             r2.mean, r2.sd
         );
     }
+    let _ = writeln!(
+        s,
+        "\nThe same measure on the three table cases, against the goals of stable and readable \
+         corrections, with the commands that made it: [stability.md](stability.md)."
+    );
 }
 
 /// The model in real time: `hxai stream` against `hxai predict` on the test records.
