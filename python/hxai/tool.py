@@ -22,6 +22,7 @@ WINDOW_COLUMNS = (
     "window",
     "start",
     "len",
+    "start_s",
     "a_phys_um",
     "phase_rad",
     "delta_hat_um",

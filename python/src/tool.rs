@@ -7,13 +7,12 @@ use hxai_hybrid::records::stream::Estimator;
 use hxai_hybrid::records::{RecordInput, RecordModel};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
-use serde_json::{Value, json};
 
 /// `tool_predict(model_json, record_id, accel, fs_hz, frequency_hz)`: the tool case's
 /// per-record pipeline with a model written by `hxai fit` (features, physics, hybrid), as
 /// `hxai predict` runs it. Returns `(physics, hybrid, windows_json, warnings)`; each
-/// window is `{window, start, len, a_phys_um, phase_rad, delta_hat_um, a_corr_um,
-/// features: {name: value}}`.
+/// window is a [`hxai_hybrid::records::WindowRow`] with its features: `{window, start,
+/// len, start_s, a_phys_um, phase_rad, delta_hat_um, a_corr_um, features: {name: value}}`.
 #[pyfunction]
 #[allow(clippy::type_complexity)]
 pub(crate) fn tool_predict<'py>(
@@ -46,33 +45,12 @@ pub(crate) fn tool_predict<'py>(
                 .map(|p| (p, model.features.names.clone()))
         })
         .map_err(err)?;
-    let windows: Vec<Value> = pred
-        .windows
-        .iter()
-        .zip(&pred.samples)
-        .map(|(w, s)| {
-            let feats: serde_json::Map<String, Value> = names
-                .iter()
-                .zip(&s.features)
-                .map(|(n, v)| (n.clone(), json!(v)))
-                .collect();
-            json!({
-                "window": w.window,
-                "start": w.start,
-                "len": w.len,
-                "a_phys_um": w.physics.amplitude,
-                "phase_rad": w.physics.phase,
-                "delta_hat_um": w.delta_hat,
-                "a_corr_um": w.corrected.amplitude,
-                "features": feats,
-            })
-        })
-        .collect();
+    let windows = pred.window_rows(None, fs_hz, Some(&names));
     let warnings = pred.warnings.iter().map(ToString::to_string).collect();
     Ok((
         to_bytes(py, &pred.physics),
         to_bytes(py, &pred.hybrid),
-        Value::Array(windows).to_string(),
+        serde_json::to_string(&windows).map_err(err)?,
         warnings,
     ))
 }

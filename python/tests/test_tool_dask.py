@@ -73,7 +73,7 @@ def test_tool_model_equals_cli_predict(records, tmp_path):
     rec[["time_s", "accel_ms2"]].to_csv(csv, index=False, float_format="%.17g")
     rec_back = pd.read_csv(csv)
     out = tmp_path / "pred.csv"
-    subprocess.run(
+    done = subprocess.run(
         [binary, "predict", "--model", str(MODEL), "--record", str(csv),
          "--frequency-hz", "20", "--out", str(out), "--json"],
         check=True, capture_output=True, text=True,
@@ -82,6 +82,14 @@ def test_tool_model_equals_cli_predict(records, tmp_path):
     ours = model.predict(rec_back["accel_ms2"].to_numpy(), 2000.0, 20.0, rid)
     np.testing.assert_array_equal(ours["physics"], cli["physics_um"].to_numpy())
     np.testing.assert_array_equal(ours["hybrid"], cli["hybrid_um"].to_numpy())
+    # the windows carry the same keys and values on both sides (one row type in the library);
+    # the command line's start_s is the record's time stamp, Python's start / fs
+    cli_windows = pd.DataFrame(json.loads(done.stdout)["windows"])
+    keys = ["window", "start", "len", "a_phys_um", "phase_rad", "delta_hat_um", "a_corr_um"]
+    pd.testing.assert_frame_equal(ours["windows"][keys], cli_windows[keys])
+    t0 = rec_back["time_s"].iloc[0]
+    np.testing.assert_allclose(ours["windows"]["start_s"] + t0, cli_windows["start_s"],
+                               rtol=0, atol=1e-9)
 
 
 def test_dask_map_partitions_equals_one_process(records, tmp_path):

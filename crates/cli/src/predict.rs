@@ -107,14 +107,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         let doc = serde_json::json!({
             "out": crate::safety::path_text(&args.out),
             "equation": model.correction.forms.equation,
-            "windows": pred.windows.iter().map(|w| serde_json::json!({
-                "window": w.window,
-                "start_s": rec.time_s.get(w.start).copied(),
-                "a_phys_um": w.physics.amplitude,
-                "delta_hat_um": w.delta_hat,
-                "a_corr_um": w.corrected.amplitude,
-                "phase_rad": w.physics.phase,
-            })).collect::<Vec<_>>(),
+            "windows": pred.window_rows(Some(&rec.time_s), rec.fs_hz(), None),
             "warnings": warnings,
         });
         let text = serde_json::to_string_pretty(&doc).context("cannot format JSON")?;

@@ -19,6 +19,7 @@
 mod composer;
 mod evaluation;
 mod model;
+mod rows;
 pub mod stream;
 mod warnings;
 mod window;
@@ -34,6 +35,7 @@ pub use model::{
     SamplesTable, SplitKind, TrainingInfo, fit, record_hybrid, record_hybrid_with, samples_table,
     split_samples,
 };
+pub use rows::WindowRow;
 pub use warnings::{
     AMPLITUDE_RATIO_LIMIT, MIN_PERIODS_PER_WINDOW, PLAUSIBLE_FS_HZ, Warning, amplitude_warning,
     input_warnings, record_warnings, units_warning,
