@@ -9,22 +9,25 @@ use hxai_symreg::{Model, SearchConfig};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
-use serde_json::{Value, json};
 
-/// A model's forms, as the CLI's `hxai sr --json` reports them, plus the model itself.
-fn model_summary(m: &Model) -> Value {
-    let mut v = serde_json::to_value(hxai_symreg::ModelForms::of(m)).unwrap_or_default();
-    v["loss"] = json!(m.train_mse);
-    v["model"] = json!(m.to_json());
-    v
+/// What `sr_fit` returns: the search's report (as `hxai sr --json`) with the delta
+/// method's record of the selected model and its conformal calibration.
+#[derive(serde::Serialize)]
+struct FitDocument {
+    #[serde(flatten)]
+    report: hxai_symreg::SearchReport,
+    uncertainty: hxai_symreg::Uncertainty,
+    conformal: Option<ConformalInfo>,
+    conformal_error: Option<String>,
 }
 
 /// `sr_fit(names, columns, y, search_json, n_jobs=None, conformal_folds=5)`: symbolic
 /// regression of `y` on the columns with the search settings `search_json` (a JSON object
 /// over `SearchConfig`'s defaults), on the threads of `n_jobs` ([`par_of`]). Returns
-/// JSON `{best, pareto: [...], evaluations, seconds, uncertainty, conformal}`, each model as
-/// [`model_summary`]; `best` also has `template`, `params` and `reason`
-/// (`hxai_symreg::uncertainty`); `uncertainty` is the delta method's record and
+/// JSON `{best, pareto: [...], selection, evaluations, duplicate_structures, seconds,
+/// uncertainty, conformal, conformal_error}`: the search's [`hxai_symreg::SearchReport`]
+/// (each model a [`hxai_symreg::ModelSummary`]; `best` also has `template`, `params`,
+/// `dof`, `residual_variance` and `reason`); `uncertainty` is the delta method's record and
 /// `conformal` the CV+ calibration over `conformal_folds` random folds of the rows
 /// (`hxai_hybrid::conformal::calibrate_model`: the constants refitted per fold), `null`
 /// with 0 folds or when a fold model is undefined on its held-out rows
@@ -49,11 +52,12 @@ pub(crate) fn sr_fit(
     let y = floats(y, "y")?;
     let mut cfg: SearchConfig = with_overrides("search", search_json)?;
     cfg.par = par_of(n_jobs)?;
-    let (res, unc) = py
+    let (res, unc, report) = py
         .detach(|| -> Result<_, hxai_symreg::SrError> {
             let res = hxai_symreg::search(&data, &y, &cfg, &mut |_| {})?;
             let unc = res.best.uncertainty(&data, &y)?;
-            Ok((res, unc))
+            let report = hxai_symreg::SearchReport::of(&res, &cfg, &data, &y, false, None)?;
+            Ok((res, unc, report))
         })
         .map_err(err)?;
     let (conformal, conformal_error) = if conformal_folds == 0 {
@@ -67,21 +71,13 @@ pub(crate) fn sr_fit(
             Err(e) => (None, Some(e.to_string())),
         }
     };
-    let mut best = model_summary(&res.best);
-    best["template"] = json!(unc.template);
-    best["params"] = serde_json::to_value(&unc).map_err(err)?["params"].take();
-    best["reason"] = json!(unc.reason);
-    let doc = json!({
-        "best": best,
-        "pareto": res.pareto.iter().map(model_summary).collect::<Vec<_>>(),
-        "selection": hxai_symreg::SelectionReport::of(&res, &cfg),
-        "evaluations": res.evaluations,
-        "seconds": res.seconds,
-        "uncertainty": unc,
-        "conformal": conformal,
-        "conformal_error": conformal_error,
-    });
-    Ok(doc.to_string())
+    let doc = FitDocument {
+        report,
+        uncertainty: unc,
+        conformal,
+        conformal_error,
+    };
+    serde_json::to_string(&doc).map_err(err)
 }
 
 /// `sr_intervals(model_json, uncertainty_json, conformal_json, names, columns, level,

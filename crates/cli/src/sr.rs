@@ -2,8 +2,7 @@
 use crate::Global;
 use crate::strategy::{CriterionArg, StrategyArg};
 use anyhow::{Context, Result};
-use hxai_symreg::{Model, SearchConfig, Table, search};
-use serde_json::{Value, json};
+use hxai_symreg::{SearchConfig, search};
 use std::path::PathBuf;
 
 /// Arguments of `hxai sr`.
@@ -81,26 +80,6 @@ pub struct Args {
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     pub json: bool,
-}
-
-/// A model's forms and its training scores (`null` when a score cannot be computed, e.g. a
-/// non-finite prediction).
-///
-/// With `template` and `params` (the constants with standard errors and 95 % intervals,
-/// see `hxai_symreg::uncertainty`), plus `dof`, `residual_variance` and, when standard
-/// errors are `null`, the `reason`.
-fn summary(m: &Model, data: &Table, y: &[f64]) -> Result<Value> {
-    let scores = hxai_eval::score(y, &m.predict(data)?).ok();
-    let unc = m.uncertainty(data, y)?;
-    let mut v = serde_json::to_value(hxai_symreg::ModelForms::of(m))?;
-    v["r2"] = json!(scores.map(|s| s.r2));
-    v["rmse"] = json!(scores.map(|s| s.rmse));
-    v["params"] = serde_json::to_value(&unc)?["params"].take();
-    v["template"] = json!(unc.template);
-    v["dof"] = json!(unc.dof);
-    v["residual_variance"] = json!(unc.residual_variance);
-    v["reason"] = json!(unc.reason);
-    Ok(v)
 }
 
 /// How a model was selected, in lines: its structure's share over resamples when measured,
@@ -210,12 +189,6 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         ));
     })?;
     bar.finish_and_clear();
-    let best = summary(&res.best, &data, &y)?;
-    let pareto = res
-        .pareto
-        .iter()
-        .map(|m| summary(m, &data, &y))
-        .collect::<Result<Vec<_>>>()?;
     let stability = match args.stability {
         Some(runs) => {
             let b = crate::progress::styled(runs as u64, "{bar:30} {pos}/{len} {msg} [{elapsed}]");
@@ -229,48 +202,34 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         }
         None => None,
     };
-    let mut selection = hxai_symreg::SelectionReport::of(&res, &cfg);
-    if let Some(st) = &stability {
-        selection = selection.with_stability(st);
-    }
+    let report = hxai_symreg::SearchReport::of(&res, &cfg, &data, &y, true, stability)?;
     if args.json {
-        let mut doc = json!({
-            "best": best,
-            "selection": selection,
-            "pareto": pareto,
-            "evaluations": res.evaluations,
-            "duplicate_structures": res.duplicate_structures,
-            "seconds": res.seconds,
-        });
-        if let (Some(s), Some(obj)) = (&stability, doc.as_object_mut()) {
-            obj.insert("stability".into(), serde_json::to_value(s)?);
-        }
-        println!("{}", serde_json::to_string_pretty(&doc)?);
+        println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
+        let num = |v: Option<f64>| v.unwrap_or(f64::NAN);
         println!(
             "best (complexity {}): {}",
             res.best.complexity(),
             res.best.equation()
         );
-        let num = |v: &Value, k: &str| v[k].as_f64().unwrap_or(f64::NAN);
         println!(
             "  R^2 {:.6}  RMSE {:.6e}  features {}",
-            num(&best, "r2"),
-            num(&best, "rmse"),
+            num(report.best.r2),
+            num(report.best.rmse),
             res.best.features().join(", ")
         );
         println!("Pareto front:");
-        for (m, s) in res.pareto.iter().zip(&pareto) {
+        for (m, s) in res.pareto.iter().zip(&report.pareto) {
             println!(
                 "  {:>3}  R^2 {:.6}  {}",
                 m.complexity(),
-                num(s, "r2"),
+                num(s.r2),
                 m.equation()
             );
         }
         println!("{} models in {:.2} s", res.evaluations, res.seconds);
-        print_selection(&selection);
-        if let Some(st) = &stability {
+        print_selection(&report.selection);
+        if let Some(st) = &report.stability {
             print_stability(st);
         }
     }

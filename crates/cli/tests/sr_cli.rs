@@ -61,8 +61,17 @@ fn json_document_follows_the_contract_and_finds_the_law() -> TestResult {
         "features",
         "r2",
         "rmse",
+        "loss",
+        "model",
     ];
     let best = &doc["best"];
+    // the model text reads back as the model (one summary type, hxai_symreg::ModelSummary)
+    let text = best["model"].as_str().ok_or("model")?;
+    assert_eq!(
+        hxai_symreg::Model::from_json(text)?.equation(),
+        best["equation"].as_str().ok_or("equation")?
+    );
+    assert!(doc["selection"]["method"].is_string(), "{doc}");
     for k in keys {
         assert!(!best[k].is_null(), "best.{k} missing in {best}");
     }

@@ -76,7 +76,9 @@ pub use model::Model;
 pub use nesting::Nesting;
 pub use ops::Op;
 pub use program::{ComplexityMeasure, Node, Program};
-pub use report::{Alternative, ModelForms, SelectionReport};
+pub use report::{
+    Alternative, ConstantsSummary, ModelForms, ModelSummary, SearchReport, SelectionReport,
+};
 pub use search::{
     Criterion, DEFAULT_OPERATORS, LAW_OPERATORS, PAPER_OPERATORS, Progress, SearchConfig,
     SearchResult, Strategy, fit_structure, search,

@@ -50,6 +50,145 @@ impl ModelForms {
     }
 }
 
+/// A model as a search's report shows it (`hxai sr --json`'s `best` and `pareto`, the
+/// Python `sr_fit`'s): its forms, its loss and scores on the rows, the model itself, and
+/// for the selected model its constants with their standard errors.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ModelSummary {
+    /// Equation, sympy, LaTeX, complexity, features.
+    #[serde(flatten)]
+    pub forms: ModelForms,
+    /// Mean squared error on the training rows (`null` when unknown).
+    pub loss: f64,
+    /// R² on the rows it was scored on (`null` when its prediction is not finite there).
+    pub r2: Option<f64>,
+    /// Root mean squared error on the same rows (`null` likewise).
+    pub rmse: Option<f64>,
+    /// The model as JSON text ([`crate::Model::from_json`] reads it back).
+    pub model: String,
+    /// The constants (keys `template`, `params`, `dof`, `residual_variance`, `reason`
+    /// beside the others); absent unless asked for ([`ModelSummary::with_constants`]).
+    #[serde(flatten)]
+    pub constants: Option<ConstantsSummary>,
+}
+
+/// A model's constants as a template with named parameters, each with its standard error
+/// and 95 % interval (the parts of [`crate::Uncertainty`] a reader wants; prediction
+/// intervals need the rest).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ConstantsSummary {
+    /// sympy text over the columns and the parameter names.
+    pub template: String,
+    /// Each parameter with its estimate, in template order (a JSON object).
+    #[serde(with = "crate::uncertainty::ordered_map")]
+    pub params: Vec<(String, crate::ParamEstimate)>,
+    /// Residual degrees of freedom.
+    pub dof: usize,
+    /// The residual variance of the fit.
+    pub residual_variance: f64,
+    /// Why standard errors are `null` (`null` when they are given).
+    pub reason: Option<String>,
+}
+
+impl ModelSummary {
+    /// The summary of `model`, scored on `data` against `y`.
+    ///
+    /// # Errors
+    /// [`crate::SrError`] when the model cannot be evaluated on `data` (a missing column).
+    pub fn of(
+        model: &crate::Model,
+        data: &crate::Table,
+        y: &[f64],
+    ) -> Result<Self, crate::SrError> {
+        let scores = hxai_eval::score(y, &model.predict(data)?).ok();
+        Ok(Self {
+            forms: ModelForms::of(model),
+            loss: model.train_mse,
+            r2: scores.map(|s| s.r2),
+            rmse: scores.map(|s| s.rmse),
+            model: model.to_json(),
+            constants: None,
+        })
+    }
+
+    /// The summary with the model's constants from `unc` (its uncertainty on the rows).
+    pub fn with_constants(mut self, unc: &crate::Uncertainty) -> Self {
+        self.constants = Some(ConstantsSummary {
+            template: unc.template.clone(),
+            params: unc.params.clone(),
+            dof: unc.dof,
+            residual_variance: unc.residual_variance,
+            reason: unc.reason.clone(),
+        });
+        self
+    }
+}
+
+/// What a search reports (`hxai sr --json`, and the Python `sr_fit` with more beside it):
+/// the selected model, how it was selected, the Pareto front, the search's counts and, when
+/// measured, the stability of its structure.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SearchReport {
+    /// The selected model, with its constants.
+    pub best: ModelSummary,
+    /// How it was selected and what else the data supports.
+    pub selection: SelectionReport,
+    /// The Pareto front by increasing complexity (each with its constants when asked for).
+    pub pareto: Vec<ModelSummary>,
+    /// Models fitted.
+    pub evaluations: u64,
+    /// Candidates whose structure had been fitted before ([`SearchResult`]).
+    pub duplicate_structures: u64,
+    /// Wall time of the search, s.
+    pub seconds: f64,
+    /// Bootstrap stability of the structure (absent unless measured).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stability: Option<Stability>,
+}
+
+impl SearchReport {
+    /// The report of `result` (a search with `cfg` of `y` on `data`); `front_constants`
+    /// also gives every front member its constants. The selection's shares are the
+    /// stability runs' when `stability` is given.
+    ///
+    /// # Errors
+    /// [`crate::SrError`] when a model cannot be evaluated on `data`.
+    pub fn of(
+        result: &SearchResult,
+        cfg: &SearchConfig,
+        data: &crate::Table,
+        y: &[f64],
+        front_constants: bool,
+        stability: Option<Stability>,
+    ) -> Result<Self, crate::SrError> {
+        let summary = |m: &crate::Model, constants: bool| -> Result<ModelSummary, crate::SrError> {
+            let s = ModelSummary::of(m, data, y)?;
+            Ok(if constants {
+                s.with_constants(&m.uncertainty(data, y)?)
+            } else {
+                s
+            })
+        };
+        let mut selection = SelectionReport::of(result, cfg);
+        if let Some(st) = &stability {
+            selection = selection.with_stability(st);
+        }
+        Ok(Self {
+            best: summary(&result.best, true)?,
+            selection,
+            pareto: result
+                .pareto
+                .iter()
+                .map(|m| summary(m, front_constants))
+                .collect::<Result<_, _>>()?,
+            evaluations: result.evaluations,
+            duplicate_structures: result.duplicate_structures,
+            seconds: result.seconds,
+            stability,
+        })
+    }
+}
+
 /// Most alternatives a [`SelectionReport`] lists.
 pub const MAX_ALTERNATIVES: usize = 3;
 

@@ -318,7 +318,7 @@ pub struct Uncertainty {
 }
 
 /// `params` as a JSON object in template order (`p10` after `p9`, not after `p1`).
-mod ordered_map {
+pub(crate) mod ordered_map {
     use super::ParamEstimate;
     use serde::de::{MapAccess, Visitor};
     use serde::ser::SerializeMap;
