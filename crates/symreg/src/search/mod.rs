@@ -20,6 +20,7 @@
 //! Every heuristic constant is named and explained where it is used.
 mod archive;
 mod config;
+mod cv;
 mod export;
 mod field;
 mod fitting;
