@@ -3,7 +3,7 @@
 //! them, and the models within one standard error of the best ("the data cannot tell these
 //! apart").
 use super::fitting::Problem;
-use super::selection::{REFIT_LM_ITERATIONS, REFIT_LM_TOLERANCE, plainness};
+use super::selection::{REFIT_LM_ITERATIONS, REFIT_LM_TOLERANCE, simplest_first};
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::model::Model;
@@ -184,11 +184,6 @@ pub(super) fn one_standard_error_pick(models: &[Model], cv: &[(f64, f64)]) -> Op
         .zip(cv)
         .filter(|(_, (mean, _))| *mean <= limit)
         .map(|(m, _)| m)
-        .min_by(|a, b| {
-            a.complexity
-                .cmp(&b.complexity)
-                .then(plainness(a).cmp(&plainness(b)))
-                .then(a.score.total_cmp(&b.score))
-        })
+        .min_by(|a, b| simplest_first(a, b))
         .cloned()
 }

@@ -176,6 +176,15 @@ pub fn plainness(m: &Model) -> usize {
         .sum()
 }
 
+/// The order selection picks by among models the criterion cannot tell apart: lower
+/// complexity, then plainer ([`plainness`]), then the better score.
+pub(super) fn simplest_first(a: &Model, b: &Model) -> std::cmp::Ordering {
+    a.complexity
+        .cmp(&b.complexity)
+        .then(plainness(a).cmp(&plainness(b)))
+        .then(a.score.total_cmp(&b.score))
+}
+
 /// One reported fit refitted on all rows (keeping the search's constants if the refit
 /// fails), its constants snapped, scored and exported.
 fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
@@ -269,12 +278,7 @@ fn simplest_within_one_charge(problem: &Problem, models: &[Model]) -> Option<Mod
     models
         .iter()
         .filter(|m| m.score <= best_score + margin)
-        .min_by(|a, b| {
-            a.complexity
-                .cmp(&b.complexity)
-                .then(plainness(a).cmp(&plainness(b)))
-                .then(a.score.total_cmp(&b.score))
-        })
+        .min_by(|a, b| simplest_first(a, b))
         .cloned()
 }
 
