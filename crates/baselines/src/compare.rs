@@ -11,7 +11,9 @@ use std::time::Instant;
 pub struct Comparison {
     /// The model's [`Regressor::name`].
     pub name: String,
-    /// R^2, RMSE and MAE on the test rows (RMSE and MAE in the target's unit).
+    /// R^2, RMSE and MAE on the test rows (RMSE and MAE in the target's unit); JSON keys
+    /// `r2`, `rmse`, `mae` beside `name` and `seconds` (`hxai compare --json`'s `models`).
+    #[serde(flatten)]
     pub metrics: Metrics,
     /// Wall time of `fit`, s (depends on the machine; never part of a committed result).
     pub seconds: f64,
@@ -55,4 +57,31 @@ pub fn compare(
         progress(Progress { done: k + 1, total });
     }
     Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `hxai compare --json` prints the rows as they serialise: the scores beside the name.
+    #[test]
+    fn a_row_serialises_flat() -> Result<(), serde_json::Error> {
+        let row = Comparison {
+            name: "linear".into(),
+            metrics: Metrics {
+                r2: 0.5,
+                rmse: 2.0,
+                mae: 1.5,
+            },
+            seconds: 0.25,
+        };
+        let text = serde_json::to_string(&row)?;
+        assert_eq!(
+            text,
+            r#"{"name":"linear","r2":0.5,"rmse":2.0,"mae":1.5,"seconds":0.25}"#
+        );
+        let back: Comparison = serde_json::from_str(&text)?;
+        assert_eq!(back, row);
+        Ok(())
+    }
 }

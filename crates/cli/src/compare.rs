@@ -89,12 +89,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     bar.finish_and_clear();
 
     if args.json {
-        let models: Vec<_> = rows
-            .iter()
-            .map(|c| json!({"name": c.name, "r2": c.metrics.r2, "rmse": c.metrics.rmse, "mae": c.metrics.mae, "seconds": c.seconds}))
-            .collect();
         let doc = json!({
-            "models": models,
+            "models": rows,
             "target": args.target,
             "n_train": y_train.len(),
             "n_test": y_test.len(),

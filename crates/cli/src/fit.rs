@@ -260,17 +260,9 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let m = &out.model;
     if args.json {
         // the correction's forms (the model file's keys), its constants and its selection
-        let mut correction = serde_json::to_value(&m.correction.forms)?;
-        correction["template"] =
-            serde_json::to_value(m.correction.uncertainty.as_ref().map(|u| &u.template))?;
-        correction["params"] = match &m.correction.uncertainty {
-            Some(u) => serde_json::to_value(u)?["params"].take(),
-            None => serde_json::Value::Null,
-        };
-        correction["selection"] = serde_json::to_value(&m.correction.selection)?;
         let doc = serde_json::json!({
             "model": crate::safety::path_text(&args.out),
-            "correction": correction,
+            "correction": m.correction.report(),
             "stability": stability,
             "split": { "kind": m.split.kind, "train": m.split.train, "test": m.split.test },
             "training": m.training,

@@ -86,6 +86,10 @@ fn fit_evaluate_predict() -> TestResult {
     )?;
     let fit_json: serde_json::Value = serde_json::from_slice(&out.stdout)?;
     assert!(fit_json["correction"]["equation"].is_string());
+    // the correction's constants and selection, as the library reports them (FittedReport)
+    let c = &fit_json["correction"];
+    assert!(c["template"].is_string() && c["params"].is_object(), "{c}");
+    assert!(c["selection"]["method"].is_string(), "{c}");
 
     let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model)?)?;
     assert_eq!(m["schema_version"], 1);

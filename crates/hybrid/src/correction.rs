@@ -86,6 +86,19 @@ impl<K> CorrectionInfo<K> {
         })
     }
 
+    /// What a command reports of the correction (`hxai fit --json`'s `correction`): its
+    /// forms, its constants and how it was selected.
+    pub fn report(&self) -> hxai_symreg::FittedReport {
+        hxai_symreg::FittedReport {
+            forms: self.forms.clone(),
+            constants: self
+                .uncertainty
+                .as_ref()
+                .map(hxai_symreg::ConstantsSummary::of),
+            selection: self.selection.clone(),
+        }
+    }
+
     /// The fitted model.
     ///
     /// # Errors

@@ -77,7 +77,8 @@ pub use nesting::Nesting;
 pub use ops::Op;
 pub use program::{ComplexityMeasure, Node, Program};
 pub use report::{
-    Alternative, ConstantsSummary, ModelForms, ModelSummary, SearchReport, SelectionReport,
+    Alternative, ConstantsSummary, FittedReport, ModelForms, ModelSummary, SearchReport,
+    SelectionReport,
 };
 pub use search::{
     Criterion, DEFAULT_OPERATORS, LAW_OPERATORS, PAPER_OPERATORS, Progress, SearchConfig,

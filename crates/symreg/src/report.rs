@@ -113,15 +113,37 @@ impl ModelSummary {
 
     /// The summary with the model's constants from `unc` (its uncertainty on the rows).
     pub fn with_constants(mut self, unc: &crate::Uncertainty) -> Self {
-        self.constants = Some(ConstantsSummary {
+        self.constants = Some(ConstantsSummary::of(unc));
+        self
+    }
+}
+
+impl ConstantsSummary {
+    /// The reader's part of `unc`.
+    pub fn of(unc: &crate::Uncertainty) -> Self {
+        Self {
             template: unc.template.clone(),
             params: unc.params.clone(),
             dof: unc.dof,
             residual_variance: unc.residual_variance,
             reason: unc.reason.clone(),
-        });
-        self
+        }
     }
+}
+
+/// A fitted correction as a command reports it (`hxai fit --json`'s `correction`): its
+/// forms, its constants (when it has any) and how it was selected.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FittedReport {
+    /// Equation, sympy, LaTeX, complexity, features.
+    #[serde(flatten)]
+    pub forms: ModelForms,
+    /// `template`, `params`, `dof`, `residual_variance`, `reason` (absent without
+    /// constants).
+    #[serde(flatten)]
+    pub constants: Option<ConstantsSummary>,
+    /// How it was selected (`null` when not recorded).
+    pub selection: Option<SelectionReport>,
 }
 
 /// What a search reports (`hxai sr --json`, and the Python `sr_fit` with more beside it):
