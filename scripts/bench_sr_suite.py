@@ -39,7 +39,8 @@ import argparse, csv, json, math, os, re, signal, subprocess, sys, time
 
 import numpy as np
 
-from bench_sr_results import atomic_write, table  # results files: writing, summary tables
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # its sibling, when imported by path
+from bench_sr_results import atomic_write, table  # noqa: E402  results files: writing, tables
 
 TEST_ROWS = 1000
 FUNCTIONS = {"ln": "log", "arcsin": "asin", "arccos": "acos", "arctan": "atan"}

@@ -28,7 +28,7 @@ PAPER_OPERATORS = DEFAULT_OPERATORS[:11]
 
 # The law operators (LAW_OPERATORS: arithmetic, exp, log): what a table hybrid's correction
 # searches by default (`hxai hybrid fit`, SearchConfig::laws()), read from the engine.
-LAW_OPERATORS = tuple(json.loads(_hxai.defaults("process_search"))["operators"])
+LAW_OPERATORS = tuple(json.loads(_hxai.defaults("table_search"))["operators"])
 
 # `hxai sr` lets the complexity cap grow by this much per input beyond the first; the engine's
 # own default (and `hxai hybrid fit`'s) is 0, the paper's fixed cap. SymbolicRegressor takes
@@ -447,7 +447,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             "conformal_folds": _folds(self.conformal_folds),
             "search": search,
         }
-        text = _hxai.process_fit(
+        text = _hxai.table_fit(
             names + [target], columns_of(X) + [to_bytes(y, "y")], json.dumps(settings), n_jobs
         )
         doc = json.loads(text)
@@ -476,7 +476,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         check_is_fitted(self, "model_json_")
         X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
         names = _names(self, X.shape[1])
-        return _hxai.process_predict(self.model_json_, names, columns_of(X))
+        return _hxai.table_predict(self.model_json_, names, columns_of(X))
 
     def predict(self, X):
         """The hybrid's values on the rows of ``X``."""
@@ -494,7 +494,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         check_is_fitted(self, "model_json_")
         X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
         names = _names(self, X.shape[1])
-        lo, hi, used = _hxai.process_intervals(
+        lo, hi, used = _hxai.table_intervals(
             self.model_json_, names, columns_of(X), _level(level), method
         )
         self.interval_method_ = used

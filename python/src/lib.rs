@@ -18,29 +18,29 @@
 //! - **Errors are `ValueError`s** carrying the library error's one-line message (the text
 //!   the CLI prints after `Error:`); no function panics on user input.
 //!
-//! Entry points: `sr_fit`, `sr_predict`, `sr_intervals`, `process_fit`, `process_predict`,
-//! `process_intervals`, `tool_predict`,
+//! Entry points: `sr_fit`, `sr_predict`, `sr_intervals`, `table_fit`, `table_predict`,
+//! `table_intervals`, `tool_predict`,
 //! `butter`, `sosfilt`, `sosfiltfilt`, `welch`, `fit_sine`, `displacement`,
 //! `features_extract`, `simulate_tool`, `simulate_case`, `defaults`, and the class
 //! `StreamEstimator` (the causal estimator of `hxai_hybrid::records::stream`, which keeps state
 //! between calls).
 //!
 //! Modules, one job each; this file only assembles them into `hxai._hxai`: `symbolic`
-//! (`sr_*`), `process` (`process_*`), `tool` (`tool_predict`, `StreamEstimator`), `signal`
+//! (`sr_*`), `table` (`table_*`), `tool` (`tool_predict`, `StreamEstimator`), `signal`
 //! (the signal functions and `features_extract`), `sim` (`simulate_*`), `settings`
 //! (`defaults` and the overrides applied over them) and `convert` (bytes, tables, `n_jobs`,
 //! errors).
 #![deny(missing_docs)]
 
 mod convert;
-mod process;
+mod table;
 mod settings;
 mod signal;
 mod sim;
 mod symbolic;
 mod tool;
 
-use process::{process_fit, process_intervals, process_predict};
+use table::{table_fit, table_intervals, table_predict};
 use pyo3::prelude::*;
 use settings::defaults;
 use signal::{butter, displacement, features_extract, fit_sine, sosfilt, sosfiltfilt, welch};
@@ -55,9 +55,9 @@ fn _hxai(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sr_fit, m)?)?;
     m.add_function(wrap_pyfunction!(sr_predict, m)?)?;
     m.add_function(wrap_pyfunction!(sr_intervals, m)?)?;
-    m.add_function(wrap_pyfunction!(process_intervals, m)?)?;
-    m.add_function(wrap_pyfunction!(process_fit, m)?)?;
-    m.add_function(wrap_pyfunction!(process_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(table_intervals, m)?)?;
+    m.add_function(wrap_pyfunction!(table_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(table_predict, m)?)?;
     m.add_function(wrap_pyfunction!(tool_predict, m)?)?;
     m.add_function(wrap_pyfunction!(butter, m)?)?;
     m.add_function(wrap_pyfunction!(sosfilt, m)?)?;

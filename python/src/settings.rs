@@ -21,7 +21,7 @@ fn default_value(what: &str) -> PyResult<Value> {
     let v = match what {
         "search" => serde_json::to_value(SearchConfig::default()),
         // what a table hybrid's correction searches (HybridRegressor)
-        "process_search" => serde_json::to_value(SearchConfig::laws()),
+        "table_search" => serde_json::to_value(SearchConfig::laws()),
         "tool" => serde_json::to_value(hxai_sim::SimConfig::default()),
         "roughness" => serde_json::to_value(hxai_sim::cases::RoughnessConfig::default()),
         "cutting_force" => serde_json::to_value(hxai_sim::cases::CuttingForceConfig::default()),

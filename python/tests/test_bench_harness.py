@@ -14,6 +14,12 @@ sp = pytest.importorskip("sympy")
 _spec = importlib.util.spec_from_file_location("bench_sr_suite", ROOT / "scripts" / "bench_sr_suite.py")
 suite = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(suite)
+# the results files' tables live beside it (imported by the suite through its folder)
+_rspec = importlib.util.spec_from_file_location(
+    "bench_sr_results", ROOT / "scripts" / "bench_sr_results.py"
+)
+results = importlib.util.module_from_spec(_rspec)
+_rspec.loader.exec_module(results)
 
 X = suite.symbols_for(3)
 LOCALS = {s.name: s for s in X}
@@ -72,7 +78,7 @@ def rows(engine, exact, r2):
 def test_pairs_name_the_problems_only_one_engine_solves(capsys):
     a = rows("A", [True, True, False, False], [1.0, 1.0, 0.9995, 0.5])
     b = rows("B", [True, False, True, False], [1.0, 0.99, 1.0, 0.99999])
-    suite.pairs(a + b)
+    results.pairs(a + b)
     lines = capsys.readouterr().out.strip().splitlines()
     assert lines[-1] == "| 0 | A | B | 4 | 1 (2) | 1 (3) | 1 | 1 (2) | 1 (4) | 1 |"
 
@@ -81,7 +87,7 @@ def test_pairs_compare_only_common_problems_at_the_same_noise(capsys):
     a = rows("A", [True, True], [1.0, 1.0])
     b = rows("B", [False], [0.5])  # problem 1 only
     c = [dict(r, noise=0.01) for r in rows("C", [False, False], [0.5, 0.5])]
-    suite.pairs(a + b + c)
+    results.pairs(a + b + c)
     lines = capsys.readouterr().out.strip().splitlines()
     # A and B share problem 1; C ran at another noise level, so it is paired with no one
     assert lines[2:] == ["| 0 | A | B | 1 | 1 (1) | 0 | 1 | 1 (1) | 0 | 1 |"]
@@ -91,7 +97,7 @@ def test_pairs_mcnemar_p_against_scipy(capsys):
     # A solves 9 problems B does not, B solves 1 A does not, 5 both, 5 neither
     a = rows("A", [True] * 14 + [False] * 6, [1.0] * 20)
     b = rows("B", [False] * 9 + [True] * 5 + [True] + [False] * 5, [1.0] * 20)
-    suite.pairs(a + b)
+    results.pairs(a + b)
     cells = capsys.readouterr().out.strip().splitlines()[-1].strip("| ").split(" | ")
     stats = pytest.importorskip("scipy.stats")
     want = stats.binomtest(1, 10, 0.5).pvalue  # 0.0215
@@ -106,6 +112,6 @@ def test_load_rows_keeps_the_first_of_a_repeated_problem(tmp_path):
     p, q = tmp_path / "p.jsonl", tmp_path / "q.jsonl"
     p.write_text(json.dumps(first) + "\n\n" + json.dumps(other) + "\n")
     q.write_text(json.dumps(again) + "\n")
-    got, dup = suite.load_rows([p, q])
+    got, dup = results.load_rows([p, q])
     assert dup == 1
     assert [r["exact"] for r in got] == [True, True]

@@ -56,7 +56,7 @@ def test_sklearn_contract(estimator, check):
 
 def test_defaults_are_the_engines():
     rust = json.loads(_hxai.defaults("search"))
-    table = json.loads(_hxai.defaults("process_search"))
+    table = json.loads(_hxai.defaults("table_search"))
     for est in (SymbolicRegressor(), HybridRegressor("k*x0")):
         params = est.get_params()
         for k in _SEARCH_KEYS:

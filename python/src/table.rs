@@ -1,5 +1,5 @@
 //! The table hybrid (`hxai_hybrid::tables`, docs/hybrid-tables.md), the glue of the
-//! Python `HybridRegressor`: `process_fit`, `process_predict` and `process_intervals`.
+//! Python `HybridRegressor`: `table_fit`, `table_predict` and `table_intervals`.
 
 use crate::convert::{err, method_of, par_of, parse_json, table_of, to_bytes};
 use crate::settings::with_overrides;
@@ -13,7 +13,7 @@ use serde::Deserialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
 
-/// Settings of [`process_fit`] as the Python estimator sends them.
+/// Settings of [`table_fit`] as the Python estimator sends them.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ProcessSettings {
@@ -43,13 +43,13 @@ fn default_conformal_folds() -> usize {
     DEFAULT_CONFORMAL_FOLDS
 }
 
-/// `process_fit(names, columns, settings_json, n_jobs=None)`: the table workflow's `fit`
+/// `table_fit(names, columns, settings_json, n_jobs=None)`: the table workflow's `fit`
 /// (docs/hybrid-tables.md) on every row of the table (the caller splits, as scikit-learn
 /// does), on the threads of `n_jobs` ([`par_of`]). The table holds the target column named
 /// in the settings. Returns the model file's JSON.
 #[pyfunction]
 #[pyo3(signature = (names, columns, settings_json, n_jobs=None))]
-pub(crate) fn process_fit(
+pub(crate) fn table_fit(
     py: Python<'_>,
     names: Vec<String>,
     columns: Vec<Bound<'_, PyBytes>>,
@@ -81,10 +81,10 @@ pub(crate) fn process_fit(
     Ok(model.to_json())
 }
 
-/// `process_predict(model_json, names, columns)` -> `(physics, correction, hybrid)`.
+/// `table_predict(model_json, names, columns)` -> `(physics, correction, hybrid)`.
 #[pyfunction]
 #[allow(clippy::type_complexity)]
-pub(crate) fn process_predict<'py>(
+pub(crate) fn table_predict<'py>(
     py: Python<'py>,
     model_json: &str,
     names: Vec<String>,
@@ -104,13 +104,13 @@ pub(crate) fn process_predict<'py>(
     ))
 }
 
-/// `process_intervals(model_json, names, columns, level, method=None)` -> `(lo, hi,
+/// `table_intervals(model_json, names, columns, level, method=None)` -> `(lo, hi,
 /// method)`: the table hybrid's prediction intervals at `level` on a table
 /// (`TableModel::intervals_with`), by `method` (`conformal`, `split` or `delta`; default:
 /// the model file's, conformal where it stores the calibration).
 #[pyfunction]
 #[pyo3(signature = (model_json, names, columns, level, method=None))]
-pub(crate) fn process_intervals<'py>(
+pub(crate) fn table_intervals<'py>(
     py: Python<'py>,
     model_json: &str,
     names: Vec<String>,
