@@ -33,19 +33,19 @@
 #![deny(missing_docs)]
 
 mod convert;
-mod table;
 mod settings;
 mod signal;
 mod sim;
 mod symbolic;
+mod table;
 mod tool;
 
-use table::{table_fit, table_intervals, table_predict};
 use pyo3::prelude::*;
 use settings::defaults;
 use signal::{butter, displacement, features_extract, fit_sine, sosfilt, sosfiltfilt, welch};
 use sim::{simulate_case, simulate_tool};
 use symbolic::{sr_fit, sr_intervals, sr_predict};
+use table::{table_fit, table_intervals, table_predict};
 use tool::{StreamEstimator, tool_predict};
 
 /// The module `hxai._hxai`.
