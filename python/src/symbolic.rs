@@ -56,7 +56,7 @@ pub(crate) fn sr_fit(
         .detach(|| -> Result<_, hxai_symreg::SrError> {
             let res = hxai_symreg::search(&data, &y, &cfg, &mut |_| {})?;
             let unc = res.best.uncertainty(&data, &y)?;
-            let report = hxai_symreg::SearchReport::of(&res, &cfg, &data, &y, false, None)?;
+            let report = hxai_symreg::SearchReport::of(&res, &cfg, (&data, &y), &unc, false, None)?;
             Ok((res, unc, report))
         })
         .map_err(err)?;

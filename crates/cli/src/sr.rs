@@ -202,7 +202,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         }
         None => None,
     };
-    let report = hxai_symreg::SearchReport::of(&res, &cfg, &data, &y, true, stability)?;
+    let unc = res.best.uncertainty(&data, &y)?;
+    let report = hxai_symreg::SearchReport::of(&res, &cfg, (&data, &y), &unc, true, stability)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {

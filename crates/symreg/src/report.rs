@@ -169,17 +169,19 @@ pub struct SearchReport {
 }
 
 impl SearchReport {
-    /// The report of `result` (a search with `cfg` of `y` on `data`); `front_constants`
-    /// also gives every front member its constants. The selection's shares are the
-    /// stability runs' when `stability` is given.
+    /// The report of `result` (a search with `cfg` of `y` on `data`), its best model's
+    /// constants from `best_uncertainty` (the caller's [`crate::Model::uncertainty`] of it,
+    /// which it usually needs too, so it is not computed twice); `front_constants` also
+    /// gives every front member its constants. The selection's shares are the stability
+    /// runs' when `stability` is given.
     ///
     /// # Errors
     /// [`crate::SrError`] when a model cannot be evaluated on `data`.
     pub fn of(
         result: &SearchResult,
         cfg: &SearchConfig,
-        data: &crate::Table,
-        y: &[f64],
+        (data, y): (&crate::Table, &[f64]),
+        best_uncertainty: &crate::Uncertainty,
         front_constants: bool,
         stability: Option<Stability>,
     ) -> Result<Self, crate::SrError> {
@@ -196,7 +198,7 @@ impl SearchReport {
             selection = selection.with_stability(st);
         }
         Ok(Self {
-            best: summary(&result.best, true)?,
+            best: ModelSummary::of(&result.best, data, y)?.with_constants(best_uncertainty),
             selection,
             pareto: result
                 .pareto
