@@ -184,6 +184,15 @@ def _folds(v):
     return int(v)
 
 
+def _stability_runs(v):
+    """``stability_runs`` checked: a whole number of bootstrap resamples, 0 for none."""
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
+        raise ValueError(
+            f"stability_runs must be 0 (not measured) or a positive integer, got {v!r}"
+        )
+    return int(v)
+
+
 def _level(v):
     """An interval level checked: a probability strictly between 0 and 1."""
     if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not 0 < v < 1:
@@ -212,8 +221,11 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     ``pareto_`` (DataFrame: complexity, loss = training MSE, equation), ``template_`` (the
     equation with its fitted constants named ``p0``, ``p1``, ...) and ``params_`` (DataFrame:
     name, value, fitted, std_error, ci95_lo, ci95_hi), ``model_json_`` (the
-    model as the engine serialises it), ``evaluations_``, ``n_features_in_`` and, from a
-    DataFrame, ``feature_names_in_``.
+    model as the engine serialises it), ``evaluations_``, ``selection_`` (how the equation
+    was selected, its structure's share over resamples and the alternatives the data cannot
+    tell apart), ``stability_`` (with ``stability_runs=N``: the search rerun on N bootstrap
+    resamples, ``{runs, features, structures, r2}`` as ``hxai sr --stability N``; else
+    ``None``), ``n_features_in_`` and, from a DataFrame, ``feature_names_in_``.
 
     ``n_jobs`` is the number of threads of the search: ``None`` (the default) uses every
     core (the engine's shared thread pool, sized by ``RAYON_NUM_THREADS`` if set), ``-1``
@@ -251,10 +263,12 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         skip_equivalent=True,
         runners_up=0,
         conformal_folds=5,
+        stability_runs=0,
         n_jobs=None,
     ):
         self._set_search(locals())
         self.conformal_folds = conformal_folds
+        self.stability_runs = stability_runs
 
     def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
@@ -269,9 +283,10 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         )
         names = _names(self, X.shape[1])
         folds = _folds(self.conformal_folds)
+        runs = _stability_runs(self.stability_runs)
         doc = json.loads(
             _hxai.sr_fit(
-                names, columns_of(X), to_bytes(y, "y"), settings, _n_jobs(self), folds
+                names, columns_of(X), to_bytes(y, "y"), settings, _n_jobs(self), folds, runs
             )
         )
         best = doc["best"]
@@ -286,6 +301,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.params_ = _params_frame(best["params"])
         self.evaluations_ = doc["evaluations"]
         self.selection_ = doc["selection"]
+        self.stability_ = doc.get("stability")
         self.uncertainty_json_ = json.dumps(doc["uncertainty"])
         conf = doc.get("conformal")
         self.conformal_json_ = "" if conf is None else json.dumps(conf)
@@ -348,7 +364,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     the correction's ``equation_``, ``sympy_``, ``latex_``, ``complexity_``, ``features_``,
     ``warnings_`` (the fit's warnings, each also raised as a ``UserWarning``: a column that
     nearly copies the target, a physics that changes sign under a multiplicative
-    correction; docs/bad-input.md) and ``model_json_`` (the model file of ``hxai hybrid
+    correction; docs/bad-input.md), ``selection_`` and ``stability_`` (with
+    ``stability_runs=N``, as ``hxai hybrid fit --stability N``; the shares in ``selection_``
+    are then the resamples') and ``model_json_`` (the model file of ``hxai hybrid
     fit``, readable by ``hxai hybrid predict``). ``predict_parts(X)`` returns physics, correction and hybrid.
 
     ``n_jobs`` is the number of threads of the fit, as on :class:`SymbolicRegressor`
@@ -391,9 +409,11 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         skip_equivalent=True,
         runners_up=3,
         conformal_folds=5,
+        stability_runs=0,
         n_jobs=None,
     ):
         self.conformal_folds = conformal_folds
+        self.stability_runs = stability_runs
         self.physics = physics
         self.calibrate = calibrate
         self.init = init
@@ -445,6 +465,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             "correction": self.correction,
             "joint": bool(self.joint),
             "conformal_folds": _folds(self.conformal_folds),
+            "stability_runs": _stability_runs(self.stability_runs),
             "search": search,
         }
         text = _hxai.table_fit(
@@ -465,6 +486,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.complexity_ = corr["complexity"]
         self.features_ = list(corr["features"])
         self.selection_ = corr.get("selection")
+        self.stability_ = doc.get("stability")
         # the traps of the fit (a column copying the target, a physics that changes sign
         # under a multiplicative correction, ...): kept and raised as UserWarning
         self.warnings_ = list(doc.get("warnings", []))

@@ -31,9 +31,12 @@ struct FitDocument {
 /// `conformal` the CV+ calibration over `conformal_folds` random folds of the rows
 /// (`hxai_hybrid::conformal::calibrate_model`: the constants refitted per fold), `null`
 /// with 0 folds or when a fold model is undefined on its held-out rows
-/// (`conformal_error` then says why).
+/// (`conformal_error` then says why). `stability_runs` > 0 adds `stability` (the search
+/// rerun on that many bootstrap resamples, [`hxai_symreg::stability()`]) and the selection's
+/// shares over them.
 #[pyfunction]
-#[pyo3(signature = (names, columns, y, search_json, n_jobs=None, conformal_folds=DEFAULT_CONFORMAL_FOLDS))]
+#[pyo3(signature = (names, columns, y, search_json, n_jobs=None, conformal_folds=DEFAULT_CONFORMAL_FOLDS, stability_runs=0))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn sr_fit(
     py: Python<'_>,
     names: Vec<String>,
@@ -42,6 +45,7 @@ pub(crate) fn sr_fit(
     search_json: &str,
     n_jobs: Option<i64>,
     conformal_folds: usize,
+    stability_runs: usize,
 ) -> PyResult<String> {
     if conformal_folds == 1 {
         return Err(PyValueError::new_err(
@@ -56,7 +60,18 @@ pub(crate) fn sr_fit(
         .detach(|| -> Result<_, hxai_symreg::SrError> {
             let res = hxai_symreg::search(&data, &y, &cfg, &mut |_| {})?;
             let unc = res.best.uncertainty(&data, &y)?;
-            let report = hxai_symreg::SearchReport::of(&res, &cfg, (&data, &y), &unc, false, None)?;
+            let stability = match stability_runs {
+                0 => None,
+                runs => Some(hxai_symreg::stability(
+                    &data,
+                    &y,
+                    &cfg,
+                    runs,
+                    &mut |_, _| {},
+                )?),
+            };
+            let report =
+                hxai_symreg::SearchReport::of(&res, &cfg, (&data, &y), &unc, false, stability)?;
             Ok((res, unc, report))
         })
         .map_err(err)?;

@@ -5,7 +5,7 @@ use crate::convert::{err, method_of, par_of, parse_json, table_of, to_bytes};
 use crate::settings::with_overrides;
 use hxai_hybrid::IntervalMethod;
 use hxai_hybrid::conformal::DEFAULT_CONFORMAL_FOLDS;
-use hxai_hybrid::tables::{CorrectionForm, TableConfig, TableModel, fit_split};
+use hxai_hybrid::tables::{CorrectionForm, TableConfig, TableModel, fit_split, measure_stability};
 use hxai_symreg::SearchConfig;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -35,6 +35,9 @@ struct ProcessSettings {
     joint: bool,
     #[serde(default = "default_conformal_folds")]
     conformal_folds: usize,
+    /// Bootstrap resamples of the correction's stability (0: not measured).
+    #[serde(default)]
+    stability_runs: usize,
     #[serde(default)]
     search: Value,
 }
@@ -46,7 +49,8 @@ fn default_conformal_folds() -> usize {
 /// `table_fit(names, columns, settings_json, n_jobs=None)`: the table workflow's `fit`
 /// (docs/hybrid-tables.md) on every row of the table (the caller splits, as scikit-learn
 /// does), on the threads of `n_jobs` ([`par_of`]). The table holds the target column named
-/// in the settings. Returns the model file's JSON.
+/// in the settings; `stability_runs` > 0 in them also measures the correction's stability
+/// over that many bootstrap resamples ([`measure_stability`]). Returns the model file's JSON.
 #[pyfunction]
 #[pyo3(signature = (names, columns, settings_json, n_jobs=None))]
 pub(crate) fn table_fit(
@@ -75,8 +79,15 @@ pub(crate) fn table_fit(
         train: (0..table.n_rows()).collect(),
         test: Vec::new(),
     };
+    let runs = s.stability_runs;
     let model = py
-        .detach(move || fit_split(&table, &cfg, &split, &mut |_| {}))
+        .detach(move || {
+            let mut model = fit_split(&table, &cfg, &split, &mut |_| {})?;
+            if runs > 0 {
+                measure_stability(&table, &cfg, &mut model, runs, &mut |_, _| {})?;
+            }
+            Ok::<_, hxai_hybrid::HybridError>(model)
+        })
         .map_err(err)?;
     Ok(model.to_json())
 }

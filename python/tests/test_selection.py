@@ -84,3 +84,33 @@ def test_log_correction_recovers_a_power_law_on_log_normal_scatter():
     assert json.loads(m.model_json_)["correction"]["kind"] == "log"
     with pytest.raises(ValueError, match="correction"):
         HybridRegressor("(C/v)^2", calibrate=["C"], correction="logarithmic").fit(X, y)
+
+
+def test_stability_runs_report_the_shares_on_both_estimators(quadratic):
+    X, y = quadratic
+    est = SymbolicRegressor(**FAST, stability_runs=3).fit(X, y)
+    st = est.stability_
+    assert st["runs"] == 3
+    assert abs(sum(s["share"] for s in st["structures"]) - 1.0) < 1e-9
+    # the selection's share is now measured over those resamples
+    assert est.selection_["runs"] == 3 and 0.0 <= est.selection_["share"] <= 1.0
+    assert SymbolicRegressor(**FAST).fit(X, y).stability_ is None
+    with pytest.raises(ValueError, match="stability_runs"):
+        SymbolicRegressor(**FAST, stability_runs=-1).fit(X, y)
+
+    T = hxai.simulate("tool_life", n_rows=120, seed=3)
+    life = T.pop("tool_life_min")
+    hyb = HybridRegressor(
+        "(C/cutting_speed_m_min)^(1/n)",
+        calibrate=["C", "n"],
+        init={"C": 500.0, "n": 0.25},
+        correction="log",
+        exclude=["tool"],
+        stability_runs=3,
+        **FAST,
+    ).fit(T, life)
+    assert hyb.stability_["runs"] == 3
+    assert set(hyb.stability_["features"]) >= set(hyb.features_)
+    assert hyb.selection_["runs"] == 3
+    # the model file stores the same (hxai hybrid fit --stability writes this key too)
+    assert json.loads(hyb.model_json_)["stability"] == hyb.stability_

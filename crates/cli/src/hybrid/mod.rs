@@ -91,18 +91,14 @@ fn fit(a: FitArgs) -> Result<()> {
     if let Some(runs) = a.stability {
         let sb = crate::progress::styled(runs as u64, "{bar:30} {pos}/{len} resamples [{elapsed}]");
         let sbb = sb.clone();
-        model.stability = Some(hxai_hybrid::tables::stability(
+        hxai_hybrid::tables::measure_stability(
             &loaded.table,
             &cfg,
-            &model,
+            &mut model,
             runs,
             &mut move |done, _| sbb.set_position(done as u64),
-        )?);
+        )?;
         sb.finish_and_clear();
-        if let Some(st) = &model.stability {
-            let sel = model.correction.selection.take();
-            model.correction.selection = sel.map(|sel| sel.with_stability(st));
-        }
     }
     let json = model.to_json();
     let cannot = || format!("cannot write the model to {}", a.out.display());

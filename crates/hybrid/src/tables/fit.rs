@@ -47,6 +47,27 @@ pub fn stability(
     )?)
 }
 
+/// Measures the stability of `model`'s correction ([`stability`]) and stores it in the
+/// model: `model.stability`, and the shares of its selection report (the structure's and
+/// each alternative's, [`hxai_symreg::SelectionReport::with_stability`]). What `hxai
+/// hybrid fit --stability N` and Python's `HybridRegressor(stability_runs=N)` run.
+///
+/// # Errors
+/// Those of [`stability`].
+pub fn measure_stability(
+    table: &Table,
+    cfg: &TableConfig,
+    model: &mut TableModel,
+    runs: usize,
+    progress: &mut (dyn FnMut(usize, usize) + Send),
+) -> Result<(), HybridError> {
+    let st = stability(table, cfg, model, runs, progress)?;
+    let sel = model.correction.selection.take();
+    model.correction.selection = sel.map(|sel| sel.with_stability(&st));
+    model.stability = Some(st);
+    Ok(())
+}
+
 /// Fits on the split [`split_rows`] chooses.
 ///
 /// # Errors
