@@ -13,6 +13,9 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 # Small searches keep the suite fast on CI's two cores; the engine is the same.
 FAST = dict(epochs=2, candidates_per_epoch=200)
 
+# Taylor's tool life as the physics of a log-form hybrid (the tool_life case's law)
+TAYLOR = dict(physics="(C/cutting_speed_m_min)^(1/n)", calibrate=["C", "n"], correction="log")
+
 
 def hxai_binary():
     """The `hxai` binary: $HXAI_BIN, else target/debug or target/release of this checkout.

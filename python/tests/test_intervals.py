@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 import hxai
-from conftest import FAST, hxai_binary
+from conftest import FAST, TAYLOR, hxai_binary
 from hxai import HybridRegressor, SymbolicRegressor
 
 
@@ -66,12 +66,7 @@ def test_hybrid_interval_equals_the_cli(tmp_path):
     y = df.pop("tool_life_min")
     X = df.drop(columns=["tool"])
     m = HybridRegressor(
-        "(C/cutting_speed_m_min)^(1/n)",
-        calibrate=["C", "n"],
-        init={"C": 400.0, "n": 0.25},
-        correction="log",
-        features=["feed_mm"],
-        **FAST,
+        **TAYLOR, init={"C": 400.0, "n": 0.25}, features=["feed_mm"], **FAST
     ).fit(X, y)
     iv = m.predict_interval(X)
     assert m.interval_method_ == "conformal"

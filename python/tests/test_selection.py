@@ -7,7 +7,7 @@ import pytest
 import hxai
 from hxai import HybridRegressor, SymbolicRegressor
 from hxai._hxai import defaults
-from conftest import FAST
+from conftest import FAST, TAYLOR
 
 TRANSCENDENTAL = ("exp(", "log(", "sin(", "cos(", "tanh(")
 
@@ -101,13 +101,7 @@ def test_stability_runs_report_the_shares_on_both_estimators(quadratic):
     T = hxai.simulate("tool_life", n_rows=120, seed=3)
     life = T.pop("tool_life_min")
     hyb = HybridRegressor(
-        "(C/cutting_speed_m_min)^(1/n)",
-        calibrate=["C", "n"],
-        init={"C": 500.0, "n": 0.25},
-        correction="log",
-        exclude=["tool"],
-        stability_runs=3,
-        **FAST,
+        **TAYLOR, init={"C": 500.0, "n": 0.25}, exclude=["tool"], stability_runs=3, **FAST
     ).fit(T, life)
     assert hyb.stability_["runs"] == 3
     assert set(hyb.stability_["features"]) >= set(hyb.features_)
