@@ -14,26 +14,17 @@ fn fitted(name: &str) -> Result<(PathBuf, PathBuf, PathBuf), Box<dyn std::error:
     let dir = common::scratch("hxai-cli-explain", name)?;
     let data = dir.join("data");
     let (model, samples) = (dir.join("model.json"), dir.join("samples.csv"));
-    hxai_ok(
-        &[
-            "simulate",
-            "--out",
-            s(&data),
-            "--repeats",
-            "1",
-            "--duration-s",
-            "1.5",
-            "--fs-hz",
-            "2000",
-            "--amplitudes",
-            "4,8,11",
-            "--frequencies",
-            "10,20,30,40",
-            "--seed",
-            "1",
-        ],
-        "simulate failed",
-    )?;
+    let grid = [
+        "--fs-hz",
+        "2000",
+        "--amplitudes",
+        "4,8,11",
+        "--frequencies",
+        "10,20,30,40",
+        "--seed",
+        "1",
+    ];
+    common::simulate_small(&data, "1.5", &grid, "simulate failed")?;
     hxai_ok(
         &[
             "fit",

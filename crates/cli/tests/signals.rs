@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{assert_no_temporary_files, hxai_ok, s, scratch};
+use common::{assert_no_temporary_files, s, scratch, simulate_small};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -79,21 +79,7 @@ fn stop_while_writing(data: &Path, signal: &str) -> Option<i32> {
 fn a_signal_while_writing_leaves_the_folder_as_it_was() {
     let dir = scratch("hxai-signals", "simulate").expect("scratch");
     let data = dir.join("data");
-    hxai_ok(
-        &[
-            "simulate",
-            "--out",
-            s(&data),
-            "--repeats",
-            "1",
-            "--duration-s",
-            "0.5",
-            "--format",
-            "csv",
-        ],
-        "the old folder",
-    )
-    .expect("run");
+    simulate_small(&data, "0.5", &["--format", "csv"], "the old folder").expect("run");
     let before = snapshot(&data);
     for (signal, code) in [("-TERM", 143), ("-INT", 130)] {
         assert_eq!(stop_while_writing(&data, signal), Some(code), "{signal}");
@@ -110,25 +96,15 @@ fn a_stopped_stream_keeps_its_rows() {
     use std::io::Write;
     let dir = scratch("hxai-signals", "stream").expect("scratch");
     let data = dir.join("data");
-    hxai_ok(
-        &[
-            "simulate",
-            "--out",
-            s(&data),
-            "--repeats",
-            "1",
-            "--duration-s",
-            "0.8",
-            "--format",
-            "csv",
-            "--amplitudes",
-            "4",
-            "--frequencies",
-            "20",
-        ],
-        "a record",
-    )
-    .expect("run");
+    let one_record = [
+        "--format",
+        "csv",
+        "--amplitudes",
+        "4",
+        "--frequencies",
+        "20",
+    ];
+    simulate_small(&data, "0.8", &one_record, "a record").expect("run");
     let record = std::fs::read_dir(&data)
         .expect("list")
         .filter_map(Result::ok)

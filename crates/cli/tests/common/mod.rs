@@ -7,6 +7,27 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// `hxai simulate --out OUT --repeats 1 --duration-s SECONDS` and `extra`: a small folder of
+/// simulated records for a test; fails (naming `what`) unless it succeeds.
+pub fn simulate_small(
+    out: &Path,
+    seconds: &str,
+    extra: &[&str],
+    what: &str,
+) -> Result<Output, std::io::Error> {
+    let mut args = vec![
+        "simulate",
+        "--out",
+        s(out),
+        "--repeats",
+        "1",
+        "--duration-s",
+        seconds,
+    ];
+    args.extend_from_slice(extra);
+    hxai_ok(&args, what)
+}
+
 /// Runs the `hxai` binary built for these tests with `args`.
 pub fn hxai(args: &[&str]) -> Result<Output, std::io::Error> {
     Command::new(env!("CARGO_BIN_EXE_hxai")).args(args).output()
