@@ -56,11 +56,9 @@ fn data() -> Result<Vec<Rec>, Box<dyn std::error::Error>> {
     Ok(out)
 }
 
-#[test]
-fn fit_predict_evaluate_on_synthetic_records() -> Result<(), Box<dyn std::error::Error>> {
-    let recs = data()?;
-    let inputs: Vec<RecordInput<'_>> = recs
-        .iter()
+/// The records as the library takes them (1 kHz, with the probe as the truth).
+fn inputs_of(recs: &[Rec]) -> Vec<RecordInput<'_>> {
+    recs.iter()
         .map(|r| RecordInput {
             id: &r.id,
             fs_hz: 1000.0,
@@ -68,7 +66,13 @@ fn fit_predict_evaluate_on_synthetic_records() -> Result<(), Box<dyn std::error:
             signal: &r.accel,
             truth: Some(&r.probe),
         })
-        .collect();
+        .collect()
+}
+
+#[test]
+fn fit_predict_evaluate_on_synthetic_records() -> Result<(), Box<dyn std::error::Error>> {
+    let recs = data()?;
+    let inputs = inputs_of(&recs);
     let cfg = RecordConfig {
         search: hxai_symreg::SearchConfig {
             epochs: 4,
@@ -135,16 +139,7 @@ fn fit_predict_evaluate_on_synthetic_records() -> Result<(), Box<dyn std::error:
 fn conformal_intervals_of_the_corrected_amplitude() -> Result<(), Box<dyn std::error::Error>> {
     use hxai_hybrid::IntervalMethod;
     let recs = data()?;
-    let inputs: Vec<RecordInput<'_>> = recs
-        .iter()
-        .map(|r| RecordInput {
-            id: &r.id,
-            fs_hz: 1000.0,
-            frequency_hz: r.f,
-            signal: &r.accel,
-            truth: Some(&r.probe),
-        })
-        .collect();
+    let inputs = inputs_of(&recs);
     let search = hxai_symreg::SearchConfig {
         epochs: 4,
         candidates_per_epoch: 300,
