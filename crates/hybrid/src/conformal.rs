@@ -40,6 +40,58 @@ pub fn refit_constants(model: &Model, cols: &[&[f64]], target: &[f64]) -> Model 
     if mse.is_finite() { m } else { model.clone() }
 }
 
+/// The cross-fitting loop of CV+ that both halves run: for each fold of `splits` (indices
+/// `0..n` into the calibration rows), `fit_fold` refits on the fold's training indices and
+/// returns the fold's parameters and its predictions, indexed by `row_of(i)` for the
+/// calibration row `i` (the table's row). Returns every fold's parameters, each
+/// calibration row's fold and its held-out prediction.
+///
+/// # Errors
+/// Those of `fit_fold`, and a held-out prediction that is not finite (named by its table
+/// row, counted from 1; `what` names the refitted model).
+pub(crate) fn held_out(
+    splits: &[Split],
+    n: usize,
+    what: &str,
+    row_of: impl Fn(usize) -> usize,
+    mut fit_fold: impl FnMut(&Split) -> Result<(Vec<f64>, Vec<f64>), HybridError>,
+) -> Result<HeldOut, HybridError> {
+    let mut fold_params = Vec::with_capacity(splits.len());
+    let mut fold_of = vec![0usize; n];
+    let mut held = vec![f64::NAN; n];
+    for (k, s) in splits.iter().enumerate() {
+        let (params, pred) = fit_fold(s)?;
+        for &i in &s.test {
+            let row = row_of(i);
+            let p = pred.get(row).copied().unwrap_or(f64::NAN);
+            if !p.is_finite() {
+                return Err(HybridError::InvalidConfig(format!(
+                    "row {}: the {what} refitted without its conformal fold predicts {p}: \
+                     fit with --conformal-folds 0 (no conformal intervals) or check the \
+                     equation's domain",
+                    row + 1
+                )));
+            }
+            fold_of[i] = k;
+            held[i] = p;
+        }
+        fold_params.push(params);
+    }
+    Ok(HeldOut {
+        fold_params,
+        fold_of,
+        held,
+    })
+}
+
+/// What [`held_out`] returns: each fold's parameters, each calibration row's fold and its
+/// held-out prediction.
+pub(crate) struct HeldOut {
+    pub(crate) fold_params: Vec<Vec<f64>>,
+    pub(crate) fold_of: Vec<usize>,
+    pub(crate) held: Vec<f64>,
+}
+
 /// CV+ calibration of a symbolic `model` of `target` on the rows of `data` over the folds
 /// `splits` (indices into those rows): for each fold the model's free constants are
 /// refitted on the other folds ([`refit_constants`]), the held-out rows predicted, and
@@ -64,34 +116,27 @@ pub fn calibrate_model(
             })
         })
         .collect::<Result<_, _>>()?;
-    let n = data.n_rows();
-    let mut fold_params = Vec::with_capacity(splits.len());
-    let mut fold_of = vec![0usize; n];
-    let mut held = vec![f64::NAN; n];
-    for (k, s) in splits.iter().enumerate() {
-        let sub: Vec<Vec<f64>> = cols
-            .iter()
-            .map(|c| s.train.iter().map(|&i| c[i]).collect())
-            .collect();
-        let sub: Vec<&[f64]> = sub.iter().map(Vec::as_slice).collect();
-        let y: Vec<f64> = s.train.iter().map(|&i| target[i]).collect();
-        let m = refit_constants(model, &sub, &y);
-        let pred = m.predict(data)?;
-        for &i in &s.test {
-            if !pred[i].is_finite() {
-                return Err(HybridError::InvalidConfig(format!(
-                    "row {}: the correction refitted without its conformal fold predicts {}: \
-                     fit with --conformal-folds 0 (no conformal intervals) or check the \
-                     equation's domain",
-                    i + 1,
-                    pred[i]
-                )));
-            }
-            fold_of[i] = k;
-            held[i] = pred[i];
-        }
-        fold_params.push(m.params);
-    }
+    let HeldOut {
+        fold_params,
+        fold_of,
+        held,
+    } = held_out(
+        splits,
+        data.n_rows(),
+        "correction",
+        |i| i,
+        |s| {
+            let sub: Vec<Vec<f64>> = cols
+                .iter()
+                .map(|c| s.train.iter().map(|&i| c[i]).collect())
+                .collect();
+            let sub: Vec<&[f64]> = sub.iter().map(Vec::as_slice).collect();
+            let y: Vec<f64> = s.train.iter().map(|&i| target[i]).collect();
+            let m = refit_constants(model, &sub, &y);
+            let pred = m.predict(data)?;
+            Ok((m.params, pred))
+        },
+    )?;
     ConformalInfo::from_held_out(fold_params, fold_of, &held, target, false)
 }
 
@@ -488,7 +533,43 @@ impl ConformalInfo {
 
 #[cfg(test)]
 mod tests {
-    use super::RangeWidening;
+    use super::{HeldOut, RangeWidening, Split, held_out};
+
+    /// Each calibration row gets its fold and its fold's prediction (read at its table row);
+    /// a fold that predicts a non-finite value there is refused, naming the table row.
+    #[test]
+    fn held_out_predictions_come_from_each_rows_own_fold() {
+        let splits = [
+            Split {
+                train: vec![1, 2],
+                test: vec![0],
+            },
+            Split {
+                train: vec![0],
+                test: vec![1, 2],
+            },
+        ];
+        // calibration rows 0, 1, 2 are the table's rows 10, 11, 12
+        let row_of = |i: usize| 10 + i;
+        let fit = |k: f64| move |s: &Split| Ok((vec![k], vec![k * (s.test.len() as f64); 13]));
+        let HeldOut {
+            fold_params,
+            fold_of,
+            held,
+        } = held_out(&splits, 3, "model", row_of, fit(1.0)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(fold_params, [vec![1.0], vec![1.0]]);
+        assert_eq!(fold_of, [0, 1, 1]);
+        assert_eq!(held, [1.0, 2.0, 2.0]);
+        let bad = |_: &Split| Ok((vec![0.0], vec![f64::NAN; 13]));
+        let err = held_out(&splits, 3, "model", row_of, bad)
+            .err()
+            .map(|e| e.to_string());
+        assert!(
+            err.as_deref()
+                .is_some_and(|e| e.contains("row 11: the model refitted")),
+            "{err:?}"
+        );
+    }
 
     #[test]
     fn distance_counts_each_column_in_its_own_width() {

@@ -29,7 +29,7 @@ use super::physics::{calibrate_physics, calibrated_slots, deltas, gather, physic
 use super::resolve::Resolved;
 use super::{TableConfig, calibrate};
 use crate::HybridError;
-use crate::conformal::{ConformalInfo, RangeWidening, refit_constants};
+use crate::conformal::{ConformalInfo, HeldOut, RangeWidening, held_out, refit_constants};
 use hxai_eval::{IntervalMethod, Split};
 use hxai_symreg::eval::Evaluator;
 use hxai_symreg::uncertainty::is_exact;
@@ -147,29 +147,23 @@ pub(crate) fn calibrate(
     }
     let splits = folds_of(table, cfg, train, folds)?;
     let y = table.require(&cfg.target)?;
-    let mut fold_params = Vec::with_capacity(splits.len());
-    let mut fold_of = vec![0usize; train.len()];
-    let mut held_pred = vec![f64::NAN; train.len()];
-    for (k, s) in splits.iter().enumerate() {
-        let rows: Vec<usize> = s.train.iter().map(|&i| train[i]).collect();
-        let c = fold_fit(table, cfg, res, model.correction.fitted()?, &rows)?;
-        let pred = predict_with(&c, &c.params, table)?;
-        for &i in &s.test {
-            let row = train[i];
-            if !pred[row].is_finite() {
-                return Err(HybridError::InvalidConfig(format!(
-                    "row {}: the hybrid refitted without its conformal fold predicts {}: \
-                     fit with --conformal-folds 0 (no conformal intervals) or check the \
-                     equation's domain",
-                    row + 1,
-                    pred[row]
-                )));
-            }
-            fold_of[i] = k;
-            held_pred[i] = pred[row];
-        }
-        fold_params.push(c.params);
-    }
+    let fitted = model.correction.fitted()?;
+    let HeldOut {
+        fold_params,
+        fold_of,
+        held: held_pred,
+    } = held_out(
+        &splits,
+        train.len(),
+        "hybrid",
+        |i| train[i],
+        |s| {
+            let rows: Vec<usize> = s.train.iter().map(|&i| train[i]).collect();
+            let c = fold_fit(table, cfg, res, fitted, &rows)?;
+            let pred = predict_with(&c, &c.params, table)?;
+            Ok((c.params, pred))
+        },
+    )?;
     let y_train = gather(y, train);
     let multiplies = matches!(
         model.correction.kind,
