@@ -208,6 +208,12 @@ class _SearchParams:
             setattr(self, k, loc[k])
         self.n_jobs = loc["n_jobs"]
 
+    def __sklearn_tags__(self):
+        # Both estimators refuse NaN in X (the engine has no missing-value handling).
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = False
+        return tags
+
 
 class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     """Symbolic regression (``hxai sr``) as a scikit-learn regressor.
@@ -269,11 +275,6 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self._set_search(locals())
         self.conformal_folds = conformal_folds
         self.stability_runs = stability_runs
-
-    def __sklearn_tags__(self):
-        tags = super().__sklearn_tags__()
-        tags.input_tags.allow_nan = False
-        return tags
 
     def fit(self, X, y):
         """Searches for an equation of ``y`` over the columns of ``X``. Returns ``self``."""
@@ -423,11 +424,6 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.exclude = exclude
         self.joint = joint
         self._set_search(locals())
-
-    def __sklearn_tags__(self):
-        tags = super().__sklearn_tags__()
-        tags.input_tags.allow_nan = False
-        return tags
 
     def _target_name(self, y, names):
         name = getattr(y, "name", None)

@@ -27,6 +27,45 @@ pub struct IntervalReport {
     pub median_width: Option<f64>,
 }
 
+/// The interval method a model file serves by default at `level`, the same rule in both
+/// halves: conformal where it stores a calibration with enough scores for `level`, else the
+/// delta method where it stores the uncertainty of its constants, else none.
+pub(crate) fn default_method(
+    conformal: Option<&crate::conformal::ConformalInfo>,
+    has_uncertainty: bool,
+    level: f64,
+) -> Option<IntervalMethod> {
+    if conformal.is_some_and(|c| c.serves(level)) {
+        Some(IntervalMethod::Conformal)
+    } else if has_uncertainty {
+        Some(IntervalMethod::Delta)
+    } else {
+        None
+    }
+}
+
+/// `level` checked as a probability strictly between 0 and 1 (both halves' intervals).
+pub(crate) fn check_level(level: f64) -> Result<(), crate::HybridError> {
+    if level > 0.0 && level < 1.0 {
+        Ok(())
+    } else {
+        Err(crate::HybridError::InvalidConfig(format!(
+            "interval level {level}: give a probability between 0 and 1, such as 0.95"
+        )))
+    }
+}
+
+/// The refusal of a conformal `method` by a model file that stores no calibration, telling
+/// the user to refit with `command` (`hxai fit` or `hxai hybrid fit`) or use the delta method.
+pub(crate) fn no_conformal(method: IntervalMethod, command: &str) -> crate::HybridError {
+    crate::HybridError::InvalidConfig(format!(
+        "this model file stores no conformal calibration (written before conformal \
+         intervals existed, or fitted with --conformal-folds 0): refit it with \
+         `{command}`, or use --interval-method delta instead of {}",
+        method.name()
+    ))
+}
+
 fn delta_method() -> IntervalMethod {
     IntervalMethod::Delta
 }

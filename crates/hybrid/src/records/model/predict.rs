@@ -27,13 +27,11 @@ impl RecordModel {
     /// ([`crate::conformal::ConformalInfo::serves`]: 19 at 95 %), else the delta method when it stores the correction's
     /// uncertainty, else none (the zero correction).
     pub fn default_interval_method(&self, level: f64) -> Option<IntervalMethod> {
-        if self.conformal.as_ref().is_some_and(|c| c.serves(level)) {
-            Some(IntervalMethod::Conformal)
-        } else if self.correction.uncertainty.is_some() {
-            Some(IntervalMethod::Delta)
-        } else {
-            None
-        }
+        crate::intervals::default_method(
+            self.conformal.as_ref(),
+            self.correction.uncertainty.is_some(),
+            level,
+        )
     }
 
     /// Prediction intervals at `level` of the corrected amplitude by the model's default
@@ -97,11 +95,7 @@ impl RecordModel {
         level: f64,
         method: IntervalMethod,
     ) -> Result<Vec<(f64, f64)>, HybridError> {
-        if !(level > 0.0 && level < 1.0) {
-            return Err(HybridError::InvalidConfig(format!(
-                "interval level {level}: give a probability between 0 and 1, such as 0.95"
-            )));
-        }
+        crate::intervals::check_level(level)?;
         let (Some(model), Some(unc)) = (&self.correction.model, &self.correction.uncertainty)
         else {
             return Err(HybridError::InvalidConfig(
@@ -114,12 +108,7 @@ impl RecordModel {
             model.prediction_intervals(unc, table, level)?
         } else {
             let Some(conf) = &self.conformal else {
-                return Err(HybridError::InvalidConfig(format!(
-                    "this model file stores no conformal calibration (written before conformal \
-                     intervals existed, or fitted with --conformal-folds 0): refit it with \
-                     `hxai fit`, or use --interval-method delta instead of {}",
-                    method.name()
-                )));
+                return Err(crate::intervals::no_conformal(method, "hxai fit"));
             };
             conf.model_intervals(model, table, level, method)?
         })

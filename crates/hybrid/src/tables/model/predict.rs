@@ -70,13 +70,11 @@ impl TableModel {
     /// ([`crate::conformal::ConformalInfo::serves`]: 19 at 95 %), else the delta method when it stores the hybrid's
     /// uncertainty, else none.
     pub fn default_interval_method(&self, level: f64) -> Option<IntervalMethod> {
-        if self.conformal.as_ref().is_some_and(|c| c.serves(level)) {
-            Some(IntervalMethod::Conformal)
-        } else if self.hybrid.uncertainty.is_some() {
-            Some(IntervalMethod::Delta)
-        } else {
-            None
-        }
+        crate::intervals::default_method(
+            self.conformal.as_ref(),
+            self.hybrid.uncertainty.is_some(),
+            level,
+        )
     }
 
     /// Prediction intervals `(lo, hi)` of the hybrid at `level` for every row of `table`, by
@@ -120,21 +118,12 @@ impl TableModel {
         level: f64,
         method: IntervalMethod,
     ) -> Result<Vec<(f64, f64)>, HybridError> {
-        if !(level > 0.0 && level < 1.0) {
-            return Err(HybridError::InvalidConfig(format!(
-                "interval level {level}: give a probability between 0 and 1, such as 0.95"
-            )));
-        }
+        crate::intervals::check_level(level)?;
         let phys = self.physics_program()?;
         let c = combine(&phys, self.correction.fitted()?, self.correction.kind);
         if method != IntervalMethod::Delta {
             let Some(conf) = &self.conformal else {
-                return Err(HybridError::InvalidConfig(format!(
-                    "this model file stores no conformal calibration (written before conformal \
-                     intervals existed, or fitted with --conformal-folds 0): refit it with \
-                     `hxai hybrid fit`, or use --interval-method delta instead of {}",
-                    method.name()
-                )));
+                return Err(crate::intervals::no_conformal(method, "hxai hybrid fit"));
             };
             return crate::tables::conformal::intervals(conf, &c, table, level, method);
         }
