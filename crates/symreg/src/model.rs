@@ -212,8 +212,14 @@ impl Model {
     }
 }
 
+/// How close (relative) a constant must be to a third, a quarter or a named irrational
+/// ([`crate::expr::named_constants`]) for that value to be tried: 1 %. Farther values would
+/// rarely pass the criterion and each try costs a refit.
+const NAMED_SNAP_WINDOW: f64 = 0.01;
+
 /// Candidate simple values near `v`, simplest first, each marked `true` when it is an exact
-/// value (0, +-1, an integer, a half or a multiple of pi/2) rather than `v` rounded to 1-3
+/// value (0, +-1, an integer, a half, a multiple of pi/2, a third or a quarter, a named
+/// irrational such as `sqrt(2)` or `1/sqrt(2 pi)`) rather than `v` rounded to 1-3
 /// significant digits.
 fn snap_candidates(v: f64, weight: bool) -> Vec<(f64, bool)> {
     let mut c: Vec<(f64, bool)> = if weight {
@@ -228,6 +234,21 @@ fn snap_candidates(v: f64, weight: bool) -> Vec<(f64, bool)> {
         c.push((k * std::f64::consts::FRAC_PI_2, true));
     }
     let a = v.abs();
+    let near = |x: f64| (x - v).abs() <= NAMED_SNAP_WINDOW * a;
+    if a > 0.0 && a < 1e6 {
+        for q in [3.0, 4.0] {
+            let x = (v * q).round() / q;
+            if near(x) {
+                c.push((x, true));
+            }
+        }
+        for (named, _) in crate::expr::named_constants() {
+            let x = named.copysign(v);
+            if near(x) {
+                c.push((x, true));
+            }
+        }
+    }
     if a > 0.0 && a.is_finite() {
         for digits in [1i32, 2, 3] {
             let mag = a.log10().floor() as i32;
@@ -480,5 +501,35 @@ mod limits {
         Model::new(vec!["x".into()], short, params)
             .and_then(|m| m.validate())
             .expect("a program of 199 nodes is fine");
+    }
+}
+
+#[cfg(test)]
+mod snapping {
+    use super::snap_candidates;
+
+    /// The exact candidates near a constant include the third, the quarter and the named
+    /// irrational within 1 % (with its sign), and none farther away.
+    #[test]
+    fn thirds_quarters_and_named_irrationals_are_exact_candidates() {
+        let exact = |v: f64| -> Vec<f64> {
+            snap_candidates(v, true)
+                .into_iter()
+                .filter(|c| c.1)
+                .map(|c| c.0)
+                .collect()
+        };
+        assert!(exact(0.3336).contains(&(1.0 / 3.0)));
+        assert!(exact(-0.7496).contains(&(-3.0 / 4.0)));
+        assert!(exact(0.70712).contains(&(1.0 / 2f64.sqrt())));
+        assert!(exact(-0.39890).contains(&(-1.0 / (2.0 * std::f64::consts::PI).sqrt())));
+        assert!(exact(1.7321).contains(&3f64.sqrt()));
+        // 2 % away from 1/sqrt(2) and from 2/3, 3/4: not tried as those
+        let far = exact(0.69);
+        assert!(!far.contains(&(1.0 / 2f64.sqrt())), "{far:?}");
+        assert!(
+            !far.contains(&(2.0 / 3.0)) && !far.contains(&0.75),
+            "{far:?}"
+        );
     }
 }

@@ -449,3 +449,41 @@ fn quarter_turn_phase_snaps_and_reads_as_cos() {
     assert!(text.contains("cos(x0)"), "{text}");
     assert!(!text.contains("1.57") && !text.contains("pi"), "{text}");
 }
+
+// The normal density's constants are snapped to the values a physicist writes and printed
+// by name in the sympy text: the fitted 0.39894228... of `exp(-x**2/2)/sqrt(2 pi)` becomes
+// `1/sqrt(2*pi)`, and the weights +-0.70710678... of `exp(-(x0 - x1)**2/2)` become
+// `sqrt(2)/2`, so SRBench's rule (floats rounded to 3 decimals) no longer breaks the law.
+#[test]
+fn normal_density_constants_snap_to_their_names() {
+    let x0 = uniform(300, -3.0, 3.0, 21);
+    let x1 = uniform(300, -3.0, 3.0, 22);
+    let norm = 1.0 / (2.0 * std::f64::consts::PI).sqrt();
+    let y: Vec<f64> = x0.iter().map(|v| norm * (-v * v / 2.0).exp()).collect();
+    let data = Table::new(vec!["x".into()], vec![x0.clone()]).unwrap();
+    let m = fit_structure(
+        &data,
+        &y,
+        &affine_program("x0 gaussian"),
+        &SearchConfig::default(),
+    )
+    .unwrap();
+    assert!(m.sympy().contains("1/sqrt(2*pi)"), "{}", m.sympy());
+
+    let y: Vec<f64> = x0
+        .iter()
+        .zip(&x1)
+        .map(|(a, b)| (-(a - b) * (a - b) / 2.0).exp())
+        .collect();
+    let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+    let m = fit_structure(
+        &data,
+        &y,
+        &affine_program("x0 x1 add gaussian"),
+        &SearchConfig::default(),
+    )
+    .unwrap();
+    let text = m.sympy();
+    assert_eq!(text.matches("sqrt(2)/2").count(), 2, "{text}");
+    assert!(!text.contains("0.707"), "{text}");
+}

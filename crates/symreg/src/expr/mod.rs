@@ -9,7 +9,7 @@ mod print;
 mod simplify;
 
 pub use print::{SYMPY_RESERVED, fmt_number, sanitize, sympy_symbol};
-pub(crate) use simplify::MAX_HALF_PI_MULTIPLE;
+pub(crate) use simplify::{MAX_HALF_PI_MULTIPLE, named_constants};
 
 use crate::ops::Op;
 use crate::program::{Node, Program};
@@ -164,6 +164,29 @@ mod tests {
     /// A phase of a whole number of quarter turns turns sin into cos and back, and values
     /// that are exactly k pi/2 print with the symbol pi, so a recovered law reads as one
     /// (and survives rounding its printed constants).
+    /// A constant that is exactly a named irrational prints by its name in the
+    /// full-precision sympy text (so sympy reads it exactly and SRBench's 3-decimal rounding
+    /// leaves it alone), with its sign; rounded forms and values off by one bit print as
+    /// numbers.
+    #[test]
+    fn named_irrationals_print_by_name_in_sympy_text() {
+        use std::f64::consts::PI;
+        let sympy = |v: f64| Expr::Num(v).to_text(None, true);
+        assert_eq!(sympy(1.0 / 2f64.sqrt()), "sqrt(2)/2");
+        assert_eq!(sympy(-(3f64.sqrt())), "-sqrt(3)");
+        assert_eq!(sympy(1.0 / (2.0 * PI).sqrt()), "1/sqrt(2*pi)");
+        assert_eq!(sympy(1.0 / (4.0 * PI)), "1/(4*pi)");
+        let x = Expr::Var("x".into());
+        let prod = Expr::Bin(Op::Mul, Box::new(Expr::Num(1.0 / PI)), Box::new(x));
+        assert_eq!(prod.to_text(None, true), "1/pi*x");
+        assert_eq!(
+            Expr::Num(1.0 / 2f64.sqrt()).to_text(Some(4), true),
+            "0.7071"
+        );
+        let off = f64::from_bits((1.0 / 2f64.sqrt()).to_bits() + 1);
+        assert!(sympy(off).starts_with("0.707"), "{}", sympy(off));
+    }
+
     #[test]
     fn quarter_turn_phases_and_pi() {
         use std::f64::consts::{FRAC_PI_2, PI};

@@ -1,7 +1,7 @@
 //! Printing an [`Expr`]: plain text, sympy-parseable text and LaTeX, numbers and names.
 
 use super::Expr;
-use super::simplify::{half_pi_multiple, small_fraction};
+use super::simplify::{half_pi_multiple, named_constant, small_fraction};
 use crate::ops::Op;
 
 impl Expr {
@@ -45,7 +45,11 @@ impl Expr {
     /// quotients (`1/3`), which bind like a division.
     fn text_prec(&self, fractions: bool) -> u8 {
         match self {
-            Expr::Num(v) if fractions && small_fraction(*v).is_some() => 2,
+            Expr::Num(v)
+                if fractions && (small_fraction(*v).is_some() || named_constant(*v).is_some()) =>
+            {
+                2
+            }
             e => e.prec(),
         }
     }
@@ -54,11 +58,13 @@ impl Expr {
     ///
     /// The full-precision sympy form (`digits` `None`, `sympy` true) writes a constant that
     /// is exactly a small fraction as one (`1/3*x`, `x**(1/2)`: denominators up to 12, the
-    /// smallest that fits).
+    /// smallest that fits), and one that is exactly a named irrational by its name
+    /// (`sqrt(2)/2*x`, `1/sqrt(2*pi)`; see `named_constants`).
     pub fn to_text(&self, digits: Option<usize>, sympy: bool) -> String {
         let fractions = sympy && digits.is_none();
-        let fmt_num = |v: f64| match small_fraction(v) {
-            Some((p, q)) if fractions => format!("{p}/{q}"),
+        let fmt_num = |v: f64| match (small_fraction(v), named_constant(v)) {
+            (Some((p, q)), _) if fractions => format!("{p}/{q}"),
+            (_, Some(name)) if fractions => name,
             _ => fmt_number(v, digits),
         };
         let wrap = |e: &Expr, min: u8| {

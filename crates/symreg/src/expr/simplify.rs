@@ -57,6 +57,49 @@ pub(super) fn small_fraction(v: f64) -> Option<(i64, i64)> {
     })
 }
 
+/// The irrational constants a physicist writes that are not multiples of pi/2: square roots
+/// of small integers and of pi and 2 pi, their inverses, and the inverses of pi, 2 pi and 4 pi
+/// (`1/sqrt(2 pi)` of the normal density, `1/(4 pi)` of Coulomb's law), each with its sympy
+/// text. The value is the double these functions compute, so a snapped constant
+/// (`snap_candidates`) is recognised by its bits ([`named_constant`]).
+pub(crate) fn named_constants() -> [(f64, &'static str); 13] {
+    use std::f64::consts::PI;
+    [
+        (2f64.sqrt(), "sqrt(2)"),
+        (3f64.sqrt(), "sqrt(3)"),
+        (5f64.sqrt(), "sqrt(5)"),
+        (1.0 / 2f64.sqrt(), "sqrt(2)/2"),
+        (1.0 / 3f64.sqrt(), "sqrt(3)/3"),
+        (1.0 / 5f64.sqrt(), "sqrt(5)/5"),
+        (PI.sqrt(), "sqrt(pi)"),
+        ((2.0 * PI).sqrt(), "sqrt(2*pi)"),
+        (1.0 / PI.sqrt(), "1/sqrt(pi)"),
+        (1.0 / (2.0 * PI).sqrt(), "1/sqrt(2*pi)"),
+        (1.0 / PI, "1/pi"),
+        (1.0 / (2.0 * PI), "1/(2*pi)"),
+        (1.0 / (4.0 * PI), "1/(4*pi)"),
+    ]
+}
+
+/// The sympy text of `v` when it is exactly (to the last bit) one of [`named_constants`] or
+/// its negative (`-sqrt(2)`); any other value is `None`. A fitted constant lands on one by
+/// chance with probability about 1e-15; snapped ones are there on purpose.
+pub(super) fn named_constant(v: f64) -> Option<String> {
+    if !v.is_finite() || v == 0.0 {
+        return None;
+    }
+    named_constants()
+        .into_iter()
+        .find(|(c, _)| *c == v.abs())
+        .map(|(_, text)| {
+            if v < 0.0 {
+                format!("-{text}")
+            } else {
+                text.to_string()
+            }
+        })
+}
+
 /// `(u, k)` when `e` is `u + k pi/2` (or `u - k pi/2`, or `k pi/2 + u`) for a whole `k`,
 /// with the phase a number within a few units in the last place of the multiple.
 fn split_phase(e: &Expr) -> Option<(&Expr, i64)> {
