@@ -267,7 +267,8 @@ fn snap_candidates(v: f64, weight: bool) -> Vec<(f64, bool)> {
 
 /// Replaces parameters by simple nearby values one at a time, refitting the others, and
 /// returns the final mean squared error and which parameters were fixed at exact values
-/// (`true` at their index: no longer fitted).
+/// (`true` at their index: no longer fitted). Parameters marked in `already` are fixed at
+/// exact values before it starts (an earlier snap): they are neither snapped nor refitted.
 ///
 /// Two kinds of snap, tried in that order for each parameter (biases first, then weights and
 /// constants, then the output map):
@@ -289,10 +290,11 @@ pub(crate) fn snap_params(
     rel_tol: f64,
     abs_tol: f64,
     penalty: f64,
+    already: &[bool],
 ) -> (f64, Vec<bool>) {
     let mut ev = Evaluator::new(prog);
     let base = ev.mse(prog, params, cols, y);
-    let mut exact_fixed = vec![false; params.len()];
+    let mut exact_fixed = already.to_vec();
     if !base.is_finite() {
         return (base, exact_fixed);
     }
@@ -315,9 +317,12 @@ pub(crate) fn snap_params(
         }
     }
     order.push(0);
-    let mut fixed = vec![false; params.len()];
+    let mut fixed = already.to_vec();
     let mut current = base;
     for (&i, weight) in order.iter().zip((0..).map(|k| k >= n_bias)) {
+        if already[i] {
+            continue;
+        }
         for (cand, exact) in snap_candidates(params[i], weight) {
             let allowed = if exact { limit * per_param } else { limit };
             let mut trial = params.clone();
@@ -356,6 +361,88 @@ pub(crate) fn snap_params(
         }
     }
     (current, exact_fixed)
+}
+
+/// Largest relative spread `(max - min) / max(|max|, |min|)` of a subtree's values over the
+/// rows for [`fold_data_constants`] to treat it as one constant: far below any noise, far
+/// above rounding. A term such as `exp(-1e10 x^2)` on rows where `x >= 1` (0 to the last
+/// bit) or `tanh(9 x)` on `x >= 1` (1 within 3e-8) is a constant in disguise.
+const DATA_CONSTANT_SPREAD: f64 = 1e-6;
+
+/// The program with every largest subtree (of two or more nodes) whose value is constant
+/// over the rows of `cols` (within [`DATA_CONSTANT_SPREAD`]) replaced by one fitted constant
+/// at the middle of its range, or `None` when there is none. The parameters of the other
+/// nodes and their `fixed` flags are kept; the new constant is not fixed (snapping may fix
+/// it). The replacement changes the model's values by at most the subtree's spread carried
+/// through the rest of the program: the caller judges it by the loss.
+pub(crate) fn fold_data_constants(
+    prog: &Program,
+    params: &[f64],
+    fixed: &[bool],
+    cols: &[&[f64]],
+    n_rows: usize,
+) -> Option<(Program, Vec<f64>, Vec<bool>)> {
+    let offs = prog.param_offsets();
+    let param_end = |k: usize| offs[k] + prog.node_params(&prog.nodes[k]);
+    // (start, end, value) of the largest constant subtrees, found from the root down
+    let mut folds: Vec<(usize, usize, f64)> = Vec::new();
+    let mut end = prog.nodes.len();
+    let mut values = Vec::new();
+    while end > 0 {
+        end -= 1;
+        let start = prog.subtree_start(end);
+        if start == end {
+            continue;
+        }
+        let sub = Program {
+            nodes: prog.nodes[start..=end].to_vec(),
+            affine: prog.affine,
+        };
+        let mut sub_params = vec![1.0, 0.0];
+        sub_params.extend_from_slice(&params[offs[start]..param_end(end)]);
+        Evaluator::new(&sub).predict(&sub, &sub_params, cols, n_rows, &mut values);
+        let (lo, hi) = values
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
+        if lo.is_finite()
+            && hi.is_finite()
+            && hi - lo <= DATA_CONSTANT_SPREAD * hi.abs().max(lo.abs())
+        {
+            folds.push((start, end, 0.5 * (lo + hi)));
+            // the nodes below are inside the folded subtree
+            end = start;
+        }
+    }
+    if folds.is_empty() {
+        return None;
+    }
+    folds.reverse();
+    let (mut nodes, mut out_params, mut out_fixed) =
+        (Vec::new(), params[..2].to_vec(), fixed[..2].to_vec());
+    let mut k = 0;
+    for (start, end, value) in folds {
+        for j in k..start {
+            nodes.push(prog.nodes[j]);
+            out_params.extend_from_slice(&params[offs[j]..param_end(j)]);
+            out_fixed.extend_from_slice(&fixed[offs[j]..param_end(j)]);
+        }
+        nodes.push(Node::Const);
+        out_params.push(value);
+        out_fixed.push(false);
+        k = end + 1;
+    }
+    for j in k..prog.nodes.len() {
+        nodes.push(prog.nodes[j]);
+        out_params.extend_from_slice(&params[offs[j]..param_end(j)]);
+        out_fixed.extend_from_slice(&fixed[offs[j]..param_end(j)]);
+    }
+    let folded = Program {
+        nodes,
+        affine: prog.affine,
+    };
+    Some((folded, out_params, out_fixed))
 }
 
 /// A subtree while [`prune_snapped`] rebuilds a program: a known number (folded), or codes
@@ -531,5 +618,52 @@ mod snapping {
             !far.contains(&(2.0 / 3.0)) && !far.contains(&0.75),
             "{far:?}"
         );
+    }
+}
+
+#[cfg(test)]
+mod data_constants {
+    use super::*;
+
+    fn program(nodes: Vec<Node>) -> Program {
+        Program {
+            nodes,
+            affine: true,
+        }
+    }
+
+    fn values(prog: &Program, params: &[f64], cols: &[&[f64]]) -> Vec<f64> {
+        let mut out = Vec::new();
+        Evaluator::new(prog).predict(prog, params, cols, cols[0].len(), &mut out);
+        out
+    }
+
+    /// A dead term (`gaussian(1e5 x)` on rows where `x >= 1`, 0 to the last bit) and a
+    /// saturated one (`tanh(20 x)`, 1 within 1e-17) are each replaced by one constant; the
+    /// model's values do not change beyond the term's spread, the other nodes keep their
+    /// parameters and fixed flags, and a term that varies is left alone.
+    #[test]
+    fn constant_subtrees_fold_and_varying_ones_stay() {
+        let x: Vec<f64> = (0..50).map(|i| 1.0 + 0.04 * f64::from(i)).collect();
+        let cols = [x.as_slice()];
+        let var = Node::Var(0);
+        for (op, w) in [(Op::Gaussian, 1e5), (Op::Tanh, 20.0)] {
+            // 2 x + 0.5 + op(w x), with the first input's weight marked fixed
+            let prog = program(vec![var, var, Node::Op(op), Node::Op(Op::Add)]);
+            let params = vec![1.0, 0.0, 2.0, 0.5, w, 0.0];
+            let fixed = vec![false, false, true, false, false, false];
+            let (folded, p, f) =
+                fold_data_constants(&prog, &params, &fixed, &cols, x.len()).expect("a fold");
+            assert_eq!(folded.nodes, vec![var, Node::Const, Node::Op(Op::Add)]);
+            assert_eq!(&p[..4], &[1.0, 0.0, 2.0, 0.5]);
+            assert_eq!(f, vec![false, false, true, false, false]);
+            let (before, after) = (values(&prog, &params, &cols), values(&folded, &p, &cols));
+            for (a, b) in before.iter().zip(&after) {
+                assert!((a - b).abs() <= 1e-12, "{op:?}: {a} vs {b}");
+            }
+        }
+        let prog = program(vec![var, var, Node::Op(Op::Tanh), Node::Op(Op::Add)]);
+        let params = vec![1.0, 0.0, 2.0, 0.5, 0.3, 0.0];
+        assert!(fold_data_constants(&prog, &params, &[false; 6], &cols, x.len()).is_none());
     }
 }

@@ -8,7 +8,7 @@ use super::export::to_model;
 use super::fitting::Problem;
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
-use crate::model::{Model, prune_snapped, snap_params};
+use crate::model::{Model, fold_data_constants, prune_snapped, snap_params};
 use crate::program::Node;
 use crate::stability::structure_of;
 use crate::{SrError, Table};
@@ -209,31 +209,29 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
         params = f.params.clone();
         mse = ev.mse(prog, &params, full_cols, y);
     }
-    let mut exact = vec![false; params.len()];
-    if cfg.snap_constants && mse.is_finite() {
-        (mse, exact) = snap_params(
-            prog,
-            &mut params,
-            full_cols,
-            y,
-            cfg.snap_tolerance,
-            SNAP_LOSS_SLACK * problem.y_var,
-            problem.param_penalty(n),
-        );
-    }
-    // terms a snapped weight killed are removed, so the model's features and complexity
-    // (which the selection below ranks by) are those of the equation it reports
-    let (mut prog, mut params, mut exact) = (prog.clone(), params, exact);
-    if exact.iter().any(|&e| e) {
-        let (pruned, pruned_params, pruned_exact) = prune_snapped(&prog, &params, &exact);
-        let pruned_mse = Evaluator::new(&pruned).mse(&pruned, &pruned_params, full_cols, y);
-        // the rewrites preserve values wherever the model is finite; a pruned model that
-        // fits worse than rounding would allow is not the same model, so it is not used
-        if pruned_mse.is_finite()
-            && pruned_mse <= mse * (1.0 + PRUNE_TOLERANCE) + SNAP_LOSS_SLACK * problem.y_var
-        {
-            (prog, params, exact, mse) = (pruned, pruned_params, pruned_exact, pruned_mse);
+    let no_fixed = vec![false; params.len()];
+    let (mut prog, mut params, mut exact, mut mse) =
+        snap_and_prune(problem, prog.clone(), params, &no_fixed, mse);
+    // a subtree that is constant over the rows (a dead term, a saturated tanh) is a constant
+    // in disguise: replaced by one, snapped and pruned, the model says what it computes
+    // (kept when its criterion is no worse, or its loss within rounding of the original)
+    for _ in 0..MAX_FOLD_ROUNDS {
+        let Some((folded, folded_params, carried)) =
+            fold_data_constants(&prog, &params, &exact, full_cols, n)
+        else {
+            break;
+        };
+        let folded_mse = Evaluator::new(&folded).mse(&folded, &folded_params, full_cols, y);
+        let (f_prog, f_params, f_exact, f_mse) =
+            snap_and_prune(problem, folded, folded_params, &carried, folded_mse);
+        let fitted = |e: &[bool]| e.iter().filter(|&&x| !x).count();
+        let same_loss = f_mse <= mse * (1.0 + PRUNE_TOLERANCE) + SNAP_LOSS_SLACK * problem.y_var;
+        let no_worse =
+            problem.score(f_mse, fitted(&f_exact), n) <= problem.score(mse, fitted(&exact), n);
+        if !(f_mse.is_finite() && (same_loss || no_worse)) {
+            break;
         }
+        (prog, params, exact, mse) = (f_prog, f_params, f_exact, f_mse);
     }
     // parameters fixed at exact values are no longer fitted: the criterion does not charge
     // for them
@@ -247,6 +245,51 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
         complexity,
         data,
     )
+}
+
+/// Rounds of [`fold_data_constants`] in [`refine`]: a fold can expose another (a snapped
+/// constant that makes an enclosing term constant); two rounds have been enough in every
+/// case seen, the third is a margin.
+const MAX_FOLD_ROUNDS: usize = 3;
+
+/// `params` of `prog` (loss `mse`) with its constants snapped ([`snap_params`], those marked
+/// in `already` held at their exact values) when the configuration asks for it, and the
+/// terms a snapped weight killed pruned ([`prune_snapped`]), so the model's features and
+/// complexity (which selection ranks by) are those of the equation it reports. Returns the
+/// program, its parameters, which are fixed at exact values, and the loss.
+fn snap_and_prune(
+    problem: &Problem,
+    prog: crate::program::Program,
+    mut params: Vec<f64>,
+    already: &[bool],
+    mut mse: f64,
+) -> (crate::program::Program, Vec<f64>, Vec<bool>, f64) {
+    let (cols, y) = (&problem.cols, &problem.y);
+    let mut exact = already.to_vec();
+    if problem.cfg.snap_constants && mse.is_finite() {
+        (mse, exact) = snap_params(
+            &prog,
+            &mut params,
+            cols,
+            y,
+            problem.cfg.snap_tolerance,
+            SNAP_LOSS_SLACK * problem.y_var,
+            problem.param_penalty(y.len()),
+            already,
+        );
+    }
+    if exact.iter().any(|&e| e) {
+        let (pruned, pruned_params, pruned_exact) = prune_snapped(&prog, &params, &exact);
+        let pruned_mse = Evaluator::new(&pruned).mse(&pruned, &pruned_params, cols, y);
+        // the rewrites preserve values wherever the model is finite; a pruned model that
+        // fits worse than rounding would allow is not the same model, so it is not used
+        if pruned_mse.is_finite()
+            && pruned_mse <= mse * (1.0 + PRUNE_TOLERANCE) + SNAP_LOSS_SLACK * problem.y_var
+        {
+            return (pruned, pruned_params, pruned_exact, pruned_mse);
+        }
+    }
+    (prog, params, exact, mse)
 }
 
 /// Each model strictly more complex and strictly better than the previous one, from
