@@ -55,6 +55,7 @@ _SEARCH_KEYS = (
     "lm_iterations",
     "snap_constants",
     "snap_tolerance",
+    "named_constants",
     "nesting",
     "consensus_runs",
     "skip_equivalent",
@@ -123,6 +124,7 @@ def _search_json(est):
         raise ValueError(f"runners_up must be a non-negative integer, got {v!r}")
     s["runners_up"] = int(v)
     s["skip_equivalent"] = bool(s["skip_equivalent"])
+    s["named_constants"] = bool(s["named_constants"])
     if s["max_evaluations"] is not None:
         s["max_evaluations"] = int(s["max_evaluations"])
     for k in ("complexity_penalty", "snap_tolerance"):
@@ -264,6 +266,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         lm_iterations=25,
         snap_constants=True,
         snap_tolerance=1e-3,
+        named_constants=True,
         nesting="none",
         consensus_runs=0,
         skip_equivalent=True,
@@ -405,6 +408,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         lm_iterations=25,
         snap_constants=True,
         snap_tolerance=1e-3,
+        named_constants=False,
         nesting="readable",
         consensus_runs=0,
         skip_equivalent=True,

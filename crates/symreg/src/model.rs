@@ -219,9 +219,9 @@ const NAMED_SNAP_WINDOW: f64 = 0.01;
 
 /// Candidate simple values near `v`, simplest first, each marked `true` when it is an exact
 /// value (0, +-1, an integer, a half, a multiple of pi/2, a third or a quarter, a named
-/// irrational such as `sqrt(2)` or `1/sqrt(2 pi)`) rather than `v` rounded to 1-3
-/// significant digits.
-fn snap_candidates(v: f64, weight: bool) -> Vec<(f64, bool)> {
+/// irrational such as `sqrt(2)` or `1/sqrt(2 pi)` when `named`) rather than `v` rounded to
+/// 1-3 significant digits.
+fn snap_candidates(v: f64, weight: bool, named: bool) -> Vec<(f64, bool)> {
     let mut c: Vec<(f64, bool)> = if weight {
         vec![(1.0, true), (-1.0, true), (0.0, true)]
     } else {
@@ -242,9 +242,9 @@ fn snap_candidates(v: f64, weight: bool) -> Vec<(f64, bool)> {
                 c.push((x, true));
             }
         }
-        for (named, _) in crate::expr::named_constants() {
-            let x = named.copysign(v);
-            if near(x) {
+        for (value, _) in crate::expr::named_constants() {
+            let x = value.copysign(v);
+            if named && near(x) {
                 c.push((x, true));
             }
         }
@@ -269,6 +269,7 @@ fn snap_candidates(v: f64, weight: bool) -> Vec<(f64, bool)> {
 /// returns the final mean squared error and which parameters were fixed at exact values
 /// (`true` at their index: no longer fitted). Parameters marked in `already` are fixed at
 /// exact values before it starts (an earlier snap): they are neither snapped nor refitted.
+/// `named` adds the named irrationals to the exact values tried.
 ///
 /// Two kinds of snap, tried in that order for each parameter (biases first, then weights and
 /// constants, then the output map):
@@ -291,6 +292,7 @@ pub(crate) fn snap_params(
     abs_tol: f64,
     penalty: f64,
     already: &[bool],
+    named: bool,
 ) -> (f64, Vec<bool>) {
     let mut ev = Evaluator::new(prog);
     let base = ev.mse(prog, params, cols, y);
@@ -323,7 +325,7 @@ pub(crate) fn snap_params(
         if already[i] {
             continue;
         }
-        for (cand, exact) in snap_candidates(params[i], weight) {
+        for (cand, exact) in snap_candidates(params[i], weight, named) {
             let allowed = if exact { limit * per_param } else { limit };
             let mut trial = params.clone();
             trial[i] = cand;
@@ -600,7 +602,7 @@ mod snapping {
     #[test]
     fn thirds_quarters_and_named_irrationals_are_exact_candidates() {
         let exact = |v: f64| -> Vec<f64> {
-            snap_candidates(v, true)
+            snap_candidates(v, true, true)
                 .into_iter()
                 .filter(|c| c.1)
                 .map(|c| c.0)

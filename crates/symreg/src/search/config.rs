@@ -155,6 +155,12 @@ pub struct SearchConfig {
     /// Relative loss increase allowed when a constant is rounded to 1-3 significant digits
     /// (snaps to exact values such as 0, 1 or 1/2 are judged by the criterion instead).
     pub snap_tolerance: f64,
+    /// Snap constants also to the irrationals a physicist writes (`sqrt(2)`, `1/sqrt(2 pi)`,
+    /// `1/(4 pi)`, ...; judged by the criterion like every exact snap): true for `hxai sr`
+    /// (laws), false for hybrid corrections ([`SearchConfig::paper`]), where a factor that
+    /// happens to lie near `1/sqrt(pi)` is a fitted number, not a claim about physics.
+    /// Thirds and quarters are tried either way.
+    pub named_constants: bool,
     /// Which operator may appear inside which ([`Nesting`]): none constrained by default
     /// (`hxai sr`), [`Nesting::readable()`] for hybrid corrections ([`SearchConfig::paper`]).
     /// Candidates that break a constraint are never fitted.
@@ -204,6 +210,7 @@ impl Default for SearchConfig {
             lm_iterations: 25,
             snap_constants: true,
             snap_tolerance: 1e-3,
+            named_constants: true,
             nesting: Nesting::none(),
             consensus_runs: 0,
             skip_equivalent: true,
@@ -214,14 +221,16 @@ impl Default for SearchConfig {
 }
 
 impl SearchConfig {
-    /// The defaults with the paper's operators ([`PAPER_OPERATORS`]) and no transcendental
-    /// function inside another ([`Nesting::readable()`]): what hybrid corrections (`hxai
+    /// The defaults with the paper's operators ([`PAPER_OPERATORS`]), no transcendental
+    /// function inside another ([`Nesting::readable()`]) and no snapping to named
+    /// irrationals (`named_constants`): what hybrid corrections (`hxai
     /// fit`, `hxai hybrid`, `hxai compare`, the reproduction) search with.
     pub fn paper() -> Self {
         Self {
             operators: PAPER_OPERATORS.iter().map(|s| s.to_string()).collect(),
             nesting: Nesting::readable(),
             runners_up: 3,
+            named_constants: false,
             ..Self::default()
         }
     }

@@ -276,6 +276,7 @@ fn snap_and_prune(
             SNAP_LOSS_SLACK * problem.y_var,
             problem.param_penalty(y.len()),
             already,
+            problem.cfg.named_constants,
         );
     }
     if exact.iter().any(|&e| e) {
