@@ -265,6 +265,18 @@ fn snap_candidates(v: f64, weight: bool, named: bool) -> Vec<(f64, bool)> {
     out
 }
 
+/// What [`snap_params`] accepts: a rounding to 1-3 significant digits when the loss grows by
+/// at most `rel_tol` (plus `abs_tol`), an exact value when the criterion does not get worse
+/// (`penalty`: what it charges for one parameter), the named irrationals among the exact
+/// values when `named`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SnapRule {
+    pub rel_tol: f64,
+    pub abs_tol: f64,
+    pub penalty: f64,
+    pub named: bool,
+}
+
 /// Replaces parameters by simple nearby values one at a time, refitting the others, and
 /// returns the final mean squared error and which parameters were fixed at exact values
 /// (`true` at their index: no longer fitted). Parameters marked in `already` are fixed at
@@ -288,12 +300,15 @@ pub(crate) fn snap_params(
     params: &mut Vec<f64>,
     cols: &[&[f64]],
     y: &[f64],
-    rel_tol: f64,
-    abs_tol: f64,
-    penalty: f64,
+    rule: &SnapRule,
     already: &[bool],
-    named: bool,
 ) -> (f64, Vec<bool>) {
+    let SnapRule {
+        rel_tol,
+        abs_tol,
+        penalty,
+        named,
+    } = *rule;
     let mut ev = Evaluator::new(prog);
     let base = ev.mse(prog, params, cols, y);
     let mut exact_fixed = already.to_vec();

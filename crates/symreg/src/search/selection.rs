@@ -8,7 +8,7 @@ use super::export::to_model;
 use super::fitting::Problem;
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
-use crate::model::{Model, fold_data_constants, prune_snapped, snap_params};
+use crate::model::{Model, SnapRule, fold_data_constants, prune_snapped, snap_params};
 use crate::program::Node;
 use crate::stability::structure_of;
 use crate::{SrError, Table};
@@ -267,17 +267,13 @@ fn snap_and_prune(
     let (cols, y) = (&problem.cols, &problem.y);
     let mut exact = already.to_vec();
     if problem.cfg.snap_constants && mse.is_finite() {
-        (mse, exact) = snap_params(
-            &prog,
-            &mut params,
-            cols,
-            y,
-            problem.cfg.snap_tolerance,
-            SNAP_LOSS_SLACK * problem.y_var,
-            problem.param_penalty(y.len()),
-            already,
-            problem.cfg.named_constants,
-        );
+        let rule = SnapRule {
+            rel_tol: problem.cfg.snap_tolerance,
+            abs_tol: SNAP_LOSS_SLACK * problem.y_var,
+            penalty: problem.param_penalty(y.len()),
+            named: problem.cfg.named_constants,
+        };
+        (mse, exact) = snap_params(&prog, &mut params, cols, y, &rule, already);
     }
     if exact.iter().any(|&e| e) {
         let (pruned, pruned_params, pruned_exact) = prune_snapped(&prog, &params, &exact);
