@@ -458,32 +458,25 @@ fn quarter_turn_phase_snaps_and_reads_as_cos() {
 fn normal_density_constants_snap_to_their_names() {
     let x0 = uniform(300, -3.0, 3.0, 21);
     let x1 = uniform(300, -3.0, 3.0, 22);
+    let sympy_of = |cols: Vec<Vec<f64>>, y: Vec<f64>, postfix: &str| {
+        let names = (0..cols.len()).map(|i| format!("x{i}")).collect();
+        let data = Table::new(names, cols).unwrap();
+        let cfg = SearchConfig::default();
+        fit_structure(&data, &y, &affine_program(postfix), &cfg)
+            .unwrap()
+            .sympy()
+    };
     let norm = 1.0 / (2.0 * std::f64::consts::PI).sqrt();
-    let y: Vec<f64> = x0.iter().map(|v| norm * (-v * v / 2.0).exp()).collect();
-    let data = Table::new(vec!["x".into()], vec![x0.clone()]).unwrap();
-    let m = fit_structure(
-        &data,
-        &y,
-        &affine_program("x0 gaussian"),
-        &SearchConfig::default(),
-    )
-    .unwrap();
-    assert!(m.sympy().contains("1/sqrt(2*pi)"), "{}", m.sympy());
+    let y = x0.iter().map(|v| norm * (-v * v / 2.0).exp()).collect();
+    let text = sympy_of(vec![x0.clone()], y, "x0 gaussian");
+    assert!(text.contains("1/sqrt(2*pi)"), "{text}");
 
-    let y: Vec<f64> = x0
+    let y = x0
         .iter()
         .zip(&x1)
         .map(|(a, b)| (-(a - b) * (a - b) / 2.0).exp())
         .collect();
-    let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
-    let m = fit_structure(
-        &data,
-        &y,
-        &affine_program("x0 x1 add gaussian"),
-        &SearchConfig::default(),
-    )
-    .unwrap();
-    let text = m.sympy();
+    let text = sympy_of(vec![x0, x1], y, "x0 x1 add gaussian");
     assert_eq!(text.matches("sqrt(2)/2").count(), 2, "{text}");
     assert!(!text.contains("0.707"), "{text}");
 }
