@@ -87,6 +87,23 @@ pub(crate) fn held_out(
     })
 }
 
+/// The columns of `table` named `names`, in order; a missing one is
+/// [`HybridError::InvalidConfig`] with the message `missing(name)`.
+pub(crate) fn named_columns<'a>(
+    table: &'a Table,
+    names: &[String],
+    missing: impl Fn(&str) -> String,
+) -> Result<Vec<&'a [f64]>, HybridError> {
+    names
+        .iter()
+        .map(|name| {
+            table
+                .column(name)
+                .ok_or_else(|| HybridError::InvalidConfig(missing(name)))
+        })
+        .collect()
+}
+
 /// What [`held_out`] returns: each fold's parameters, each calibration row's fold and its
 /// held-out prediction.
 pub(crate) struct HeldOut {
@@ -110,15 +127,9 @@ pub fn calibrate_model(
     target: &[f64],
     splits: &[Split],
 ) -> Result<ConformalInfo, HybridError> {
-    let cols: Vec<&[f64]> = model
-        .feature_names
-        .iter()
-        .map(|name| {
-            data.column(name).ok_or_else(|| {
-                HybridError::InvalidConfig(format!("conformal calibration: no column `{name}`"))
-            })
-        })
-        .collect::<Result<_, _>>()?;
+    let cols = named_columns(data, &model.feature_names, |name| {
+        format!("conformal calibration: no column `{name}`")
+    })?;
     let HeldOut {
         fold_params,
         fold_of,

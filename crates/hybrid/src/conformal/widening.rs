@@ -51,15 +51,9 @@ impl RangeWidening {
     /// # Errors
     /// [`HybridError::InvalidConfig`] naming a missing column.
     pub fn distances(&self, table: &Table) -> Result<Vec<f64>, HybridError> {
-        let cols: Vec<&[f64]> = self
-            .columns
-            .iter()
-            .map(|c| {
-                table.column(c).ok_or_else(|| {
-                    HybridError::InvalidConfig(format!("no column `{c}` for the interval's width"))
-                })
-            })
-            .collect::<Result<_, _>>()?;
+        let cols = super::named_columns(table, &self.columns, |c| {
+            format!("no column `{c}` for the interval's width")
+        })?;
         let mut x = vec![0.0; cols.len()];
         Ok((0..table.n_rows())
             .map(|r| {
