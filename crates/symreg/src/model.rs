@@ -261,9 +261,9 @@ fn snap_candidates(v: f64, weight: bool, named: bool) -> Vec<(f64, Snap)> {
                 c.push((x, Snap::ExactAlone));
             }
         }
-        for (value, _) in crate::expr::named_constants() {
+        for (value, _) in crate::expr::named_constants().into_iter().filter(|_| named) {
             let x = value.copysign(v);
-            if named && near(x) {
+            if near(x) {
                 c.push((x, Snap::ExactAlone));
             }
         }
@@ -300,7 +300,6 @@ pub(crate) struct SnapRule {
 /// returns the final mean squared error and which parameters were fixed at exact values
 /// (`true` at their index: no longer fitted). Parameters marked in `already` are fixed at
 /// exact values before it starts (an earlier snap): they are neither snapped nor refitted.
-/// `named` adds the named irrationals to the exact values tried.
 ///
 /// Two kinds of snap, tried in that order for each parameter (biases first, then weights and
 /// constants, then the output map):
@@ -459,25 +458,24 @@ pub(crate) fn fold_data_constants(
     if folds.is_empty() {
         return None;
     }
-    folds.reverse();
     let (mut nodes, mut out_params, mut out_fixed) =
         (Vec::new(), params[..2].to_vec(), fixed[..2].to_vec());
-    let mut k = 0;
-    for (start, end, value) in folds {
-        for j in k..start {
+    // copy the nodes outside the folds, each fold's root becoming the constant (`folds` is
+    // ordered from the root down, so it is popped in program order)
+    let mut j = 0;
+    while j < prog.nodes.len() {
+        if let Some(&(_, end, value)) = folds.last().filter(|f| f.0 == j) {
+            folds.pop();
+            nodes.push(Node::Const);
+            out_params.push(value);
+            out_fixed.push(false);
+            j = end + 1;
+        } else {
             nodes.push(prog.nodes[j]);
             out_params.extend_from_slice(&params[offs[j]..param_end(j)]);
             out_fixed.extend_from_slice(&fixed[offs[j]..param_end(j)]);
+            j += 1;
         }
-        nodes.push(Node::Const);
-        out_params.push(value);
-        out_fixed.push(false);
-        k = end + 1;
-    }
-    for j in k..prog.nodes.len() {
-        nodes.push(prog.nodes[j]);
-        out_params.extend_from_slice(&params[offs[j]..param_end(j)]);
-        out_fixed.extend_from_slice(&fixed[offs[j]..param_end(j)]);
     }
     let folded = Program {
         nodes,
