@@ -68,6 +68,7 @@ pub mod search;
 pub mod stability;
 mod sympy_names;
 pub mod uncertainty;
+pub mod units;
 pub mod vmath;
 
 pub use error::SrError;
