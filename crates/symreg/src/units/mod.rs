@@ -365,7 +365,7 @@ fn power_nodes(var: u16, r: Ratio, nodes: &mut Vec<Node>, params: &mut Vec<f64>)
 
 /// Pushes the product of the inputs to the powers `e` (as `numerator / denominator`).
 fn monomial_nodes(e: &[Ratio], nodes: &mut Vec<Node>, params: &mut Vec<f64>) {
-    let mut side = |sign: i64, nodes: &mut Vec<Node>, params: &mut Vec<f64>| -> bool {
+    let side = |sign: i64, nodes: &mut Vec<Node>, params: &mut Vec<f64>| -> bool {
         let mut any = false;
         for (i, r) in e.iter().enumerate() {
             if r.num * sign > 0 {

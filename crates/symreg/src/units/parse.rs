@@ -285,30 +285,33 @@ mod tests {
 
     #[test]
     fn reads_derived_units_and_prefixes() {
-        let n = Dimension::parse("kg*m/s^2").unwrap();
-        assert_eq!(n, Dimension::parse("N").unwrap());
-        assert_eq!(n, Dimension::parse("kN").unwrap());
+        let n = Dimension::parse("kg*m/s^2").expect("kg*m/s^2");
+        assert_eq!(n, Dimension::parse("N").expect("N"));
+        assert_eq!(n, Dimension::parse("kN").expect("kN"));
         assert_eq!(
-            Dimension::parse("N/mm^2").unwrap(),
-            Dimension::parse("MPa").unwrap()
+            Dimension::parse("N/mm^2").expect("N/mm^2"),
+            Dimension::parse("MPa").expect("MPa")
         );
         assert_eq!(
-            Dimension::parse("J/(kg*K)").unwrap(),
-            Dimension::parse("m^2/(s^2*K)").unwrap()
+            Dimension::parse("J/(kg*K)").expect("J/(kg*K)"),
+            Dimension::parse("m^2/(s^2*K)").expect("m^2/(s^2*K)")
         );
         assert_eq!(
-            Dimension::parse("1/min").unwrap(),
-            Dimension::parse("rpm").unwrap()
+            Dimension::parse("1/min").expect("1/min"),
+            Dimension::parse("rpm").expect("rpm")
         );
         assert_eq!(
-            Dimension::parse("m**2").unwrap(),
-            Dimension::parse("m.m").unwrap()
+            Dimension::parse("m**2").expect("m**2"),
+            Dimension::parse("m.m").expect("m.m")
         );
-        assert!(Dimension::parse("1").unwrap().is_none());
-        assert!(Dimension::parse("deg").unwrap().is_none());
-        assert_eq!(Dimension::parse("mm").unwrap().to_string(), "m");
-        assert_eq!(Dimension::parse("V").unwrap().to_string(), "m^2*kg/(s^3*A)");
-        assert_eq!(Dimension::parse("1/s").unwrap().to_string(), "1/s");
+        assert!(Dimension::parse("1").expect("1").is_none());
+        assert!(Dimension::parse("deg").expect("deg").is_none());
+        assert_eq!(Dimension::parse("mm").expect("mm").to_string(), "m");
+        assert_eq!(
+            Dimension::parse("V").expect("V").to_string(),
+            "m^2*kg/(s^3*A)"
+        );
+        assert_eq!(Dimension::parse("1/s").expect("1/s").to_string(), "1/s");
     }
 
     #[test]
@@ -323,7 +326,7 @@ mod tests {
             ("m/", "ends where"),
             ("m^40", "out of range"),
         ] {
-            let e = Dimension::parse(text).unwrap_err().to_string();
+            let e = Dimension::parse(text).expect_err(text).to_string();
             assert!(e.contains(says), "{text}: {e}");
         }
     }
