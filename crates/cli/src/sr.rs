@@ -77,6 +77,12 @@ pub struct Args {
     /// spread of R^2 on the rows each resample left out (JSON `stability`).
     #[arg(long)]
     pub stability: Option<usize>,
+    /// Units of every column, as comma-separated COLUMN=UNIT (e.g.
+    /// `F=N,m=kg,a=m/s^2`; `1` for a dimensionless column): the inputs are reduced to
+    /// dimensionless groups (Buckingham pi), the search runs on those, and every model is
+    /// consistent in its units (docs/interfaces.md, "Units").
+    #[arg(long, value_delimiter = ',')]
+    pub units: Vec<String>,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     pub json: bool,
@@ -177,33 +183,56 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         cfg.nesting = hxai_symreg::Nesting::parse(n)?;
     }
     cfg.consensus_runs = args.consensus;
+    let reduction = if args.units.is_empty() {
+        None
+    } else {
+        let given: Vec<(String, String)> =
+            crate::strategy::pairs::<String>(&args.units, "--units", "a unit such as m/s^2")?
+                .into_iter()
+                .collect();
+        let (dims, target) =
+            hxai_symreg::units::dimensions(data.names(), &args.target, &given)?;
+        Some(hxai_symreg::units::Reduction::of(
+            data.names(),
+            &dims,
+            target,
+        )?)
+    };
     let bar = crate::progress::styled(
         cfg.epochs as u64,
         "{bar:30} epoch {pos}/{len} {msg} [{elapsed}]",
     );
-    let res = search(&data, &y, &cfg, &mut |p| {
+    let mut on_progress = |p: &hxai_symreg::Progress| {
         bar.set_position(p.epoch as u64);
         bar.set_message(format!(
             "models {} best loss {:.4e}",
             p.evaluations, p.best_loss
         ));
-    })?;
+    };
+    let res = match &reduction {
+        Some(r) => hxai_symreg::units::search(&data, &y, r, &cfg, &mut on_progress)?,
+        None => search(&data, &y, &cfg, &mut on_progress)?,
+    };
     bar.finish_and_clear();
     let stability = match args.stability {
         Some(runs) => {
             let b = crate::progress::styled(runs as u64, "{bar:30} {pos}/{len} {msg} [{elapsed}]");
             b.set_message("stability runs");
             let bb = b.clone();
-            let s = hxai_symreg::stability(&data, &y, &cfg, runs, &mut move |done, _| {
-                bb.set_position(done as u64);
-            })?;
+            let mut tick = move |done: usize, _: usize| bb.set_position(done as u64);
+            let s = match &reduction {
+                Some(r) => hxai_symreg::units::stability(&data, &y, r, &cfg, runs, &mut tick)?,
+                None => hxai_symreg::stability(&data, &y, &cfg, runs, &mut tick)?,
+            };
             b.finish_and_clear();
             Some(s)
         }
         None => None,
     };
     let unc = res.best.uncertainty(&data, &y)?;
-    let report = hxai_symreg::SearchReport::of(&res, &cfg, (&data, &y), &unc, true, stability)?;
+    let mut report =
+        hxai_symreg::SearchReport::of(&res, &cfg, (&data, &y), &unc, true, stability)?;
+    report.dimensional_groups = reduction.as_ref().map(|r| r.describe(&args.target));
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
@@ -229,6 +258,12 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             );
         }
         println!("{} models in {:.2} s", res.evaluations, res.seconds);
+        if let Some(groups) = &report.dimensional_groups {
+            println!("searched on the dimensionless groups:");
+            for line in groups {
+                println!("  {line}");
+            }
+        }
         print_selection(&report.selection);
         if let Some(st) = &report.stability {
             print_stability(st);

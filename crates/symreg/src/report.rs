@@ -166,6 +166,10 @@ pub struct SearchReport {
     /// Bootstrap stability of the structure (absent unless measured).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stability: Option<Stability>,
+    /// With units given, the dimensionless groups searched on and the target's scale
+    /// ([`crate::units::Reduction::describe`]); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dimensional_groups: Option<Vec<String>>,
 }
 
 impl SearchReport {
@@ -209,6 +213,7 @@ impl SearchReport {
             duplicate_structures: result.duplicate_structures,
             seconds: result.seconds,
             stability,
+            dimensional_groups: None,
         })
     }
 }

@@ -99,6 +99,23 @@ pub fn stability(
     runs: usize,
     progress: &mut (dyn FnMut(usize, usize) + Send),
 ) -> Result<Stability, SrError> {
+    stability_of(data, target, cfg, runs, progress, &|train, y, run_cfg| {
+        search(train, y, run_cfg, &mut |_| {})
+    })
+}
+
+/// [`stability`] with each run's search done by `run_search` (on the resampled rows and
+/// target, with the run's configuration): how [`crate::units::stability`] searches on the
+/// dimensionless groups and composes back.
+pub(crate) fn stability_of(
+    data: &Table,
+    target: &[f64],
+    cfg: &SearchConfig,
+    runs: usize,
+    progress: &mut (dyn FnMut(usize, usize) + Send),
+    run_search: &(dyn Fn(&Table, &[f64], &SearchConfig) -> Result<crate::SearchResult, SrError>
+          + Sync),
+) -> Result<Stability, SrError> {
     if runs == 0 {
         return Err(SrError::InvalidConfig(
             "--stability needs at least one run".into(),
@@ -125,7 +142,7 @@ pub fn stability(
                     par: Par::Current,
                     ..cfg.clone()
                 };
-                let res = search(&train, &y, &run_cfg, &mut |_| {})?;
+                let res = run_search(&train, &y, &run_cfg)?;
                 let r2 = if oob.len() >= 2 {
                     let test = data.select_rows(&oob)?;
                     let yt: Vec<f64> = oob.iter().map(|&i| target[i]).collect();

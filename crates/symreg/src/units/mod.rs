@@ -472,6 +472,14 @@ pub fn search(
     cfg: &SearchConfig,
     progress: &mut dyn FnMut(&crate::Progress),
 ) -> Result<SearchResult, SrError> {
+    if cfg.consensus_runs > 0 {
+        return Err(SrError::InvalidConfig(
+            "consensus selection does not yet work with units: its votes are counted on the \
+             dimensionless groups, not on the composed models; use --stability to measure how \
+             often the structure comes back"
+                .into(),
+        ));
+    }
     let (pi, py) = reduction.transform(data, y)?;
     let t0 = std::time::Instant::now();
     let mut res = if let Some(pi) = pi {
@@ -512,6 +520,25 @@ pub fn search(
         .map(back)
         .collect::<Result<_, _>>()?;
     Ok(res)
+}
+
+/// [`crate::stability()`] of the search with units: each bootstrap run searches its
+/// resample's groups and composes back, so structures, features and out-of-bag R² are
+/// those of the composed models, as the selected one is reported.
+///
+/// # Errors
+/// As [`crate::stability()`] and [`search`].
+pub fn stability(
+    data: &Table,
+    y: &[f64],
+    reduction: &Reduction,
+    cfg: &SearchConfig,
+    runs: usize,
+    progress: &mut (dyn FnMut(usize, usize) + Send),
+) -> Result<crate::Stability, SrError> {
+    crate::stability::stability_of(data, y, cfg, runs, progress, &|train, ty, run_cfg| {
+        search(train, ty, reduction, run_cfg, &mut |_| {})
+    })
 }
 
 #[cfg(test)]
