@@ -75,7 +75,8 @@ def load_db(path):
             for i in range(1, k + 1):
                 variables.append((row[f"v{i}_name"], float(row[f"v{i}_low"]), float(row[f"v{i}_high"])))
             problems.append({"name": row["Filename"], "number": int(row["Number"]),
-                             "formula": row["Formula"], "vars": variables})
+                             "formula": row["Formula"], "vars": variables,
+                             "output": row.get("Output") or "y"})
     problems.sort(key=lambda p: p["number"])
     return problems
 
@@ -114,6 +115,96 @@ def parse_truth(problem):
                   "cos": sp.cos, "tan": sp.tan, "tanh": sp.tanh, "asin": sp.asin, "acos": sp.acos,
                   "atan": sp.atan, "abs": sp.Abs, "harmonic": sp.harmonic})
     return sp.sympify(text, locals=local), syms
+
+
+# ---------------------------------------------------------------- units (issue 24, item 3)
+
+# [m, kg, s, A, K] of the units `scripts/suites/feynman_units.csv` uses; mol and cd unused
+BASE_UNITS = {"1": (0, 0, 0, 0, 0), "m": (1, 0, 0, 0, 0), "kg": (0, 1, 0, 0, 0),
+              "s": (0, 0, 1, 0, 0), "A": (0, 0, 0, 1, 0), "K": (0, 0, 0, 0, 1),
+              "N": (1, 1, -2, 0, 0), "J": (2, 1, -2, 0, 0), "W": (2, 1, -3, 0, 0),
+              "Pa": (-1, 1, -2, 0, 0), "C": (0, 0, 1, 1, 0), "V": (2, 1, -3, -1, 0),
+              "T": (0, 1, -2, -1, 0), "F": (-2, -1, 4, 2, 0)}
+
+
+def unit_dims(text):
+    """Exponents [m, kg, s, A, K] of a unit such as `m^3/(kg*s^2)` (the harness's own
+    reading, independent of hxai's, so that checking the table also checks hxai)."""
+    tokens = re.findall(r"[A-Za-z_]+|\d+|-\d+|[*/^()]", text.replace("**", "^"))
+    pos = [0]
+
+    def atom():
+        t = tokens[pos[0]]
+        pos[0] += 1
+        if t == "(":
+            d = product()
+            pos[0] += 1  # ")"
+        else:
+            d = np.array(BASE_UNITS[t], dtype=float)
+        if pos[0] < len(tokens) and tokens[pos[0]] == "^":
+            d = d * int(tokens[pos[0] + 1])
+            pos[0] += 2
+        return d
+
+    def product():
+        d = atom()
+        while pos[0] < len(tokens) and tokens[pos[0]] in "*/":
+            op = tokens[pos[0]]
+            pos[0] += 1
+            d = d + atom() if op == "*" else d - atom()
+        return d
+
+    return product()
+
+
+def load_units(path):
+    with open(path, newline="") as fh:
+        return {r["name"]: r["unit"] for r in csv.DictReader(fh)}
+
+
+def units_arg(problem, units):
+    """hxai's `--units` for a problem: x1..xk and y, in the order the harness names them."""
+    names = [v[0] for v in problem["vars"]] + [problem["output"]]
+    missing = [n for n in names if n not in units]
+    if missing:
+        raise ValueError(f"no unit for {missing} in the units table")
+    cols = [f"x{i + 1}" for i in range(len(problem["vars"]))] + ["y"]
+    return ",".join(f"{c}={units[n]}" for c, n in zip(cols, names))
+
+
+def check_units(a):
+    """Each equation's homogeneity under the units table: scaling every base unit by 1.7 in
+    turn (each variable by 1.7 to its exponent) must scale the output by 1.7 to its own, at
+    five points of the ranges, to 1e-9. Returns the number of equations that fail."""
+    import sympy as sp
+    units = load_units(a.units)
+    failed = 0
+    for p in selected(a, load_db(a.db)):
+        try:
+            truth, syms = parse_truth(p)
+            units_arg(p, units)
+            f = sp.lambdify(syms, truth, [NUMERIC, "numpy"])
+            dims = [unit_dims(units[v[0]]) for v in p["vars"]]
+            out = unit_dims(units[p["output"]])
+            rng = np.random.default_rng(p["number"])
+            lo = np.array([v[1] for v in p["vars"]])
+            hi = np.array([v[2] for v in p["vars"]])
+            X = rng.uniform(lo, hi, size=(5, len(lo)))
+            y0 = np.asarray(f(*X.T), dtype=float)
+            for b in range(5):
+                lam = 1.7
+                Xs = X * np.array([lam ** d[b] for d in dims])
+                ys = np.asarray(f(*Xs.T), dtype=float)
+                want = y0 * lam ** out[b]
+                if not np.allclose(ys, want, rtol=1e-9, atol=0):
+                    raise ValueError(f"not homogeneous in {['m', 'kg', 's', 'A', 'K'][b]}")
+            print(f"ok    {p['number']:3d} {p['name']:<10} {units_arg(p, units)}", flush=True)
+        except Exception as e:
+            failed += 1
+            print(f"FAIL  {p['number']:3d} {p['name']:<10} {type(e).__name__}: {e}", flush=True)
+    n = len(selected(a, load_db(a.db)))
+    print(f"{a.suite}: {n - failed} of {n} equations are homogeneous under {a.units}")
+    return failed
 
 
 def make_data(problem, truth, syms, rows, noise, seed):
@@ -422,6 +513,8 @@ def run(a):
             for eng, label, x, zz in todo:
                 if zz != z:
                     continue
+                if eng == "hxai" and a.units:
+                    x = x + ["--units", units_arg(p, load_units(a.units))]
                 row = {**base, "engine": label, "noise": z, "load1": round(os.getloadavg()[0], 2)}
                 res = run_engine(a, eng, label, x, train_csv, syms)
                 res["cpu_seconds"] = round(CPU[0], 3)
@@ -542,6 +635,10 @@ def main():
                     help="with --table: also, for each two engines, the problems only one solves")
     ap.add_argument("--rescore", nargs="+", metavar="RESULTS",
                     help="check again, with --sympy-timeout seconds, the rows whose check ran out of time")
+    ap.add_argument("--units", help="a units table (name,unit; e.g. scripts/suites/feynman_units.csv): "
+                    "hxai gets `--units` for every problem")
+    ap.add_argument("--check-units", action="store_true",
+                    help="check that every equation is homogeneous under --units, and stop")
     ap.add_argument("--check-suite", action="store_true",
                     help="run no engine: parse every truth of the suite and draw its data, one "
                          "line per problem; exit status 1 if any fails")
@@ -567,6 +664,10 @@ def main():
         return rescore(a)
     if a.check_suite:
         sys.exit(1 if check_suite(a) else 0)
+    if a.check_units:
+        if not a.units:
+            raise SystemExit("--check-units needs --units FILE")
+        sys.exit(1 if check_units(a) else 0)
     if a.jobs != 1:
         raise SystemExit("--jobs: only 1 is supported (hxai itself uses 2 threads)")
     if "hxai" in a.engines.split(",") and not a.hxai:
