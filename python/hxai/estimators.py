@@ -195,6 +195,28 @@ def _stability_runs(v):
     return int(v)
 
 
+def _units(units, target_units, names):
+    """``units`` and ``target_units`` checked: both ``None``, or a dict of unit texts keyed
+    by column names (every key a column) and one unit text. Returns what ``sr_fit`` takes."""
+    if units is None and target_units is None:
+        return None, None
+    if units is None or target_units is None:
+        raise ValueError(
+            "units and target_units go together: units={column: unit, ...} for every column "
+            "and target_units='unit of y'"
+        )
+    if not isinstance(units, dict):
+        raise ValueError(f"units must be a dict from column name to unit text, got {units!r}")
+    if not isinstance(target_units, str):
+        raise ValueError(f"target_units must be a unit text such as 'm/s', got {target_units!r}")
+    pairs = []
+    for k, v in units.items():
+        if not isinstance(v, str):
+            raise ValueError(f"units[{k!r}] must be a unit text such as 'kg*m/s^2', got {v!r}")
+        pairs.append((str(k), v))
+    return pairs, target_units
+
+
 def _level(v):
     """An interval level checked: a probability strictly between 0 and 1."""
     if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not 0 < v < 1:
@@ -233,7 +255,13 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     was selected, its structure's share over resamples and the alternatives the data cannot
     tell apart), ``stability_`` (with ``stability_runs=N``: the search rerun on N bootstrap
     resamples, ``{runs, features, structures, r2}`` as ``hxai sr --stability N``; else
-    ``None``), ``n_features_in_`` and, from a DataFrame, ``feature_names_in_``.
+    ``None``), ``dimensional_groups_`` (with ``units``: the dimensionless groups searched on,
+    else ``None``), ``n_features_in_`` and, from a DataFrame, ``feature_names_in_``.
+
+    ``units`` (a dict from every column name to its unit, e.g. ``{"m": "kg", "v": "m/s"}``)
+    with ``target_units`` (the unit of ``y``, e.g. ``"J"``) turns on dimensional analysis as
+    ``hxai sr --units``: the columns are reduced to dimensionless groups (Buckingham pi), the
+    search runs on those, and the equation is consistent in its units by construction.
 
     ``n_jobs`` is the number of threads of the search: ``None`` (the default) uses every
     core (the engine's shared thread pool, sized by ``RAYON_NUM_THREADS`` if set), ``-1``
@@ -273,11 +301,15 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         runners_up=0,
         conformal_folds=5,
         stability_runs=0,
+        units=None,
+        target_units=None,
         n_jobs=None,
     ):
         self._set_search(locals())
         self.conformal_folds = conformal_folds
         self.stability_runs = stability_runs
+        self.units = units
+        self.target_units = target_units
 
     def fit(self, X, y):
         """Searches for an equation of ``y`` over the columns of ``X``. Returns ``self``."""
@@ -288,9 +320,18 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         names = _names(self, X.shape[1])
         folds = _folds(self.conformal_folds)
         runs = _stability_runs(self.stability_runs)
+        units, target_units = _units(self.units, self.target_units, names)
         doc = json.loads(
             _hxai.sr_fit(
-                names, columns_of(X), to_bytes(y, "y"), settings, _n_jobs(self), folds, runs
+                names,
+                columns_of(X),
+                to_bytes(y, "y"),
+                settings,
+                _n_jobs(self),
+                folds,
+                runs,
+                units,
+                target_units,
             )
         )
         best = doc["best"]
@@ -306,6 +347,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.evaluations_ = doc["evaluations"]
         self.selection_ = doc["selection"]
         self.stability_ = doc.get("stability")
+        self.dimensional_groups_ = doc.get("dimensional_groups")
         self.uncertainty_json_ = json.dumps(doc["uncertainty"])
         conf = doc.get("conformal")
         self.conformal_json_ = "" if conf is None else json.dumps(conf)

@@ -33,9 +33,10 @@ struct FitDocument {
 /// with 0 folds or when a fold model is undefined on its held-out rows
 /// (`conformal_error` then says why). `stability_runs` > 0 adds `stability` (the search
 /// rerun on that many bootstrap resamples, [`hxai_symreg::stability()`]) and the selection's
-/// shares over them.
+/// shares over them. `units` (pairs of column and unit) with `target_unit` searches on the
+/// dimensionless groups ([`hxai_symreg::units`]) and adds `dimensional_groups`.
 #[pyfunction]
-#[pyo3(signature = (names, columns, y, search_json, n_jobs=None, conformal_folds=DEFAULT_CONFORMAL_FOLDS, stability_runs=0))]
+#[pyo3(signature = (names, columns, y, search_json, n_jobs=None, conformal_folds=DEFAULT_CONFORMAL_FOLDS, stability_runs=0, units=None, target_unit=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn sr_fit(
     py: Python<'_>,
@@ -46,6 +47,8 @@ pub(crate) fn sr_fit(
     n_jobs: Option<i64>,
     conformal_folds: usize,
     stability_runs: usize,
+    units: Option<Vec<(String, String)>>,
+    target_unit: Option<String>,
 ) -> PyResult<String> {
     if conformal_folds == 1 {
         return Err(PyValueError::new_err(
@@ -56,13 +59,44 @@ pub(crate) fn sr_fit(
     let y = floats(y, "y")?;
     let mut cfg: SearchConfig = with_overrides("search", search_json)?;
     cfg.par = par_of(n_jobs)?;
+    let reduction = match (units, target_unit) {
+        (None, None) => None,
+        (Some(units), Some(target)) => {
+            // the target has no column name: one no column can have
+            let key = "\u{0}target".to_string();
+            let mut given = units;
+            given.push((key.clone(), target));
+            let (dims, target) = hxai_symreg::units::dimensions(data.names(), &key, &given)
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            Some(
+                hxai_symreg::units::Reduction::of(data.names(), &dims, target)
+                    .map_err(|e| PyValueError::new_err(e.to_string()))?,
+            )
+        }
+        _ => {
+            return Err(PyValueError::new_err(
+                "units and target_units go together: give the unit of every column and of y",
+            ));
+        }
+    };
     let (res, unc, report) = py
         .detach(|| -> Result<_, hxai_symreg::SrError> {
-            let res = hxai_symreg::search(&data, &y, &cfg, &mut |_| {})?;
+            let res = match &reduction {
+                Some(r) => hxai_symreg::units::search(&data, &y, r, &cfg, &mut |_| {})?,
+                None => hxai_symreg::search(&data, &y, &cfg, &mut |_| {})?,
+            };
             let unc = res.best.uncertainty(&data, &y)?;
-            let stability = match stability_runs {
-                0 => None,
-                runs => Some(hxai_symreg::stability(
+            let stability = match (stability_runs, &reduction) {
+                (0, _) => None,
+                (runs, Some(r)) => Some(hxai_symreg::units::stability(
+                    &data,
+                    &y,
+                    r,
+                    &cfg,
+                    runs,
+                    &mut |_, _| {},
+                )?),
+                (runs, None) => Some(hxai_symreg::stability(
                     &data,
                     &y,
                     &cfg,
@@ -70,8 +104,9 @@ pub(crate) fn sr_fit(
                     &mut |_, _| {},
                 )?),
             };
-            let report =
+            let mut report =
                 hxai_symreg::SearchReport::of(&res, &cfg, (&data, &y), &unc, false, stability)?;
+            report.dimensional_groups = reduction.as_ref().map(|r| r.describe("y"));
             Ok((res, unc, report))
         })
         .map_err(err)?;
