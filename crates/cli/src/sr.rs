@@ -190,8 +190,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             crate::strategy::pairs::<String>(&args.units, "--units", "a unit such as m/s^2")?
                 .into_iter()
                 .collect();
-        let (dims, target) =
-            hxai_symreg::units::dimensions(data.names(), &args.target, &given)?;
+        let (dims, target) = hxai_symreg::units::dimensions(data.names(), &args.target, &given)?;
         Some(hxai_symreg::units::Reduction::of(
             data.names(),
             &dims,
@@ -230,8 +229,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         None => None,
     };
     let unc = res.best.uncertainty(&data, &y)?;
-    let mut report =
-        hxai_symreg::SearchReport::of(&res, &cfg, (&data, &y), &unc, true, stability)?;
+    let mut report = hxai_symreg::SearchReport::of(&res, &cfg, (&data, &y), &unc, true, stability)?;
     report.dimensional_groups = reduction.as_ref().map(|r| r.describe(&args.target));
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);

@@ -267,3 +267,45 @@ fn operator_complexity_option() -> TestResult {
     }
     Ok(())
 }
+
+/// `--units`: a period `T = 2 pi sqrt(L/g)` with a distractor mass. L, g and m have
+/// independent dimensions and none is left over, so no search runs: the law comes back as
+/// `c * sqrt(L/g)` with the mass out by construction, and the JSON names the (empty) list of
+/// groups and the target's scale. A bad unit is refused naming its column.
+#[test]
+fn units_reduce_the_search_and_keep_the_law_consistent() -> TestResult {
+    let mut s = String::from("L,g,m,y\n");
+    for i in 0..40 {
+        let (l, g, m) = (
+            0.5 + 0.05 * f64::from(i),
+            5.0 + f64::from((i * 7) % 11),
+            1.0 + f64::from((i * 3) % 5),
+        );
+        s.push_str(&format!(
+            "{l},{g},{m},{}\n",
+            2.0 * std::f64::consts::PI * (l / g).sqrt()
+        ));
+    }
+    let csv = table("period.csv", &s)?;
+    let doc = sr_json(&csv, &["--units", "L=m,g=m/s^2,m=kg,y=s"])?;
+    assert_eq!(
+        doc["dimensional_groups"],
+        serde_json::json!(["y = c * L^(1/2)/g^(1/2)"])
+    );
+    let best = &doc["best"];
+    assert!(best["r2"].as_f64().ok_or("r2")? > 1.0 - 1e-12, "{best}");
+    assert_eq!(best["features"], serde_json::json!(["L", "g"]));
+    let out = hxai(&[
+        "sr",
+        "--csv",
+        csv.to_str().ok_or("path")?,
+        "--target",
+        "y",
+        "--units",
+        "L=m,g=m/s^2,m=stone,y=s",
+    ])?;
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("column `m`: unit `stone`"), "{err}");
+    Ok(())
+}

@@ -113,8 +113,9 @@ pub(crate) fn stability_of(
     cfg: &SearchConfig,
     runs: usize,
     progress: &mut (dyn FnMut(usize, usize) + Send),
-    run_search: &(dyn Fn(&Table, &[f64], &SearchConfig) -> Result<crate::SearchResult, SrError>
-          + Sync),
+    run_search: &(
+         dyn Fn(&Table, &[f64], &SearchConfig) -> Result<crate::SearchResult, SrError> + Sync
+     ),
 ) -> Result<Stability, SrError> {
     if runs == 0 {
         return Err(SrError::InvalidConfig(

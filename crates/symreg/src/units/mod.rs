@@ -178,7 +178,8 @@ impl Reduction {
         })
     }
 
-    /// Each group as text, `pi1 = m*v^2/E`, then the target's scale `y / (...)`.
+    /// Each group as text (`pi1 = m2/m1`), then the target as its scale times a function
+    /// `phi` of the groups (`F = G*m1^2/r^2 * phi(pi1)`; `c * ...` with no group).
     pub fn describe(&self, target: &str) -> Vec<String> {
         let mut lines: Vec<String> = self
             .groups
@@ -188,16 +189,17 @@ impl Reduction {
                 format!("{name} = {}", monomial_text(&self.inputs, &r))
             })
             .collect();
-        if self.scale.iter().any(|r| *r != Ratio::ZERO) {
-            lines.push(format!(
-                "{target} = {} * g({})",
-                monomial_text(&self.inputs, &self.scale),
-                self.groups
-                    .iter()
-                    .map(|(n, _)| n.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
+        let groups: Vec<&str> = self.groups.iter().map(|(n, _)| n.as_str()).collect();
+        let scaled = self.scale.iter().any(|r| *r != Ratio::ZERO);
+        let monomial = monomial_text(&self.inputs, &self.scale);
+        match (scaled, groups.is_empty()) {
+            (true, true) => lines.push(format!("{target} = c * {monomial}")),
+            (true, false) => lines.push(format!(
+                "{target} = {monomial} * phi({})",
+                groups.join(", ")
+            )),
+            (false, true) => lines.push(format!("{target} = c")),
+            (false, false) => lines.push(format!("{target} = phi({})", groups.join(", "))),
         }
         lines
     }

@@ -41,7 +41,7 @@ fn gravitation_reduces_to_one_group() {
         red.describe("F"),
         vec![
             "pi1 = m2/m1".to_string(),
-            "F = G*m1^2/r^2 * g(pi1)".to_string()
+            "F = G*m1^2/r^2 * phi(pi1)".to_string()
         ]
     );
 }
@@ -57,7 +57,7 @@ fn half_powers_are_kept_exact() {
         vec![Ratio::new(1, 2), Ratio::new(-1, 2), Ratio::ZERO]
     );
     assert_eq!(red.groups, vec![("pi1".to_string(), vec![0, 0, 1])]);
-    assert_eq!(red.describe("T")[1], "T = L^(1/2)/g^(1/2) * g(pi1)");
+    assert_eq!(red.describe("T")[1], "T = L^(1/2)/g^(1/2) * phi(pi1)");
 }
 
 #[test]
