@@ -105,8 +105,8 @@ pub fn stability(
 }
 
 /// One bootstrap run's search: the resampled rows, their target and the run's settings.
-pub(crate) type RunSearch =
-    dyn Fn(&Table, &[f64], &SearchConfig) -> Result<crate::SearchResult, SrError> + Sync;
+pub(crate) type RunSearch<'a> =
+    dyn Fn(&Table, &[f64], &SearchConfig) -> Result<crate::SearchResult, SrError> + Sync + 'a;
 
 /// [`stability`] with each run's search done by `run_search` (on the resampled rows and
 /// target, with the run's configuration): how [`crate::units::stability`] searches on the
@@ -117,7 +117,7 @@ pub(crate) fn stability_of(
     cfg: &SearchConfig,
     runs: usize,
     progress: &mut (dyn FnMut(usize, usize) + Send),
-    run_search: &RunSearch,
+    run_search: &RunSearch<'_>,
 ) -> Result<Stability, SrError> {
     if runs == 0 {
         return Err(SrError::InvalidConfig(
