@@ -161,6 +161,11 @@ pub struct SearchConfig {
     /// happens to lie near `1/sqrt(pi)` is a fitted number, not a claim about physics.
     /// Thirds and quarters are tried either way.
     pub named_constants: bool,
+    /// Test the most accurate model for separability (`f = g(xA) + h(xB)` or
+    /// `f = g(xA) h(xB)`, by mixed differences) and, where it holds, search the parts
+    /// apart and offer their join to selection (`search::separable`): true by default
+    /// (`hxai sr`), false for hybrid corrections ([`SearchConfig::paper`]).
+    pub separability: bool,
     /// Which operator may appear inside which ([`Nesting`]): none constrained by default
     /// (`hxai sr`), [`Nesting::readable()`] for hybrid corrections ([`SearchConfig::paper`]).
     /// Candidates that break a constraint are never fitted.
@@ -211,6 +216,7 @@ impl Default for SearchConfig {
             snap_constants: true,
             snap_tolerance: 1e-3,
             named_constants: true,
+            separability: true,
             nesting: Nesting::none(),
             consensus_runs: 0,
             skip_equivalent: true,
@@ -231,6 +237,7 @@ impl SearchConfig {
             nesting: Nesting::readable(),
             runners_up: 3,
             named_constants: false,
+            separability: false,
             ..Self::default()
         }
     }

@@ -31,6 +31,7 @@ mod mutual_information;
 mod qlattice;
 mod run;
 mod selection;
+mod separable;
 mod strategy;
 mod structure;
 

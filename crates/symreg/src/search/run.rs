@@ -6,6 +6,7 @@ use super::fitting::{Problem, check_target, derive_seed, search_target_variance}
 use super::generate::Tables;
 use super::mutual_information::input_priors;
 use super::selection::{SearchResult, finish};
+use super::separable;
 use super::strategy::{self, ROUNDS_PER_EPOCH, Step};
 use crate::canonical::{self, Effort};
 use crate::nesting::NestingRules;
@@ -69,6 +70,26 @@ pub(crate) fn plain_search(
     cfg: &SearchConfig,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<SearchResult, SrError> {
+    search_at_depth(data, target, cfg, progress, 0)
+}
+
+/// A sub-search of a decomposition ([`super::separable`]) at `depth`, without progress.
+pub(crate) fn search_at(
+    data: &Table,
+    target: &[f64],
+    cfg: &SearchConfig,
+    depth: u8,
+) -> Result<SearchResult, SrError> {
+    search_at_depth(data, target, cfg, &mut |_| {}, depth)
+}
+
+fn search_at_depth(
+    data: &Table,
+    target: &[f64],
+    cfg: &SearchConfig,
+    progress: &mut dyn FnMut(&Progress),
+    depth: u8,
+) -> Result<SearchResult, SrError> {
     let t0 = Instant::now();
     let ops = cfg.check()?;
     let nesting = cfg.nesting.rules()?;
@@ -122,6 +143,14 @@ pub(crate) fn plain_search(
             best_loss: state.archive.best_loss(),
         });
     }
+    // the most accurate model as an oracle for separability: a sum or product of smaller
+    // problems, searched apart and joined, is one more candidate for selection
+    let decomposition =
+        separable::candidates(&problem, data, &state.archive, state.evaluations, t0, depth)?;
+    for f in &decomposition.candidates {
+        state.archive.offer(f);
+    }
+    state.evaluations += decomposition.evaluations;
     finish(
         &problem,
         data,
