@@ -56,6 +56,7 @@ _SEARCH_KEYS = (
     "snap_constants",
     "snap_tolerance",
     "named_constants",
+    "separability",
     "nesting",
     "consensus_runs",
     "skip_equivalent",
@@ -125,6 +126,7 @@ def _search_json(est):
     s["runners_up"] = int(v)
     s["skip_equivalent"] = bool(s["skip_equivalent"])
     s["named_constants"] = bool(s["named_constants"])
+    s["separability"] = bool(s["separability"])
     if s["max_evaluations"] is not None:
         s["max_evaluations"] = int(s["max_evaluations"])
     for k in ("complexity_penalty", "snap_tolerance"):
@@ -295,6 +297,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         snap_constants=True,
         snap_tolerance=1e-3,
         named_constants=True,
+        separability=True,
         nesting="none",
         consensus_runs=0,
         skip_equivalent=True,
@@ -451,6 +454,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         snap_constants=True,
         snap_tolerance=1e-3,
         named_constants=False,
+        separability=False,
         nesting="readable",
         consensus_runs=0,
         skip_equivalent=True,

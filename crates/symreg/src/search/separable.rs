@@ -195,7 +195,7 @@ pub(crate) fn candidates(
         return none;
     };
     let relative = oracle_fit.mse / problem.y_var;
-    if !(relative < ORACLE_MAX_RELATIVE_MSE) {
+    if relative.is_nan() || relative >= ORACLE_MAX_RELATIVE_MSE {
         return none;
     }
     let vars: Vec<usize> = oracle_fit
@@ -237,7 +237,11 @@ pub(crate) fn candidates(
             let base = oracle.eval(&points);
             let one_sign = base.iter().all(|&v| v > 0.0) || base.iter().all(|&v| v < 0.0);
             match one_sign
-                .then(|| groups(&mut oracle, &points, &vars, tolerance, &|v: f64| v.abs().ln()))
+                .then(|| {
+                    groups(&mut oracle, &points, &vars, tolerance, &|v: f64| {
+                        v.abs().ln()
+                    })
+                })
                 .flatten()
             {
                 Some(g) if g.len() >= 2 => (Join::Product, g),
@@ -278,13 +282,9 @@ pub(crate) fn candidates(
         // found so far for those before this one and the oracle's slices for those after
         let target: Vec<f64> = (0..n_rows)
             .map(|r| {
-                let others = (0..parts.len()).filter(|&j| j != g).map(|j| {
-                    if j < g {
-                        found[j][r]
-                    } else {
-                        slices[j][r]
-                    }
-                });
+                let others = (0..parts.len())
+                    .filter(|&j| j != g)
+                    .map(|j| if j < g { found[j][r] } else { slices[j][r] });
                 match join {
                     Join::Sum => problem.y[r] - others.sum::<f64>(),
                     Join::Product => problem.y[r] / others.product::<f64>(),
@@ -417,4 +417,167 @@ fn join_programs(subs: &[(Program, Vec<f64>)], join: Join) -> Option<(Program, V
     params[1] = offset;
     let program = Program { nodes, affine };
     (program.is_valid() && params.iter().all(|v| v.is_finite())).then_some((program, params))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::search::fitting::variance;
+
+    fn table(rows: usize) -> Table {
+        let cols: Vec<Vec<f64>> = (0..3)
+            .map(|c| {
+                (0..rows)
+                    .map(|r| 1.0 + 2.0 * (((r * (7 + 4 * c) + 3 * c) % 97) as f64) / 97.0)
+                    .collect()
+            })
+            .collect();
+        Table::new(vec!["a".into(), "b".into(), "c".into()], cols).expect("table")
+    }
+
+    /// An archive whose one model is `nodes` with `params` (the oracle), scored on the rows.
+    fn archive_of(problem: &Problem, nodes: Vec<Node>, params: Vec<f64>) -> Archive {
+        let program = Program {
+            nodes,
+            affine: false,
+        };
+        let cols = problem.fit_cols();
+        let mse = Evaluator::new(&program).mse(&program, &params, &cols, &problem.fit_y);
+        let mut archive = Archive::default();
+        archive.offer(&Fitted {
+            complexity: program.complexity(crate::ComplexityMeasure::FeaturesPlusOperators),
+            score: problem.score(mse, params.len(), cols[0].len()),
+            program,
+            params,
+            mse,
+            source: 0,
+            tag: 0,
+        });
+        archive
+    }
+
+    fn small() -> SearchConfig {
+        SearchConfig {
+            epochs: 2,
+            candidates_per_epoch: 300,
+            ..SearchConfig::default()
+        }
+    }
+
+    /// `2 sin(a) + b c`, written by the oracle as one expression: the mixed differences split
+    /// it into `{a}` and `{b, c}`, and the join of the two sub-searches fits the rows exactly.
+    #[test]
+    fn a_sum_is_split_and_joined_exactly() {
+        let data = table(150);
+        let y: Vec<f64> = (0..150)
+            .map(|r| {
+                let c = |k: usize| data.columns()[k][r];
+                2.0 * c(0).sin() + c(1) * c(2)
+            })
+            .collect();
+        let cfg = small();
+        let problem = Problem::all_rows(&data, &y, variance(&y), &cfg);
+        let nodes = vec![
+            Node::Var(0),
+            Node::Op(Op::Sin),
+            Node::Const,
+            Node::Op(Op::Mul),
+            Node::Var(1),
+            Node::Var(2),
+            Node::Op(Op::Mul),
+            Node::Op(Op::Add),
+        ];
+        let archive = archive_of(&problem, nodes.clone(), vec![1.0, 0.0, 2.0]);
+        let mut oracle = Oracle {
+            prog: &archive.front()[0].program,
+            params: &[1.0, 0.0, 2.0],
+            ev: Evaluator::new(&archive.front()[0].program),
+        };
+        let g = groups(&mut oracle, data.columns(), &[0, 1, 2], 0.02, &|v| v).expect("finite");
+        assert_eq!(g, vec![vec![0], vec![1, 2]]);
+        let d = candidates(&problem, &data, &archive, 0, Instant::now(), 0).expect("decompose");
+        assert_eq!(d.candidates.len(), 1);
+        assert!(d.evaluations > 0);
+        let f = &d.candidates[0];
+        assert!(f.mse < 1e-12 * problem.y_var, "mse {}", f.mse);
+        // off, or at the depth limit, nothing is tried
+        let off = SearchConfig {
+            separability: false,
+            ..cfg.clone()
+        };
+        let p_off = Problem::all_rows(&data, &y, variance(&y), &off);
+        let none = candidates(&p_off, &data, &archive, 0, Instant::now(), 0).expect("off");
+        assert!(none.candidates.is_empty() && none.evaluations == 0);
+        let deep = candidates(&problem, &data, &archive, 0, Instant::now(), MAX_DEPTH);
+        assert!(deep.expect("deep").candidates.is_empty());
+    }
+
+    /// `exp(a/2) b / c` interacts in every pair as it is, and splits in three on `ln |f|`.
+    #[test]
+    fn a_product_is_split_on_the_log_scale() {
+        let data = table(150);
+        let y: Vec<f64> = (0..150)
+            .map(|r| {
+                let c = |k: usize| data.columns()[k][r];
+                (0.5 * c(0)).exp() * c(1) / c(2)
+            })
+            .collect();
+        let cfg = small();
+        let problem = Problem::all_rows(&data, &y, variance(&y), &cfg);
+        let nodes = vec![
+            Node::Var(0),
+            Node::Const,
+            Node::Op(Op::Mul),
+            Node::Op(Op::Exp),
+            Node::Var(1),
+            Node::Op(Op::Mul),
+            Node::Var(2),
+            Node::Op(Op::Div),
+        ];
+        let params = vec![1.0, 0.0, 0.5];
+        let archive = archive_of(&problem, nodes, params.clone());
+        let prog = archive.front()[0].program.clone();
+        let mut oracle = Oracle {
+            prog: &prog,
+            params: &params,
+            ev: Evaluator::new(&prog),
+        };
+        let plain = groups(&mut oracle, data.columns(), &[0, 1, 2], 0.02, &|v| v);
+        assert_eq!(plain.expect("finite").len(), 1);
+        let logs = groups(&mut oracle, data.columns(), &[0, 1, 2], 0.02, &|v: f64| {
+            v.abs().ln()
+        });
+        assert_eq!(logs.expect("finite"), vec![vec![0], vec![1], vec![2]]);
+        let d = candidates(&problem, &data, &archive, 0, Instant::now(), 0).expect("decompose");
+        let f = &d.candidates[0];
+        assert!(f.mse < 1e-12 * problem.y_var, "mse {}", f.mse);
+    }
+
+    /// The join of `2 x0 + 1` and `3 x1 - 1` is their sum, and their product.
+    #[test]
+    fn joins_add_and_multiply_the_parts() {
+        let line = |v: u16, s: f64, o: f64| {
+            (
+                Program {
+                    nodes: vec![Node::Var(v)],
+                    affine: false,
+                },
+                vec![s, o],
+            )
+        };
+        let subs = [line(0, 2.0, 1.0), line(1, 3.0, -1.0)];
+        let cols: Vec<Vec<f64>> = vec![vec![0.5, 2.0, -1.0], vec![1.5, -0.25, 4.0]];
+        let refs: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
+        for (join, want) in [
+            (Join::Sum, [5.5, 3.25, 10.0]),
+            (Join::Product, [7.0, -8.75, -11.0]),
+        ] {
+            let (p, params) = join_programs(&subs, join).expect("join");
+            let mut out = Vec::new();
+            Evaluator::new(&p).predict(&p, &params, &refs, 3, &mut out);
+            for (g, w) in out.iter().zip(want) {
+                assert!((g - w).abs() < 1e-12, "{join:?}: {out:?} vs {want:?}");
+            }
+        }
+    }
 }
