@@ -147,14 +147,11 @@ fn search_at_depth(
     // problems, searched apart and joined, is one more candidate for selection
     let decomposition =
         separable::candidates(&problem, data, &state.archive, state.evaluations, t0, depth)?;
-    for f in &decomposition.candidates {
-        state.archive.offer(f);
-    }
     state.evaluations += decomposition.evaluations;
     finish(
         &problem,
         data,
-        &state.archive,
+        (&state.archive, &decomposition.candidates),
         (state.evaluations, state.duplicate_structures),
         t0,
         &pool,

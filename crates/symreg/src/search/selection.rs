@@ -76,19 +76,25 @@ pub struct SearchResult {
     pub seconds: f64,
 }
 
-/// Refits the archive's front and best model on all rows, snaps their constants, and picks
-/// the reported models; the refits run in `pool`. `counts` are the search's evaluations
-/// and duplicate structures.
+/// Refits the archive's front and best model, and the `extra` candidates (a
+/// decomposition's joins, [`super::separable`]: reported beside the archive's models, never
+/// displacing one), on all rows, snaps their constants, and picks the reported models; the
+/// refits run in `pool`. `counts` are the search's evaluations and duplicate structures.
 pub(crate) fn finish(
     problem: &Problem,
     data: &Table,
-    archive: &Archive,
+    (archive, extra): (&Archive, &[Fitted]),
     counts: (u64, u64),
     t0: Instant,
     pool: &Pool,
 ) -> Result<SearchResult, SrError> {
     let (evaluations, duplicate_structures) = counts;
-    let reported = reported_fits(archive);
+    let mut reported = reported_fits(archive);
+    for f in extra {
+        if f.mse.is_finite() && !reported.iter().any(|r| r.program == f.program) {
+            reported.push(f.clone());
+        }
+    }
     if reported.is_empty() {
         return Err(SrError::NoModel);
     }
@@ -418,7 +424,7 @@ mod tests {
         let res = finish(
             &problem,
             &data,
-            &archive,
+            (&archive, &[]),
             (2, 0),
             Instant::now(),
             &Par::Current.pool(),

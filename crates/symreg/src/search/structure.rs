@@ -101,7 +101,7 @@ fn fit_from(
     finish(
         &problem,
         data,
-        &archive,
+        (&archive, &[]),
         (1, 0),
         Instant::now(),
         &cfg.par.pool(),
