@@ -460,13 +460,13 @@ pub fn dimensions(
     Ok((dims, find(target)?))
 }
 
-/// [`crate::search`] on the π table of `reduction`, every reported model (best, front,
+/// [`crate::search()`] on the π table of `reduction`, every reported model (best, front,
 /// alternatives) composed back into the inputs and scored on them (`train_mse` on the
 /// original rows; `score` stays the criterion on the π table). A reduction to no group
 /// (`y = c M(x)`) takes `c` as the mean of `y / M` without a search.
 ///
 /// # Errors
-/// As [`Reduction::transform`] and [`crate::search`].
+/// As [`Reduction::transform`] and [`crate::search()`].
 pub fn search(
     data: &Table,
     y: &[f64],
