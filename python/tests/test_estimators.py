@@ -76,9 +76,8 @@ def test_defaults_are_the_engines():
                 # (SearchConfig::paper()); a test in test_selection.py checks both are read
                 want = "readable" if isinstance(est, HybridRegressor) else "none"
                 assert rust[k] == {}
-            if k in ("named_constants", "separability") and isinstance(est, HybridRegressor):
-                # a correction does not snap to named irrationals nor decompose
-                # (SearchConfig::paper())
+            if k == "named_constants" and isinstance(est, HybridRegressor):
+                # a correction does not snap to named irrationals (SearchConfig::paper())
                 want = table[k]
             if k == "runners_up" and isinstance(est, HybridRegressor):
                 # a correction keeps three runners-up per complexity (SearchConfig::laws())

@@ -46,11 +46,11 @@ pub struct Args {
     /// measuring what the skip saves (`duplicate_structures` in `--json`).
     #[arg(long)]
     pub refit_equivalent: bool,
-    /// Do not test the most accurate model for separability (a sum or product of parts
-    /// over disjoint inputs, searched apart and offered to selection joined); the test is
-    /// on by default.
+    /// Test the most accurate model for separability (a sum or product of parts over
+    /// disjoint inputs), search the parts apart and offer their join to selection (off by
+    /// default: measured, it recovers few more laws for about 40 % more time).
     #[arg(long)]
-    pub no_separability: bool,
+    pub separability: bool,
     /// Complexity of operators, as comma-separated NAME=INTEGER (e.g. `sqrt=2,exp=2`);
     /// operators not named count 1.
     #[arg(long, value_delimiter = ',')]
@@ -177,7 +177,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         cv_folds: args.cv_folds,
         complexity_penalty: args.complexity_penalty,
         skip_equivalent: !args.refit_equivalent,
-        separability: !args.no_separability,
+        separability: args.separability,
         ..SearchConfig::default()
     };
     if let Some(ops) = args.operators {

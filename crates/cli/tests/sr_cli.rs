@@ -309,3 +309,16 @@ fn units_reduce_the_search_and_keep_the_law_consistent() -> TestResult {
     assert!(err.contains("column `m`: unit `stone`"), "{err}");
     Ok(())
 }
+
+/// `--separability`: on `2.5 x1 x2` (a product of parts over one input each) the parts are
+/// searched apart, which the JSON's evaluation count shows; without the flag they are not.
+#[test]
+fn separability_is_opt_in_and_searches_the_parts() -> TestResult {
+    let csv = table("separable.csv", &law_csv())?;
+    let plain = sr_json(&csv, &["--epochs", "2"])?;
+    let split = sr_json(&csv, &["--epochs", "2", "--separability"])?;
+    let count = |d: &serde_json::Value| d["evaluations"].as_u64().ok_or("evaluations");
+    assert!(count(&split)? > count(&plain)?, "{split}");
+    assert!(split["best"]["r2"].as_f64().ok_or("r2")? > 1.0 - 1e-9);
+    Ok(())
+}

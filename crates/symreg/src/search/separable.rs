@@ -460,6 +460,7 @@ mod tests {
         SearchConfig {
             epochs: 2,
             candidates_per_epoch: 300,
+            separability: true,
             ..SearchConfig::default()
         }
     }
