@@ -409,17 +409,7 @@ fn monomial_text(inputs: &[String], e: &[Ratio]) -> String {
             .map(|(n, r)| factor(n, *r))
             .collect()
     };
-    let (num, den) = (side(1), side(-1));
-    let num = if num.is_empty() {
-        "1".to_string()
-    } else {
-        num.join("*")
-    };
-    match den.len() {
-        0 => num,
-        1 => format!("{num}/{}", den[0]),
-        _ => format!("{num}/({})", den.join("*")),
-    }
+    parse::fraction_text(&side(1), &side(-1))
 }
 
 /// Units of every input and of the target, read from text.

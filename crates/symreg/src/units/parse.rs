@@ -84,17 +84,21 @@ impl fmt::Display for Dimension {
                 })
                 .collect()
         };
-        let (num, den) = (part(1), part(-1));
-        let num = if num.is_empty() {
-            "1".to_string()
-        } else {
-            num.join("*")
-        };
-        match den.len() {
-            0 => write!(f, "{num}"),
-            1 => write!(f, "{num}/{}", den[0]),
-            _ => write!(f, "{num}/({})", den.join("*")),
-        }
+        write!(f, "{}", fraction_text(&part(1), &part(-1)))
+    }
+}
+
+/// `a*b/c` or `a/(b*c)` from the factors above and below the line (`1` above when none).
+pub(super) fn fraction_text(num: &[String], den: &[String]) -> String {
+    let top = if num.is_empty() {
+        "1".to_string()
+    } else {
+        num.join("*")
+    };
+    match den {
+        [] => top,
+        [one] => format!("{top}/{one}"),
+        _ => format!("{top}/({})", den.join("*")),
     }
 }
 
