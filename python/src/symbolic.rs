@@ -81,24 +81,14 @@ pub(crate) fn sr_fit(
     };
     let (res, unc, report) = py
         .detach(|| -> Result<_, hxai_symreg::SrError> {
-            let res = match &reduction {
-                Some(r) => hxai_symreg::units::search(&data, &y, r, &cfg, &mut |_| {})?,
-                None => hxai_symreg::search(&data, &y, &cfg, &mut |_| {})?,
-            };
+            let res = hxai_symreg::units::search(&data, &y, reduction.as_ref(), &cfg, &mut |_| {})?;
             let unc = res.best.uncertainty(&data, &y)?;
-            let stability = match (stability_runs, &reduction) {
-                (0, _) => None,
-                (runs, Some(r)) => Some(hxai_symreg::units::stability(
+            let stability = match stability_runs {
+                0 => None,
+                runs => Some(hxai_symreg::units::stability(
                     &data,
                     &y,
-                    r,
-                    &cfg,
-                    runs,
-                    &mut |_, _| {},
-                )?),
-                (runs, None) => Some(hxai_symreg::stability(
-                    &data,
-                    &y,
+                    reduction.as_ref(),
                     &cfg,
                     runs,
                     &mut |_, _| {},

@@ -2,7 +2,7 @@
 use crate::Global;
 use crate::strategy::{CriterionArg, StrategyArg};
 use anyhow::{Context, Result};
-use hxai_symreg::{SearchConfig, search};
+use hxai_symreg::SearchConfig;
 use std::path::PathBuf;
 
 /// Arguments of `hxai sr`.
@@ -214,10 +214,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             p.evaluations, p.best_loss
         ));
     };
-    let res = match &reduction {
-        Some(r) => hxai_symreg::units::search(&data, &y, r, &cfg, &mut on_progress)?,
-        None => search(&data, &y, &cfg, &mut on_progress)?,
-    };
+    let res = hxai_symreg::units::search(&data, &y, reduction.as_ref(), &cfg, &mut on_progress)?;
     bar.finish_and_clear();
     let stability = match args.stability {
         Some(runs) => {
@@ -225,10 +222,14 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             b.set_message("stability runs");
             let bb = b.clone();
             let mut tick = move |done: usize, _: usize| bb.set_position(done as u64);
-            let s = match &reduction {
-                Some(r) => hxai_symreg::units::stability(&data, &y, r, &cfg, runs, &mut tick)?,
-                None => hxai_symreg::stability(&data, &y, &cfg, runs, &mut tick)?,
-            };
+            let s = hxai_symreg::units::stability(
+                &data,
+                &y,
+                reduction.as_ref(),
+                &cfg,
+                runs,
+                &mut tick,
+            )?;
             b.finish_and_clear();
             Some(s)
         }

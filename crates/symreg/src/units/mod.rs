@@ -453,17 +453,21 @@ pub fn dimensions(
 /// [`crate::search()`] on the π table of `reduction`, every reported model (best, front,
 /// alternatives) composed back into the inputs and scored on them (`train_mse` on the
 /// original rows; `score` stays the criterion on the π table). A reduction to no group
-/// (`y = c M(x)`) takes `c` as the mean of `y / M` without a search.
+/// (`y = c M(x)`) takes `c` as the mean of `y / M` without a search. Without a reduction,
+/// [`crate::search()`] itself, so a front end calls this one function with or without units.
 ///
 /// # Errors
 /// As [`Reduction::transform`] and [`crate::search()`].
 pub fn search(
     data: &Table,
     y: &[f64],
-    reduction: &Reduction,
+    reduction: Option<&Reduction>,
     cfg: &SearchConfig,
     progress: &mut dyn FnMut(&crate::Progress),
 ) -> Result<SearchResult, SrError> {
+    let Some(reduction) = reduction else {
+        return crate::search(data, y, cfg, progress);
+    };
     if cfg.consensus_runs > 0 {
         return Err(SrError::InvalidConfig(
             "consensus selection does not yet work with units: its votes are counted on the \
@@ -516,18 +520,22 @@ pub fn search(
 
 /// [`crate::stability()`] of the search with units: each bootstrap run searches its
 /// resample's groups and composes back, so structures, features and out-of-bag R² are
-/// those of the composed models, as the selected one is reported.
+/// those of the composed models, as the selected one is reported. Without a reduction,
+/// [`crate::stability()`] itself.
 ///
 /// # Errors
 /// As [`crate::stability()`] and [`search`].
 pub fn stability(
     data: &Table,
     y: &[f64],
-    reduction: &Reduction,
+    reduction: Option<&Reduction>,
     cfg: &SearchConfig,
     runs: usize,
     progress: &mut (dyn FnMut(usize, usize) + Send),
 ) -> Result<crate::Stability, SrError> {
+    if reduction.is_none() {
+        return crate::stability(data, y, cfg, runs, progress);
+    }
     crate::stability::stability_of(data, y, cfg, runs, progress, &|train, ty, run_cfg| {
         search(train, ty, reduction, run_cfg, &mut |_| {})
     })

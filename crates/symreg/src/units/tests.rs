@@ -134,7 +134,7 @@ fn no_group_left_fits_the_constant_alone() {
     let red = Reduction::of(data.names(), &[dim("kg"), dim("m/s"), dim("m")], dim("J"))
         .expect("reduction");
     assert!(red.groups.is_empty());
-    let res = search(&data, &y, &red, &SearchConfig::default(), &mut |_| {}).expect("search");
+    let res = search(&data, &y, Some(&red), &SearchConfig::default(), &mut |_| {}).expect("search");
     assert!(res.best.train_mse < 1e-20, "{}", res.best.train_mse);
     assert_eq!(res.best.features(), vec!["m".to_string(), "v".to_string()]);
 }
@@ -161,7 +161,7 @@ fn a_search_on_the_groups_predicts_the_target() {
         candidates_per_epoch: 300,
         ..SearchConfig::default()
     };
-    let res = search(&data, &y, &red, &cfg, &mut |_| {}).expect("search");
+    let res = search(&data, &y, Some(&red), &cfg, &mut |_| {}).expect("search");
     let pred = res.best.predict(&data).expect("predict");
     let worst = pred
         .iter()
