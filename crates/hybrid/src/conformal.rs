@@ -20,11 +20,24 @@ pub use widening::RangeWidening;
 /// model sees 80 % of the rows).
 pub const DEFAULT_CONFORMAL_FOLDS: usize = 5;
 
+/// Halvings of the step from a model's constants to a fold's refit in [`refit_constants`]
+/// before the refit is given up for the model's own constants: 2^-30 of the step is below
+/// any constant's rounding.
+const MAX_DOMAIN_HALVINGS: usize = 30;
+
 /// `model`'s free constants (those that are not whole or half numbers) refitted by
 /// Levenberg-Marquardt to `target` on the columns `cols` (the model's features, in order),
 /// starting from the model's own values. When the fit is not finite the model is returned
 /// as it is: the held-out predictions then say whether it can be used.
-pub fn refit_constants(model: &Model, cols: &[&[f64]], target: &[f64]) -> Model {
+///
+/// The refit stays defined wherever the model is on the rows `domain` (the same features on
+/// every row the fold models will predict, the held-out ones among them): a refit on part of
+/// the rows can move a pole or the edge of a log's domain onto a row it did not see (a
+/// correction `log(t/(h - 0.05) + 8)` refitted to `h - 0.056` on a table whose smallest `h`
+/// is 0.055). The step from the model's constants to the refit's is then halved until the
+/// model is finite on those rows again (only the features are read there, never a
+/// target).
+pub fn refit_constants(model: &Model, cols: &[&[f64]], target: &[f64], domain: &[&[f64]]) -> Model {
     let free: Vec<usize> = (0..model.params.len())
         .filter(|&i| !is_exact(model.params[i]))
         .collect();
@@ -40,7 +53,40 @@ pub fn refit_constants(model: &Model, cols: &[&[f64]], target: &[f64]) -> Model 
         &settings,
         &mut ev,
     );
-    if mse.is_finite() { m } else { model.clone() }
+    if !mse.is_finite() {
+        return model.clone();
+    }
+    let n = domain.first().map_or(0, |c| c.len());
+    let mut predict = |params: &[f64]| {
+        let mut out = Vec::new();
+        ev.predict(&m.program, params, domain, n, &mut out);
+        out
+    };
+    let defined: Vec<bool> = predict(&model.params)
+        .iter()
+        .map(|v| v.is_finite())
+        .collect();
+    let mut keeps = |p: &[f64]| {
+        predict(p)
+            .iter()
+            .zip(&defined)
+            .all(|(v, &d)| v.is_finite() || !d)
+    };
+    let mut t = 1.0;
+    for _ in 0..=MAX_DOMAIN_HALVINGS {
+        let params: Vec<f64> = model
+            .params
+            .iter()
+            .zip(&m.params)
+            .map(|(a, b)| a + t * (b - a))
+            .collect();
+        if keeps(&params) {
+            m.params = params;
+            return m;
+        }
+        t *= 0.5;
+    }
+    model.clone()
 }
 
 /// The cross-fitting loop of CV+ that both halves run: for each fold of `splits` (indices
@@ -146,7 +192,7 @@ pub fn calibrate_model(
                 .collect();
             let sub: Vec<&[f64]> = sub.iter().map(Vec::as_slice).collect();
             let y: Vec<f64> = s.train.iter().map(|&i| target[i]).collect();
-            let m = refit_constants(model, &sub, &y);
+            let m = refit_constants(model, &sub, &y, &cols);
             let pred = m.predict(data)?;
             Ok((m.params, pred))
         },
@@ -440,7 +486,39 @@ impl ConformalInfo {
 
 #[cfg(test)]
 mod tests {
-    use super::{HeldOut, RangeWidening, Split, held_out};
+    use super::{HeldOut, RangeWidening, Split, held_out, refit_constants};
+    use hxai_symreg::{Model, Node, Op, Program};
+
+    /// `log(x - d)` with `d = 0.05`, refitted to `log(x - 0.1)` on rows with `x >= 0.2`:
+    /// unguarded the refit reaches `d = 0.1`, where the row `x = 0.08` (which the refit did
+    /// not see) has no value; guarded, the step stops short of it. Where nothing leaves the
+    /// domain the refit is the plain one.
+    #[test]
+    fn a_refit_stays_where_the_model_is_defined() {
+        let program = Program {
+            nodes: vec![
+                Node::Var(0),
+                Node::Const,
+                Node::Op(Op::Sub),
+                Node::Op(Op::Log),
+            ],
+            affine: false,
+        };
+        let model =
+            Model::new(vec!["x".into()], program, vec![1.0, 0.0, 0.05]).expect("a valid model");
+        let x: Vec<f64> = (0..40).map(|i| 0.2 + 0.02 * f64::from(i)).collect();
+        let y: Vec<f64> = x.iter().map(|v| (v - 0.1).ln()).collect();
+        let free = refit_constants(&model, &[&x], &y, &[&x]);
+        assert!((free.params[2] - 0.1).abs() < 1e-6, "{:?}", free.params);
+        let mut with_edge = x.clone();
+        with_edge.push(0.08);
+        let guarded = refit_constants(&model, &[&x], &y, &[&with_edge]);
+        let d = guarded.params[2];
+        assert!(d > 0.05 && d < 0.08, "{d}");
+        // the step was halved, not abandoned: half of it (0.075) is the first that keeps
+        // x = 0.08 defined
+        assert!((d - 0.075).abs() < 1e-6, "{d}");
+    }
 
     /// Each calibration row gets its fold and its fold's prediction (read at its table row);
     /// a fold that predicts a non-finite value there is refused, naming the table row.

@@ -79,7 +79,7 @@ fn refit_correction(
     let all = columns_of(table, &correction.feature_names, "correction feature")?;
     let cols: Vec<Vec<f64>> = all.iter().map(|c| gather(c, rows)).collect();
     let cols: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
-    Ok(refit_constants(correction, &cols, delta))
+    Ok(refit_constants(correction, &cols, delta, &all))
 }
 
 /// The hybrid's constants fitted on `rows` as the fit does: physics, correction, and with

@@ -6,11 +6,14 @@ use super::config::Criterion;
 use super::cv::{cross_validate, one_standard_error_pick, within_one_standard_error};
 use super::export::to_model;
 use super::fitting::Problem;
+use crate::canonical::canonical_program;
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::model::{Model, SnapRule, fold_data_constants, prune_snapped, snap_params};
-use crate::program::Node;
+use crate::ops::parse_operators;
+use crate::program::{Node, Program};
 use crate::stability::structure_of;
+use crate::uncertainty::is_exact;
 use crate::{SrError, Table};
 use hxai_table::Pool;
 use rayon::prelude::*;
@@ -215,9 +218,16 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
         params = f.params.clone();
         mse = ev.mse(prog, &params, full_cols, y);
     }
-    let no_fixed = vec![false; params.len()];
+    // a model the algebra proves equal to a shorter one is reported as the shorter one:
+    // before snapping, so that the constants snapped are the shorter form's, and again after
+    // snapping and folding, which can leave a form to shorten
+    let mut prog = prog.clone();
+    let mut fixed = vec![false; params.len()];
+    if let Some(simpler) = simpler_form(problem, (&prog, &params, &fixed), mse, data.names()) {
+        (prog, params, fixed, mse) = simpler;
+    }
     let (mut prog, mut params, mut exact, mut mse) =
-        snap_and_prune(problem, prog.clone(), params, &no_fixed, mse);
+        snap_and_prune(problem, prog, params, &fixed, mse);
     // a subtree that is constant over the rows (a dead term, a saturated tanh) is a constant
     // in disguise: replaced by one, snapped and pruned, the model says what it computes
     // (kept when its criterion is no worse, or its loss within rounding of the original)
@@ -239,6 +249,13 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
         }
         (prog, params, exact, mse) = (f_prog, f_params, f_exact, f_mse);
     }
+    if let Some((s_prog, s_params, s_exact, s_mse)) =
+        simpler_form(problem, (&prog, &params, &exact), mse, data.names())
+    {
+        // the shorter form's constants are the folded ones: snapped again (a phase `2*(x/2
+        // - c)` that becomes `x - 2c` can snap where `c` alone could not)
+        (prog, params, exact, mse) = snap_and_prune(problem, s_prog, s_params, &s_exact, s_mse);
+    }
     // parameters fixed at exact values are no longer fitted: the criterion does not charge
     // for them
     let n_fitted = exact.iter().filter(|&&e| !e).count();
@@ -251,6 +268,42 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
         complexity,
         data,
     )
+}
+
+/// A refitted model (`prog` with `params`, `exact` marking the ones snapped, loss `mse`)
+/// as its canonical form read back as a program ([`canonical_program`]), when that is
+/// simpler: no more complex under the search's measure and with no more fitted constants
+/// (the whole and half numbers of the form count as exact, as [`Model::uncertainty`] counts
+/// them), one of the two strictly lower; only the search's operators, within its nesting
+/// rules; and the same loss up to rounding. `None` otherwise.
+fn simpler_form(
+    problem: &Problem,
+    (prog, params, exact): (&Program, &[f64], &[bool]),
+    mse: f64,
+    names: &[String],
+) -> Option<(Program, Vec<f64>, Vec<bool>, f64)> {
+    let cfg = problem.cfg;
+    let (form, values) = canonical_program(prog, params, names)?;
+    let ops = parse_operators(&cfg.operators).ok()?;
+    let known = form.nodes.iter().all(|n| match n {
+        Node::Op(op) => ops.contains(op),
+        _ => true,
+    });
+    if !known || !cfg.nesting.rules().ok()?.allows(&form) {
+        return None;
+    }
+    let measure = |p: &Program| p.complexity_with(cfg.complexity_measure, &problem.op_costs);
+    let form_exact: Vec<bool> = values.iter().map(|&v| is_exact(v)).collect();
+    let fitted = |e: &[bool]| e.iter().filter(|&&x| !x).count();
+    let (c, form_c) = (measure(prog), measure(&form));
+    let (k, form_k) = (fitted(exact), fitted(&form_exact));
+    if form_c > c || form_k > k || (form_c, form_k) == (c, k) {
+        return None;
+    }
+    let form_mse = Evaluator::new(&form).mse(&form, &values, &problem.cols, &problem.y);
+    (form_mse.is_finite()
+        && form_mse <= mse * (1.0 + PRUNE_TOLERANCE) + SNAP_LOSS_SLACK * problem.y_var)
+        .then_some((form, values, form_exact, form_mse))
 }
 
 /// Rounds of [`fold_data_constants`] in [`refine`]: a fold can expose another (a snapped

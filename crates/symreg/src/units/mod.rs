@@ -20,6 +20,7 @@ mod parse;
 
 pub use parse::{BASE, Dimension};
 
+use crate::canonical::canonical_program;
 use crate::program::{Node, Program};
 use crate::{Model, Op, SearchConfig, SearchResult, SrError, Table};
 
@@ -306,6 +307,15 @@ impl Reduction {
             affine: false,
         };
         let mut out = Model::new(self.inputs.clone(), program, params)?;
+        // the groups' monomials and the model's own factors often cancel (`m2/m1 * m1^2` is
+        // `m1*m2`): the composition is returned in its canonical form when that is shorter
+        if let Some((program, params)) =
+            canonical_program(&out.program, &out.params, &out.feature_names)
+            && let Ok(shorter) = Model::new(self.inputs.clone(), program, params)
+            && shorter.complexity < out.complexity
+        {
+            out = shorter;
+        }
         out.score = model.score;
         Ok(out)
     }
