@@ -416,7 +416,8 @@ def run_engine(a, engine, label, hxai_extra, train_csv, syms):
         expr = sp.sympify(doc["best"]["sympy"], locals=local)
         return {"seconds": wall, "fit_seconds": doc.get("seconds"), "complexity": doc["best"].get("complexity"),
                 "evaluations": doc.get("evaluations"),
-                "duplicate_structures": doc.get("duplicate_structures"), "_expr": expr}
+                "duplicate_structures": doc.get("duplicate_structures"),
+                "simplified": doc.get("simplified"), "_expr": expr}
     settings = engine_settings(a)[engine]
     cmd = [sys.executable, os.path.abspath(__file__), "--worker", engine,
            "--train", train_csv, "--seed", str(a.seed), "--settings", json.dumps(settings)]

@@ -60,6 +60,7 @@ _SEARCH_KEYS = (
     "nesting",
     "consensus_runs",
     "skip_equivalent",
+    "simplify",
     "runners_up",
 )
 
@@ -125,6 +126,7 @@ def _search_json(est):
         raise ValueError(f"runners_up must be a non-negative integer, got {v!r}")
     s["runners_up"] = int(v)
     s["skip_equivalent"] = bool(s["skip_equivalent"])
+    s["simplify"] = bool(s["simplify"])
     s["named_constants"] = bool(s["named_constants"])
     s["separability"] = bool(s["separability"])
     if s["max_evaluations"] is not None:
@@ -253,7 +255,9 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     ``pareto_`` (DataFrame: complexity, loss = training MSE, equation), ``template_`` (the
     equation with its fitted constants named ``p0``, ``p1``, ...) and ``params_`` (DataFrame:
     name, value, fitted, std_error, ci95_lo, ci95_hi), ``model_json_`` (the
-    model as the engine serialises it), ``evaluations_``, ``selection_`` (how the equation
+    model as the engine serialises it), ``evaluations_``, ``simplified_`` (reported models
+    returned in the shorter form the algebra proves them equal to; ``simplify=False`` keeps
+    the search's programs), ``selection_`` (how the equation
     was selected, its structure's share over resamples and the alternatives the data cannot
     tell apart), ``stability_`` (with ``stability_runs=N``: the search rerun on N bootstrap
     resamples, ``{runs, features, structures, r2}`` as ``hxai sr --stability N``; else
@@ -301,6 +305,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         nesting="none",
         consensus_runs=0,
         skip_equivalent=True,
+        simplify=True,
         runners_up=0,
         conformal_folds=5,
         stability_runs=0,
@@ -348,6 +353,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.template_ = best["template"]
         self.params_ = _params_frame(best["params"])
         self.evaluations_ = doc["evaluations"]
+        self.simplified_ = doc["simplified"]
         self.selection_ = doc["selection"]
         self.stability_ = doc.get("stability")
         self.dimensional_groups_ = doc.get("dimensional_groups")
@@ -458,6 +464,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         nesting="readable",
         consensus_runs=0,
         skip_equivalent=True,
+        simplify=True,
         runners_up=3,
         conformal_folds=5,
         stability_runs=0,

@@ -71,3 +71,15 @@ def test_bad_units_are_refused_by_name(gravitation):
         SymbolicRegressor(**FAST, units={**UNITS, "r": "parsec"}, target_units="N").fit(X, y)
     with pytest.raises(ValueError, match="dimensional constant"):
         SymbolicRegressor(**FAST, units={**UNITS, "G": "1"}, target_units="N").fit(X, y)
+
+
+def test_the_composed_law_reads_as_the_law(gravitation):
+    """The model of the group ``m2/m1`` composed back into the columns cancels ``m1``
+    (simplification after the search); ``simplify=False`` keeps the search's programs and
+    counts none shortened."""
+    X, y = gravitation
+    m = SymbolicRegressor(**FAST, units=UNITS, target_units="N").fit(X, y)
+    assert m.sympy_ == "G*m1*m2/r**2"
+    plain = SymbolicRegressor(**FAST, simplify=False).fit(X, y)
+    assert plain.simplified_ == 0
+    assert SymbolicRegressor(**FAST).fit(X, y).simplified_ > 0

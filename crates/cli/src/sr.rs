@@ -46,6 +46,11 @@ pub struct Args {
     /// measuring what the skip saves (`duplicate_structures` in `--json`).
     #[arg(long)]
     pub refit_equivalent: bool,
+    /// Report the models as the search wrote them, not in the shorter form the algebra
+    /// proves them equal to (for measuring what the simplification changes: `simplified`
+    /// in `--json` counts the models it shortened).
+    #[arg(long)]
+    pub no_simplify: bool,
     /// Test the most accurate model for separability (a sum or product of parts over
     /// disjoint inputs), search the parts apart and offer their join to selection (off by
     /// default: measured, it recovers few more laws for about 40 % more time).
@@ -177,6 +182,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         cv_folds: args.cv_folds,
         complexity_penalty: args.complexity_penalty,
         skip_equivalent: !args.refit_equivalent,
+        simplify: !args.no_simplify,
         separability: args.separability,
         ..SearchConfig::default()
     };

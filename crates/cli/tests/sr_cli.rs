@@ -322,3 +322,40 @@ fn separability_is_opt_in_and_searches_the_parts() -> TestResult {
     assert!(split["best"]["r2"].as_f64().ok_or("r2")? > 1.0 - 1e-9);
     Ok(())
 }
+
+/// Simplification after the search: with units, Newton's gravitation is searched on the
+/// one group `m2/m1` and composed back as `G*m1^2/r^2 * phi(m2/m1)`; the composition is
+/// returned in its canonical form, where `m1` cancels, so the equation reads as the law.
+/// Without units the search's own models are shortened (`simplified` counts them), and
+/// `--no-simplify` reports the programs as written, with none counted.
+#[test]
+fn reported_models_come_back_in_their_shorter_form() -> TestResult {
+    let mut s = String::from("G,m1,m2,r,y\n");
+    for i in 0..120 {
+        let f = f64::from(i);
+        let (g, m1, m2, r) = (
+            1.0 + 0.01 * f64::from((i * 7) % 100),
+            1.0 + 0.04 * f64::from((i * 13) % 100),
+            1.0 + 0.04 * f64::from((i * 29) % 100),
+            1.0 + 0.04 * (f % 100.0),
+        );
+        s.push_str(&format!("{g},{m1},{m2},{r},{}\n", g * m1 * m2 / (r * r)));
+    }
+    let csv = table("gravitation.csv", &s)?;
+    let doc = sr_json(
+        &csv,
+        &[
+            "--units",
+            "G=m^3/(kg*s^2),m1=kg,m2=kg,r=m,y=N",
+            "--epochs",
+            "3",
+        ],
+    )?;
+    assert_eq!(doc["best"]["sympy"], "G*m1*m2/r**2", "{}", doc["best"]);
+    let plain = sr_json(&csv, &["--epochs", "3"])?;
+    let count = |d: &serde_json::Value| d["simplified"].as_u64().ok_or("simplified");
+    assert!(count(&plain)? > 0, "{plain}");
+    let written = sr_json(&csv, &["--epochs", "3", "--no-simplify"])?;
+    assert_eq!(count(&written)?, 0);
+    Ok(())
+}

@@ -85,6 +85,7 @@ pub(crate) fn search(
     let full = plain_search(data, target, &one, &mut |p| report(0, p))?;
     let mut evaluations = full.evaluations;
     let mut duplicate_structures = full.duplicate_structures;
+    let simplified = full.simplified;
     let n = data.n_rows();
     let mut nominees: BTreeMap<String, Nominee> = BTreeMap::new();
     for r in 0..runs {
@@ -196,6 +197,7 @@ pub(crate) fn search(
         consensus: Some(consensus),
         evaluations,
         duplicate_structures,
+        simplified,
         seconds: t0.elapsed().as_secs_f64(),
     })
 }

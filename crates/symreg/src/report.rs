@@ -161,6 +161,8 @@ pub struct SearchReport {
     pub evaluations: u64,
     /// Candidates whose structure had been fitted before ([`SearchResult`]).
     pub duplicate_structures: u64,
+    /// Reported models returned in a shorter form ([`SearchResult::simplified`]).
+    pub simplified: u64,
     /// Wall time of the search, s.
     pub seconds: f64,
     /// Bootstrap stability of the structure (absent unless measured).
@@ -211,6 +213,7 @@ impl SearchReport {
                 .collect::<Result<_, _>>()?,
             evaluations: result.evaluations,
             duplicate_structures: result.duplicate_structures,
+            simplified: result.simplified,
             seconds: result.seconds,
             stability,
             dimensional_groups: None,

@@ -180,6 +180,12 @@ pub struct SearchConfig {
     /// [`SearchResult::duplicate_structures`](crate::SearchResult::duplicate_structures)
     /// counts such candidates either way).
     pub skip_equivalent: bool,
+    /// Return a reported model as its canonical form when the algebra proves it equal to a
+    /// shorter one with no more fitted constants ([`crate::canonical::canonical_program`];
+    /// docs/interfaces.md, "Simplification after the search"): true by default. False
+    /// reports the programs as the search wrote them (for measuring what it changes:
+    /// [`SearchResult::simplified`](crate::SearchResult::simplified)).
+    pub simplify: bool,
     /// Distinct programs kept at each complexity besides the one that fits best, and
     /// offered to selection with it: 0 for `hxai sr` (one model per complexity), 3 for
     /// hybrid corrections ([`SearchConfig::paper`]), where several short structures fit
@@ -221,6 +227,7 @@ impl Default for SearchConfig {
             nesting: Nesting::none(),
             consensus_runs: 0,
             skip_equivalent: true,
+            simplify: true,
             runners_up: 0,
             par: Par::Current,
         }

@@ -75,6 +75,12 @@ pub struct SearchResult {
     /// before it was counted.
     #[serde(default)]
     pub duplicate_structures: u64,
+    /// Reported models (refitted on all rows: the front and its runners-up, before the
+    /// Pareto front is taken) that were returned in a shorter form under
+    /// [`SearchConfig::simplify`](crate::SearchConfig::simplify). 0 in files written before
+    /// it was counted.
+    #[serde(default)]
+    pub simplified: u64,
     /// Wall time in seconds.
     pub seconds: f64,
 }
@@ -101,14 +107,16 @@ pub(crate) fn finish(
     if reported.is_empty() {
         return Err(SrError::NoModel);
     }
-    let refined: Vec<Model> = pool.install(|| {
+    let refined: Vec<(Model, bool)> = pool.install(|| {
         reported
             .par_iter()
             .map(|f| refine(problem, f, data))
             .collect()
     });
+    let simplified = refined.iter().filter(|(_, s)| *s).count() as u64;
     let mut models: Vec<Model> = refined
         .into_iter()
+        .map(|(m, _)| m)
         .filter(|m| m.train_mse.is_finite())
         .collect();
     if models.is_empty() {
@@ -141,6 +149,7 @@ pub(crate) fn finish(
         consensus: None,
         evaluations,
         duplicate_structures,
+        simplified,
         seconds: t0.elapsed().as_secs_f64(),
     })
 }
@@ -195,8 +204,9 @@ pub(super) fn simplest_first(a: &Model, b: &Model) -> std::cmp::Ordering {
 }
 
 /// One reported fit refitted on all rows (keeping the search's constants if the refit
-/// fails), its constants snapped, scored and exported.
-fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
+/// fails), its constants snapped, scored and exported; and whether it was returned in a
+/// shorter form ([`simpler_form`]).
+fn refine(problem: &Problem, f: &Fitted, data: &Table) -> (Model, bool) {
     let cfg = problem.cfg;
     let full_cols = &problem.cols;
     let y = &problem.y;
@@ -223,8 +233,10 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
     // snapping and folding, which can leave a form to shorten
     let mut prog = prog.clone();
     let mut fixed = vec![false; params.len()];
+    let mut simplified = false;
     if let Some(simpler) = simpler_form(problem, (&prog, &params, &fixed), mse, data.names()) {
         (prog, params, fixed, mse) = simpler;
+        simplified = true;
     }
     let (mut prog, mut params, mut exact, mut mse) =
         snap_and_prune(problem, prog, params, &fixed, mse);
@@ -255,19 +267,21 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> Model {
         // the shorter form's constants are the folded ones: snapped again (a phase `2*(x/2
         // - c)` that becomes `x - 2c` can snap where `c` alone could not)
         (prog, params, exact, mse) = snap_and_prune(problem, s_prog, s_params, &s_exact, s_mse);
+        simplified = true;
     }
     // parameters fixed at exact values are no longer fitted: the criterion does not charge
     // for them
     let n_fitted = exact.iter().filter(|&&e| !e).count();
     let complexity = prog.complexity_with(cfg.complexity_measure, &problem.op_costs);
-    to_model(
+    let model = to_model(
         &prog,
         params,
         mse,
         problem.score(mse, n_fitted, n),
         complexity,
         data,
-    )
+    );
+    (model, simplified)
 }
 
 /// A refitted model (`prog` with `params`, `exact` marking the ones snapped, loss `mse`)
@@ -283,6 +297,9 @@ fn simpler_form(
     names: &[String],
 ) -> Option<(Program, Vec<f64>, Vec<bool>, f64)> {
     let cfg = problem.cfg;
+    if !cfg.simplify {
+        return None;
+    }
     let (form, values) = canonical_program(prog, params, names)?;
     let ops = parse_operators(&cfg.operators).ok()?;
     let known = form.nodes.iter().all(|n| match n {

@@ -504,6 +504,7 @@ pub fn search(
             consensus: None,
             evaluations: 1,
             duplicate_structures: 0,
+            simplified: 0,
             seconds: t0.elapsed().as_secs_f64(),
         }
     };
