@@ -519,7 +519,7 @@ mod tests {
         let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
         let cfg = SearchConfig::default();
         let problem = Problem::all_rows(&data, &y, super::super::fitting::variance(&y), &cfg);
-        let model = |nodes: Vec<Node>| refine(&problem, &fit_of(&problem, nodes), &data);
+        let model = |nodes: Vec<Node>| refine(&problem, &fit_of(&problem, nodes), &data).0;
         let a = model(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)]);
         let b = model(vec![Node::Var(1), Node::Var(0), Node::Op(Op::Add)]);
         let other = model(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Mul)]);
