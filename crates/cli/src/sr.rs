@@ -90,7 +90,8 @@ pub struct Args {
     /// Units of every column, as comma-separated COLUMN=UNIT (e.g.
     /// `F=N,m=kg,a=m/s^2`; `1` for a dimensionless column): the inputs are reduced to
     /// dimensionless groups (Buckingham pi), the search runs on those, and every model is
-    /// consistent in its units (docs/interfaces.md, "Units").
+    /// consistent in its units (docs/interfaces.md, "Units"). `--units row` reads them
+    /// from the CSV's first row under the header instead (one unit per column).
     #[arg(long, value_delimiter = ',')]
     pub units: Vec<String>,
     /// Print one JSON document on stdout instead of text.
@@ -155,8 +156,24 @@ pub fn print_stability(st: &hxai_symreg::Stability) {
 /// Runs `hxai sr`.
 #[allow(clippy::print_stdout)]
 pub fn run(args: Args, _g: &Global) -> Result<()> {
-    let mut data = hxai_data::read_table(&args.csv)
-        .with_context(|| format!("cannot read the table {}", args.csv.display()))?;
+    let units_row = args.units.len() == 1 && args.units[0] == "row";
+    let (mut data, row_units) = if units_row {
+        let (t, u) = hxai_data::read_table_with_units(&args.csv)
+            .with_context(|| format!("cannot read the table {}", args.csv.display()))?;
+        (t, Some(u))
+    } else {
+        let t = hxai_data::read_table(&args.csv)
+            .with_context(|| format!("cannot read the table {}", args.csv.display()))?;
+        (t, None)
+    };
+    // the units row, as the pairs --units takes, before the target leaves the table
+    let row_pairs: Option<Vec<(String, String)>> = row_units.map(|u| {
+        data.names()
+            .iter()
+            .cloned()
+            .zip(u)
+            .collect::<Vec<(String, String)>>()
+    });
     anyhow::ensure!(
         data.index_of(&args.target).is_some(),
         "no column `{}` in {}: the columns are {}",
@@ -198,10 +215,14 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let reduction = if args.units.is_empty() {
         None
     } else {
-        let given: Vec<(String, String)> =
-            crate::strategy::pairs::<String>(&args.units, "--units", "a unit such as m/s^2")?
-                .into_iter()
-                .collect();
+        let given: Vec<(String, String)> = match row_pairs {
+            Some(pairs) => pairs,
+            None => {
+                crate::strategy::pairs::<String>(&args.units, "--units", "a unit such as m/s^2")?
+                    .into_iter()
+                    .collect()
+            }
+        };
         let (dims, target) = hxai_symreg::units::dimensions(data.names(), &args.target, &given)?;
         Some(hxai_symreg::units::Reduction::of(
             data.names(),

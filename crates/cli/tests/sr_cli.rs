@@ -352,6 +352,17 @@ fn reported_models_come_back_in_their_shorter_form() -> TestResult {
         ],
     )?;
     assert_eq!(doc["best"]["sympy"], "G*m1*m2/r**2", "{}", doc["best"]);
+    // the same units as a row under the header
+    let mut lines = s.lines();
+    let header = lines.next().ok_or("header")?;
+    let rest: Vec<&str> = lines.collect();
+    let with_row = table(
+        "gravitation_units.csv",
+        &format!("{header}\nm^3/(kg*s^2),kg,kg,m,N\n{}\n", rest.join("\n")),
+    )?;
+    let from_row = sr_json(&with_row, &["--units", "row", "--epochs", "3"])?;
+    assert_eq!(from_row["best"]["sympy"], doc["best"]["sympy"]);
+    assert_eq!(from_row["dimensional_groups"], doc["dimensional_groups"]);
     let plain = sr_json(&csv, &["--epochs", "3"])?;
     let count = |d: &serde_json::Value| d["simplified"].as_u64().ok_or("simplified");
     assert!(count(&plain)? > 0, "{plain}");

@@ -278,6 +278,15 @@ pub enum DataError {
         /// Columns in the header.
         expected: usize,
     },
+    /// A table read with a units row (its first row under the header) has none that can be
+    /// used.
+    #[error("{}: the units row (the first row under the header): {reason}", path.display())]
+    UnitsRow {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, naming the column where there is one.
+        reason: String,
+    },
     /// A column's stored type is not one this crate reads as numbers or text.
     #[error("{}: column `{column}` is stored as {dtype}, which hxai does not read; {hint}", path.display())]
     UnsupportedType {

@@ -91,8 +91,8 @@ pub use hxai_table::{Table, TableError};
 pub use record::{RECORD_COLUMNS, Record, UNIFORM_TIME_TOLERANCE, read_record, write_record};
 pub use stream::{MAX_LINE_BYTES, Sample, SampleReader};
 pub use table::{
-    Column, MixedTable, NumericView, read_mixed_table, read_table, stage_mixed_table, stage_table,
-    write_mixed_table, write_table,
+    Column, MixedTable, NumericView, read_mixed_table, read_table, read_table_with_units,
+    stage_mixed_table, stage_table, write_mixed_table, write_table,
 };
 pub use text::{read_text, stage_text, write_text};
 

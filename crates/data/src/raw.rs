@@ -19,6 +19,19 @@ pub(crate) enum RawColumn {
 }
 
 impl RawColumn {
+    /// Removes the first cell (a units row read ahead of the numbers).
+    pub(crate) fn drop_first(&mut self) {
+        match self {
+            RawColumn::Num(v) if !v.is_empty() => {
+                v.remove(0);
+            }
+            RawColumn::Text(v) if !v.is_empty() => {
+                v.remove(0);
+            }
+            _ => {}
+        }
+    }
+
     fn len(&self) -> usize {
         match self {
             RawColumn::Num(v) => v.len(),

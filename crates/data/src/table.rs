@@ -135,6 +135,65 @@ pub fn read_table(path: &Path) -> Result<Table, DataError> {
     })
 }
 
+/// Reads a CSV table whose first row under the header holds each column's unit (`m`, `kg`,
+/// `m/s^2`, `1` for a dimensionless column: the units of `hxai sr --units`) and whose other
+/// cells are finite numbers; returns the table of those rows and the units, by column.
+/// Rows named in errors are counted from the first row of numbers.
+///
+/// # Errors
+/// [`DataError::UnitsRow`] for a Parquet file (its columns are typed, so it has no units
+/// row) or an empty unit cell, naming the column; [`DataError::Empty`] when no row of
+/// numbers follows; and those of [`read_table`] for the numbers.
+pub fn read_table_with_units(path: &Path) -> Result<(Table, Vec<String>), DataError> {
+    let format = Format::from_path(path)?;
+    if format == Format::Parquet {
+        return Err(DataError::UnitsRow {
+            path: path.to_path_buf(),
+            reason: "a Parquet file types its columns and has none: give the units as \
+                     COLUMN=UNIT pairs instead"
+                .into(),
+        });
+    }
+    let mut raw = raw::read(path, format)?;
+    require_rows(path, &raw)?;
+    let mut units = Vec::with_capacity(raw.names.len());
+    for i in 0..raw.names.len() {
+        let unit = text_column(&raw, i).swap_remove(0).trim().to_owned();
+        if unit.is_empty() {
+            return Err(DataError::UnitsRow {
+                path: path.to_path_buf(),
+                reason: format!(
+                    "column `{}` has no unit (write `1` for a dimensionless column)",
+                    raw.names[i]
+                ),
+            });
+        }
+        units.push(unit);
+        raw.columns[i].drop_first();
+    }
+    if units
+        .iter()
+        .all(|u| u != "1" && crate::cells::parse_number(u).is_some())
+    {
+        return Err(DataError::UnitsRow {
+            path: path.to_path_buf(),
+            reason: format!(
+                "it holds numbers ({}): the table has no units row",
+                units.join(", ")
+            ),
+        });
+    }
+    require_rows(path, &raw)?;
+    let columns = (0..raw.names.len())
+        .map(|i| finite_column(path, &raw, i))
+        .collect::<Result<_, _>>()?;
+    let table = Table::new(raw.names, columns).map_err(|source| DataError::Table {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    Ok((table, units))
+}
+
 /// Reads a table whose columns may be text. A column is numeric when every cell parses
 /// as a number; numeric columns must be finite (NaN or infinity is an error naming row
 /// and column), every other column is kept as text.

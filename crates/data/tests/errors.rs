@@ -4,7 +4,7 @@
 
 use hxai_data::{
     DataError, Format, ManifestEntry, Record, Table, TableError, read_folder, read_record,
-    read_table, write_folder, write_record,
+    read_table, read_table_with_units, write_folder, write_record,
 };
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -343,6 +343,38 @@ fn non_numeric_table_cell_names_row_and_column() -> TestResult {
         matches!(&err, DataError::NonNumeric { row: 2, column, .. } if column == "x"),
         "{err:?}"
     );
+    Ok(())
+}
+
+/// A units row: read as the units, the numbers below it as the table (rows counted from the
+/// first row of numbers); refused by name when a unit is missing, when the row holds numbers
+/// (no units row), when nothing follows it, and for Parquet.
+#[test]
+fn a_units_row_is_read_or_refused_by_name() -> TestResult {
+    let dir = scratch("units")?;
+    let p = dir.join("t.csv");
+    write_text(&p, "F,m,a\nN, kg ,m/s^2\n2,1,2\n6,2,3\n")?;
+    let (t, units) = read_table_with_units(&p)?;
+    assert_eq!(units, ["N", "kg", "m/s^2"]);
+    assert_eq!(t.n_rows(), 2);
+    assert_eq!(t.column("a"), Some(&[2.0, 3.0][..]));
+    write_text(&p, "F,m,a\nN,,m/s^2\n2,1,2\n")?;
+    let err = error_of(read_table_with_units(&p))?;
+    assert!(err.to_string().contains("column `m` has no unit"), "{err}");
+    write_text(&p, "F,m\n1.5,2\n2,1\n")?;
+    let err = error_of(read_table_with_units(&p))?;
+    assert!(err.to_string().contains("no units row"), "{err}");
+    write_text(&p, "F,m\nN,kg\n")?;
+    let err = error_of(read_table_with_units(&p))?;
+    assert!(matches!(err, DataError::Empty { .. }), "{err:?}");
+    write_text(&p, "F,m\nN,kg\n1,x\n")?;
+    let err = error_of(read_table_with_units(&p))?;
+    assert!(
+        matches!(&err, DataError::NonNumeric { row: 1, column, .. } if column == "m"),
+        "{err:?}"
+    );
+    let err = error_of(read_table_with_units(&dir.join("t.parquet")))?;
+    assert!(matches!(err, DataError::UnitsRow { .. }), "{err:?}");
     Ok(())
 }
 
