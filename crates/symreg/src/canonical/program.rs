@@ -143,6 +143,51 @@ fn gaussian2_arguments(e: &Expr) -> Option<(Scaled<'_>, Scaled<'_>)> {
     }
 }
 
+/// `k * e` written without a node for `k`, where `e` has a place for it: a number, a
+/// product's number, an affine leaf's weight and bias (under affine inputs), both terms of
+/// a sum, a factor of a product, a quotient's numerator (or its denominator, by `1/k`).
+/// `None` where there is none.
+fn absorb(e: &Expr, k: f64, affine: bool) -> Option<Expr> {
+    let num = |v: f64| Box::new(Expr::Num(v));
+    if affine && let Some((n, w, b)) = affine_leaf(e) {
+        let wx = Expr::Bin(Op::Mul, num(k * w), Box::new(Expr::Var(n.to_owned())));
+        return Some(Expr::Bin(Op::Add, Box::new(wx), num(k * b)));
+    }
+    match e {
+        Expr::Num(v) => Some(Expr::Num(k * v)),
+        Expr::Neg(a) => absorb(a, -k, affine),
+        Expr::Bin(Op::Mul, c, x) if matches!(**c, Expr::Num(_)) => {
+            let Expr::Num(c) = **c else { return None };
+            Some(Expr::Bin(Op::Mul, num(k * c), x.clone()))
+        }
+        Expr::Bin(op @ (Op::Add | Op::Sub), a, b) => Some(Expr::Bin(
+            *op,
+            Box::new(absorb(a, k, affine)?),
+            Box::new(absorb(b, k, affine)?),
+        )),
+        Expr::Bin(Op::Mul, a, b) => match absorb(a, k, affine) {
+            Some(a) => Some(Expr::Bin(Op::Mul, Box::new(a), b.clone())),
+            None => Some(Expr::Bin(
+                Op::Mul,
+                a.clone(),
+                Box::new(absorb(b, k, affine)?),
+            )),
+        },
+        Expr::Bin(Op::Div, a, b) => match absorb(a, k, affine) {
+            Some(a) => Some(Expr::Bin(Op::Div, Box::new(a), b.clone())),
+            None => Some(Expr::Bin(
+                Op::Div,
+                a.clone(),
+                Box::new(absorb(b, 1.0 / k, affine)?),
+            )),
+        },
+        Expr::Un(Op::Inverse, a) => {
+            Some(Expr::Un(Op::Inverse, Box::new(absorb(a, 1.0 / k, affine)?)))
+        }
+        _ => None,
+    }
+}
+
 struct Writer<'a> {
     names: &'a [String],
     affine: bool,
@@ -171,15 +216,14 @@ impl Writer<'_> {
         self.nodes.push(Node::Op(op));
     }
 
-    /// `k * e`, with `k` taken into an affine leaf's weight and bias where `e` is one.
+    /// `k * e`, with `k` taken into a number or an affine leaf of `e` where it can go
+    /// without a node of its own ([`absorb`]).
     fn scaled(&mut self, e: &Expr, k: f64) -> Option<()> {
         if k == 1.0 {
             return self.emit(e);
         }
-        if self.affine
-            && let Some((n, w, b)) = affine_leaf(e)
-        {
-            return self.var(n, k * w, k * b);
+        if let Some(x) = absorb(e, k, self.affine) {
+            return self.emit(&x);
         }
         self.constant(k);
         self.emit(e)?;
@@ -212,6 +256,10 @@ impl Writer<'_> {
                     self.emit(x)?;
                     self.op(Op::Exp);
                 }
+            }
+            Expr::Bin(Op::Mul, k, x) if matches!(**k, Expr::Num(_)) => {
+                let Expr::Num(k) = **k else { return None };
+                self.scaled(x, k)?;
             }
             Expr::Un(op, x) => {
                 self.emit(x)?;
