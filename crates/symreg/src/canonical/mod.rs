@@ -37,7 +37,8 @@
 //!   `c*(a + d) = c*a + c*d` and back, `c*a + d = c*(a + d/c)` (`c` not 0), which lets
 //!   `log(c*x + d)` give up a constant;
 //! - inverse: `1/(a*b) = (1/a)*(1/b)`, `1/(1/a) = a`, `(1/a)^2 = 1/a^2`, and
-//!   cancelling: `a*(1/a) = 1`, `a^2*(1/a) = a`, `sqrt(a)^2 = a` (so `m2/m1*m1^2` is `m1*m2`);
+//!   cancelling, under [`Effort::Full`] only: `a*(1/a) = 1`, `a^2*(1/a) = a`,
+//!   `sqrt(a)^2 = a` (so `m2/m1*m1^2` is `m1*m2`);
 //! - square, abs, sqrt: `(a*b)^2 = a^2*b^2`, `|a*b| = |a|*|b|`, `||a|| = |a|`,
 //!   `|a^2| = a^2`, `|a|^2 = a^2`, `|exp(a)| = exp(a)`, `sqrt(a^2) = |a|`,
 //!   `sqrt(c*a) = sqrt(c)*sqrt(a)` for `c > 0` and `sqrt(-c)*sqrt(-a)` for `c < 0`;
