@@ -507,6 +507,34 @@ fn rewrite(e: Expr, target: &mut i64, choice: u8) -> Expr {
     }
 }
 
+/// Two expressions evaluated at one point, compared by the rule of
+/// `canonical_form_keeps_the_value` (its docs give the tolerance and why).
+struct Comparison {
+    a: f64,
+    b: f64,
+    /// The largest of the two values and every intermediate value of either evaluation.
+    scale: f64,
+    agree: bool,
+}
+
+/// [`Comparison`] of `a` and `b` at `at`; `None` where either value or intermediate is not
+/// finite.
+fn compare_values(a: &Expr, b: &Expr, at: &dyn Fn(&str) -> f64) -> Option<Comparison> {
+    let (u, mu) = eval_mag(a, at);
+    let (v, mv) = eval_mag(b, at);
+    if !(u.is_finite() && v.is_finite() && mu.is_finite() && mv.is_finite()) {
+        return None;
+    }
+    let scale = u.abs().max(v.abs()).max(mu).max(mv);
+    let rounding = eval_err(a, at).1 + eval_err(b, at).1;
+    Some(Comparison {
+        a: u,
+        b: v,
+        scale,
+        agree: (u - v).abs() <= 1e-9 * scale + 16.0 * rounding + 1e-300,
+    })
+}
+
 fn size(e: &Expr) -> usize {
     match e {
         Expr::Num(_) | Expr::Var(_) => 1,
@@ -536,16 +564,10 @@ proptest! {
         let c = canonical_expr(&e);
         for (x, y, z) in pts {
             let at = |n: &str| match n { "x" => x, "y" => y, _ => z };
-            let (u, mu) = eval_mag(&e, &at);
-            let (v, mv) = eval_mag(&c, &at);
-            if !(u.is_finite() && v.is_finite() && mu.is_finite() && mv.is_finite()) {
-                continue;
-            }
-            let scale = u.abs().max(v.abs()).max(mu).max(mv);
-            let rounding = eval_err(&e, &at).1 + eval_err(&c, &at).1;
-            prop_assert!((u - v).abs() <= 1e-9 * scale + 16.0 * rounding + 1e-300,
-                "{} = {u} but canonical {} = {v} at ({x}, {y}, {z})",
-                e.to_text(None, false), c.to_text(None, false));
+            let Some(cmp) = compare_values(&e, &c, &at) else { continue };
+            prop_assert!(cmp.agree,
+                "{} = {} but canonical {} = {} at ({x}, {y}, {z})",
+                e.to_text(None, false), cmp.a, c.to_text(None, false), cmp.b);
         }
     }
 
@@ -631,18 +653,16 @@ fn canonical_programs_keep_the_value() {
                     "y" => row[1],
                     _ => row[2],
                 };
-                let (u, mu) = eval_mag(&a, &at);
-                let (v, mv) = eval_mag(&b, &at);
-                if !(u.is_finite() && v.is_finite() && mu.is_finite() && mv.is_finite()) {
+                let Some(cmp) = compare_values(&a, &b, &at) else {
                     continue;
-                }
-                let scale = u.abs().max(v.abs()).max(mu).max(mv);
-                let rounding = eval_err(&a, &at).1 + eval_err(&b, &at).1;
+                };
+                let (u, scale) = (cmp.a, cmp.scale);
                 assert!(
-                    (u - v).abs() <= 1e-9 * scale + 16.0 * rounding + 1e-300,
-                    "{} = {u} but read back {} = {v}",
+                    cmp.agree,
+                    "{} = {u} but read back {} = {}",
                     a.to_text(None, false),
-                    b.to_text(None, false)
+                    b.to_text(None, false),
+                    cmp.b
                 );
                 let (pu, pv) = (
                     run_program(&prog, &params, row),
