@@ -34,6 +34,8 @@ mod selection;
 mod separable;
 mod strategy;
 mod structure;
+mod symmetry;
+mod transform;
 
 pub use config::{
     Criterion, DEFAULT_OPERATORS, LAW_OPERATORS, PAPER_OPERATORS, SearchConfig, Strategy,

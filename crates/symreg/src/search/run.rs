@@ -8,6 +8,7 @@ use super::mutual_information::input_priors;
 use super::selection::{SearchResult, finish};
 use super::separable;
 use super::strategy::{self, ROUNDS_PER_EPOCH, Step};
+use super::transform;
 use crate::canonical::{self, Effort};
 use crate::nesting::NestingRules;
 use crate::program::Program;
@@ -99,7 +100,7 @@ fn search_at_depth(
     let mut master = ChaCha8Rng::seed_from_u64(cfg.seed);
     let problem = Problem::sampled(data, target, y_var, cfg, &mut master);
     let in_w = input_priors(&problem.fit_cols(), &problem.fit_y);
-    let tables = Tables::for_search(ops, in_w, cfg, problem.op_costs.clone());
+    let tables = Tables::for_search(ops.clone(), in_w, cfg, problem.op_costs.clone());
     let mut strategy = strategy::build(cfg.strategy, cfg.candidates_per_epoch, &tables);
     let mut state = LoopState {
         archive: Archive::with_runners_up(cfg.runners_up),
@@ -145,8 +146,14 @@ fn search_at_depth(
     }
     // the most accurate model as an oracle for separability: a sum or product of smaller
     // problems, searched apart and joined, is one more candidate for selection
-    let decomposition =
+    let mut decomposition =
         separable::candidates(&problem, data, &state.archive, state.evaluations, t0, depth)?;
+    // and, on a problem of a few inputs, a polynomial of a transformed target
+    if cfg.separability {
+        decomposition
+            .candidates
+            .extend(transform::candidates(&problem, &ops));
+    }
     state.evaluations += decomposition.evaluations;
     finish(
         &problem,

@@ -16,11 +16,12 @@
 use super::archive::{Archive, Fitted};
 use super::config::SearchConfig;
 use super::fitting::{Problem, derive_seed};
+use super::symmetry;
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::ops::Op;
 use crate::program::{Node, Program};
-use crate::{SrError, Table};
+use crate::{Model, SrError, Table};
 use std::time::Instant;
 
 /// Sub-searches may decompose once more (a sum of products, a product of sums); deeper is
@@ -64,14 +65,14 @@ pub(crate) struct Decomposition {
 }
 
 /// The oracle's values on points given by columns over every input of `data`.
-struct Oracle<'a> {
+pub(super) struct Oracle<'a> {
     prog: &'a Program,
     params: &'a [f64],
     ev: Evaluator,
 }
 
 impl Oracle<'_> {
-    fn eval(&mut self, cols: &[Vec<f64>]) -> Vec<f64> {
+    pub(super) fn eval(&mut self, cols: &[Vec<f64>]) -> Vec<f64> {
         let refs: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
         let n = cols.first().map_or(0, |c| c.len());
         let mut out = Vec::new();
@@ -86,7 +87,7 @@ fn median(v: &[f64]) -> f64 {
     s[s.len() / 2]
 }
 
-fn spread(v: &[f64]) -> f64 {
+pub(super) fn spread(v: &[f64]) -> f64 {
     let m = v.iter().sum::<f64>() / v.len() as f64;
     (v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / v.len() as f64).sqrt()
 }
@@ -167,6 +168,54 @@ fn groups(
     Some(out)
 }
 
+/// Where a decomposition's sub-searches run, and what they may spend.
+struct Context<'a, 'p> {
+    problem: &'p Problem<'a>,
+    data: &'p Table,
+    budget: Option<u64>,
+    time_left: Option<f64>,
+    depth: u8,
+}
+
+impl Context<'_, '_> {
+    /// Searches `target` on the columns `names` of the data as sub-problem `index` of
+    /// `share` still to come (its part of the budget and time); `None` when the sub-problem
+    /// has no model (a target that does not vary, or no finite fit).
+    fn sub_search(
+        &mut self,
+        names: &[String],
+        columns: Option<Vec<Vec<f64>>>,
+        target: &[f64],
+        index: usize,
+        share: usize,
+        out: &mut Decomposition,
+    ) -> Result<Option<(Model, Table)>, SrError> {
+        let cfg = self.problem.cfg;
+        let sub_data = match columns {
+            Some(cols) => Table::new(names.to_vec(), cols)?,
+            None => self.data.select_columns(names)?,
+        };
+        let share = share as f64;
+        let sub_cfg = SearchConfig {
+            seed: derive_seed(cfg.seed, u64::from(self.depth) + 1, index as u64),
+            max_evaluations: self.budget.map(|b| (b as f64 / share) as u64),
+            time_limit_s: self.time_left.map(|t| t / share),
+            consensus_runs: 0,
+            ..cfg.clone()
+        };
+        let started = Instant::now();
+        let res = match super::run::search_at(&sub_data, target, &sub_cfg, self.depth + 1) {
+            Ok(r) => r,
+            Err(SrError::ConstantTarget(_) | SrError::NoModel) => return Ok(None),
+            Err(e) => return Err(e),
+        };
+        out.evaluations += res.evaluations;
+        self.budget = self.budget.map(|b| b.saturating_sub(res.evaluations));
+        self.time_left = self.time_left.map(|t| t - started.elapsed().as_secs_f64());
+        Ok(Some((res.best, sub_data)))
+    }
+}
+
 /// The decomposition of the search's problem, if its most accurate model shows one (see
 /// the module docs); empty when it does not, when the oracle is too rough, or at
 /// [`MAX_DEPTH`].
@@ -207,14 +256,15 @@ pub(crate) fn candidates(
     if vars.len() < 2 {
         return none;
     }
-    let mut budget = cfg.max_evaluations.map(|m| m.saturating_sub(spent));
+    let budget = cfg.max_evaluations.map(|m| m.saturating_sub(spent));
     if budget.is_some_and(|b| b < MIN_EVALUATIONS_LEFT) {
         return none;
     }
-    let mut time_left = cfg.time_limit_s.map(|t| t - t0.elapsed().as_secs_f64());
+    let time_left = cfg.time_limit_s.map(|t| t - t0.elapsed().as_secs_f64());
     if time_left.is_some_and(|t| t <= 0.0) {
         return none;
     }
+    let ops = cfg.check()?;
     // test points: evenly spaced fitting rows, every input as in the data
     let n_fit = problem.fit_y.len();
     let k = TEST_POINTS.min(n_fit);
@@ -230,25 +280,61 @@ pub(crate) fn candidates(
         ev: Evaluator::new(&oracle_fit.program),
     };
     let tolerance = MIN_TOLERANCE.max(ERROR_MULTIPLE * relative.sqrt());
-    let sum_groups = groups(&mut oracle, &points, &vars, tolerance, &|v| v);
-    let (join, parts) = match sum_groups {
-        Some(g) if g.len() >= 2 => (Join::Sum, g),
-        _ => {
-            let base = oracle.eval(&points);
-            let one_sign = base.iter().all(|&v| v > 0.0) || base.iter().all(|&v| v < 0.0);
-            match one_sign
-                .then(|| {
-                    groups(&mut oracle, &points, &vars, tolerance, &|v: f64| {
-                        v.abs().ln()
-                    })
-                })
-                .flatten()
-            {
-                Some(g) if g.len() >= 2 => (Join::Product, g),
-                _ => return none,
-            }
-        }
+    let mut ctx = Context {
+        problem,
+        data,
+        budget,
+        time_left,
+        depth,
     };
+    let mut out = if let Some((join, parts)) = split(&mut oracle, &points, &vars, tolerance) {
+        decompose(&mut ctx, &mut oracle, (&points, &ops), join, &parts)?
+    } else if let Some(found) = symmetry::find(&mut oracle, &points, &vars, tolerance, &ops) {
+        reduce(&mut ctx, &vars, found)?
+    } else {
+        return none;
+    };
+    // the parts keep to the nesting rules; their join or write-back is checked as a whole
+    let rules = cfg.nesting.rules()?;
+    out.candidates.retain(|f| rules.allows(&f.program));
+    Ok(out)
+}
+
+/// The groups of a sum (tested on `f`) or, failing that, of a product (on `ln |f|`, when
+/// the oracle keeps one sign on the test points); `None` when neither splits.
+fn split(
+    oracle: &mut Oracle,
+    points: &[Vec<f64>],
+    vars: &[usize],
+    tolerance: f64,
+) -> Option<(Join, Vec<Vec<usize>>)> {
+    if let Some(g) = groups(oracle, points, vars, tolerance, &|v| v)
+        && g.len() >= 2
+    {
+        return Some((Join::Sum, g));
+    }
+    let base = oracle.eval(points);
+    let one_sign = base.iter().all(|&v| v > 0.0) || base.iter().all(|&v| v < 0.0);
+    if !one_sign {
+        return None;
+    }
+    let g = groups(oracle, points, vars, tolerance, &|v: f64| v.abs().ln())?;
+    (g.len() >= 2).then_some((Join::Product, g))
+}
+
+/// Searches each group of `parts` apart and joins the sub-models (see the module docs).
+/// A part of a product that is one input to a power ([`symmetry::power`]) is taken as that
+/// power, without a search.
+fn decompose(
+    ctx: &mut Context,
+    oracle: &mut Oracle,
+    (points, ops): (&[Vec<f64>], &[Op]),
+    join: Join,
+    parts: &[Vec<usize>],
+) -> Result<Decomposition, SrError> {
+    let none = Ok(Decomposition::default());
+    let (problem, data) = (ctx.problem, ctx.data);
+    let affine = problem.cfg.affine_inputs;
     // the reference point: every input at its median over the fitting rows
     let reference: Vec<f64> = problem.fit_cols.iter().map(|c| median(c)).collect();
     let n_rows = data.n_rows();
@@ -278,6 +364,22 @@ pub(crate) fn candidates(
     let mut subs: Vec<(Program, Vec<f64>)> = Vec::new();
     let mut found: Vec<Vec<f64>> = Vec::new();
     for (g, part) in parts.iter().enumerate() {
+        if join == Join::Product
+            && let [v] = part.as_slice()
+            && let Some(power) = symmetry::power(oracle, points, *v, &data.columns()[*v], ops)
+        {
+            let program = power.program(*v as u16, affine);
+            let params = symmetry::unit_params(&program);
+            let mut values = Vec::new();
+            let cols: Vec<&[f64]> = data.columns().iter().map(|c| c.as_slice()).collect();
+            Evaluator::new(&program).predict(&program, &params, &cols, n_rows, &mut values);
+            if values.iter().any(|&x| x == 0.0 || !x.is_finite()) {
+                return none;
+            }
+            found.push(values);
+            subs.push((program, params));
+            continue;
+        }
         // backfitting, one pass: the data less (or over) the other groups, the models
         // found so far for those before this one and the oracle's slices for those after
         let target: Vec<f64> = (0..n_rows)
@@ -295,26 +397,11 @@ pub(crate) fn candidates(
             return none;
         }
         let names: Vec<String> = part.iter().map(|&c| data.names()[c].clone()).collect();
-        let sub_data = data.select_columns(&names)?;
-        let share = (parts.len() - g) as f64;
-        let sub_cfg = SearchConfig {
-            seed: derive_seed(cfg.seed, u64::from(depth) + 1, g as u64),
-            max_evaluations: budget.map(|b| (b as f64 / share) as u64),
-            time_limit_s: time_left.map(|t| t / share),
-            consensus_runs: 0,
-            ..cfg.clone()
+        let Some((m, sub_data)) =
+            ctx.sub_search(&names, None, &target, g, parts.len() - g, &mut out)?
+        else {
+            return none;
         };
-        let started = Instant::now();
-        let res = match super::run::search_at(&sub_data, &target, &sub_cfg, depth + 1) {
-            Ok(r) => r,
-            // a group whose target does not vary, or has no finite fit: no decomposition
-            Err(SrError::ConstantTarget(_) | SrError::NoModel) => return none,
-            Err(e) => return Err(e),
-        };
-        out.evaluations += res.evaluations;
-        budget = budget.map(|b| b.saturating_sub(res.evaluations));
-        time_left = time_left.map(|t| t - started.elapsed().as_secs_f64());
-        let m = res.best;
         let prediction = m.predict(&sub_data)?;
         if join == Join::Product && prediction.iter().any(|&v| v == 0.0 || !v.is_finite()) {
             return none;
@@ -340,8 +427,56 @@ pub(crate) fn candidates(
     let Some((program, params)) = join_programs(&subs, join) else {
         return none;
     };
-    // every constant refitted together on the fitting rows, from the join's values
-    let (program, mut params) = (program, params);
+    out.candidates.push(refitted(problem, program, params));
+    Ok(out)
+}
+
+/// Searches the problem with the pair of a symmetry replaced by its one combined input
+/// (`x_a - x_b`, ...) and writes the sub-model back over the inputs: one candidate.
+fn reduce(
+    ctx: &mut Context,
+    vars: &[usize],
+    found: symmetry::Found,
+) -> Result<Decomposition, SrError> {
+    let (problem, data) = (ctx.problem, ctx.data);
+    let (a, b) = (found.a, found.b);
+    let rest: Vec<usize> = vars.iter().copied().filter(|&v| v != a && v != b).collect();
+    let mut names = vec![found.symmetry.name(&data.names()[a], &data.names()[b])];
+    let mut columns = vec![
+        data.columns()[a]
+            .iter()
+            .zip(&data.columns()[b])
+            .map(|(&x, &y)| found.symmetry.combine(x, y))
+            .collect::<Vec<f64>>(),
+    ];
+    if !columns[0].iter().all(|v| v.is_finite()) {
+        return Ok(Decomposition::default());
+    }
+    for &v in &rest {
+        names.push(data.names()[v].clone());
+        columns.push(data.columns()[v].clone());
+    }
+    let mut out = Decomposition::default();
+    let Some((m, _)) = ctx.sub_search(&names, Some(columns), &problem.y, 0, 1, &mut out)? else {
+        return Ok(out);
+    };
+    let mut inputs: Vec<Vec<Node>> = vec![vec![
+        Node::Var(a as u16),
+        Node::Var(b as u16),
+        Node::Op(found.symmetry.op()),
+    ]];
+    inputs.extend(rest.iter().map(|&v| vec![Node::Var(v as u16)]));
+    let (program, params) = symmetry::substitute(&m.program, &m.params, &inputs);
+    if program.is_valid() && params.iter().all(|v| v.is_finite()) {
+        out.candidates.push(refitted(problem, program, params));
+    }
+    Ok(out)
+}
+
+/// `program` with every constant refitted together on the fitting rows, from `params`,
+/// scored as a candidate of the search.
+pub(super) fn refitted(problem: &Problem, program: Program, mut params: Vec<f64>) -> Fitted {
+    let cfg = problem.cfg;
     let fit_cols = problem.fit_cols();
     let mut ev = Evaluator::new(&program);
     let free: Vec<usize> = (0..params.len()).collect();
@@ -361,7 +496,7 @@ pub(crate) fn candidates(
     }
     let complexity = program.complexity_with(cfg.complexity_measure, &problem.op_costs);
     let n_params = params.len();
-    out.candidates.push(Fitted {
+    Fitted {
         score: problem.score(mse, n_params, problem.fit_y.len()),
         program,
         params,
@@ -369,17 +504,30 @@ pub(crate) fn candidates(
         complexity,
         source: u8::MAX,
         tag: 0,
-    });
-    Ok(out)
+    }
 }
 
-/// Joins the sub-models `subs` (each `s * root + o` over the full inputs, with the same
-/// affine flag) into one program: their sum or their product.
+/// Joins the sub-models `subs` (each `s * root + o` over the full inputs) into one program:
+/// their sum or their product.
 fn join_programs(subs: &[(Program, Vec<f64>)], join: Join) -> Option<(Program, Vec<f64>)> {
-    let affine = subs.first()?.0.affine;
-    if subs.iter().any(|(p, _)| p.affine != affine) {
-        return None;
-    }
+    let mut affine = subs.first()?.0.affine;
+    let plain: Vec<(Program, Vec<f64>)>;
+    let subs = if subs.iter().any(|(p, _)| p.affine != affine) {
+        // a sub-model that is itself a decomposition (or a shorter form) may have no affine
+        // leaves where the others have: every part is then written without them
+        affine = false;
+        plain = subs
+            .iter()
+            .map(|(p, ps)| {
+                let n = p.vars().into_iter().max().map_or(0, |v| usize::from(v) + 1);
+                let same: Vec<Vec<Node>> = (0..n).map(|k| vec![Node::Var(k as u16)]).collect();
+                symmetry::substitute(p, ps, &same)
+            })
+            .collect();
+        &plain
+    } else {
+        subs
+    };
     let mut nodes: Vec<Node> = Vec::new();
     let mut params = vec![1.0, 0.0];
     let (mut scale, mut offset) = (1.0, 0.0);
@@ -552,6 +700,213 @@ mod tests {
         let d = candidates(&problem, &data, &archive, 0, Instant::now(), 0).expect("decompose");
         let f = &d.candidates[0];
         assert!(f.mse < 1e-12 * problem.y_var, "mse {}", f.mse);
+    }
+
+    /// The oracle of `prog` (postfix nodes, no affine leaves) with `params`.
+    fn oracle_of(nodes: Vec<Node>, params: Vec<f64>) -> (Program, Vec<f64>) {
+        (
+            Program {
+                nodes,
+                affine: false,
+            },
+            params,
+        )
+    }
+
+    /// Each symmetry is found on the pair that has it, and none where no pair has one.
+    #[test]
+    fn symmetries_are_found_on_the_pair_that_has_them() {
+        use super::symmetry::{Found, Symmetry, find};
+        let data = table(150);
+        let ops = crate::ops::parse_operators(&SearchConfig::default().operators).expect("ops");
+        let v = Node::Var;
+        let op = Node::Op;
+        let cases = [
+            // (x0 - x1) * x2
+            (
+                vec![v(0), v(1), op(Op::Sub), v(2), op(Op::Mul)],
+                Some((0, 1, Symmetry::Difference)),
+            ),
+            // x0 / x2 + exp(x1)  (x1 is not a part of the pair)
+            (
+                vec![v(0), v(2), op(Op::Div), v(1), op(Op::Exp), op(Op::Add)],
+                Some((0, 2, Symmetry::Ratio)),
+            ),
+            // sin(x1 * x2) * x0
+            (
+                vec![v(1), v(2), op(Op::Mul), op(Op::Sin), v(0), op(Op::Mul)],
+                Some((1, 2, Symmetry::Product)),
+            ),
+            // x0 * x1 + x0 * x2^2: every pair interacts, and no move leaves it as it is (x0 * x1
+            // + x0 * x2 would be x0 (x1 + x2), a sum)
+            (
+                vec![
+                    v(0),
+                    v(1),
+                    op(Op::Mul),
+                    v(0),
+                    v(2),
+                    op(Op::Square),
+                    op(Op::Mul),
+                    op(Op::Add),
+                ],
+                None,
+            ),
+        ];
+        for (nodes, want) in cases {
+            let (prog, params) = oracle_of(nodes, vec![1.0, 0.0]);
+            let mut oracle = Oracle {
+                prog: &prog,
+                params: &params,
+                ev: Evaluator::new(&prog),
+            };
+            let got = find(&mut oracle, data.columns(), &[0, 1, 2], 0.02, &ops);
+            let want = want.map(|(a, b, symmetry)| Found { a, b, symmetry });
+            assert_eq!(got, want, "{:?}", prog.nodes);
+        }
+        // without `sub` among the operators, a difference is not offered
+        let (prog, params) = oracle_of(
+            vec![v(0), v(1), op(Op::Sub), v(2), op(Op::Mul)],
+            vec![1.0, 0.0],
+        );
+        let mut oracle = Oracle {
+            prog: &prog,
+            params: &params,
+            ev: Evaluator::new(&prog),
+        };
+        let no_sub: Vec<Op> = ops.iter().copied().filter(|&o| o != Op::Sub).collect();
+        assert_eq!(
+            find(&mut oracle, data.columns(), &[0, 1, 2], 0.02, &no_sub),
+            None
+        );
+    }
+
+    /// `x0^1.5 x1` is a power in x0 (three halves) and in x1 (one); `exp(x0) x1` is none in
+    /// x0; a half power is not taken where the input has a negative value.
+    #[test]
+    fn a_power_is_read_off_the_elasticity() {
+        use super::symmetry::{power, unit_params};
+        let data = table(150);
+        let ops = crate::ops::parse_operators(&SearchConfig::default().operators).expect("ops");
+        let v = Node::Var;
+        let op = Node::Op;
+        let (prog, params) = oracle_of(
+            vec![
+                v(0),
+                v(0),
+                op(Op::Mul),
+                v(0),
+                op(Op::Mul),
+                op(Op::Sqrt),
+                v(1),
+                op(Op::Mul),
+            ],
+            vec![2.0, 0.0],
+        );
+        let mut oracle = Oracle {
+            prog: &prog,
+            params: &params,
+            ev: Evaluator::new(&prog),
+        };
+        let cols = data.columns();
+        let p = power(&mut oracle, cols, 0, &cols[0], &ops).expect("x0^1.5");
+        // the power's program is x0^1.5 over the inputs, at its unit parameters
+        for affine in [false, true] {
+            let program = p.program(0, affine);
+            let unit = unit_params(&program);
+            let refs: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
+            let mut out = Vec::new();
+            Evaluator::new(&program).predict(&program, &unit, &refs, 150, &mut out);
+            for (o, x) in out.iter().zip(&cols[0]) {
+                assert!(
+                    (o - x.powf(1.5)).abs() < 1e-12 * x.powf(1.5),
+                    "{o} vs {x}^1.5"
+                );
+            }
+        }
+        assert!(power(&mut oracle, cols, 1, &cols[1], &ops).is_some());
+        let negative: Vec<f64> = cols[0].iter().map(|x| x - 2.0).collect();
+        assert!(power(&mut oracle, cols, 0, &negative, &ops).is_none());
+        let (prog, params) = oracle_of(vec![v(0), op(Op::Exp), v(1), op(Op::Mul)], vec![1.0, 0.0]);
+        let mut oracle = Oracle {
+            prog: &prog,
+            params: &params,
+            ev: Evaluator::new(&prog),
+        };
+        assert!(power(&mut oracle, cols, 0, &cols[0], &ops).is_none());
+    }
+
+    /// `1 / (a - b + c + 2)` is neither a sum nor a product of parts; its difference
+    /// symmetry leaves a search on two inputs, and the sub-model written back over the three
+    /// fits the rows exactly.
+    #[test]
+    fn a_symmetry_reduces_the_problem_and_is_written_back() {
+        let data = table(150);
+        let y: Vec<f64> = (0..150)
+            .map(|r| {
+                let c = |k: usize| data.columns()[k][r];
+                1.0 / (c(0) - c(1) + c(2) + 2.0)
+            })
+            .collect();
+        let cfg = small();
+        let problem = Problem::all_rows(&data, &y, variance(&y), &cfg);
+        let nodes = vec![
+            Node::Var(0),
+            Node::Var(1),
+            Node::Op(Op::Sub),
+            Node::Var(2),
+            Node::Op(Op::Add),
+            Node::Const,
+            Node::Op(Op::Add),
+            Node::Op(Op::Inverse),
+        ];
+        let archive = archive_of(&problem, nodes, vec![1.0, 0.0, 2.0]);
+        let d = candidates(&problem, &data, &archive, 0, Instant::now(), 0).expect("reduce");
+        assert_eq!(d.candidates.len(), 1);
+        assert!(d.evaluations > 0);
+        let f = &d.candidates[0];
+        assert!(f.mse < 1e-12 * problem.y_var, "mse {}", f.mse);
+        assert!(!f.program.affine);
+        assert_eq!(f.program.vars().len(), 3, "{:?}", f.program.nodes);
+    }
+
+    /// A substituted input takes its affine leaf's weight and bias around its expression.
+    #[test]
+    fn substitution_keeps_the_values() {
+        use super::symmetry::substitute;
+        // 3 * exp(w0 * z + b0) * (w1 * x2 + b1) + 1, with z = x0 / x1
+        let program = Program {
+            nodes: vec![
+                Node::Var(0),
+                Node::Op(Op::Exp),
+                Node::Var(1),
+                Node::Op(Op::Mul),
+            ],
+            affine: true,
+        };
+        let params = vec![3.0, 1.0, 0.5, -0.25, 2.0, 0.75];
+        let inputs = vec![
+            vec![Node::Var(0), Node::Var(1), Node::Op(Op::Div)],
+            vec![Node::Var(2)],
+        ];
+        let (p, q) = substitute(&program, &params, &inputs);
+        let cols: Vec<Vec<f64>> = vec![
+            vec![0.5, 2.0, -1.0],
+            vec![1.5, -0.25, 4.0],
+            vec![2.0, 3.0, 0.1],
+        ];
+        let refs: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
+        let mut out = Vec::new();
+        Evaluator::new(&p).predict(&p, &q, &refs, 3, &mut out);
+        for r in 0..3 {
+            let z = cols[0][r] / cols[1][r];
+            let want = 3.0 * (0.5 * z - 0.25).exp() * (2.0 * cols[2][r] + 0.75) + 1.0;
+            assert!(
+                (out[r] - want).abs() < 1e-12 * want.abs(),
+                "{} vs {want}",
+                out[r]
+            );
+        }
     }
 
     /// The join of `2 x0 + 1` and `3 x1 - 1` is their sum, and their product.

@@ -331,7 +331,7 @@ fn power(x: f64, k: f64) -> f64 {
 }
 
 /// Pushes `w * top + b` onto the program, leaving out a unit weight and a zero offset.
-fn affine(w: f64, b: f64, nodes: &mut Vec<Node>, params: &mut Vec<f64>) {
+pub(crate) fn affine(w: f64, b: f64, nodes: &mut Vec<Node>, params: &mut Vec<f64>) {
     if w != 1.0 {
         nodes.push(Node::Const);
         params.push(w);
