@@ -323,6 +323,29 @@ fn separability_is_opt_in_and_searches_the_parts() -> TestResult {
     Ok(())
 }
 
+/// `--separability` on the relativistic mass `m0/sqrt(1 - v^2/c^2)`: the product splits
+/// off `m0`, `v` and `c` enter only through `v/c` (a symmetry of the oracle), and on that one
+/// input `1/sqrt(1 - z^2)` is a polynomial of `1/y^2`: the law comes back as it is written.
+#[test]
+fn separability_finds_the_symmetry_and_the_transformed_polynomial() -> TestResult {
+    let mut s = String::from("m0,v,c,y\n");
+    for i in 0..300 {
+        let m0 = 1.0 + 4.0 * f64::from((i * 7) % 100) / 100.0;
+        let v = 1.0 + f64::from((i * 13) % 100) / 100.0;
+        let c = 3.0 + 7.0 * f64::from((i * 29) % 100) / 100.0;
+        s.push_str(&format!(
+            "{m0},{v},{c},{}\n",
+            m0 / (1.0 - v * v / (c * c)).sqrt()
+        ));
+    }
+    let csv = table("relativistic.csv", &s)?;
+    let doc = sr_json(&csv, &["--epochs", "3", "--separability"])?;
+    let best = &doc["best"];
+    assert_eq!(best["equation"], "m0/sqrt(-(v/c)**2 + 1)", "{doc}");
+    assert!(best["r2"].as_f64().ok_or("r2")? > 1.0 - 1e-12, "{doc}");
+    Ok(())
+}
+
 /// Simplification after the search: with units, Newton's gravitation is searched on the
 /// one group `m2/m1` and composed back as `G*m1^2/r^2 * phi(m2/m1)`; the composition is
 /// returned in its canonical form, where `m1` cancels, so the equation reads as the law.
