@@ -16,7 +16,8 @@
 //!    structure, else the constants of the run that nominated it first, refitted from
 //!    there) and scored by the criterion on all rows; the best-scoring stable structure
 //!    wins (ties: the simpler, then by text). When no structure is stable, the most
-//!    nominated one wins.
+//!    nominated one wins. The report names the structure of the winner as refitted (snapping
+//!    may shorten it), with its own share where the runs nominated it too.
 //!
 //! The report ([`Consensus`]) gives the winner's share (runs nominating it / B) and the
 //! most nominated structures. This is stability selection (Meinshausen and Bühlmann 2010)
@@ -68,6 +69,26 @@ pub(crate) fn search(
     cfg: &SearchConfig,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<SearchResult, SrError> {
+    search_with(data, target, cfg, progress, &|d, y, c, p| {
+        plain_search(d, y, c, p)
+    })
+}
+
+/// One search of a consensus: the rows, the target, the settings (`consensus_runs` 0) and
+/// the progress of that search.
+pub(crate) type OneSearch<'a> = dyn Fn(&Table, &[f64], &SearchConfig, &mut dyn FnMut(&Progress)) -> Result<SearchResult, SrError>
+    + 'a;
+
+/// [`search`] with each of the B + 1 searches run by `one_search`, whose models are models
+/// of `data`'s columns (with units: the group model composed back, so that the votes and
+/// the refit are on the composed structures).
+pub(crate) fn search_with(
+    data: &Table,
+    target: &[f64],
+    cfg: &SearchConfig,
+    progress: &mut dyn FnMut(&Progress),
+    one_search: &OneSearch,
+) -> Result<SearchResult, SrError> {
     let t0 = Instant::now();
     let runs = cfg.consensus_runs;
     let one = SearchConfig {
@@ -82,7 +103,7 @@ pub(crate) fn search(
             ..p.clone()
         });
     };
-    let full = plain_search(data, target, &one, &mut |p| report(0, p))?;
+    let full = one_search(data, target, &one, &mut |p| report(0, p))?;
     let mut evaluations = full.evaluations;
     let mut duplicate_structures = full.duplicate_structures;
     let simplified = full.simplified;
@@ -96,7 +117,7 @@ pub(crate) fn search(
             seed: cfg.seed.wrapping_add(r as u64 + 1),
             ..one.clone()
         };
-        let res = plain_search(&train, &y, &run_cfg, &mut |p| report(r + 1, p))?;
+        let res = one_search(&train, &y, &run_cfg, &mut |p| report(r + 1, p))?;
         evaluations += res.evaluations;
         duplicate_structures += res.duplicate_structures;
         let mut this_run: Vec<String> = Vec::new();
@@ -160,7 +181,18 @@ pub(crate) fn search(
             (refit(key, nom)?, key, nom.runs)
         }
     };
-    let key = key.clone();
+    // the refit snaps and prunes, and may leave a shorter structure than the one voted for
+    // (`theta^2 (theta + c)` whose `c` snaps to 0): the report names the structure
+    // returned, with its own votes where the runs nominated it too
+    let refitted = structure_of(&best);
+    let (key, votes) = if refitted == *key {
+        (key.clone(), votes)
+    } else {
+        match ranked.iter().find(|(k, _)| *k == refitted) {
+            Some((_, nom)) => (refitted, nom.runs.max(votes)),
+            None => (refitted, votes),
+        }
+    };
     let consensus = Consensus {
         runs,
         structure: key.clone(),

@@ -479,12 +479,12 @@ pub fn search(
         return crate::search(data, y, cfg, progress);
     };
     if cfg.consensus_runs > 0 {
-        return Err(SrError::InvalidConfig(
-            "consensus selection does not yet work with units: its votes are counted on the \
-             dimensionless groups, not on the composed models; use --stability to measure how \
-             often the structure comes back"
-                .into(),
-        ));
+        // each of the B + 1 searches runs on the groups and is composed back, so the votes
+        // are on the composed structures and the winner is refitted on the columns
+        cfg.check()?;
+        return crate::consensus::search_with(data, y, cfg, progress, &|d, t, c, p| {
+            search(d, t, Some(reduction), c, p)
+        });
     }
     let (pi, py) = reduction.transform(data, y)?;
     let t0 = std::time::Instant::now();

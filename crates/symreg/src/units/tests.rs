@@ -175,6 +175,49 @@ fn a_search_on_the_groups_predicts_the_target() {
     }
 }
 
+/// Consensus selection with units: each of the B + 1 searches runs on the groups and is
+/// composed back, so the winner and the nominated structures are those of the columns, and
+/// the winner predicts the period.
+#[test]
+fn consensus_votes_on_the_composed_structures() {
+    let n = 120;
+    let l: Vec<f64> = (0..n)
+        .map(|i| 0.5 + f64::from((i * 7) % 13) / 6.0)
+        .collect();
+    let g: Vec<f64> = (0..n).map(|i| 5.0 + f64::from((i * 5) % 11)).collect();
+    let th: Vec<f64> = (0..n).map(|i| 0.1 + f64::from(i) / 100.0).collect();
+    let y: Vec<f64> = (0..n as usize)
+        .map(|i| 2.0 * std::f64::consts::PI * (l[i] / g[i]).sqrt() * (1.0 + th[i] * th[i] / 16.0))
+        .collect();
+    let data = Table::new(names(&["L", "g", "theta"]), vec![l, g, th]).expect("table");
+    let red =
+        Reduction::of(data.names(), &[dim("m"), dim("m/s^2"), dim("1")], dim("s")).expect("red");
+    let cfg = SearchConfig {
+        epochs: 2,
+        candidates_per_epoch: 200,
+        consensus_runs: 3,
+        ..SearchConfig::default()
+    };
+    let res = search(&data, &y, Some(&red), &cfg, &mut |_| {}).expect("consensus");
+    let c = res.consensus.as_ref().expect("a consensus report");
+    assert_eq!(c.runs, 3);
+    assert_eq!(res.best.feature_names, data.names().to_vec());
+    assert_eq!(crate::stability::structure_of(&res.best), c.structure);
+    // the structures are written over the columns, not over the group
+    assert!(
+        c.structure.contains('L') && c.structure.contains('g'),
+        "{}",
+        c.structure
+    );
+    let pred = res.best.predict(&data).expect("predict");
+    let worst = pred
+        .iter()
+        .zip(&y)
+        .map(|(p, t)| ((p - t) / t).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-3, "{} off by {worst}", res.best.equation());
+}
+
 fn arb_dims(n: usize) -> impl Strategy<Value = Vec<[i32; 7]>> {
     prop::collection::vec(
         prop::array::uniform7(prop_oneof![6 => Just(0i32), 1 => -3i32..=3]),
