@@ -301,7 +301,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         snap_constants=True,
         snap_tolerance=1e-3,
         named_constants=True,
-        separability=False,
+        separability=True,
         nesting="none",
         consensus_runs=0,
         skip_equivalent=True,

@@ -310,20 +310,34 @@ fn units_reduce_the_search_and_keep_the_law_consistent() -> TestResult {
     Ok(())
 }
 
-/// `--separability`: on `2.5 x1 x2` (a product of parts over one input each) the parts are
-/// searched apart, which the JSON's evaluation count shows; without the flag they are not.
+/// AI Feynman's tools are on by default: on `2.5 x1 x2` (a product of parts over one input
+/// each) the parts are searched apart, which the JSON's evaluation count shows;
+/// `--no-separability` leaves them out, and `--separability` (the flag of when they were
+/// opt-in) still runs, as the default.
 #[test]
-fn separability_is_opt_in_and_searches_the_parts() -> TestResult {
+fn separability_is_the_default_and_searches_the_parts() -> TestResult {
     let csv = table("separable.csv", &law_csv())?;
-    let plain = sr_json(&csv, &["--epochs", "2"])?;
-    let split = sr_json(&csv, &["--epochs", "2", "--separability"])?;
+    let plain = sr_json(&csv, &["--epochs", "2", "--no-separability"])?;
+    let split = sr_json(&csv, &["--epochs", "2"])?;
+    let flagged = sr_json(&csv, &["--epochs", "2", "--separability"])?;
     let count = |d: &serde_json::Value| d["evaluations"].as_u64().ok_or("evaluations");
     assert!(count(&split)? > count(&plain)?, "{split}");
+    assert_eq!(split["best"], flagged["best"]);
     assert!(split["best"]["r2"].as_f64().ok_or("r2")? > 1.0 - 1e-9);
+    let both = hxai(&[
+        "sr",
+        "--csv",
+        csv.to_str().ok_or("path")?,
+        "--target",
+        "y",
+        "--separability",
+        "--no-separability",
+    ])?;
+    assert!(!both.status.success());
     Ok(())
 }
 
-/// `--separability` on the relativistic mass `m0/sqrt(1 - v^2/c^2)`: the product splits
+/// AI Feynman's tools on the relativistic mass `m0/sqrt(1 - v^2/c^2)`: the product splits
 /// off `m0`, `v` and `c` enter only through `v/c` (a symmetry of the oracle), and on that one
 /// input `1/sqrt(1 - z^2)` is a polynomial of `1/y^2`: the law comes back as it is written.
 #[test]
@@ -339,7 +353,7 @@ fn separability_finds_the_symmetry_and_the_transformed_polynomial() -> TestResul
         ));
     }
     let csv = table("relativistic.csv", &s)?;
-    let doc = sr_json(&csv, &["--epochs", "3", "--separability"])?;
+    let doc = sr_json(&csv, &["--epochs", "3"])?;
     let best = &doc["best"];
     assert_eq!(best["equation"], "m0/sqrt(-(v/c)**2 + 1)", "{doc}");
     assert!(best["r2"].as_f64().ok_or("r2")? > 1.0 - 1e-12, "{doc}");
