@@ -427,7 +427,7 @@ fn decompose(
     let Some((program, params)) = join_programs(&subs, join) else {
         return none;
     };
-    out.candidates.push(refitted(problem, program, params));
+    out.candidates.extend(refitted(problem, program, params));
     Ok(out)
 }
 
@@ -468,15 +468,23 @@ fn reduce(
     inputs.extend(rest.iter().map(|&v| vec![Node::Var(v as u16)]));
     let (program, params) = symmetry::substitute(&m.program, &m.params, &inputs);
     if program.is_valid() && params.iter().all(|v| v.is_finite()) {
-        out.candidates.push(refitted(problem, program, params));
+        out.candidates.extend(refitted(problem, program, params));
     }
     Ok(out)
 }
 
 /// `program` with every constant refitted together on the fitting rows, from `params`,
-/// scored as a candidate of the search.
-pub(super) fn refitted(problem: &Problem, program: Program, mut params: Vec<f64>) -> Fitted {
+/// scored as a candidate of the search; `None` when it has at least as many parameters as
+/// there are fitting rows, or no finite loss (the search rejects such candidates too).
+pub(super) fn refitted(
+    problem: &Problem,
+    program: Program,
+    mut params: Vec<f64>,
+) -> Option<Fitted> {
     let cfg = problem.cfg;
+    if params.len() >= problem.fit_y.len() {
+        return None;
+    }
     let fit_cols = problem.fit_cols();
     let mut ev = Evaluator::new(&program);
     let free: Vec<usize> = (0..params.len()).collect();
@@ -494,9 +502,12 @@ pub(super) fn refitted(problem: &Problem, program: Program, mut params: Vec<f64>
         params = start;
         mse = ev.mse(&program, &params, &fit_cols, &problem.fit_y);
     }
+    if !mse.is_finite() {
+        return None;
+    }
     let complexity = program.complexity_with(cfg.complexity_measure, &problem.op_costs);
     let n_params = params.len();
-    Fitted {
+    Some(Fitted {
         score: problem.score(mse, n_params, problem.fit_y.len()),
         program,
         params,
@@ -504,7 +515,7 @@ pub(super) fn refitted(problem: &Problem, program: Program, mut params: Vec<f64>
         complexity,
         source: u8::MAX,
         tag: 0,
-    }
+    })
 }
 
 /// Joins the sub-models `subs` (each `s * root + o` over the full inputs) into one program:

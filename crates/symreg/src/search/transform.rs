@@ -215,10 +215,7 @@ pub(crate) fn candidates(problem: &Problem, ops: &[Op]) -> Vec<Fitted> {
             affine: false,
         };
         if program.is_valid() {
-            let f = refitted(problem, program, p);
-            if f.mse.is_finite() {
-                out.push(f);
-            }
+            out.extend(refitted(problem, program, p));
         }
     }
     out
@@ -330,10 +327,24 @@ mod tests {
         }
         let four = Table::new(
             (0..4).map(|k| format!("x{k}")).collect(),
-            vec![z.clone(), z.clone(), z.clone(), z],
+            vec![z.clone(), z.clone(), z.clone(), z.clone()],
         )
         .expect("table");
         let p4 = Problem::all_rows(&four, &y, variance(&y), &cfg);
         assert!(candidates(&p4, &laws).is_empty());
+        // three inputs on eight rows: the quadratic's eleven parameters outnumber the rows,
+        // and a fit that interpolates them is not offered
+        let few: Vec<f64> = z[..8].to_vec();
+        let three = Table::new(
+            (0..3).map(|k| format!("x{k}")).collect(),
+            vec![
+                few.clone(),
+                few.iter().map(|v| v * v).collect(),
+                few.clone(),
+            ],
+        )
+        .expect("table");
+        let p3 = Problem::all_rows(&three, &y[..8], variance(&y[..8]), &cfg);
+        assert!(candidates(&p3, &laws).is_empty());
     }
 }
