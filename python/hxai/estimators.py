@@ -269,6 +269,13 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     ``hxai sr --units``: the columns are reduced to dimensionless groups (Buckingham pi), the
     search runs on those, and the equation is consistent in its units by construction.
 
+    ``separability=True`` (the default, as ``hxai sr``'s) runs AI Feynman's tools: the
+    most accurate model tested for a sum or product of parts, a pair of columns that enters
+    only as their difference, ratio, product or sum, and a column that enters as a power,
+    the smaller problems searched apart; and a polynomial of ``1/y``, ``y**2``, ``1/y**2``,
+    ``sqrt(y)`` or ``log(y)`` on searches of up to three columns. ``False`` leaves them out
+    (about 30 % faster, fewer laws recovered: docs/benchmarks.md).
+
     ``n_jobs`` is the number of threads of the search: ``None`` (the default) uses every
     core (the engine's shared thread pool, sized by ``RAYON_NUM_THREADS`` if set), ``-1``
     every core in a pool of its own, a positive int that many threads. It is chosen per
