@@ -274,7 +274,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     only as their difference, ratio, product or sum, and a column that enters as a power,
     the smaller problems searched apart; and a polynomial of ``1/y``, ``y**2``, ``1/y**2``,
     ``sqrt(y)`` or ``log(y)`` on searches of up to three columns. ``False`` leaves them out
-    (about 30 % faster, fewer laws recovered: docs/benchmarks.md).
+    (about a quarter less CPU time, fewer laws recovered: docs/benchmarks.md).
 
     ``n_jobs`` is the number of threads of the search: ``None`` (the default) uses every
     core (the engine's shared thread pool, sized by ``RAYON_NUM_THREADS`` if set), ``-1``
