@@ -400,6 +400,31 @@ fn reported_models_come_back_in_their_shorter_form() -> TestResult {
     let from_row = sr_json(&with_row, &["--units", "row", "--epochs", "3"])?;
     assert_eq!(from_row["best"]["sympy"], doc["best"]["sympy"]);
     assert_eq!(from_row["dimensional_groups"], doc["dimensional_groups"]);
+    // consensus with units: the votes are on the composed structures, so the structure the
+    // report names is over the columns (it was refused before)
+    let voted = sr_json(
+        &csv,
+        &[
+            "--units",
+            "G=m^3/(kg*s^2),m1=kg,m2=kg,r=m,y=N",
+            "--epochs",
+            "2",
+            "--consensus",
+            "2",
+        ],
+    )?;
+    assert_eq!(voted["selection"]["method"], "consensus", "{voted}");
+    let structure = voted["selection"]["structure"]
+        .as_str()
+        .ok_or("structure")?;
+    assert!(
+        structure.contains("m1") && structure.contains('r'),
+        "{voted}"
+    );
+    assert_eq!(
+        voted["best"]["features"], doc["best"]["features"],
+        "{voted}"
+    );
     let plain = sr_json(&csv, &["--epochs", "3"])?;
     let count = |d: &serde_json::Value| d["simplified"].as_u64().ok_or("simplified");
     assert!(count(&plain)? > 0, "{plain}");
