@@ -207,6 +207,24 @@ pub(super) fn simplest_first(a: &Model, b: &Model) -> std::cmp::Ordering {
 /// fails), its constants snapped, scored and exported; and whether it was returned in a
 /// shorter form ([`simpler_form`]).
 fn refine(problem: &Problem, f: &Fitted, data: &Table) -> (Model, bool) {
+    let snapped = refine_with(problem, f, data, problem.cfg.snap_constants);
+    if !problem.cfg.snap_constants {
+        return snapped;
+    }
+    // snapping comes before the fold and the second shorter form, and a snapped constant
+    // can keep a term from folding or a form from shortening that the fitted constants
+    // allow: the unsnapped path is kept when its criterion is better (snaps are kept only
+    // when the criterion is no worse)
+    let plain = refine_with(problem, f, data, false);
+    if plain.0.score < snapped.0.score {
+        plain
+    } else {
+        snapped
+    }
+}
+
+/// [`refine`] with constants snapped (`snap`) or not.
+fn refine_with(problem: &Problem, f: &Fitted, data: &Table, snap: bool) -> (Model, bool) {
     let cfg = problem.cfg;
     let full_cols = &problem.cols;
     let y = &problem.y;
@@ -239,7 +257,7 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> (Model, bool) {
         simplified = true;
     }
     let (mut prog, mut params, mut exact, mut mse) =
-        snap_and_prune(problem, prog, params, &fixed, mse);
+        snap_and_prune(problem, prog, params, &fixed, mse, snap);
     // a subtree that is constant over the rows (a dead term, a saturated tanh) is a constant
     // in disguise: replaced by one, snapped and pruned, the model says what it computes
     // (kept when its criterion is no worse, or its loss within rounding of the original)
@@ -251,7 +269,7 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> (Model, bool) {
         };
         let folded_mse = Evaluator::new(&folded).mse(&folded, &folded_params, full_cols, y);
         let (f_prog, f_params, f_exact, f_mse) =
-            snap_and_prune(problem, folded, folded_params, &carried, folded_mse);
+            snap_and_prune(problem, folded, folded_params, &carried, folded_mse, snap);
         let fitted = |e: &[bool]| e.iter().filter(|&&x| !x).count();
         let same_loss = f_mse <= mse * (1.0 + PRUNE_TOLERANCE) + SNAP_LOSS_SLACK * problem.y_var;
         let no_worse =
@@ -266,7 +284,8 @@ fn refine(problem: &Problem, f: &Fitted, data: &Table) -> (Model, bool) {
     {
         // the shorter form's constants are the folded ones: snapped again (a phase `2*(x/2
         // - c)` that becomes `x - 2c` can snap where `c` alone could not)
-        (prog, params, exact, mse) = snap_and_prune(problem, s_prog, s_params, &s_exact, s_mse);
+        (prog, params, exact, mse) =
+            snap_and_prune(problem, s_prog, s_params, &s_exact, s_mse, snap);
         simplified = true;
     }
     // parameters fixed at exact values are no longer fitted: the criterion does not charge
@@ -329,7 +348,8 @@ fn simpler_form(
 const MAX_FOLD_ROUNDS: usize = 3;
 
 /// `params` of `prog` (loss `mse`) with its constants snapped ([`snap_params`], those marked
-/// in `already` held at their exact values) when the configuration asks for it, and the
+/// in `already` held at their exact values) when `snap` (the configuration's, or false for
+/// the unsnapped path of [`refine`]), and the
 /// terms a snapped weight killed pruned ([`prune_snapped`]), so the model's features and
 /// complexity (which selection ranks by) are those of the equation it reports. Returns the
 /// program, its parameters, which are fixed at exact values, and the loss.
@@ -339,10 +359,11 @@ fn snap_and_prune(
     mut params: Vec<f64>,
     already: &[bool],
     mut mse: f64,
+    snap: bool,
 ) -> (crate::program::Program, Vec<f64>, Vec<bool>, f64) {
     let (cols, y) = (&problem.cols, &problem.y);
     let mut exact = already.to_vec();
-    if problem.cfg.snap_constants && mse.is_finite() {
+    if snap && mse.is_finite() {
         let rule = SnapRule {
             rel_tol: problem.cfg.snap_tolerance,
             abs_tol: SNAP_LOSS_SLACK * problem.y_var,
