@@ -23,7 +23,7 @@ pub const DEFAULT_CONFORMAL_FOLDS: usize = 5;
 /// Halvings of the step from a model's constants to a fold's refit in [`refit_constants`]
 /// before the refit is given up for the model's own constants: 2^-30 of the step is below
 /// any constant's rounding.
-const MAX_DOMAIN_HALVINGS: usize = 30;
+pub(crate) const MAX_DOMAIN_HALVINGS: usize = 30;
 
 /// `model`'s free constants (those that are not whole or half numbers) refitted by
 /// Levenberg-Marquardt to `target` on the columns `cols` (the model's features, in order),
