@@ -139,11 +139,9 @@ fn no_group_left_fits_the_constant_alone() {
     assert_eq!(res.best.features(), vec!["m".to_string(), "v".to_string()]);
 }
 
-/// A pendulum with a finite amplitude, `T = 2 pi sqrt(L/g) (1 + theta^2/16)`: the search
-/// sees one column (theta) and a dimensionless target, and its model, composed back,
-/// predicts the period on the original columns.
-#[test]
-fn a_search_on_the_groups_predicts_the_target() {
+/// A pendulum with a finite amplitude, `T = 2 pi sqrt(L/g) (1 + theta^2/16)`, over 120
+/// rows, with its reduction (one group, theta).
+fn pendulum() -> (Table, Vec<f64>, Reduction) {
     let n = 120;
     let l: Vec<f64> = (0..n)
         .map(|i| 0.5 + f64::from((i * 7) % 13) / 6.0)
@@ -156,6 +154,15 @@ fn a_search_on_the_groups_predicts_the_target() {
     let data = Table::new(names(&["L", "g", "theta"]), vec![l, g, th]).expect("table");
     let red =
         Reduction::of(data.names(), &[dim("m"), dim("m/s^2"), dim("1")], dim("s")).expect("red");
+    (data, y, red)
+}
+
+/// A pendulum with a finite amplitude, `T = 2 pi sqrt(L/g) (1 + theta^2/16)`: the search
+/// sees one column (theta) and a dimensionless target, and its model, composed back,
+/// predicts the period on the original columns.
+#[test]
+fn a_search_on_the_groups_predicts_the_target() {
+    let (data, y, red) = pendulum();
     let cfg = SearchConfig {
         epochs: 3,
         candidates_per_epoch: 300,
@@ -180,18 +187,7 @@ fn a_search_on_the_groups_predicts_the_target() {
 /// the winner predicts the period.
 #[test]
 fn consensus_votes_on_the_composed_structures() {
-    let n = 120;
-    let l: Vec<f64> = (0..n)
-        .map(|i| 0.5 + f64::from((i * 7) % 13) / 6.0)
-        .collect();
-    let g: Vec<f64> = (0..n).map(|i| 5.0 + f64::from((i * 5) % 11)).collect();
-    let th: Vec<f64> = (0..n).map(|i| 0.1 + f64::from(i) / 100.0).collect();
-    let y: Vec<f64> = (0..n as usize)
-        .map(|i| 2.0 * std::f64::consts::PI * (l[i] / g[i]).sqrt() * (1.0 + th[i] * th[i] / 16.0))
-        .collect();
-    let data = Table::new(names(&["L", "g", "theta"]), vec![l, g, th]).expect("table");
-    let red =
-        Reduction::of(data.names(), &[dim("m"), dim("m/s^2"), dim("1")], dim("s")).expect("red");
+    let (data, y, red) = pendulum();
     let cfg = SearchConfig {
         epochs: 2,
         candidates_per_epoch: 200,
