@@ -75,6 +75,16 @@ pub struct Args {
     /// Stop after this many fitted models.
     #[arg(long)]
     pub max_evaluations: Option<u64>,
+    /// Candidates proposed and fitted per epoch.
+    #[arg(long, default_value_t = 1000)]
+    pub candidates_per_epoch: usize,
+    /// Rows the search fits its candidates on (a seeded sample when the table has more);
+    /// the reported models are refitted on every row.
+    #[arg(long, default_value_t = 2000)]
+    pub max_fit_rows: usize,
+    /// Levenberg-Marquardt iterations per candidate's fit during the search.
+    #[arg(long, default_value_t = 25)]
+    pub lm_iterations: usize,
     /// Search strategy.
     #[arg(long, value_enum, default_value_t = StrategyArg::Combined)]
     pub strategy: StrategyArg,
@@ -201,6 +211,9 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         epochs: args.epochs,
         time_limit_s: args.time_limit_s,
         max_evaluations: args.max_evaluations,
+        candidates_per_epoch: args.candidates_per_epoch,
+        max_fit_rows: args.max_fit_rows,
+        lm_iterations: args.lm_iterations,
         strategy: args.strategy.into(),
         criterion: args.criterion.into(),
         cv_folds: args.cv_folds,

@@ -152,6 +152,33 @@ fn bad_input_gives_a_clear_error() -> TestResult {
             ],
             "--max-evaluations",
         ),
+        (
+            vec![
+                "--target".into(),
+                "y".into(),
+                "--max-fit-rows".into(),
+                "4".into(),
+            ],
+            "--max-fit-rows is 4",
+        ),
+        (
+            vec![
+                "--target".into(),
+                "y".into(),
+                "--lm-iterations".into(),
+                "0".into(),
+            ],
+            "--lm-iterations is 0",
+        ),
+        (
+            vec![
+                "--target".into(),
+                "y".into(),
+                "--candidates-per-epoch".into(),
+                "0".into(),
+            ],
+            "--candidates-per-epoch is 0",
+        ),
     ];
     for (extra, needle) in cases {
         let mut args = vec!["sr".to_string(), "--csv".into(), good.into()];
@@ -223,6 +250,24 @@ fn strategy_criterion_and_budget_options() -> TestResult {
             "{strategy}/{criterion}: {doc}"
         );
     }
+    // the search's fitting effort: rows, candidates per epoch, iterations per fit
+    let doc = sr_json(
+        &csv,
+        &[
+            "--max-fit-rows",
+            "60",
+            "--candidates-per-epoch",
+            "200",
+            "--lm-iterations",
+            "10",
+            "--epochs",
+            "3",
+            "--no-separability",
+        ],
+    )?;
+    let evals = doc["evaluations"].as_u64().ok_or("evaluations")?;
+    assert!(evals <= 3 * 200, "{evals} evaluations in 3 epochs of 200");
+    assert!(doc["best"]["r2"].as_f64().ok_or("r2")? > 0.999, "{doc}");
     Ok(())
 }
 

@@ -343,9 +343,20 @@ impl SearchConfig {
                 "max_evaluations is 0: allow at least one model to be fitted".into(),
             ));
         }
-        if self.candidates_per_epoch == 0 || self.max_fit_rows < MIN_ROWS {
+        if self.candidates_per_epoch == 0 {
             return Err(SrError::InvalidConfig(
-                "candidates_per_epoch must be > 0 and max_fit_rows >= 8".into(),
+                "candidates_per_epoch is 0: propose at least one model per epoch".into(),
+            ));
+        }
+        if self.max_fit_rows < MIN_ROWS {
+            return Err(SrError::InvalidConfig(format!(
+                "max_fit_rows is {}: fit on at least {MIN_ROWS} rows",
+                self.max_fit_rows
+            )));
+        }
+        if self.lm_iterations == 0 {
+            return Err(SrError::InvalidConfig(
+                "lm_iterations is 0: allow at least one iteration of the constants' fit".into(),
             ));
         }
         Ok(ops)
