@@ -34,6 +34,9 @@ LAW_OPERATORS = tuple(json.loads(_hxai.defaults("table_search"))["operators"])
 # own default (and `hxai hybrid fit`'s) is 0, the paper's fixed cap. SymbolicRegressor takes
 # the CLI's value so that it gives `hxai sr`'s result; HybridRegressor the engine's.
 SR_COMPLEXITY_PER_INPUT = 2
+# `hxai sr`'s rows per candidate's fit (`--max-fit-rows`; the engine's default is 2000):
+# the search fits on a seeded sample of this many rows, the reported models on all rows
+SR_MAX_FIT_ROWS = 500
 
 _SEARCH_KEYS = (
     "seed",
@@ -303,7 +306,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         affine_inputs=True,
         complexity_measure="features_plus_operators",
         candidates_per_epoch=1000,
-        max_fit_rows=2000,
+        max_fit_rows=SR_MAX_FIT_ROWS,
         lm_iterations=25,
         snap_constants=True,
         snap_tolerance=1e-3,

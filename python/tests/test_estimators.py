@@ -13,7 +13,7 @@ from sklearn.utils.estimator_checks import parametrize_with_checks
 
 import hxai
 from hxai import HybridRegressor, SymbolicRegressor, _hxai
-from hxai.estimators import _SEARCH_KEYS, SR_COMPLEXITY_PER_INPUT
+from hxai.estimators import _SEARCH_KEYS, SR_COMPLEXITY_PER_INPUT, SR_MAX_FIT_ROWS
 
 from conftest import FAST, hxai_binary
 
@@ -89,6 +89,9 @@ def test_defaults_are_the_engines():
             if k == "complexity_per_input" and isinstance(est, SymbolicRegressor):
                 # `hxai sr`'s value, not the engine's: the estimator gives `hxai sr`'s result
                 want = SR_COMPLEXITY_PER_INPUT
+            if k == "max_fit_rows" and isinstance(est, SymbolicRegressor):
+                # `hxai sr`'s value (`--max-fit-rows`), checked against its help below
+                want = SR_MAX_FIT_ROWS
             assert got == want, f"{type(est).__name__}.{k}: {got!r} != engine's {want!r}"
     assert set(_SEARCH_KEYS) == set(rust), "a search setting is missing from the estimators"
 
@@ -167,7 +170,7 @@ def test_same_result_as_cli(quadratic, tmp_path):
         check=True, capture_output=True, text=True,
     )
     cli = json.loads(out.stdout)
-    # `hxai sr` has no flag for candidates per epoch: the Rust default (1000) on both sides
+    # the other search settings at `hxai sr`'s defaults on both sides
     m = SymbolicRegressor(epochs=2, seed=3, max_complexity=6).fit(
         table[["a", "b"]], table["y"]
     )
@@ -176,6 +179,21 @@ def test_same_result_as_cli(quadratic, tmp_path):
     assert m.latex_ == cli["best"]["latex"]
     assert m.features_ == cli["best"]["features"]
     assert list(m.pareto_["equation"]) == [p["equation"] for p in cli["pareto"]]
+
+
+def test_cli_defaults_match_the_estimator():
+    """The defaults `hxai sr` prints in its help are the estimator's, for the settings whose
+    `hxai sr` default differs from the engine's."""
+    out = subprocess.run([hxai_binary(), "sr", "--help"], check=True, capture_output=True,
+                         text=True).stdout
+    params = SymbolicRegressor().get_params()
+    for flag, key in (("--max-fit-rows", "max_fit_rows"),
+                      ("--complexity-per-input", "complexity_per_input"),
+                      ("--candidates-per-epoch", "candidates_per_epoch"),
+                      ("--lm-iterations", "lm_iterations")):
+        text = out[out.index(flag + " <"):]
+        default = int(text[text.index("[default: ") + 10:text.index("]")])
+        assert default == params[key], f"{flag}: hxai sr {default}, estimator {params[key]}"
 
 
 def test_bad_input_messages(quadratic):
