@@ -80,7 +80,7 @@ pub struct Args {
     #[arg(long)]
     pub max_evaluations: Option<u64>,
     /// Candidates proposed and fitted per epoch.
-    #[arg(long, default_value_t = 1000)]
+    #[arg(long, default_value_t = SearchConfig::default().candidates_per_epoch)]
     pub candidates_per_epoch: usize,
     /// Rows the search fits its candidates on (a seeded sample when the table has more);
     /// the reported models are refitted on every row. 500 in `hxai sr` (the library's
@@ -89,7 +89,7 @@ pub struct Args {
     #[arg(long, default_value_t = SR_MAX_FIT_ROWS)]
     pub max_fit_rows: usize,
     /// Levenberg-Marquardt iterations per candidate's fit during the search.
-    #[arg(long, default_value_t = 25)]
+    #[arg(long, default_value_t = SearchConfig::default().lm_iterations)]
     pub lm_iterations: usize,
     /// Search strategy.
     #[arg(long, value_enum, default_value_t = StrategyArg::Combined)]
