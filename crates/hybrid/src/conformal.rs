@@ -23,7 +23,7 @@ pub const DEFAULT_CONFORMAL_FOLDS: usize = 5;
 /// Halvings of the step from a model's constants to a fold's refit in [`refit_constants`]
 /// before the refit is given up for the model's own constants: 2^-30 of the step is below
 /// any constant's rounding.
-pub(crate) const MAX_DOMAIN_HALVINGS: usize = 30;
+const MAX_DOMAIN_HALVINGS: usize = 30;
 
 /// `model`'s free constants (those that are not whole or half numbers) refitted by
 /// Levenberg-Marquardt to `target` on the columns `cols` (the model's features, in order),
@@ -57,36 +57,45 @@ pub fn refit_constants(model: &Model, cols: &[&[f64]], target: &[f64], domain: &
         return model.clone();
     }
     let n = domain.first().map_or(0, |c| c.len());
-    let mut predict = |params: &[f64]| {
+    let stepped = step_within_domain(&model.params, &m.params, |params| {
         let mut out = Vec::new();
         ev.predict(&m.program, params, domain, n, &mut out);
-        out
-    };
-    let defined: Vec<bool> = predict(&model.params)
-        .iter()
-        .map(|v| v.is_finite())
-        .collect();
-    let mut keeps = |p: &[f64]| {
-        predict(p)
+        Ok::<_, std::convert::Infallible>(out)
+    });
+    match stepped {
+        Ok(Some(params)) => {
+            m.params = params;
+            m
+        }
+        _ => model.clone(),
+    }
+}
+
+/// The longest step from the constants `from` toward `to` (the whole step, or it halved up
+/// to [`MAX_DOMAIN_HALVINGS`] times) whose `predict`ions are finite on every row where those
+/// of `from` are; `None` when no step is.
+///
+/// # Errors
+/// `predict`'s own.
+pub(crate) fn step_within_domain<E>(
+    from: &[f64],
+    to: &[f64],
+    mut predict: impl FnMut(&[f64]) -> Result<Vec<f64>, E>,
+) -> Result<Option<Vec<f64>>, E> {
+    let defined: Vec<bool> = predict(from)?.iter().map(|v| v.is_finite()).collect();
+    let mut t = 1.0;
+    for _ in 0..=MAX_DOMAIN_HALVINGS {
+        let params: Vec<f64> = from.iter().zip(to).map(|(a, b)| a + t * (b - a)).collect();
+        if predict(&params)?
             .iter()
             .zip(&defined)
             .all(|(v, &d)| v.is_finite() || !d)
-    };
-    let mut t = 1.0;
-    for _ in 0..=MAX_DOMAIN_HALVINGS {
-        let params: Vec<f64> = model
-            .params
-            .iter()
-            .zip(&m.params)
-            .map(|(a, b)| a + t * (b - a))
-            .collect();
-        if keeps(&params) {
-            m.params = params;
-            return m;
+        {
+            return Ok(Some(params));
         }
         t *= 0.5;
     }
-    model.clone()
+    Ok(None)
 }
 
 /// The cross-fitting loop of CV+ that both halves run: for each fold of `splits` (indices

@@ -114,24 +114,10 @@ fn fold_fit(
         if after.is_finite() && after <= before {
             // as `refit_constants`: the step is halved until the hybrid is finite on every
             // row where it was (the fold's held-out rows among them; features only)
-            let defined: Vec<bool> = predict_with(&c, &c.params, table)?
-                .iter()
-                .map(|v| v.is_finite())
-                .collect();
-            let mut t = 1.0;
-            for _ in 0..=crate::conformal::MAX_DOMAIN_HALVINGS {
-                let p: Vec<f64> = c
-                    .params
-                    .iter()
-                    .zip(&trial)
-                    .map(|(a, b)| a + t * (b - a))
-                    .collect();
-                let pred = predict_with(&c, &p, table)?;
-                if pred.iter().zip(&defined).all(|(v, &d)| v.is_finite() || !d) {
-                    c.params = p;
-                    break;
-                }
-                t *= 0.5;
+            if let Some(p) = crate::conformal::step_within_domain(&c.params, &trial, |p| {
+                predict_with(&c, p, table)
+            })? {
+                c.params = p;
             }
         }
     }
