@@ -254,6 +254,13 @@ pub fn structure_key(program: &Program, names: &[String]) -> String {
 /// [`structure_key`] with a chosen [`Effort`]; the form has every parameter as the input
 /// `c`.
 pub fn structure_with(program: &Program, names: &[String], effort: Effort) -> Canonical {
+    let (g, root, names) = program_graph(program, names);
+    finish(g, root, &names, effort, true)
+}
+
+/// The e-graph of `scale * root + offset` for `program` with every parameter generic, its
+/// root, and the sorted names of its inputs.
+fn program_graph(program: &Program, names: &[String]) -> (Graph, Id, Vec<String>) {
     let name = |j: u16| {
         names
             .get(j as usize)
@@ -307,7 +314,7 @@ pub fn structure_with(program: &Program, names: &[String], effort: Effort) -> Ca
     let sr = b.g.add(Math::Mul([s, root]));
     let root = b.g.add(Math::Add([sr, o]));
     let names = b.names;
-    finish(g, root, &names, effort, true)
+    (g, root, names)
 }
 
 #[cfg(test)]
@@ -329,5 +336,39 @@ mod tests {
         for v in [17.0, 0.1, 1.0 / 3.0, 1.3, std::f64::consts::PI, f64::NAN] {
             assert!(!is_literal(v), "{v}");
         }
+    }
+
+    // Saturation searches only the classes that changed and those above them; searching
+    // every class each iteration must give the same e-graph: the same saturation, classes
+    // and form read back, at either effort, on random programs of 5 to 25 nodes with and
+    // without affine inputs (23 of the 600 runs hit a limit). Not the same e-node count:
+    // egg's hash-cons keeps the stale spellings of e-nodes whose children were merged, so
+    // its size depends on the history (searching every class re-adds old matches' nodes
+    // between merges); 8 of the 600 differ by 0.1 to 2 %.
+    #[test]
+    fn searching_changed_classes_grows_the_same_egraph_as_searching_all() {
+        let names: Vec<String> = vec!["x0".into(), "x1".into(), "x2".into()];
+        let mut programs = crate::bench_programs::affine_programs(150, 5);
+        programs.extend(crate::bench_programs::programs(150, 6));
+        let mut limited = 0;
+        for (program, _) in &programs {
+            for effort in [Effort::Fast, Effort::Full] {
+                let (mut a, root_a, _) = program_graph(program, &names);
+                let (mut b, root_b, _) = program_graph(program, &names);
+                let sat_a = saturate(&mut a, effort);
+                let sat_b = rules::saturate_searching_all(&mut b, effort);
+                let text = format!("{:?} {effort:?}", program.nodes);
+                assert_eq!(sat_a, sat_b, "{text}");
+                assert_eq!(a.number_of_classes(), b.number_of_classes(), "{text}");
+                assert_eq!(
+                    extract(&a, root_a, true),
+                    extract(&b, root_b, true),
+                    "{text}"
+                );
+                limited += usize::from(!sat_a);
+            }
+        }
+        // the comparison covers runs cut short by a limit too
+        assert!(limited > 0, "no run hit a limit");
     }
 }
