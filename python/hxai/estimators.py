@@ -37,6 +37,9 @@ SR_COMPLEXITY_PER_INPUT = 2
 # `hxai sr`'s rows per candidate's fit (`--max-fit-rows`; the engine's default is 2000):
 # the search fits on a seeded sample of this many rows, the reported models on all rows
 SR_MAX_FIT_ROWS = 500
+# `hxai sr`'s `--random-start` (the engine's default is "always"): a new candidate is fitted
+# from a random start too only when its canonical start gives no finite loss
+SR_RANDOM_START = "on_failure"
 
 _SEARCH_KEYS = (
     "seed",
@@ -56,6 +59,7 @@ _SEARCH_KEYS = (
     "candidates_per_epoch",
     "max_fit_rows",
     "lm_iterations",
+    "random_start",
     "snap_constants",
     "snap_tolerance",
     "named_constants",
@@ -74,6 +78,7 @@ _CRITERIA = {
     "pareto_score": "pareto_score",
     "cv": "cv",
 }
+_RANDOM_STARTS = {"always": "always", "on_failure": "on_failure", "on-failure": "on_failure"}
 _STRATEGIES = {
     "combined": "combined",
     "genetic": "genetic",
@@ -99,6 +104,10 @@ def _search_json(est):
     if strat not in _STRATEGIES:
         raise ValueError(f"strategy `{s['strategy']}`: use combined, genetic, qlattice or random")
     s["strategy"] = _STRATEGIES[strat]
+    start = str(s["random_start"]).lower()
+    if start not in _RANDOM_STARTS:
+        raise ValueError(f"random_start `{s['random_start']}`: use always or on_failure")
+    s["random_start"] = _RANDOM_STARTS[start]
     oc = s["operator_complexity"]
     if oc is None:
         oc = {}
@@ -279,6 +288,11 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     ``sqrt(y)`` or ``log(y)`` on searches of up to three columns. ``False`` leaves them out
     (about a quarter less CPU time, fewer laws recovered: docs/benchmarks.md).
 
+    ``random_start="on_failure"`` (the default, as ``hxai sr``'s) fits each new candidate
+    from its canonical start, and from a seeded random start too only when that gives no
+    finite loss; ``"always"`` (the engine's and ``HybridRegressor``'s default) fits from
+    both and keeps the better.
+
     ``n_jobs`` is the number of threads of the search: ``None`` (the default) uses every
     core (the engine's shared thread pool, sized by ``RAYON_NUM_THREADS`` if set), ``-1``
     every core in a pool of its own, a positive int that many threads. It is chosen per
@@ -308,6 +322,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         candidates_per_epoch=1000,
         max_fit_rows=SR_MAX_FIT_ROWS,
         lm_iterations=25,
+        random_start=SR_RANDOM_START,
         snap_constants=True,
         snap_tolerance=1e-3,
         named_constants=True,
@@ -467,6 +482,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         candidates_per_epoch=1000,
         max_fit_rows=2000,
         lm_iterations=25,
+        random_start="always",
         snap_constants=True,
         snap_tolerance=1e-3,
         named_constants=False,

@@ -194,6 +194,9 @@ def test_cli_defaults_match_the_estimator():
         text = out[out.index(flag + " <"):]
         default = int(text[text.index("[default: ") + 10:text.index("]")])
         assert default == params[key], f"{flag}: hxai sr {default}, estimator {params[key]}"
+    text = out[out.index("--random-start <"):]
+    default = text[text.index("[default: ") + 10:text.index("]")]
+    assert default.replace("-", "_") == params["random_start"], default
 
 
 def test_bad_input_messages(quadratic):
@@ -208,6 +211,8 @@ def test_bad_input_messages(quadratic):
         SymbolicRegressor(**FAST, operators=("add", "tanhh")).fit(X, y)
     with pytest.raises(ValueError, match="criterion"):
         SymbolicRegressor(**FAST, criterion="mdl").fit(X, y)
+    with pytest.raises(ValueError, match="random_start `sometimes`: use always or on_failure"):
+        SymbolicRegressor(**FAST, random_start="sometimes").fit(X, y)
     m = SymbolicRegressor(**FAST).fit(X, y)
     with pytest.raises(ValueError, match="missing:\n- b"):
         m.predict(X[["a"]])

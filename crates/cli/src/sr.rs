@@ -1,6 +1,6 @@
 //! `hxai sr`: symbolic regression of one column of a table on the others.
 use crate::Global;
-use crate::strategy::{CriterionArg, StrategyArg};
+use crate::strategy::{CriterionArg, RandomStartArg, StrategyArg};
 use anyhow::{Context, Result};
 use hxai_symreg::SearchConfig;
 use std::path::PathBuf;
@@ -91,6 +91,12 @@ pub struct Args {
     /// Levenberg-Marquardt iterations per candidate's fit during the search.
     #[arg(long, default_value_t = SearchConfig::default().lm_iterations)]
     pub lm_iterations: usize,
+    /// Whether each new candidate is also fitted from a seeded random start besides its
+    /// canonical one. `on-failure` in `hxai sr` (the library's default, and the hybrid
+    /// corrections', is `always`): measured on the AI Feynman 100, about half the fitting
+    /// work for as many laws recovered (docs/benchmarks.md).
+    #[arg(long, value_enum, default_value_t = RandomStartArg::OnFailure)]
+    pub random_start: RandomStartArg,
     /// Search strategy.
     #[arg(long, value_enum, default_value_t = StrategyArg::Combined)]
     pub strategy: StrategyArg,
@@ -220,6 +226,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         candidates_per_epoch: args.candidates_per_epoch,
         max_fit_rows: args.max_fit_rows,
         lm_iterations: args.lm_iterations,
+        random_start: args.random_start.into(),
         strategy: args.strategy.into(),
         criterion: args.criterion.into(),
         cv_folds: args.cv_folds,

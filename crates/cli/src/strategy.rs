@@ -1,6 +1,6 @@
 //! The search flags shared by `hxai sr`, `hxai fit` and `hxai hybrid fit`: `--strategy` and
-//! `--criterion`.
-use hxai_symreg::{Criterion, Strategy};
+//! `--criterion`; and `hxai sr`'s `--random-start`.
+use hxai_symreg::{Criterion, RandomStart, Strategy};
 
 /// `--strategy` values: which symbolic-regression search runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -47,6 +47,24 @@ impl From<CriterionArg> for Criterion {
             CriterionArg::Aic => Criterion::Aic,
             CriterionArg::Pareto => Criterion::ParetoScore,
             CriterionArg::Cv => Criterion::CrossValidation,
+        }
+    }
+}
+
+/// `--random-start` values: whether a new candidate is also fitted from a random start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RandomStartArg {
+    /// Also from a seeded random start, keeping the better fit.
+    Always,
+    /// From the random start only when the canonical start gives no finite loss.
+    OnFailure,
+}
+
+impl From<RandomStartArg> for RandomStart {
+    fn from(r: RandomStartArg) -> Self {
+        match r {
+            RandomStartArg::Always => RandomStart::Always,
+            RandomStartArg::OnFailure => RandomStart::OnFailure,
         }
     }
 }

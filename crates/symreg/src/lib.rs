@@ -82,8 +82,8 @@ pub use report::{
     SelectionReport,
 };
 pub use search::{
-    Criterion, DEFAULT_OPERATORS, LAW_OPERATORS, PAPER_OPERATORS, Progress, SearchConfig,
-    SearchResult, Strategy, fit_structure, search,
+    Criterion, DEFAULT_OPERATORS, LAW_OPERATORS, PAPER_OPERATORS, Progress, RandomStart,
+    SearchConfig, SearchResult, Strategy, fit_structure, search,
 };
 pub use stability::{Stability, stability};
 pub use uncertainty::{ParamEstimate, Uncertainty};

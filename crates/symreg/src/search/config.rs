@@ -102,6 +102,24 @@ pub enum Criterion {
     CrossValidation,
 }
 
+/// Where the constants of a new candidate's fit start during the search.
+///
+/// Every new candidate is first fitted from its canonical start (inputs scaled to unit
+/// RMS with their sign, constants 1, the output map by least squares); a candidate that
+/// inherits its parent's constants starts from those alone, whatever this says.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RandomStart {
+    /// Also fit from a seeded random perturbation of it and keep the better fit (the
+    /// library's default, and the hybrid corrections').
+    #[default]
+    Always,
+    /// Fit from the random start only when the canonical start gives no finite loss
+    /// (`hxai sr`'s default): about half the fitting work, measured on the AI Feynman 100
+    /// with as many laws recovered (docs/benchmarks.md).
+    OnFailure,
+}
+
 /// Search settings. `Default` gives the paper's set-up (seed 42, 10 epochs, complexity at
 /// most 10 whatever the number of inputs, BIC with lambda 1) with the paper's and feyn's
 /// operators ([`DEFAULT_OPERATORS`]). `hxai sr` lets the cap grow by 2 with each input
@@ -150,6 +168,8 @@ pub struct SearchConfig {
     pub max_fit_rows: usize,
     /// Levenberg-Marquardt iterations per candidate.
     pub lm_iterations: usize,
+    /// Whether a new candidate is also fitted from a random start ([`RandomStart`]).
+    pub random_start: RandomStart,
     /// Snap constants to simple values in reported models when the loss barely changes.
     pub snap_constants: bool,
     /// Relative loss increase allowed when a constant is rounded to 1-3 significant digits
@@ -220,6 +240,7 @@ impl Default for SearchConfig {
             candidates_per_epoch: 1000,
             max_fit_rows: 2000,
             lm_iterations: 25,
+            random_start: RandomStart::Always,
             snap_constants: true,
             snap_tolerance: 1e-3,
             named_constants: true,

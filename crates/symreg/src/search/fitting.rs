@@ -1,7 +1,7 @@
 //! Fitting one candidate: the data a search fits on ([`Problem`]), the criterion that scores
 //! a fit, the seeds of the random starts, and the checks on the target.
 use super::archive::{Candidate, Fitted};
-use super::config::{Criterion, MIN_ROWS, SearchConfig};
+use super::config::{Criterion, MIN_ROWS, RandomStart, SearchConfig};
 use crate::eval::Evaluator;
 use crate::fit::{InputScales, LmSettings, Unknowns, initial_params, levenberg_marquardt};
 use crate::ops::OpCosts;
@@ -179,33 +179,27 @@ impl<'a> Problem<'a> {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut best_params = Vec::new();
         let mut best = f64::INFINITY;
-        let mut starts: Vec<Vec<f64>> = Vec::new();
-        if let Some(p) = c.params.as_ref().filter(|p| p.len() == n_params) {
-            starts.push(p.clone());
-        } else {
-            starts.push(initial_params(prog, &self.scales, None, &cols, y, &mut ev));
-            starts.push(initial_params(
-                prog,
-                &self.scales,
-                Some(&mut rng),
-                &cols,
-                y,
-                &mut ev,
-            ));
-        }
-        for mut p in starts {
-            let mse = levenberg_marquardt(
-                prog,
-                &mut p,
-                Unknowns::Free(&free),
-                &cols,
-                y,
-                &LmSettings::new(self.cfg.lm_iterations, SEARCH_LM_TOLERANCE),
-                &mut ev,
-            );
+        let lm = LmSettings::new(self.cfg.lm_iterations, SEARCH_LM_TOLERANCE);
+        let mut fit_from = |mut p: Vec<f64>, ev: &mut Evaluator| {
+            let mse = levenberg_marquardt(prog, &mut p, Unknowns::Free(&free), &cols, y, &lm, ev);
             if mse < best {
                 best = mse;
                 best_params = p;
+            }
+            best
+        };
+        if let Some(p) = c.params.as_ref().filter(|p| p.len() == n_params) {
+            fit_from(p.clone(), &mut ev);
+        } else {
+            let start = initial_params(prog, &self.scales, None, &cols, y, &mut ev);
+            let first = fit_from(start, &mut ev);
+            let random = match self.cfg.random_start {
+                RandomStart::Always => true,
+                RandomStart::OnFailure => !first.is_finite(),
+            };
+            if random {
+                let start = initial_params(prog, &self.scales, Some(&mut rng), &cols, y, &mut ev);
+                fit_from(start, &mut ev);
             }
         }
         if !best.is_finite() {
@@ -276,4 +270,81 @@ pub(crate) fn search_target_variance(target: &[f64]) -> Result<f64, SrError> {
         return Err(SrError::ConstantTarget(target[0]));
     }
     Ok(y_var)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use crate::Op;
+    use crate::program::{Node, Program};
+
+    fn log_candidate() -> Candidate {
+        let program = Program {
+            nodes: vec![Node::Var(0), Node::Op(Op::Log)],
+            affine: true,
+        };
+        Candidate::new(program, None, 0)
+    }
+
+    fn fit_with(x: Vec<f64>, start: RandomStart, seed: u64) -> Fitted {
+        let y: Vec<f64> = x.iter().map(|v| 2.0 * (v + 0.5).ln() + 1.0).collect();
+        let data = Table::new(vec!["x".into()], vec![x]).unwrap();
+        let cfg = SearchConfig {
+            random_start: start,
+            ..SearchConfig::default()
+        };
+        let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
+        problem.fit(&log_candidate(), seed)
+    }
+
+    // Where the canonical start fits, `OnFailure` keeps its fit and `Always` the better of
+    // it and the random start's.
+    #[test]
+    fn on_failure_keeps_a_finite_canonical_fit() {
+        let x: Vec<f64> = (0..60).map(|i| 0.5 + i as f64 / 10.0).collect();
+        let y: Vec<f64> = x.iter().map(|v| 2.0 * (v + 0.5).ln() + 1.0).collect();
+        let data = Table::new(vec!["x".into()], vec![x.clone()]).unwrap();
+        let cfg = SearchConfig::default();
+        let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
+        let cols = problem.fit_cols();
+        let cand = log_candidate();
+        let mut ev = Evaluator::new(&cand.program);
+        let mut p = initial_params(&cand.program, &problem.scales, None, &cols, &y, &mut ev);
+        let free: Vec<usize> = (0..p.len()).collect();
+        let lm = LmSettings::new(cfg.lm_iterations, SEARCH_LM_TOLERANCE);
+        let mse = levenberg_marquardt(
+            &cand.program,
+            &mut p,
+            Unknowns::Free(&free),
+            &cols,
+            &y,
+            &lm,
+            &mut ev,
+        );
+        assert!(mse.is_finite());
+        for seed in 0..5 {
+            let once = fit_with(x.clone(), RandomStart::OnFailure, seed);
+            assert_eq!(once.params, p, "seed {seed}");
+            assert_eq!(once.mse.to_bits(), mse.to_bits(), "seed {seed}");
+            let both = fit_with(x.clone(), RandomStart::Always, seed);
+            assert!(both.mse <= once.mse, "seed {seed}");
+        }
+    }
+
+    // Where the canonical start gives no finite loss (`log` of the negative rows at the
+    // canonical scale), `OnFailure` fits from the random start, the one `Always` draws.
+    #[test]
+    fn on_failure_falls_back_on_the_random_start() {
+        let x: Vec<f64> = (0..60).map(|i| -0.2 + i as f64 / 10.0).collect();
+        let mut rescued = 0;
+        for seed in 0..40 {
+            let once = fit_with(x.clone(), RandomStart::OnFailure, seed);
+            let both = fit_with(x.clone(), RandomStart::Always, seed);
+            assert_eq!(once.params, both.params, "seed {seed}");
+            assert_eq!(once.mse.to_bits(), both.mse.to_bits(), "seed {seed}");
+            rescued += usize::from(once.mse.is_finite());
+        }
+        assert!(rescued > 0, "no random start gave a finite fit");
+    }
 }

@@ -38,7 +38,8 @@ mod symmetry;
 mod transform;
 
 pub use config::{
-    Criterion, DEFAULT_OPERATORS, LAW_OPERATORS, PAPER_OPERATORS, SearchConfig, Strategy,
+    Criterion, DEFAULT_OPERATORS, LAW_OPERATORS, PAPER_OPERATORS, RandomStart, SearchConfig,
+    Strategy,
 };
 pub(crate) use run::plain_search;
 pub use run::{Progress, search};
