@@ -111,12 +111,12 @@ pub enum Criterion {
 #[serde(rename_all = "snake_case")]
 pub enum RandomStart {
     /// Also fit from a seeded random perturbation of it and keep the better fit (the
-    /// library's default, and the hybrid corrections').
+    /// default).
     #[default]
     Always,
-    /// Fit from the random start only when the canonical start gives no finite loss
-    /// (`hxai sr`'s default): about half the fitting work, measured on the AI Feynman 100
-    /// with as many laws recovered (docs/benchmarks.md).
+    /// Fit from the random start only when the canonical start gives no finite loss:
+    /// measured on the AI Feynman 100 with `hxai sr`, a fifth less time, as many laws at
+    /// noise 0 and two fewer at 1 % (docs/benchmarks.md, "One start per candidate").
     OnFailure,
 }
 
