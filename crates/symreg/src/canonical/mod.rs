@@ -95,7 +95,10 @@
 //! and could not be tested by evaluating; with numbers every rule is an identity, the
 //! property tests evaluate both sides, and the structure key still cannot see the values,
 //! because they are generic and printed `c`. egg's `Runner` is not used: the loop here
-//! (search every rule, apply, rebuild) is the same without its time limit and clock.
+//! (search, apply, rebuild) is the same without its time limit and clock, and searches only
+//! the e-classes that changed in the last iteration and the two levels above them (no rule
+//! looks deeper), which grows the same e-graph as searching every class at about two thirds
+//! of the cost (`rules.rs`; docs/benchmarks.md).
 //!
 //! Saturation is bounded by a number of iterations and of e-nodes only, never by time, so
 //! the result depends on the input alone. A folded number within 1e-12 (relative) of one
