@@ -145,6 +145,9 @@ fn rules(effort: Effort) -> &'static [Rewrite<Math, Fold>] {
     }
 }
 
+/// The matches of every rule in one iteration, rule by rule.
+type Matches = Vec<Vec<egg::SearchMatches<'static, Math>>>;
+
 /// Runs the rules of `effort` to saturation or to its limits; true if saturated.
 ///
 /// Each iteration searches only the e-classes where a match can be new: those whose
@@ -154,41 +157,37 @@ fn rules(effort: Effort) -> &'static [Rewrite<Math, Fold>] {
 /// earlier and was applied then, so applying it again adds nothing: the e-graph grows as
 /// if every class were searched, in the same order, at a fraction of the cost.
 pub(super) fn saturate(g: &mut Graph, effort: Effort) -> bool {
-    g.rebuild();
-    let rules = rules(effort);
     let mut dirty = Dirty::default();
-    for _ in 0..effort.iterations() {
-        let before = (g.total_size(), g.number_of_classes());
+    saturate_with(g, effort, |g, rules| {
         dirty.update(g);
-        if dirty.list.is_empty() {
-            return true;
-        }
-        let matches: Vec<_> = rules.iter().map(|r| dirty.search(r, g)).collect();
-        let mut changed = false;
-        for (r, m) in rules.iter().zip(&matches) {
-            changed |= !r.apply(g, m).is_empty();
-            if g.total_size() > effort.nodes() {
-                g.rebuild();
-                return false;
-            }
-        }
-        g.rebuild();
-        if !changed && before == (g.total_size(), g.number_of_classes()) {
-            return true;
-        }
-    }
-    false
+        (!dirty.list.is_empty()).then(|| rules.iter().map(|r| dirty.search(r, g)).collect())
+    })
 }
 
 /// [`saturate`] as it was before it searched only the changed classes: every class, every
 /// iteration (the reference its tests compare with).
 #[cfg(test)]
 pub(super) fn saturate_searching_all(g: &mut Graph, effort: Effort) -> bool {
+    saturate_with(g, effort, |g, rules| {
+        Some(rules.iter().map(|r| r.search(g)).collect())
+    })
+}
+
+/// The saturation loop: each iteration takes the matches `search` finds (`None`: nothing
+/// can match anew, so the e-graph is saturated), applies them rule by rule and rebuilds,
+/// until nothing changes or a limit of `effort` is hit.
+fn saturate_with(
+    g: &mut Graph,
+    effort: Effort,
+    mut search: impl FnMut(&Graph, &'static [Rewrite<Math, Fold>]) -> Option<Matches>,
+) -> bool {
     g.rebuild();
     let rules = rules(effort);
     for _ in 0..effort.iterations() {
         let before = (g.total_size(), g.number_of_classes());
-        let matches: Vec<_> = rules.iter().map(|r| r.search(g)).collect();
+        let Some(matches) = search(g, rules) else {
+            return true;
+        };
         let mut changed = false;
         for (r, m) in rules.iter().zip(&matches) {
             changed |= !r.apply(g, m).is_empty();
