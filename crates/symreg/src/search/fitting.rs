@@ -153,7 +153,9 @@ impl<'a> Problem<'a> {
     }
 
     /// Fits one candidate on the fitting rows: from its warm start if it has one, else from
-    /// the canonical start and one random start drawn from `seed`; keeps the better.
+    /// the canonical start and, as [`SearchConfig::random_start`] says (always, or when the
+    /// canonical start gives no finite loss), one random start drawn from `seed`; keeps the
+    /// better.
     /// Non-finite fits, and structures with at least as many parameters as rows, are
     /// rejected (infinite loss and score).
     pub(crate) fn fit(&self, c: &Candidate, seed: u64) -> Fitted {
