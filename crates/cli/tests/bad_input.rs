@@ -16,13 +16,15 @@ fn corpus(rel: &str) -> String {
     p.to_str().unwrap().to_owned()
 }
 
-fn scratch(name: &str) -> PathBuf {
+fn scratch(name: &str) -> common::Scratch {
     common::scratch("hxai-bad", name).unwrap()
 }
 
-/// The path of `file` in a fresh scratch folder for `name`, as text.
-fn scratch_path(name: &str, file: &str) -> String {
-    scratch(name).join(file).to_str().unwrap().to_owned()
+/// A fresh scratch folder for `name` and the path of `file` in it, as text.
+fn scratch_path(name: &str, file: &str) -> (common::Scratch, String) {
+    let dir = scratch(name);
+    let path = dir.join(file).to_str().unwrap().to_owned();
+    (dir, path)
 }
 
 fn hxai(args: &[&str]) -> Output {
@@ -149,7 +151,7 @@ fn owned(args: &[&str]) -> Vec<String> {
 
 #[test]
 fn bad_records_are_refused_by_every_command_that_reads_one() {
-    let out = scratch_path("records", "out.csv");
+    let (_dir, out) = scratch_path("records", "out.csv");
     let out = out.as_str();
     let model = corpus("good/model.json");
     each_refused(BAD_RECORDS, out, |rec| {
@@ -277,7 +279,7 @@ const BAD_FOLDERS: &[(&str, &str)] = &[
 
 #[test]
 fn bad_folders_are_refused_by_fit_and_evaluate() {
-    let out = scratch_path("folders", "m.json");
+    let (_dir, out) = scratch_path("folders", "m.json");
     let out = out.as_str();
     let model = corpus("good/model.json");
     each_refused(BAD_FOLDERS, out, |d| {
@@ -322,7 +324,7 @@ const BAD_MODELS: &[(&str, &str)] = &[
 
 #[test]
 fn bad_models_are_refused_by_predict_and_evaluate() {
-    let out = scratch_path("models", "p.csv");
+    let (_dir, out) = scratch_path("models", "p.csv");
     let out = out.as_str();
     let (rec, good) = (corpus("good/r1.parquet"), corpus("good"));
     each_refused(BAD_MODELS, out, |m| {

@@ -10,7 +10,7 @@ use common::{hxai, hxai_ok, s, text};
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
 /// A fitted model and the samples it was fitted on, in a fresh folder `name`.
-fn fitted(name: &str) -> Result<(PathBuf, PathBuf, PathBuf), Box<dyn std::error::Error>> {
+fn fitted(name: &str) -> Result<(common::Scratch, PathBuf, PathBuf), Box<dyn std::error::Error>> {
     let dir = common::scratch("hxai-cli-explain", name)?;
     let data = dir.join("data");
     let (model, samples) = (dir.join("model.json"), dir.join("samples.csv"));

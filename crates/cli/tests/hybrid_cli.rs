@@ -5,14 +5,14 @@
 use hxai_data::{Format, ManifestEntry, Record, read_table, write_folder};
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 mod common;
 use common::{evaluate_args, hxai, hxai_ok, predict_args, s};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
-fn scratch(name: &str) -> Result<PathBuf, std::io::Error> {
+fn scratch(name: &str) -> Result<common::Scratch, std::io::Error> {
     common::scratch("hxai-cli-hybrid", name)
 }
 

@@ -15,7 +15,7 @@ type TestResult = Result<(), Box<dyn std::error::Error>>;
 
 /// A fresh scratch folder `name` holding `ra.csv`, a [`roughness_csv`] table of `n`
 /// rows: the folder and the table's path.
-fn scratch_table(name: &str, n: usize) -> Result<(PathBuf, PathBuf), std::io::Error> {
+fn scratch_table(name: &str, n: usize) -> Result<(common::Scratch, PathBuf), std::io::Error> {
     let dir = common::scratch("hxai-cli-hybrid-table", name)?;
     let csv = dir.join("ra.csv");
     std::fs::write(&csv, roughness_csv(n))?;
@@ -279,7 +279,7 @@ fn refused(data: &Path, physics: &str, extra: &[&str], needles: &[&str]) -> Test
 
 #[test]
 fn bad_input_gives_one_line_naming_it() -> TestResult {
-    let (_, data) = scratch_table("bad", 60)?;
+    let (_dir, data) = scratch_table("bad", 60)?;
     let cal = ["--calibrate", "k"];
     // neither a column nor a parameter
     refused(&data, "k*f^2/(32*rr)", &cal, &["`rr`", "character 11"])?;
@@ -525,7 +525,7 @@ fn an_empty_cell_in_a_used_column_is_named() -> TestResult {
     ok(&o, "fit with a text column");
     assert!(common::stderr(&o).contains("column `batch` holds text"));
     // a column of true/false is named as such, not as text
-    let (_, flags) = scratch_table("flags", 60)?;
+    let (_dir, flags) = scratch_table("flags", 60)?;
     let with_flag: Vec<String> = std::fs::read_to_string(&flags)?
         .lines()
         .enumerate()
@@ -639,7 +639,7 @@ fn interval_methods_are_chosen_and_reported() -> TestResult {
         common::stderr(&out)
     );
     // more folds than training rows
-    let (_, small) = scratch_table("interval-small", 12)?;
+    let (_dir, small) = scratch_table("interval-small", 12)?;
     let mut args = fit_args(s(&small), s(&plain));
     args.extend_from_slice(&["--conformal-folds", "20"]);
     let out = hxai(&args)?;

@@ -8,12 +8,13 @@ use common::hxai;
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
-fn table(name: &str, text: &str) -> Result<PathBuf, std::io::Error> {
-    let dir = std::env::temp_dir().join(format!("hxai-cli-sr-{}", std::process::id()));
-    std::fs::create_dir_all(&dir)?;
+/// A fresh scratch folder holding the table `name` with `text`: the folder and the table's
+/// path.
+fn table(name: &str, text: &str) -> Result<(common::Scratch, PathBuf), std::io::Error> {
+    let dir = common::scratch("hxai-cli-sr", name)?;
     let path = dir.join(name);
     std::fs::write(&path, text)?;
-    Ok(path)
+    Ok((dir, path))
 }
 
 /// Runs `hxai sr --csv CSV --target y --json EXTRA...`, requires success, parses stdout.
@@ -51,7 +52,7 @@ fn law_csv() -> String {
 
 #[test]
 fn json_document_follows_the_contract_and_finds_the_law() -> TestResult {
-    let csv = table("law.csv", &law_csv())?;
+    let (_dir, csv) = table("law.csv", &law_csv())?;
     let doc = sr_json(&csv, &["--epochs", "3"])?;
     let keys = [
         "equation",
@@ -113,7 +114,7 @@ fn json_document_follows_the_contract_and_finds_the_law() -> TestResult {
 
 #[test]
 fn bad_input_gives_a_clear_error() -> TestResult {
-    let good = table("good.csv", &law_csv())?;
+    let (_dir, good) = table("good.csv", &law_csv())?;
     let good = good.to_str().ok_or("path")?;
     let cases: Vec<(Vec<String>, &str)> = vec![
         (vec!["--target".into(), "nope".into()], "nope"),
@@ -224,7 +225,7 @@ fn bad_input_gives_a_clear_error() -> TestResult {
         ),
         (table("short.csv", &format!("x,y\n{short}"))?, "too few"),
     ];
-    for (path, needle) in files {
+    for ((_dir, path), needle) in files {
         let out = hxai(&["sr", "--csv", path.to_str().ok_or("path")?, "--target", "y"])?;
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{} should fail", path.display());
@@ -241,7 +242,7 @@ fn bad_input_gives_a_clear_error() -> TestResult {
 // criterion runs, and the evaluation budget is respected.
 #[test]
 fn strategy_criterion_and_budget_options() -> TestResult {
-    let csv = table("law2.csv", &law_csv())?;
+    let (_dir, csv) = table("law2.csv", &law_csv())?;
     for (strategy, criterion) in [
         ("qlattice", "aic"),
         ("genetic", "pareto"),
@@ -295,7 +296,7 @@ fn strategy_criterion_and_budget_options() -> TestResult {
 // operators and out-of-range values are refused with a message naming the entry.
 #[test]
 fn operator_complexity_option() -> TestResult {
-    let csv = table("law_opc.csv", &law_csv())?;
+    let (_dir, csv) = table("law_opc.csv", &law_csv())?;
     let doc = sr_json(
         &csv,
         &[
@@ -351,7 +352,7 @@ fn units_reduce_the_search_and_keep_the_law_consistent() -> TestResult {
             2.0 * std::f64::consts::PI * (l / g).sqrt()
         ));
     }
-    let csv = table("period.csv", &s)?;
+    let (_dir, csv) = table("period.csv", &s)?;
     let doc = sr_json(&csv, &["--units", "L=m,g=m/s^2,m=kg,y=s"])?;
     assert_eq!(
         doc["dimensional_groups"],
@@ -381,7 +382,7 @@ fn units_reduce_the_search_and_keep_the_law_consistent() -> TestResult {
 /// opt-in) still runs, as the default.
 #[test]
 fn separability_is_the_default_and_searches_the_parts() -> TestResult {
-    let csv = table("separable.csv", &law_csv())?;
+    let (_dir, csv) = table("separable.csv", &law_csv())?;
     let plain = sr_json(&csv, &["--epochs", "2", "--no-separability"])?;
     let split = sr_json(&csv, &["--epochs", "2"])?;
     let flagged = sr_json(&csv, &["--epochs", "2", "--separability"])?;
@@ -417,7 +418,7 @@ fn separability_finds_the_symmetry_and_the_transformed_polynomial() -> TestResul
             m0 / (1.0 - v * v / (c * c)).sqrt()
         ));
     }
-    let csv = table("relativistic.csv", &s)?;
+    let (_dir, csv) = table("relativistic.csv", &s)?;
     let doc = sr_json(&csv, &["--epochs", "3"])?;
     let best = &doc["best"];
     assert_eq!(best["equation"], "m0/sqrt(-(v/c)**2 + 1)", "{doc}");
@@ -443,7 +444,7 @@ fn reported_models_come_back_in_their_shorter_form() -> TestResult {
         );
         s.push_str(&format!("{g},{m1},{m2},{r},{}\n", g * m1 * m2 / (r * r)));
     }
-    let csv = table("gravitation.csv", &s)?;
+    let (_dir, csv) = table("gravitation.csv", &s)?;
     let doc = sr_json(
         &csv,
         &[
@@ -458,7 +459,7 @@ fn reported_models_come_back_in_their_shorter_form() -> TestResult {
     let mut lines = s.lines();
     let header = lines.next().ok_or("header")?;
     let rest: Vec<&str> = lines.collect();
-    let with_row = table(
+    let (_row_dir, with_row) = table(
         "gravitation_units.csv",
         &format!("{header}\nm^3/(kg*s^2),kg,kg,m,N\n{}\n", rest.join("\n")),
     )?;

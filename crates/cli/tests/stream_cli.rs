@@ -44,7 +44,7 @@ fn stream(input: &std::path::Path, extra: &[&str]) -> std::process::Output {
 }
 
 /// A scratch folder `name` holding `in.csv` with the header and `body`.
-fn input_file(name: &str, body: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+fn input_file(name: &str, body: &str) -> (common::Scratch, std::path::PathBuf) {
     let dir = scratch("hxai-stream", name).expect("scratch");
     let input = dir.join("in.csv");
     std::fs::write(&input, format!("{HEADER}{body}")).expect("write input");

@@ -7,17 +7,15 @@ use hxai_data::{
     read_table, read_table_with_units, write_folder, write_record,
 };
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
-fn scratch(name: &str) -> Result<PathBuf, std::io::Error> {
-    let dir = std::env::temp_dir().join(format!("hxai-data-err-{}-{name}", std::process::id()));
-    if dir.exists() {
-        std::fs::remove_dir_all(&dir)?;
-    }
-    std::fs::create_dir_all(&dir)?;
-    Ok(dir)
+/// A new empty folder, removed with what is in it when the guard is dropped.
+fn scratch(name: &str) -> Result<tempfile::TempDir, std::io::Error> {
+    tempfile::Builder::new()
+        .prefix(&format!("hxai-data-err-{name}-"))
+        .tempdir()
 }
 
 fn write_text(path: &Path, text: &str) -> TestResult {
@@ -257,14 +255,15 @@ const BAD_INPUTS: &[Case] = &[
 #[test]
 fn every_bad_input_gives_its_error_naming_what_is_wrong() -> TestResult {
     for (i, case) in BAD_INPUTS.iter().enumerate() {
-        let dir = scratch(&format!("case-{i}"))?;
+        let scratch_dir = scratch(&format!("case-{i}"))?;
+        let dir = scratch_dir.path();
         let err = match case.input {
-            Input::Record(file) => record_error(&dir, file, case.text),
+            Input::Record(file) => record_error(dir, file, case.text),
             Input::Manifest(records) => {
                 for file in records {
                     write_record(&dir.join(file), &good_record(10))?;
                 }
-                manifest_error(&dir, case.text)
+                manifest_error(dir, case.text)
             }
         }
         .map_err(|e| format!("{}: {e}", case.what))?;
@@ -285,7 +284,8 @@ fn every_bad_input_gives_its_error_naming_what_is_wrong() -> TestResult {
 fn uniform_within_tolerance_is_accepted() -> TestResult {
     // Time stamps rounded to 6 decimals at 3 kHz: steps are 0.000333 s or 0.000334 s,
     // within 0.2 % of the mean step, so the 1 % uniformity tolerance must accept them.
-    let dir = scratch("uniform-ok")?;
+    let scratch_dir = scratch("uniform-ok")?;
+    let dir = scratch_dir.path();
     let p = dir.join("r.csv");
     let mut text = String::from("time_s,accel_ms2\n");
     for i in 0..300 {
@@ -301,7 +301,8 @@ fn uniform_within_tolerance_is_accepted() -> TestResult {
 
 #[test]
 fn mismatched_lengths_are_refused_before_writing() -> TestResult {
-    let dir = scratch("lengths")?;
+    let scratch_dir = scratch("lengths")?;
+    let dir = scratch_dir.path();
     let mut rec = good_record(10);
     rec.probe_um = Some(vec![0.0; 9]);
     let p = dir.join("r.csv");
@@ -325,7 +326,8 @@ fn mismatched_lengths_are_refused_before_writing() -> TestResult {
 #[test]
 fn unknown_extension() -> TestResult {
     // Reading a `.txt` record: in `BAD_INPUTS`.
-    let dir = scratch("ext")?;
+    let scratch_dir = scratch("ext")?;
+    let dir = scratch_dir.path();
     let err = error_of(write_record(&dir.join("x.xlsx"), &good_record(4)))?;
     assert!(matches!(err, DataError::UnknownExtension { .. }), "{err:?}");
     assert_eq!(Format::from_path(Path::new("A.CSV"))?, Format::Csv);
@@ -335,7 +337,8 @@ fn unknown_extension() -> TestResult {
 #[test]
 fn non_numeric_table_cell_names_row_and_column() -> TestResult {
     // A non-numeric cell in a record: in `BAD_INPUTS`.
-    let dir = scratch("nonnumeric")?;
+    let scratch_dir = scratch("nonnumeric")?;
+    let dir = scratch_dir.path();
     let p = dir.join("t.csv");
     write_text(&p, "x,y\n1,2\nthree,4\n")?;
     let err = error_of(read_table(&p))?;
@@ -351,7 +354,8 @@ fn non_numeric_table_cell_names_row_and_column() -> TestResult {
 /// (no units row), when nothing follows it, and for Parquet.
 #[test]
 fn a_units_row_is_read_or_refused_by_name() -> TestResult {
-    let dir = scratch("units")?;
+    let scratch_dir = scratch("units")?;
+    let dir = scratch_dir.path();
     let p = dir.join("t.csv");
     write_text(&p, "F,m,a\nN, kg ,m/s^2\n2,1,2\n6,2,3\n")?;
     let (t, units) = read_table_with_units(&p)?;
@@ -381,7 +385,8 @@ fn a_units_row_is_read_or_refused_by_name() -> TestResult {
 #[test]
 fn writing_a_duplicate_record_id_is_refused() -> TestResult {
     // Reading a manifest with a duplicate id or file: in `BAD_INPUTS`; writing one:
-    let dir = scratch("dup")?;
+    let scratch_dir = scratch("dup")?;
+    let dir = scratch_dir.path();
     let items = vec![
         (entry("x", ""), good_record(5)),
         (entry("x", ""), good_record(5)),
@@ -396,22 +401,24 @@ fn writing_a_duplicate_record_id_is_refused() -> TestResult {
 /// the other records and the manifest stay as they were.
 #[test]
 fn a_target_taken_by_a_folder_is_refused_before_any_write() -> TestResult {
-    let dir = scratch("taken")?;
+    let scratch_dir = scratch("taken")?;
+    let dir = scratch_dir.path();
     write_text(&dir.join("a.csv"), "old")?;
     std::fs::create_dir_all(dir.join("b.csv"))?;
     let items = vec![
         (entry("a", ""), good_record(5)),
         (entry("b", ""), good_record(5)),
     ];
-    let err = error_of(write_folder(&dir, &items, Format::Csv))?;
+    let err = error_of(write_folder(dir, &items, Format::Csv))?;
     assert!(matches!(err, DataError::IsADirectory { .. }), "{err:?}");
     assert!(err.to_string().contains("b.csv"), "{err}");
     assert_eq!(std::fs::read_to_string(dir.join("a.csv"))?, "old");
     assert!(!dir.join("manifest.csv").exists());
     // and a manifest taken by a folder, the same
-    let dir = scratch("taken-manifest")?;
+    let scratch_dir = scratch("taken-manifest")?;
+    let dir = scratch_dir.path();
     std::fs::create_dir_all(dir.join("manifest.csv"))?;
-    let err = error_of(write_folder(&dir, &items[..1], Format::Csv))?;
+    let err = error_of(write_folder(dir, &items[..1], Format::Csv))?;
     assert!(err.to_string().contains("manifest.csv"), "{err}");
     assert!(!dir.join("a.csv").exists());
     Ok(())
@@ -419,8 +426,9 @@ fn a_target_taken_by_a_folder_is_refused_before_any_write() -> TestResult {
 
 #[test]
 fn missing_manifest_and_missing_folder() -> TestResult {
-    let dir = scratch("manifest")?;
-    let err = error_of(read_folder(&dir))?;
+    let scratch_dir = scratch("manifest")?;
+    let dir = scratch_dir.path();
+    let err = error_of(read_folder(dir))?;
     assert!(matches!(err, DataError::MissingManifest { .. }), "{err:?}");
     // The manifest's numbers and columns: in `BAD_INPUTS`.
     let err = error_of(read_folder(&dir.join("nope")))?;
@@ -430,22 +438,24 @@ fn missing_manifest_and_missing_folder() -> TestResult {
 
 #[test]
 fn invalid_record_id_for_writing() -> TestResult {
-    let dir = scratch("badid")?;
+    let scratch_dir = scratch("badid")?;
+    let dir = scratch_dir.path();
     let items = vec![(entry("../evil", ""), good_record(5))];
-    let err = error_of(write_folder(&dir, &items, Format::Csv))?;
+    let err = error_of(write_folder(dir, &items, Format::Csv))?;
     assert!(matches!(err, DataError::InvalidRecordId { .. }), "{err:?}");
     Ok(())
 }
 
 #[test]
 fn folder_reads_extra_columns_and_records() -> TestResult {
-    let dir = scratch("folder-ok")?;
+    let scratch_dir = scratch("folder-ok")?;
+    let dir = scratch_dir.path();
     write_record(&dir.join("a.parquet"), &good_record(10))?;
     write_text(
         &dir.join("manifest.csv"),
         "record,file,amplitude_um,frequency_hz,repeat,operator\na,a.parquet,5,10,2,kim\n",
     )?;
-    let folder = read_folder(&dir)?;
+    let folder = read_folder(dir)?;
     assert_eq!(folder.entries.len(), 1);
     let e = &folder.entries[0];
     assert_eq!(e.repeat, Some(2));
@@ -457,7 +467,8 @@ fn folder_reads_extra_columns_and_records() -> TestResult {
 #[test]
 fn parquet_with_null_and_text_cells() -> TestResult {
     // A Parquet file with a text column that is not numeric: the record check names it.
-    let dir = scratch("parquet-text")?;
+    let scratch_dir = scratch("parquet-text")?;
+    let dir = scratch_dir.path();
     let p = dir.join("t.parquet");
     let t = hxai_data::MixedTable {
         names: vec!["time_s".into(), "accel_ms2".into()],

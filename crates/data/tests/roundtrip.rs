@@ -7,17 +7,14 @@ use hxai_data::{
 };
 use proptest::prelude::*;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
 
-static COUNTER: AtomicUsize = AtomicUsize::new(0);
-
-fn scratch() -> PathBuf {
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("hxai-data-rt-{}-{n}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::create_dir_all(&dir);
-    dir
+/// A new empty folder, removed with what is in it when the guard is dropped.
+fn scratch() -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix("hxai-data-rt-")
+        .tempdir()
+        .expect("a scratch folder in the temporary directory")
 }
 
 /// Writes `value` with `write` as CSV and as Parquet (`stem.csv`, `stem.parquet`) in a
@@ -29,14 +26,14 @@ fn round_trip<T>(
     write: impl Fn(&Path, &T) -> Result<(), DataError>,
     read: impl Fn(&Path) -> Result<T, DataError>,
 ) -> Result<Vec<T>, DataError> {
-    let dir = scratch();
+    let scratch_dir = scratch();
+    let dir = scratch_dir.path();
     let mut back = Vec::new();
     for ext in ["csv", "parquet"] {
         let p = dir.join(format!("{stem}.{ext}"));
         write(&p, value)?;
         back.push(read(&p)?);
     }
-    let _ = std::fs::remove_dir_all(&dir);
     Ok(back)
 }
 
@@ -114,9 +111,10 @@ proptest! {
                 extra,
             }, r)
         }).collect();
-        let dir = scratch();
-        let written = write_folder(&dir, &items, format).map_err(|e| TestCaseError::fail(e.to_string()))?;
-        let folder = read_folder(&dir).map_err(|e| TestCaseError::fail(e.to_string()))?;
+        let scratch_dir = scratch();
+        let dir = scratch_dir.path();
+        let written = write_folder(dir, &items, format).map_err(|e| TestCaseError::fail(e.to_string()))?;
+        let folder = read_folder(dir).map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert_eq!(&folder.entries, &written.entries);
         for ((e, r), w) in items.iter().zip(&folder.entries) {
             prop_assert_eq!(&e.record, &w.record);
@@ -125,7 +123,6 @@ proptest! {
             let back = folder.read_record(w).map_err(|e| TestCaseError::fail(e.to_string()))?;
             prop_assert_eq!(&back, r);
         }
-        let _ = std::fs::remove_dir_all(&dir);
     }
 }
 
@@ -152,7 +149,8 @@ fn mixed_table_round_trips() -> Result<(), Box<dyn std::error::Error>> {
 /// quote (`"a""b"` is the column `a"b`), and a quoted comma stays in the name.
 #[test]
 fn quoted_header_names_follow_rfc_4180() -> Result<(), Box<dyn std::error::Error>> {
-    let dir = scratch();
+    let scratch_dir = scratch();
+    let dir = scratch_dir.path();
     let path = dir.join("q.csv");
     std::fs::write(&path, "\"a\"\"b\",\"c,d\",e\n1,2,3\n4,5,6\n")?;
     let t = read_mixed_table(&path)?;

@@ -4,7 +4,7 @@
 //! Every test file compiles this module on its own and uses only part of it.
 #![allow(dead_code)]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 /// `hxai simulate --out OUT --repeats 1 --duration-s SECONDS` and `extra`: a small folder of
@@ -68,14 +68,37 @@ pub fn evaluate_args<'a>(model: &'a str, data: &'a str, extra: &[&'a str]) -> Ve
     args
 }
 
-/// An empty folder `<temp>/<prefix>-<pid>-<name>` (removed first if a former run left it).
-pub fn scratch(prefix: &str, name: &str) -> Result<PathBuf, std::io::Error> {
-    let dir = std::env::temp_dir().join(format!("{prefix}-{}-{name}", std::process::id()));
-    if dir.exists() {
-        std::fs::remove_dir_all(&dir)?;
+/// A new empty folder `<temp>/<prefix>-<name>-<random>`, removed when the returned guard is
+/// dropped.
+pub fn scratch(prefix: &str, name: &str) -> Result<Scratch, std::io::Error> {
+    let dir = tempfile::Builder::new()
+        .prefix(&format!("{prefix}-{name}-"))
+        .tempdir()?;
+    Ok(Scratch(dir))
+}
+
+/// A scratch folder of [`scratch`]: a path (it dereferences to one) whose folder is removed,
+/// with everything in it, when the test drops it.
+pub struct Scratch(tempfile::TempDir);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+
+    fn deref(&self) -> &Path {
+        self.0.path()
     }
-    std::fs::create_dir_all(&dir)?;
-    Ok(dir)
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+impl AsRef<std::ffi::OsStr> for Scratch {
+    fn as_ref(&self) -> &std::ffi::OsStr {
+        self.0.path().as_os_str()
+    }
 }
 
 /// The path as a `&str` (empty if it is not UTF-8, which the tests' paths always are).
