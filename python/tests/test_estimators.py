@@ -190,7 +190,8 @@ def test_cli_defaults_match_the_estimator():
     for flag, key in (("--max-fit-rows", "max_fit_rows"),
                       ("--complexity-per-input", "complexity_per_input"),
                       ("--candidates-per-epoch", "candidates_per_epoch"),
-                      ("--lm-iterations", "lm_iterations")):
+                      ("--lm-iterations", "lm_iterations"),
+                      ("--epochs", "epochs")):
         text = out[out.index(flag + " <"):]
         default = int(text[text.index("[default: ") + 10:text.index("]")])
         assert default == params[key], f"{flag}: hxai sr {default}, estimator {params[key]}"
@@ -211,6 +212,8 @@ def test_bad_input_messages(quadratic):
         SymbolicRegressor(**FAST, operators=("add", "tanhh")).fit(X, y)
     with pytest.raises(ValueError, match="criterion"):
         SymbolicRegressor(**FAST, criterion="mdl").fit(X, y)
+    with pytest.raises(ValueError, match="max_key_nodes must be None or a non-negative integer"):
+        SymbolicRegressor(**FAST, max_key_nodes=-1).fit(X, y)
     with pytest.raises(ValueError, match="random_start `sometimes`: use always or on_failure"):
         SymbolicRegressor(**FAST, random_start="sometimes").fit(X, y)
     m = SymbolicRegressor(**FAST).fit(X, y)

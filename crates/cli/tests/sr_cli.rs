@@ -284,8 +284,11 @@ fn strategy_criterion_and_budget_options() -> TestResult {
             "--no-separability",
             "--random-start",
             "on-failure",
+            "--max-key-nodes",
+            "0",
         ],
     )?;
+    assert_eq!(doc["duplicate_structures"], 0, "no candidate keyed");
     let evals = doc["evaluations"].as_u64().ok_or("evaluations")?;
     assert!(evals <= 3 * 200, "{evals} evaluations in 3 epochs of 200");
     assert!(doc["best"]["r2"].as_f64().ok_or("r2")? > 0.999, "{doc}");

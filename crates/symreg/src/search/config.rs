@@ -200,6 +200,14 @@ pub struct SearchConfig {
     /// [`SearchResult::duplicate_structures`](crate::SearchResult::duplicate_structures)
     /// counts such candidates either way).
     pub skip_equivalent: bool,
+    /// The largest program (in nodes: inputs, constants and operators) whose structure key
+    /// the search computes: a new candidate of more nodes is fitted without one, so it is
+    /// neither skipped as an equivalent nor counted as one. `None` (the default) keys every
+    /// new candidate. The keys of long programs cost the most (equality saturation grows
+    /// with the program) and they are rarely equal to a structure fitted before: measured
+    /// with `hxai sr --max-key-nodes 10` on the AI Feynman 100, about 40 % less time and a
+    /// few laws fewer (docs/benchmarks.md, "Keys for the short programs only").
+    pub max_key_nodes: Option<usize>,
     /// Return a reported model as its canonical form when the algebra proves it equal to a
     /// shorter one with no more fitted constants ([`crate::canonical::canonical_program`];
     /// docs/interfaces.md, "Simplification after the search"): true by default. False
@@ -248,6 +256,7 @@ impl Default for SearchConfig {
             nesting: Nesting::none(),
             consensus_runs: 0,
             skip_equivalent: true,
+            max_key_nodes: None,
             simplify: true,
             runners_up: 0,
             par: Par::Current,

@@ -241,6 +241,14 @@ impl LoopState {
                     fresh.push(i);
                 }
             }
+            // candidates too long to key are fitted unkeyed
+            if let Some(max) = cfg.max_key_nodes {
+                let (short, long) = fresh
+                    .iter()
+                    .partition(|&&i| cands[i].program.nodes.len() <= max);
+                fresh = short;
+                todo = long;
+            }
             let keys: Vec<String> = pool.install(|| {
                 fresh
                     .par_iter()
@@ -363,6 +371,49 @@ mod tests {
             } else {
                 assert_eq!(f2[0].program.nodes, ba);
             }
+        }
+    }
+
+    // `max_key_nodes` keys only candidates of at most that many nodes: `x1 + x0` (3 nodes)
+    // after `x0 + x1` is skipped as an equivalent when keyed, fitted as new when not
+    #[test]
+    fn candidates_longer_than_max_key_nodes_are_fitted_unkeyed() {
+        let x0: Vec<f64> = (0..50).map(|i| 1.0 + i as f64 / 10.0).collect();
+        let x1: Vec<f64> = (0..50).map(|i| ((i * 7) % 11) as f64).collect();
+        let y: Vec<f64> = x0.iter().zip(&x1).map(|(a, b)| a + 2.0 * b).collect();
+        let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+        let prog = |nodes: Vec<Node>| Program {
+            nodes,
+            affine: true,
+        };
+        let ab = prog(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)]);
+        let ba = prog(vec![Node::Var(1), Node::Var(0), Node::Op(Op::Add)]);
+        for (max, keyed) in [
+            (None, true),
+            (Some(3), true),
+            (Some(2), false),
+            (Some(0), false),
+        ] {
+            let cfg = SearchConfig {
+                max_key_nodes: max,
+                ..SearchConfig::default()
+            };
+            let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
+            let rules = Nesting::none().rules().unwrap();
+            let pool = cfg.par.pool();
+            let mut state = LoopState::default();
+            let t0 = Instant::now();
+            let c = |p: &Program| Candidate::new(p.clone(), None, 0);
+            state.fit_epoch(&problem, &rules, &[c(&ab)], 0, t0, &pool);
+            let (f, _) = state.fit_epoch(&problem, &rules, &[c(&ba)], 1, t0, &pool);
+            assert_eq!(state.duplicate_structures, u64::from(keyed), "{max:?}");
+            assert_eq!(state.evaluations, if keyed { 1 } else { 2 }, "{max:?}");
+            assert_eq!(
+                f[0].program,
+                if keyed { ab.clone() } else { ba.clone() },
+                "{max:?}"
+            );
+            assert_eq!(state.structures.len(), usize::from(keyed), "{max:?}");
         }
     }
 
