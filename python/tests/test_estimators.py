@@ -156,7 +156,9 @@ def test_deterministic_and_seeded(quadratic):
     pd.testing.assert_frame_equal(a.pareto_, b.pareto_)
 
 
-def test_same_result_as_cli(quadratic, tmp_path):
+@pytest.mark.parametrize("cli_args, kwargs", [([], {}),
+                                              (["--max-key-nodes", "4"], {"max_key_nodes": 4})])
+def test_same_result_as_cli(quadratic, tmp_path, cli_args, kwargs):
     binary = hxai_binary()
     X, y = quadratic
     table = X.assign(y=y)
@@ -166,12 +168,12 @@ def test_same_result_as_cli(quadratic, tmp_path):
     table = pd.read_csv(csv)
     out = subprocess.run(
         [binary, "sr", "--csv", str(csv), "--target", "y", "--epochs", "2", "--seed", "3",
-         "--max-complexity", "6", "--json"],
+         "--max-complexity", "6", "--json", *cli_args],
         check=True, capture_output=True, text=True,
     )
     cli = json.loads(out.stdout)
     # the other search settings at `hxai sr`'s defaults on both sides
-    m = SymbolicRegressor(epochs=2, seed=3, max_complexity=6).fit(
+    m = SymbolicRegressor(epochs=2, seed=3, max_complexity=6, **kwargs).fit(
         table[["a", "b"]], table["y"]
     )
     assert m.sympy_ == cli["best"]["sympy"]
@@ -179,6 +181,7 @@ def test_same_result_as_cli(quadratic, tmp_path):
     assert m.latex_ == cli["best"]["latex"]
     assert m.features_ == cli["best"]["features"]
     assert list(m.pareto_["equation"]) == [p["equation"] for p in cli["pareto"]]
+    assert m.evaluations_ == cli["evaluations"]
 
 
 def test_cli_defaults_match_the_estimator():
