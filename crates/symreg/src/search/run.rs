@@ -326,15 +326,38 @@ mod tests {
     use crate::nesting::Nesting;
     use crate::program::Node;
 
+    /// 50 rows of `x0`, `x1` and the target `y = x0 + 2 x1`.
+    fn sum_table() -> (Table, Vec<f64>) {
+        let x0: Vec<f64> = (0..50).map(|i| 1.0 + i as f64 / 10.0).collect();
+        let x1: Vec<f64> = (0..50).map(|i| ((i * 7) % 11) as f64).collect();
+        let y: Vec<f64> = x0.iter().zip(&x1).map(|(a, b)| a + 2.0 * b).collect();
+        let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+        (data, y)
+    }
+
+    /// Fits `first` then `second` as two rounds of one search under `cfg` on [`sum_table`]:
+    /// the loop's state after them and each round's fits.
+    fn two_rounds(
+        cfg: &SearchConfig,
+        first: &[Candidate],
+        second: &[Candidate],
+    ) -> (LoopState, Vec<Fitted>, Vec<Fitted>) {
+        let (data, y) = sum_table();
+        let problem = Problem::all_rows(&data, &y, 1.0, cfg);
+        let rules = Nesting::none().rules().unwrap();
+        let pool = cfg.par.pool();
+        let mut state = LoopState::default();
+        let t0 = Instant::now();
+        let (f1, _) = state.fit_epoch(&problem, &rules, first, 0, t0, &pool);
+        let (f2, _) = state.fit_epoch(&problem, &rules, second, 1, t0, &pool);
+        (state, f1, f2)
+    }
+
     // `x0 + x1`, `x1 + x0` and `x0 + x1` again, over two rounds: the exact repeat is a cache
     // hit either way; the reordered one is a duplicate structure, fitted again only when
     // `skip_equivalent` is off.
     #[test]
     fn an_equal_structure_takes_the_earlier_fit_unless_told_otherwise() {
-        let x0: Vec<f64> = (0..50).map(|i| 1.0 + i as f64 / 10.0).collect();
-        let x1: Vec<f64> = (0..50).map(|i| ((i * 7) % 11) as f64).collect();
-        let y: Vec<f64> = x0.iter().zip(&x1).map(|(a, b)| a + 2.0 * b).collect();
-        let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
         let cand = |nodes: Vec<Node>, tag: u32| {
             Candidate::new(
                 Program {
@@ -352,15 +375,9 @@ mod tests {
                 skip_equivalent: skip,
                 ..SearchConfig::default()
             };
-            let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
-            let rules = Nesting::none().rules().unwrap();
-            let pool = cfg.par.pool();
-            let mut state = LoopState::default();
-            let t0 = Instant::now();
             let first = [cand(ab.clone(), 0)];
-            let (f1, _) = state.fit_epoch(&problem, &rules, &first, 0, t0, &pool);
             let second = [cand(ba.clone(), 1), cand(ab.clone(), 2)];
-            let (f2, _) = state.fit_epoch(&problem, &rules, &second, 1, t0, &pool);
+            let (state, f1, f2) = two_rounds(&cfg, &first, &second);
             assert_eq!(f2.len(), 2);
             assert_eq!(state.duplicate_structures, 1, "skip {skip}");
             assert_eq!(state.evaluations, if skip { 1 } else { 2 }, "skip {skip}");
@@ -378,10 +395,6 @@ mod tests {
     // after `x0 + x1` is skipped as an equivalent when keyed, fitted as new when not
     #[test]
     fn candidates_longer_than_max_key_nodes_are_fitted_unkeyed() {
-        let x0: Vec<f64> = (0..50).map(|i| 1.0 + i as f64 / 10.0).collect();
-        let x1: Vec<f64> = (0..50).map(|i| ((i * 7) % 11) as f64).collect();
-        let y: Vec<f64> = x0.iter().zip(&x1).map(|(a, b)| a + 2.0 * b).collect();
-        let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
         let prog = |nodes: Vec<Node>| Program {
             nodes,
             affine: true,
@@ -398,14 +411,8 @@ mod tests {
                 max_key_nodes: max,
                 ..SearchConfig::default()
             };
-            let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
-            let rules = Nesting::none().rules().unwrap();
-            let pool = cfg.par.pool();
-            let mut state = LoopState::default();
-            let t0 = Instant::now();
             let c = |p: &Program| Candidate::new(p.clone(), None, 0);
-            state.fit_epoch(&problem, &rules, &[c(&ab)], 0, t0, &pool);
-            let (f, _) = state.fit_epoch(&problem, &rules, &[c(&ba)], 1, t0, &pool);
+            let (state, _, f) = two_rounds(&cfg, &[c(&ab)], &[c(&ba)]);
             assert_eq!(state.duplicate_structures, u64::from(keyed), "{max:?}");
             assert_eq!(state.evaluations, if keyed { 1 } else { 2 }, "{max:?}");
             assert_eq!(
@@ -421,10 +428,7 @@ mod tests {
     // first, then `x0 + x1`
     #[test]
     fn a_shorter_spelling_is_fitted() {
-        let x0: Vec<f64> = (0..50).map(|i| 1.0 + i as f64 / 10.0).collect();
-        let x1: Vec<f64> = (0..50).map(|i| ((i * 7) % 11) as f64).collect();
-        let y: Vec<f64> = x0.iter().zip(&x1).map(|(a, b)| a + 2.0 * b).collect();
-        let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
+        let (data, y) = sum_table();
         let cfg = SearchConfig::default();
         let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
         let rules = Nesting::none().rules().unwrap();
