@@ -428,13 +428,6 @@ mod tests {
     // first, then `x0 + x1`
     #[test]
     fn a_shorter_spelling_is_fitted() {
-        let (data, y) = sum_table();
-        let cfg = SearchConfig::default();
-        let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
-        let rules = Nesting::none().rules().unwrap();
-        let pool = cfg.par.pool();
-        let mut state = LoopState::default();
-        let t0 = Instant::now();
         let prog = |nodes: Vec<Node>| Program {
             nodes,
             affine: true,
@@ -449,8 +442,8 @@ mod tests {
         let short = prog(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)]);
         assert_eq!(search_key(&long), search_key(&short), "one structure");
         let c = |p: &Program| Candidate::new(p.clone(), None, 0);
-        state.fit_epoch(&problem, &rules, &[c(&long)], 0, t0, &pool);
-        let (f, _) = state.fit_epoch(&problem, &rules, &[c(&short), c(&long)], 1, t0, &pool);
+        let cfg = SearchConfig::default();
+        let (state, _, f) = two_rounds(&cfg, &[c(&long)], &[c(&short), c(&long)]);
         assert_eq!(state.evaluations, 2);
         assert_eq!(state.duplicate_structures, 0, "the long one is a cache hit");
         assert_eq!(f[0].program, short);
