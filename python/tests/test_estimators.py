@@ -13,7 +13,8 @@ from sklearn.utils.estimator_checks import parametrize_with_checks
 
 import hxai
 from hxai import HybridRegressor, SymbolicRegressor, _hxai
-from hxai.estimators import _SEARCH_KEYS, SR_COMPLEXITY_PER_INPUT, SR_MAX_FIT_ROWS
+from hxai.estimators import (_SEARCH_KEYS, SR_COMPLEXITY_PER_INPUT, SR_MAX_FIT_ROWS,
+                             SR_MAX_KEY_NODES)
 
 from conftest import FAST, hxai_binary
 
@@ -92,6 +93,9 @@ def test_defaults_are_the_engines():
             if k == "max_fit_rows" and isinstance(est, SymbolicRegressor):
                 # `hxai sr`'s value (`--max-fit-rows`), checked against its help below
                 want = SR_MAX_FIT_ROWS
+            if k == "max_key_nodes" and isinstance(est, SymbolicRegressor):
+                # `hxai sr`'s value (`--max-key-nodes`), checked against its help below
+                want = SR_MAX_KEY_NODES
             assert got == want, f"{type(est).__name__}.{k}: {got!r} != engine's {want!r}"
     assert set(_SEARCH_KEYS) == set(rust), "a search setting is missing from the estimators"
 
@@ -157,7 +161,9 @@ def test_deterministic_and_seeded(quadratic):
 
 
 @pytest.mark.parametrize("cli_args, kwargs", [([], {}),
-                                              (["--max-key-nodes", "4"], {"max_key_nodes": 4})])
+                                              (["--max-key-nodes", "4"], {"max_key_nodes": 4}),
+                                              (["--max-key-nodes", "all"],
+                                               {"max_key_nodes": None})])
 def test_same_result_as_cli(quadratic, tmp_path, cli_args, kwargs):
     binary = hxai_binary()
     X, y = quadratic
@@ -194,6 +200,7 @@ def test_cli_defaults_match_the_estimator():
                       ("--complexity-per-input", "complexity_per_input"),
                       ("--candidates-per-epoch", "candidates_per_epoch"),
                       ("--lm-iterations", "lm_iterations"),
+                      ("--max-key-nodes", "max_key_nodes"),
                       ("--epochs", "epochs")):
         text = out[out.index(flag + " <"):]
         default = int(text[text.index("[default: ") + 10:text.index("]")])

@@ -9,6 +9,36 @@ use std::path::PathBuf;
 /// `SymbolicRegressor` has the same default.
 pub const SR_MAX_FIT_ROWS: usize = 500;
 
+/// The largest candidate (in nodes) `hxai sr` computes a structure key for by default
+/// (`--max-key-nodes`); Python's `SymbolicRegressor` has the same default. The library's
+/// default keys every candidate.
+pub const SR_MAX_KEY_NODES: usize = 14;
+
+/// `--max-key-nodes`: a number of nodes, or `all` (`None`: every candidate keyed).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct KeyNodes(pub Option<usize>);
+
+impl KeyNodes {
+    fn parse(s: &str) -> Result<Self, String> {
+        if s.trim() == "all" {
+            return Ok(KeyNodes(None));
+        }
+        s.trim()
+            .parse::<usize>()
+            .map(|n| KeyNodes(Some(n)))
+            .map_err(|_| format!("`{s}` is not a number of nodes (0 or more) or `all`"))
+    }
+}
+
+impl std::fmt::Display for KeyNodes {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.0 {
+            Some(n) => write!(f, "{n}"),
+            None => f.write_str("all"),
+        }
+    }
+}
+
 /// Arguments of `hxai sr`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -52,13 +82,13 @@ pub struct Args {
     pub refit_equivalent: bool,
     /// Compute the structure key (to skip a candidate whose structure was fitted before)
     /// only for candidates of at most N nodes (inputs, constants and operators), and fit
-    /// longer ones without one; by default every candidate is keyed. The keys of long
-    /// programs cost the most and they are rarely equal to one fitted before: measured on
-    /// the AI Feynman 100, N = 10 takes about 40 % less time and recovers 2 laws fewer at
-    /// noise 0 and 4 fewer at 1 % (docs/benchmarks.md, "Keys for the short programs
-    /// only"). 0 keys none.
-    #[arg(long)]
-    pub max_key_nodes: Option<usize>,
+    /// longer ones without one; `all` keys every candidate (the library's default), 0 none.
+    /// The keys of long programs cost the most and they are rarely equal to one fitted
+    /// before: on the AI Feynman 100, N = 14 took about a fifth less CPU time than `all`
+    /// with as many laws recovered (docs/benchmarks.md, "Keys for the short programs
+    /// only").
+    #[arg(long, default_value_t = KeyNodes(Some(SR_MAX_KEY_NODES)), value_parser = KeyNodes::parse)]
+    pub max_key_nodes: KeyNodes,
     /// Report the models as the search wrote them, not in the shorter form the algebra
     /// proves them equal to (for measuring what the simplification changes: `simplified`
     /// in `--json` counts the models it shortened).
@@ -241,7 +271,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         cv_folds: args.cv_folds,
         complexity_penalty: args.complexity_penalty,
         skip_equivalent: !args.refit_equivalent,
-        max_key_nodes: args.max_key_nodes,
+        max_key_nodes: args.max_key_nodes.0,
         simplify: !args.no_simplify,
         separability: !args.no_separability,
         ..SearchConfig::default()

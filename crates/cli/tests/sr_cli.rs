@@ -198,6 +198,15 @@ fn bad_input_gives_a_clear_error() -> TestResult {
             ],
             "[possible values: always, on-failure]",
         ),
+        (
+            vec![
+                "--target".into(),
+                "y".into(),
+                "--max-key-nodes".into(),
+                "many".into(),
+            ],
+            "`many` is not a number of nodes (0 or more) or `all`",
+        ),
     ];
     for (extra, needle) in cases {
         let mut args = vec!["sr".to_string(), "--csv".into(), good.into()];
@@ -292,6 +301,27 @@ fn strategy_criterion_and_budget_options() -> TestResult {
     let evals = doc["evaluations"].as_u64().ok_or("evaluations")?;
     assert!(evals <= 3 * 200, "{evals} evaluations in 3 epochs of 200");
     assert!(doc["best"]["r2"].as_f64().ok_or("r2")? > 0.999, "{doc}");
+    // `all` keys every candidate (the library's default), so duplicates are found again
+    let all = sr_json(
+        &csv,
+        &[
+            "--max-fit-rows",
+            "60",
+            "--candidates-per-epoch",
+            "200",
+            "--lm-iterations",
+            "10",
+            "--epochs",
+            "3",
+            "--no-separability",
+            "--random-start",
+            "on-failure",
+            "--max-key-nodes",
+            "all",
+        ],
+    )?;
+    let dups = all["duplicate_structures"].as_u64().ok_or("duplicates")?;
+    assert!(dups > 0, "`all` keyed no candidate: {all}");
     Ok(())
 }
 

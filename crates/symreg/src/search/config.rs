@@ -202,11 +202,12 @@ pub struct SearchConfig {
     pub skip_equivalent: bool,
     /// The largest program (in nodes: inputs, constants and operators) whose structure key
     /// the search computes: a new candidate of more nodes is fitted without one, so it is
-    /// neither skipped as an equivalent nor counted as one. `None` (the default) keys every
-    /// new candidate. The keys of long programs cost the most (equality saturation grows
-    /// with the program) and they are rarely equal to a structure fitted before: measured
-    /// with `hxai sr --max-key-nodes 10` on the AI Feynman 100, about 40 % less time and a
-    /// few laws fewer (docs/benchmarks.md, "Keys for the short programs only").
+    /// neither skipped as an equivalent nor counted as one. `None` (the default, and the
+    /// hybrid corrections') keys every new candidate; `hxai sr` uses 14. The keys of long
+    /// programs cost the most (equality saturation grows with the program) and they are
+    /// rarely equal to a structure fitted before: on the AI Feynman 100, 14 took about a
+    /// fifth less CPU time than `None` with as many laws, 10 about 40 % less with a few
+    /// laws fewer (docs/benchmarks.md, "Keys for the short programs only").
     pub max_key_nodes: Option<usize>,
     /// Return a reported model as its canonical form when the algebra proves it equal to a
     /// shorter one with no more fitted constants ([`crate::canonical::canonical_program`];
