@@ -278,48 +278,35 @@ fn strategy_criterion_and_budget_options() -> TestResult {
             "{strategy}/{criterion}: {doc}"
         );
     }
-    // the search's fitting effort: rows, candidates per epoch, iterations per fit
-    let doc = sr_json(
-        &csv,
-        &[
-            "--max-fit-rows",
-            "60",
-            "--candidates-per-epoch",
-            "200",
-            "--lm-iterations",
-            "10",
-            "--epochs",
-            "3",
-            "--no-separability",
-            "--random-start",
-            "on-failure",
-            "--max-key-nodes",
-            "0",
-        ],
-    )?;
+    // the search's fitting effort: rows, candidates per epoch, iterations per fit; and
+    // which candidates get a structure key
+    let small_search = |max_key_nodes: &str| {
+        sr_json(
+            &csv,
+            &[
+                "--max-fit-rows",
+                "60",
+                "--candidates-per-epoch",
+                "200",
+                "--lm-iterations",
+                "10",
+                "--epochs",
+                "3",
+                "--no-separability",
+                "--random-start",
+                "on-failure",
+                "--max-key-nodes",
+                max_key_nodes,
+            ],
+        )
+    };
+    let doc = small_search("0")?;
     assert_eq!(doc["duplicate_structures"], 0, "no candidate keyed");
     let evals = doc["evaluations"].as_u64().ok_or("evaluations")?;
     assert!(evals <= 3 * 200, "{evals} evaluations in 3 epochs of 200");
     assert!(doc["best"]["r2"].as_f64().ok_or("r2")? > 0.999, "{doc}");
     // `all` keys every candidate (the library's default), so duplicates are found again
-    let all = sr_json(
-        &csv,
-        &[
-            "--max-fit-rows",
-            "60",
-            "--candidates-per-epoch",
-            "200",
-            "--lm-iterations",
-            "10",
-            "--epochs",
-            "3",
-            "--no-separability",
-            "--random-start",
-            "on-failure",
-            "--max-key-nodes",
-            "all",
-        ],
-    )?;
+    let all = small_search("all")?;
     let dups = all["duplicate_structures"].as_u64().ok_or("duplicates")?;
     assert!(dups > 0, "`all` keyed no candidate: {all}");
     Ok(())
