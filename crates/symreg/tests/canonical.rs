@@ -3,8 +3,8 @@
 //! invariance.
 #![allow(clippy::unwrap_used)]
 use hxai_symreg::canonical::{
-    Effort, canonical_expr, canonical_program, canonicalize, structure_expr_with, structure_key,
-    structure_key_expr, structure_with,
+    Effort, canonical_expr, canonical_program, canonicalize, degrees_of_freedom,
+    structure_expr_with, structure_key, structure_key_expr, structure_with,
 };
 use hxai_symreg::expr::Expr;
 use hxai_symreg::{Node, Op, Program, infix};
@@ -228,6 +228,53 @@ fn programs_equal_up_to_constants_share_a_key() {
     // and different programs differ
     let c = prog(vec![Var(0), Var(1), op(Op::Gaussian2)], true);
     assert_ne!(structure_key(&a, &names()), structure_key(&c, &names()));
+}
+
+// A parameter that is exactly 0 (a snapped shift) leaves the structure; every other one
+// counts, whatever its value: `s*log(w*x + b) + o` is `c*log(x) + c` at `b = 0` (the scale
+// `w` gives up its constant to the offset), `c*log(x + c) + c` otherwise.
+#[test]
+fn degrees_of_freedom_count_the_constants_the_algebra_leaves() {
+    use Node::Var;
+    let op = Node::Op;
+    let log = prog(vec![Var(0), op(Op::Log)], true);
+    let inv = prog(vec![Var(0), op(Op::Inverse)], true);
+    let n = names();
+    assert_eq!(degrees_of_freedom(&log, &[-2.46, -4.0, 1.3, 0.0], &n), 2);
+    assert_eq!(degrees_of_freedom(&log, &[-2.46, -4.0, 1.3, 0.01], &n), 3);
+    // a whole number is a constant still fitted: it counts
+    assert_eq!(degrees_of_freedom(&log, &[-2.0, -4.0, 1.0, 2.0], &n), 3);
+    // s/(w*x + b) + o is c/(x + c) + c
+    assert_eq!(degrees_of_freedom(&inv, &[4.8, -6.0, 1.5, 0.5], &n), 3);
+    assert_eq!(degrees_of_freedom(&inv, &[4.8, -6.0, 1.5, 0.0], &n), 2);
+    // a product of two affine inputs: c*(x + c)*(y + c) + c, and c*x*(y + c) + c
+    let mul = prog(vec![Var(0), Var(1), op(Op::Mul)], true);
+    assert_eq!(
+        degrees_of_freedom(&mul, &[1.2, 0.3, 0.7, 0.1, 1.1, 0.4], &n),
+        4
+    );
+    assert_eq!(
+        degrees_of_freedom(&mul, &[1.2, 0.3, 0.7, 0.0, 1.1, 0.4], &n),
+        3
+    );
+}
+
+// With no parameter at 0, the degrees of freedom are the parameters of the structure key:
+// its `c`s, on random programs of 5 and 6 nodes with and without affine inputs.
+#[test]
+fn degrees_of_freedom_without_zeros_are_the_keys_constants() {
+    let names = vec!["x0".to_string(), "x1".into(), "x2".into()];
+    let mut programs = hxai_symreg::bench_programs::affine_programs(40, 5);
+    programs.extend(hxai_symreg::bench_programs::programs(40, 6));
+    for (program, params) in &programs {
+        let values: Vec<f64> = (0..params.len()).map(|i| 0.3 + i as f64 * 0.37).collect();
+        let key = structure_key(program, &names);
+        let cs = key
+            .split(|ch: char| !ch.is_alphanumeric() && ch != '_')
+            .filter(|t| *t == "c")
+            .count();
+        assert_eq!(degrees_of_freedom(program, &values, &names), cs, "{key}");
+    }
 }
 
 #[test]

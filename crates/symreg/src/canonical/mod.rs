@@ -205,16 +205,28 @@ fn run(e: &Expr, effort: Effort, key: bool) -> Canonical {
     finish(g, root, &names, effort, key)
 }
 
-fn finish(mut g: Graph, root: Id, names: &[String], effort: Effort, key: bool) -> Canonical {
+fn finish(g: Graph, root: Id, names: &[String], effort: Effort, key: bool) -> Canonical {
+    finish_counted(g, root, names, effort, key).0
+}
+
+/// [`finish`], and the number of parameters in the form (in a key: the terms printed `c`).
+fn finish_counted(
+    mut g: Graph,
+    root: Id,
+    names: &[String],
+    effort: Effort,
+    key: bool,
+) -> (Canonical, usize) {
     let saturated = saturate(&mut g, effort);
     let toks = extract(&g, root, key);
     let term = decode(&toks, &mut 0);
     let expr = Pretty { names, key }.expr(&term);
-    Canonical {
+    let canonical = Canonical {
         expr,
         saturated,
         nodes: g.total_size(),
-    }
+    };
+    (canonical, term.parameters())
 }
 
 /// The canonical form of `e` (see the module docs): equal in value to `e` wherever both are
@@ -261,9 +273,31 @@ pub fn structure_with(program: &Program, names: &[String], effort: Effort) -> Ca
     finish(g, root, &names, effort, true)
 }
 
+/// The structure of a fitted program ([`structure_key`]) with its parameters that are
+/// exactly 0 kept as 0, and the number of parameters the structure has: its degrees of
+/// freedom. A constant snapped to 0 takes its term or its shift out of the equation, so
+/// `c*log(c*x + 0) + c` is `c*log(x) + c`, two parameters, where [`structure_key`] gives
+/// `c*log(x + c) + c`, three; every other parameter, whatever its value, is one.
+/// Selection ranks models of one complexity by it ([`crate::search`]'s one-standard-error
+/// rule): of two equations the data cannot tell apart, the one with fewer constants to fit.
+pub fn degrees_of_freedom(program: &Program, params: &[f64], names: &[String]) -> usize {
+    let zero = |i: usize| params.get(i).is_some_and(|&v| v == 0.0);
+    let (g, root, names) = program_graph_with(program, names, &zero);
+    finish_counted(g, root, &names, Effort::Full, true).1
+}
+
 /// The e-graph of `scale * root + offset` for `program` with every parameter generic, its
 /// root, and the sorted names of its inputs.
 fn program_graph(program: &Program, names: &[String]) -> (Graph, Id, Vec<String>) {
+    program_graph_with(program, names, &|_| false)
+}
+
+/// [`program_graph`] with the parameters `zero` marks entered as 0 instead of generic.
+fn program_graph_with(
+    program: &Program,
+    names: &[String],
+    zero: &dyn Fn(usize) -> bool,
+) -> (Graph, Id, Vec<String>) {
     let name = |j: u16| {
         names
             .get(j as usize)
@@ -279,21 +313,22 @@ fn program_graph(program: &Program, names: &[String]) -> (Graph, Id, Vec<String>
         names: sorted,
     };
     let offs = program.param_offsets();
+    let param = |i: usize| if zero(i) { 0.0 } else { generic(i) };
     let mut stack: Vec<Id> = Vec::with_capacity(program.nodes.len());
     for (k, n) in program.nodes.iter().enumerate() {
         let id = match n {
             Node::Var(j) => {
                 let x = b.var(&name(*j));
                 if program.affine {
-                    let w = b.num(generic(offs[k]));
-                    let c = b.num(generic(offs[k] + 1));
+                    let w = b.num(param(offs[k]));
+                    let c = b.num(param(offs[k] + 1));
                     let wx = b.g.add(Math::Mul([w, x]));
                     b.g.add(Math::Add([wx, c]))
                 } else {
                     x
                 }
             }
-            Node::Const => b.num(generic(offs[k])),
+            Node::Const => b.num(param(offs[k])),
             Node::Op(op) => {
                 if op.arity() == 2 {
                     let nan = b.num(f64::NAN);
@@ -312,8 +347,8 @@ fn program_graph(program: &Program, names: &[String]) -> (Graph, Id, Vec<String>
     }
     let nan = b.num(f64::NAN);
     let root = stack.pop().unwrap_or(nan);
-    let s = b.num(generic(0));
-    let o = b.num(generic(1));
+    let s = b.num(param(0));
+    let o = b.num(param(1));
     let sr = b.g.add(Math::Mul([s, root]));
     let root = b.g.add(Math::Add([sr, o]));
     let names = b.names;

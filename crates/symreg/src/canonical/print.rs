@@ -15,6 +15,19 @@ pub(super) enum Term {
     Op(u8, Vec<Term>),
 }
 
+impl Term {
+    /// The parameters in a structure's term: generic values and numbers that are not small
+    /// literals (those [`Pretty`] prints `c` in a key).
+    pub(super) fn parameters(&self) -> usize {
+        match self {
+            Term::Gen => 1,
+            Term::Num(v) => usize::from(!is_literal(*v)),
+            Term::Var(_) => 0,
+            Term::Op(_, ch) => ch.iter().map(Term::parameters).sum(),
+        }
+    }
+}
+
 pub(super) fn decode(toks: &[Tok], at: &mut usize) -> Term {
     let t = toks.get(*at).copied().unwrap_or(num_tok(f64::NAN));
     *at += 1;

@@ -218,8 +218,9 @@ pub struct SearchConfig {
     /// Distinct programs kept at each complexity besides the one that fits best, and
     /// offered to selection with it: 0 for `hxai sr` (one model per complexity), 3 for
     /// hybrid corrections ([`SearchConfig::paper`]), where several short structures fit
-    /// alike within the noise and selection then prefers the plainest
-    /// ([`crate::search::plainness`]) instead of the one that happened to fit a little
+    /// alike within the noise and selection then prefers the one with the fewest degrees
+    /// of freedom ([`crate::canonical::degrees_of_freedom`]), then the plainest
+    /// ([`crate::search::plainness`]), instead of the one that happened to fit a little
     /// better on these rows. At most 20.
     pub runners_up: usize,
     /// Threads of the search (and of [`crate::stability()`]'s runs): [`Par::Current`] by

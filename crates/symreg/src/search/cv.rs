@@ -3,7 +3,7 @@
 //! them, and the models within one standard error of the best ("the data cannot tell these
 //! apart").
 use super::fitting::Problem;
-use super::selection::{REFIT_LM_ITERATIONS, REFIT_LM_TOLERANCE, simplest_first};
+use super::selection::{REFIT_LM_ITERATIONS, REFIT_LM_TOLERANCE, simplest};
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::model::Model;
@@ -179,11 +179,11 @@ fn cv_loss(
 /// `cv[i]` is the mean and standard error of `models[i]`'s held-out loss.
 pub(super) fn one_standard_error_pick(models: &[Model], cv: &[(f64, f64)]) -> Option<Model> {
     let limit = one_standard_error_limit(cv);
-    models
-        .iter()
-        .zip(cv)
-        .filter(|(_, (mean, _))| *mean <= limit)
-        .map(|(m, _)| m)
-        .min_by(|a, b| simplest_first(a, b))
-        .cloned()
+    simplest(
+        models
+            .iter()
+            .zip(cv)
+            .filter(|(_, (mean, _))| *mean <= limit)
+            .map(|(m, _)| m),
+    )
 }

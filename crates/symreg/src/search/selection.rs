@@ -182,7 +182,7 @@ fn reported_fits(archive: &Archive) -> Vec<Fitted> {
 }
 
 /// How plain a model reads: the sum of [`crate::Op::plainness`] over its operators. Selection
-/// breaks ties of complexity by it, before the criterion's score.
+/// breaks ties of complexity and degrees of freedom by it, before the criterion's score.
 pub fn plainness(m: &Model) -> usize {
     m.program
         .nodes
@@ -194,13 +194,24 @@ pub fn plainness(m: &Model) -> usize {
         .sum()
 }
 
-/// The order selection picks by among models the criterion cannot tell apart: lower
-/// complexity, then plainer ([`plainness`]), then the better score.
-pub(super) fn simplest_first(a: &Model, b: &Model) -> std::cmp::Ordering {
-    a.complexity
-        .cmp(&b.complexity)
-        .then(plainness(a).cmp(&plainness(b)))
-        .then(a.score.total_cmp(&b.score))
+/// The model selection picks among `models`, which the criterion cannot tell apart: the
+/// lowest complexity, then the fewest degrees of freedom
+/// ([`crate::canonical::degrees_of_freedom`]: of two equations of one size, the one with
+/// fewer constants to fit), then the plainer ([`plainness`]), then the better score.
+pub(super) fn simplest<'m>(models: impl Iterator<Item = &'m Model>) -> Option<Model> {
+    models
+        .map(|m| {
+            let dof = crate::canonical::degrees_of_freedom(&m.program, &m.params, &m.feature_names);
+            (m, dof)
+        })
+        .min_by(|(a, da), (b, db)| {
+            a.complexity
+                .cmp(&b.complexity)
+                .then(da.cmp(db))
+                .then(plainness(a).cmp(&plainness(b)))
+                .then(a.score.total_cmp(&b.score))
+        })
+        .map(|(m, _)| m.clone())
 }
 
 /// One reported fit refitted on all rows (keeping the search's constants if the refit
@@ -412,11 +423,7 @@ fn simplest_within_one_charge(problem: &Problem, models: &[Model]) -> Option<Mod
         .min_by(|a, b| a.total_cmp(b))
         .unwrap_or(f64::INFINITY);
     let margin = problem.param_penalty(problem.y.len());
-    models
-        .iter()
-        .filter(|m| m.score <= best_score + margin)
-        .min_by(|a, b| simplest_first(a, b))
-        .cloned()
+    simplest(models.iter().filter(|m| m.score <= best_score + margin))
 }
 
 /// PySR's rule: among front models with a loss within [`PARETO_SCORE_LOSS_WINDOW`] of the
@@ -565,6 +572,36 @@ mod tests {
         assert_eq!(
             kept(a.train_mse * 0.5),
             vec![(ca, sa), (other.complexity, so)]
+        );
+    }
+
+    // Of two models of one complexity and plainness the criterion cannot tell apart, the
+    // one with fewer constants to fit is picked, even with the worse score: the log of a
+    // shift snapped to 0 (two degrees of freedom) over the rational (three); the score
+    // decides only between equals.
+    #[test]
+    fn the_pick_prefers_fewer_degrees_of_freedom_at_one_complexity() {
+        let names = vec!["f".to_string()];
+        let model = |op: Op, params: Vec<f64>, score: f64| {
+            let program = Program {
+                nodes: vec![Node::Var(0), Node::Op(op)],
+                affine: true,
+            };
+            let mut m = Model::new(names.clone(), program, params).unwrap();
+            m.score = score;
+            m
+        };
+        let log = model(Op::Log, vec![-2.46, -4.0, 1.3, 0.0], 1.01);
+        let rational = model(Op::Inverse, vec![4.8, -6.0, 1.5, 0.5], 1.0);
+        assert_eq!(log.complexity, rational.complexity);
+        assert_eq!(plainness(&log), plainness(&rational));
+        let pick = simplest([&rational, &log].into_iter()).unwrap();
+        assert_eq!((pick.program, pick.params), (log.program, log.params));
+        let shifted = model(Op::Log, vec![-2.46, -4.0, 1.3, 0.2], 1.01);
+        let pick = simplest([&shifted, &rational].into_iter()).unwrap();
+        assert_eq!(
+            (pick.program, pick.params),
+            (rational.program, rational.params)
         );
     }
 }
