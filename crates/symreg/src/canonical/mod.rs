@@ -278,8 +278,8 @@ pub fn structure_with(program: &Program, names: &[String], effort: Effort) -> Ca
 /// freedom. A constant snapped to 0 takes its term or its shift out of the equation, so
 /// `c*log(c*x + 0) + c` is `c*log(x) + c`, two parameters, where [`structure_key`] gives
 /// `c*log(x + c) + c`, three; every other parameter, whatever its value, is one.
-/// Selection ranks models of one complexity by it ([`crate::search`]'s one-standard-error
-/// rule): of two equations the data cannot tell apart, the one with fewer constants to fit.
+/// Selection ([`mod@crate::search`]) ranks the models of one complexity its criterion cannot
+/// tell apart by it: of two such equations, the one with fewer constants to fit.
 pub fn degrees_of_freedom(program: &Program, params: &[f64], names: &[String]) -> usize {
     let zero = |i: usize| params.get(i).is_some_and(|&v| v == 0.0);
     let (g, root, names) = program_graph_with(program, names, &zero);
