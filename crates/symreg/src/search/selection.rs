@@ -199,15 +199,19 @@ pub fn plainness(m: &Model) -> usize {
 /// ([`crate::canonical::degrees_of_freedom`]: of two equations of one size, the one with
 /// fewer constants to fit), then the plainer ([`plainness`]), then the better score.
 pub(super) fn simplest<'m>(models: impl Iterator<Item = &'m Model>) -> Option<Model> {
+    let models: Vec<&Model> = models.collect();
+    let lowest = models.iter().map(|m| m.complexity).min()?;
+    // the count runs the e-graph: only for the models of the lowest complexity, the others
+    // cannot be picked
     models
+        .into_iter()
+        .filter(|m| m.complexity == lowest)
         .map(|m| {
             let dof = crate::canonical::degrees_of_freedom(&m.program, &m.params, &m.feature_names);
             (m, dof)
         })
         .min_by(|(a, da), (b, db)| {
-            a.complexity
-                .cmp(&b.complexity)
-                .then(da.cmp(db))
+            da.cmp(db)
                 .then(plainness(a).cmp(&plainness(b)))
                 .then(a.score.total_cmp(&b.score))
         })
