@@ -79,9 +79,30 @@ fn cost_cmp(a: &[Tok], b: &[Tok]) -> Ordering {
     a.len().cmp(&b.len()).then_with(|| a.cmp(b))
 }
 
+/// Cost order of two terms of one class with `fewest`: length, then the fewer parameters
+/// ([`Tok::Gen`]), then lexicographic. Of two forms of one length the one with fewer
+/// constants is the absorbed one: `-sqrt(c*x)` and `c*sqrt(c*x)` are both `c*sqrt(-x)` (a
+/// form the second's e-graph holds too), where the token order alone would read back the
+/// second, whose two constants only one program can fill. Monotone in every child, as
+/// [`cost_cmp`] is: a parent's length and parameter count are sums of its children's.
+fn class_cmp(a: &[Tok], b: &[Tok], fewest: bool) -> Ordering {
+    let gens = |t: &[Tok]| t.iter().filter(|k| **k == Tok::Gen).count();
+    a.len()
+        .cmp(&b.len())
+        .then_with(|| {
+            if fewest {
+                gens(a).cmp(&gens(b))
+            } else {
+                Ordering::Equal
+            }
+        })
+        .then_with(|| a.cmp(b))
+}
+
 /// The cheapest term of every class, as its prefix tokens (see the module docs), read from
-/// the class of `root`.
-pub(super) fn extract(g: &Graph, root: Id, key: bool) -> Vec<Tok> {
+/// the class of `root`; with `fewest`, of two terms of one length the one with fewer
+/// parameters ([`class_cmp`]).
+pub(super) fn extract(g: &Graph, root: Id, key: bool, fewest: bool) -> Vec<Tok> {
     let slots = g
         .classes()
         .map(|c| usize::from(c.id) + 1)
@@ -135,7 +156,7 @@ pub(super) fn extract(g: &Graph, root: Id, key: bool) -> Vec<Tok> {
                 }
                 let better = best[slot]
                     .as_ref()
-                    .is_none_or(|cur| cost_cmp(&cand, cur) == Ordering::Less);
+                    .is_none_or(|cur| class_cmp(&cand, cur, fewest) == Ordering::Less);
                 if better {
                     best[slot] = Some(cand.clone());
                     changed = true;

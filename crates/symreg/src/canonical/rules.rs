@@ -38,7 +38,9 @@ pub enum Effort {
     Full,
     /// Every rule but the six that multiply the forms of sums and products (a number or a
     /// sign over a sum and back, `(a*b)^2` for `a` not a number, `exp(a)*exp(b)`) and the
-    /// three that cancel (`a*(1/a)`, `a^2*(1/a)`, `sqrt(a)^2`), up to 12
+    /// three that cancel (`a*(1/a)`, `a^2*(1/a)`, `sqrt(a)^2`), the three powers of an
+    /// exponential (`1/exp(a)`, `exp(a)^2`, `sqrt(exp(a))`), and reading back without the
+    /// tie-break by fewer parameters, up to 12
     /// iterations and 2,000 e-nodes: reordering, the shorthands, constant absorption in
     /// sums, products, `exp`, `log`, `sqrt`, squares and inverses, at a tenth of the cost
     /// (mean 73 us against 0.92 ms per call on programs of complexity up to 10 with affine
@@ -111,7 +113,9 @@ fn fast_rules() -> Vec<Rewrite<Math, Fold>> {
     ]
 }
 
-/// The rules [`Effort::Full`] adds: the ones that multiply the forms of sums and products.
+/// The rules [`Effort::Full`] adds: the ones that multiply the forms of sums and products,
+/// the cancelling ones and the powers of an exponential (out of `Fast`, whose keys steer
+/// the search).
 #[rustfmt::skip]
 fn more_rules() -> Vec<Rewrite<Math, Fold>> {
     vec![
@@ -123,6 +127,10 @@ fn more_rules() -> Vec<Rewrite<Math, Fold>> {
         rewrite!("factor-const"; "(+ (* ?c ?a) ?d)" => "(* ?c (+ ?a (* ?d (inv ?c))))"
             if is_nonzero_const("?c") if is_const("?d")),
         rewrite!("exp-mul"; "(* (exp ?a) (exp ?b))" => "(exp (+ ?a ?b))"),
+        // powers of an exponential are exponentials: `c/exp(c*x)` is `c*exp(c*x)`
+        rewrite!("inv-exp"; "(inv (exp ?a))" => "(exp (* -1.0 ?a))"),
+        rewrite!("square-exp"; "(square (exp ?a))" => "(exp (* 2.0 ?a))"),
+        rewrite!("sqrt-exp"; "(sqrt (exp ?a))" => "(exp (* 0.5 ?a))"),
         // cancelling: for the reported forms (a units composition's `m2/m1*m1^2`); left
         // out of `Fast`, whose keys steer the search (with them there, the search's path
         // changed on 165 of the 200 AI Feynman rows for no gain: docs/benchmarks.md)
