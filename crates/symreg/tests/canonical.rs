@@ -106,7 +106,11 @@ fn constants_are_absorbed() {
     same("c/exp(c*x) + c", "c*exp(c*x) + c", "c*exp(c*x) + c");
     same("c*exp(c*x)^2", "c*exp(c*x)", "c*exp(c*x)");
     same("c*sqrt(exp(c*x + c))", "c*exp(c*x)", "c*exp(c*x)");
-    same("c*(x + c)/exp(c*y) + c", "c*(x + c)*exp(c*y) + c", "c*(x + c)*exp(c*y) + c");
+    same(
+        "c*(x + c)/exp(c*y) + c",
+        "c*(x + c)*exp(c*y) + c",
+        "c*(x + c)*exp(c*y) + c",
+    );
 }
 
 #[test]
