@@ -10,7 +10,7 @@ use crate::canonical::canonical_program;
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::model::{Model, SnapRule, fold_data_constants, prune_snapped, snap_params};
-use crate::ops::parse_operators;
+use crate::ops::{Op, parse_operators};
 use crate::program::{Node, Program};
 use crate::stability::structure_of;
 use crate::uncertainty::is_exact;
@@ -181,18 +181,38 @@ fn reported_fits(archive: &Archive) -> Vec<Fitted> {
     reported
 }
 
-/// How plain a model reads: the sum of [`crate::Op::plainness`] over its operators. Selection
-/// breaks ties of complexity and degrees of freedom by it, before the criterion's score.
+/// How plain a model reads: the sum of [`crate::Op::plainness`] over its operators, a
+/// division by an expression of the inputs (a rational function, with a pole) counted 2,
+/// after power laws and exponentials (1), unless the divisor is an exponential
+/// (`c/exp(c*x)` is `c*exp(-c*x)`). Selection breaks ties of complexity and degrees of
+/// freedom by it, before the criterion's score.
 pub fn plainness(m: &Model) -> usize {
-    m.program
-        .nodes
+    let nodes = &m.program.nodes;
+    let children = m.program.children();
+    // a divisor that holds an input, other than an exponential (`c/exp(c*x)` is
+    // `c*exp(-c*x)`): a pole, read after power laws and exponentials
+    let pole = |d: usize| {
+        d < nodes.len()
+            && !matches!(nodes[d], Node::Op(Op::Exp))
+            && nodes[m.program.subtree_start(d)..=d]
+                .iter()
+                .any(|n| matches!(n, Node::Var(_)))
+    };
+    nodes
         .iter()
-        .map(|n| match n {
+        .zip(&children)
+        .map(|(n, ch)| match n {
+            Node::Op(Op::Div) if pole(ch[1]) => POLE_PLAINNESS,
+            Node::Op(Op::Inverse) if pole(ch[0]) => POLE_PLAINNESS,
             Node::Op(op) => op.plainness(),
             _ => 0,
         })
         .sum()
 }
+
+/// The plainness of a division by an expression of the inputs (a rational function: a
+/// pole): after power laws and exponentials (1), with the periodic functions.
+const POLE_PLAINNESS: usize = 2;
 
 /// The model selection picks among `models`, which the criterion cannot tell apart: the
 /// lowest complexity, then the fewest degrees of freedom
@@ -581,31 +601,74 @@ mod tests {
 
     // Of two models of one complexity and plainness the criterion cannot tell apart, the
     // one with fewer constants to fit is picked, even with the worse score: the log of a
-    // shift snapped to 0 (two degrees of freedom) over the rational (three); the score
+    // shift snapped to 0 (two degrees of freedom) over the exponential (three); the score
     // decides only between equals.
     #[test]
     fn the_pick_prefers_fewer_degrees_of_freedom_at_one_complexity() {
-        let names = vec!["f".to_string()];
-        let model = |op: Op, params: Vec<f64>, score: f64| {
-            let program = Program {
-                nodes: vec![Node::Var(0), Node::Op(op)],
-                affine: true,
-            };
-            let mut m = Model::new(names.clone(), program, params).unwrap();
-            m.score = score;
-            m
-        };
-        let log = model(Op::Log, vec![-2.46, -4.0, 1.3, 0.0], 1.01);
-        let rational = model(Op::Inverse, vec![4.8, -6.0, 1.5, 0.5], 1.0);
-        assert_eq!(log.complexity, rational.complexity);
-        assert_eq!(plainness(&log), plainness(&rational));
-        let pick = simplest([&rational, &log].into_iter()).unwrap();
+        let log = one_input_model(Op::Log, vec![-2.46, -4.0, 1.3, 0.0], 1.01);
+        let exp = one_input_model(Op::Exp, vec![7.3, -4.0, -3.0, 0.2], 1.0);
+        assert_eq!(log.complexity, exp.complexity);
+        assert_eq!(plainness(&log), plainness(&exp));
+        let pick = simplest([&exp, &log].into_iter()).unwrap();
         assert_eq!((pick.program, pick.params), (log.program, log.params));
-        let shifted = model(Op::Log, vec![-2.46, -4.0, 1.3, 0.2], 1.01);
-        let pick = simplest([&shifted, &rational].into_iter()).unwrap();
+        let shifted = one_input_model(Op::Log, vec![-2.46, -4.0, 1.3, 0.2], 1.01);
+        let pick = simplest([&shifted, &exp].into_iter()).unwrap();
+        assert_eq!((pick.program, pick.params), (exp.program, exp.params));
+    }
+
+    // A division by an expression of the inputs (a pole) reads after power laws and
+    // exponentials: of a rational and a log of one complexity and degrees of freedom, the
+    // log is picked even with the worse score; dividing by an exponential is no pole.
+    #[test]
+    fn a_pole_reads_after_power_laws_and_exponentials() {
+        let shifted = one_input_model(Op::Log, vec![-2.9, -4.0, 1.0, 0.05], 1.01);
+        let rational = one_input_model(Op::Inverse, vec![4.8, -6.0, 1.5, 0.5], 1.0);
+        assert_eq!(plainness(&shifted), 1);
+        assert_eq!(plainness(&rational), 2);
+        let pick = simplest([&rational, &shifted].into_iter()).unwrap();
         assert_eq!(
             (pick.program, pick.params),
-            (rational.program, rational.params)
+            (shifted.program, shifted.params)
         );
+        let names = vec!["f".to_string(), "t".to_string()];
+        let of = |nodes: Vec<Node>| {
+            let program = Program {
+                nodes,
+                affine: true,
+            };
+            let n = program.n_params();
+            Model::new(names.clone(), program, vec![1.3; n]).unwrap()
+        };
+        // c/exp(c*f + c): an exponential
+        let over_exp = of(vec![
+            Node::Const,
+            Node::Var(0),
+            Node::Op(Op::Exp),
+            Node::Op(Op::Div),
+        ]);
+        assert_eq!(plainness(&over_exp), 1);
+        // (c*t + c)/(c*f + c) and (c*t + c)/log(c*f + c): poles; (c*f + c)/c: none
+        let over_input = of(vec![Node::Var(1), Node::Var(0), Node::Op(Op::Div)]);
+        assert_eq!(plainness(&over_input), 2);
+        let over_log = of(vec![
+            Node::Var(1),
+            Node::Var(0),
+            Node::Op(Op::Log),
+            Node::Op(Op::Div),
+        ]);
+        assert_eq!(plainness(&over_log), 3);
+        let over_const = of(vec![Node::Var(0), Node::Const, Node::Op(Op::Div)]);
+        assert_eq!(plainness(&over_const), 0);
+    }
+
+    /// `scale * op(w*f + b) + offset` over one input `f`, with its score.
+    fn one_input_model(op: Op, params: Vec<f64>, score: f64) -> Model {
+        let program = Program {
+            nodes: vec![Node::Var(0), Node::Op(op)],
+            affine: true,
+        };
+        let mut m = Model::new(vec!["f".to_string()], program, params).unwrap();
+        m.score = score;
+        m
     }
 }
