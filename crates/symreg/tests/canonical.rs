@@ -100,7 +100,8 @@ fn constants_are_absorbed() {
     same("x + c*x", "c*x", "c*x");
     same("abs(c*x)", "c*abs(x)", "c*Abs(x)");
     // of two forms of one length, the one with fewer constants (a constant split in two
-    // under a square root whose argument is negative: a CI draw of the property test)
+    // under a square root whose argument is negative: a draw of the property test
+    // `rewrites_keep_the_key`)
     same("-sqrt(-(c*x))", "c*sqrt(-(c*(c*x)))", "c*sqrt(-x)");
     // a power of an exponential is an exponential
     same("c/exp(c*x) + c", "c*exp(c*x) + c", "c*exp(c*x) + c");
