@@ -188,6 +188,8 @@ struct LoopState {
     cache: HashMap<Program, Fitted>,
     /// The simplest program fitted of each structure key ([`Effort::Fast`]).
     structures: HashMap<String, Program>,
+    /// The structure key of every program keyed so far.
+    keys: HashMap<Program, String>,
     /// Models fitted so far (cache hits and skipped equivalents not counted).
     evaluations: u64,
     /// Candidates whose structure key had been fitted under another program.
@@ -249,12 +251,31 @@ impl LoopState {
                 fresh = short;
                 todo = long;
             }
-            let keys: Vec<String> = pool.install(|| {
-                fresh
+            // a program skipped as an equivalent is not in `cache`, and comes back often:
+            // its key is kept, so the e-graph runs once per program
+            let unkeyed: Vec<usize> = fresh
+                .iter()
+                .copied()
+                .filter(|&i| !self.keys.contains_key(&cands[i].program))
+                .collect();
+            let new_keys: Vec<String> = pool.install(|| {
+                unkeyed
                     .par_iter()
                     .map(|&i| search_key(&cands[i].program))
                     .collect()
             });
+            for (&i, key) in unkeyed.iter().zip(new_keys) {
+                self.keys.insert(cands[i].program.clone(), key);
+            }
+            let keys: Vec<String> = fresh
+                .iter()
+                .map(|&i| {
+                    self.keys
+                        .get(&cands[i].program)
+                        .cloned()
+                        .unwrap_or_default()
+                })
+                .collect();
             let complexity =
                 |p: &Program| p.complexity_with(cfg.complexity_measure, &problem.op_costs);
             for (i, key) in fresh.into_iter().zip(keys) {
