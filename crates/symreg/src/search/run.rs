@@ -270,10 +270,11 @@ impl LoopState {
             let keys: Vec<String> = fresh
                 .iter()
                 .map(|&i| {
+                    let program = &cands[i].program;
                     self.keys
-                        .get(&cands[i].program)
+                        .get(program)
                         .cloned()
-                        .unwrap_or_default()
+                        .unwrap_or_else(|| search_key(program))
                 })
                 .collect();
             let complexity =
