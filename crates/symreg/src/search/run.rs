@@ -267,20 +267,14 @@ impl LoopState {
             for (&i, key) in unkeyed.iter().zip(new_keys) {
                 self.keys.insert(cands[i].program.clone(), key);
             }
-            let keys: Vec<String> = fresh
-                .iter()
-                .map(|&i| {
-                    let program = &cands[i].program;
-                    self.keys
-                        .get(program)
-                        .cloned()
-                        .unwrap_or_else(|| search_key(program))
-                })
-                .collect();
             let complexity =
                 |p: &Program| p.complexity_with(cfg.complexity_measure, &problem.op_costs);
-            for (i, key) in fresh.into_iter().zip(keys) {
+            for i in fresh {
                 let program = &cands[i].program;
+                let key = match self.keys.get(program) {
+                    Some(k) => k.clone(),
+                    None => search_key(program),
+                };
                 match self.structures.get(&key) {
                     // a shorter spelling of a fitted structure is fitted and spells it from
                     // now on, so that the search keeps the simplest form of each structure
