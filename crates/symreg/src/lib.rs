@@ -57,6 +57,7 @@ pub mod consensus;
 mod error;
 pub mod eval;
 pub mod expr;
+pub mod factors;
 pub mod fit;
 pub mod infix;
 mod model;

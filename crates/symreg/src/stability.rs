@@ -62,6 +62,18 @@ pub struct Stability {
     /// rows are fewer than two, or whose prediction is not finite there, are left out;
     /// `null` when no run is left).
     pub r2: Option<R2Spread>,
+    /// Factor corrections only ([`crate::factors`]): per column that any run kept, the
+    /// share of runs with each factor shape (by its template); absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub factors: Option<BTreeMap<String, BTreeMap<String, f64>>>,
+    /// Factor corrections only: each set of factor columns (sorted, an interaction written
+    /// `a:b`) with the share of runs that kept exactly that set, most frequent first.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub factor_sets: Option<Vec<StructureShare>>,
+    /// Factor corrections only: each one-column factor's response over the runs that kept
+    /// it, on a grid of its column (the 5-95 % spread).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bands: Option<BTreeMap<String, crate::factors::FactorBand>>,
 }
 
 /// The rows of bootstrap run `r` of `n` rows under `seed` (drawn with replacement from the
@@ -210,5 +222,8 @@ pub(crate) fn stability_of(
         features,
         structures,
         r2,
+        factors: None,
+        factor_sets: None,
+        bands: None,
     })
 }

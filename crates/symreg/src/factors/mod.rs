@@ -1,0 +1,289 @@
+//! Corrections an engineer writes: one factor per effect.
+//!
+//! An engineer writes a correction as a product of correction factors, one per influence
+//! (Kienzle's `K_gamma * K_v * K_VB`, the extended Taylor law, Arrhenius' temperature
+//! factor), or as a sum of such terms for an additive error. [`fit_factors`] finds that
+//! form for a target `y` (a hybrid's `delta`) over feature columns:
+//! - additive ([`Link::Additive`]): `y = c + sum_j a_j s_j(x_j) [+ a x_i^p x_k^q]`;
+//! - multiplicative ([`Link::Multiplicative`]): `y = C prod_j f_j(x_j) [(1 + a x_i^p x_k^q)] - 1`,
+//!   so that the hybrid `f_p (1 + y)` is the physics times its factors;
+//! - log ([`Link::Log`]): `y = log(C prod_j f_j(x_j) ...)`, the same product fitted on the
+//!   log scale, so that `f_p exp(y)` is again the physics times its factors.
+//!
+//! Each factor is a short law of one column ([`Shape`]: power, linear, exponential,
+//! logarithm, one pole, a saturation), of complexity at most 4; an interaction factor is a
+//! product of powers of two columns (complexity 5). No factor holds a transcendental inside
+//! a transcendental.
+//!
+//! How the factors are found (the design of issue 46, after InterpretML's Explainable
+//! Boosting Machine, whose shape functions are here closed forms):
+//! 1. **Forward selection by cross-validation.** The rows are split into `folds` folds
+//!    once. At each step every column not yet in the model is tried with every shape: the
+//!    new term starts from the partial residual (a sum's amplitude by projection on it;
+//!    several starting values of the shape's own constant), then every constant of the
+//!    model is refitted jointly by Levenberg-Marquardt on all rows, and the model is scored
+//!    by each row's held-out squared error (refitted on each fold's training rows). For
+//!    each column the shape is the earliest in [`Shape::MAIN`]'s order whose held-out error
+//!    is within `se_rule` paired standard errors of that column's best shape (power laws
+//!    first); the column with the lowest held-out error enters, while it lowers it.
+//! 2. **The one-standard-error rule** along the path: the model kept is the one with the
+//!    fewest factors whose held-out error is within `se_rule` paired standard errors of the
+//!    lowest; a factor is kept only where it pays.
+//! 3. **Interactions**, after the main effects: every pair of columns is ranked by the
+//!    training error of the model with the pair's term (a small two-column fit, as FAST
+//!    ranks pairs), the best three are scored by cross-validation, and the best is kept
+//!    only if it lowers the held-out error by more than `interaction_se` paired standard
+//!    errors; then one-column factors the interaction made redundant are dropped by the
+//!    same one-standard-error rule.
+//! 4. **Exponents snap** to the nearest whole or half number where the Bayesian
+//!    information criterion allows it.
+//!
+//! The shapes are enumerated, not evolved: a one-column law of complexity at most 4 has a
+//! handful of forms, all of which are fitted, so the choice is exhaustive and does not
+//! depend on a random search (Bartlett et al.'s exhaustive symbolic regression argues the
+//! same for short equations). Results depend only on the data and `seed` (the folds), never
+//! on the thread count: parallel loops collect in index order.
+//!
+//! Files by job: this file the settings, the result and the entry points; `shape.rs` the
+//! shapes and how a factor is written; `structure.rs` a model as one program, its fit and
+//! its held-out errors; `select.rs` the selection; `bands.rs` the stability over resamples.
+mod bands;
+mod select;
+mod shape;
+mod structure;
+
+pub use bands::{FactorBand, FactorStability, factor_stability};
+pub use shape::{Shape, complexity, template};
+
+use crate::expr::Expr;
+use crate::{Model, Par, SrError, Table};
+use serde::{Deserialize, Serialize};
+use shape::{Builder, Term};
+use structure::Structure;
+
+/// How the factors combine into the target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Link {
+    /// `y = c + sum_j a_j s_j(x_j)`.
+    Additive,
+    /// `y = C prod_j f_j(x_j) - 1`.
+    Multiplicative,
+    /// `y = log(C prod_j f_j(x_j))`.
+    Log,
+}
+
+/// Settings of [`fit_factors`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FactorConfig {
+    /// Folds of the cross-validation that scores every candidate (default 5).
+    pub folds: usize,
+    /// Most one-column factors (default 8).
+    pub max_factors: usize,
+    /// Most interaction factors (default 1).
+    pub interactions: usize,
+    /// Standard errors of the one-standard-error rule (default 1).
+    pub se_rule: f64,
+    /// Paired standard errors an interaction must lower the held-out error by (default 2:
+    /// an interaction is searched among every pair of columns, so it must pay more than a
+    /// main effect).
+    pub interaction_se: f64,
+    /// Seed of the folds.
+    pub seed: u64,
+    /// Threads of the parallel loops (results never depend on it).
+    pub par: Par,
+}
+
+impl Default for FactorConfig {
+    fn default() -> Self {
+        Self {
+            folds: 5,
+            max_factors: 8,
+            interactions: 1,
+            se_rule: 1.0,
+            interaction_se: 2.0,
+            seed: 42,
+            par: Par::Current,
+        }
+    }
+}
+
+/// One factor of a fitted model (JSON: an entry of `correction.factors`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Factor {
+    /// The column of a one-column factor.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub column: Option<String>,
+    /// The two columns of an interaction factor.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub columns: Option<Vec<String>>,
+    /// The shape's name (`power`, `linear`, ..., `pair`).
+    pub shape: Shape,
+    /// The factor with its constants (a sum's term with its amplitude).
+    pub equation: String,
+    /// The factor's structure with constants `p0`, `p1`, ... ([`template`]).
+    pub template: String,
+    /// The factor's complexity ([`complexity`]).
+    pub complexity: usize,
+}
+
+/// One model of the forward path: its factors' columns and its errors.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PathStep {
+    /// The columns of each factor, by index into the feature table.
+    pub columns: Vec<Vec<usize>>,
+    /// Mean held-out squared error.
+    pub cv_mse: f64,
+    /// Mean squared error on all rows.
+    pub train_mse: f64,
+    /// Whether this is the model selected.
+    pub kept: bool,
+}
+
+/// What [`fit_factors`] returns.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FactorFit {
+    /// The model as one program over the feature table's columns (`score` is the mean
+    /// held-out squared error, `train_mse` the error on all rows).
+    pub model: Model,
+    /// Its factors, in the order they entered.
+    pub factors: Vec<Factor>,
+    /// The overall constant (a sum's offset, a product's `C`).
+    pub constant: f64,
+    /// The forward path (each model's held-out error), the selected one marked.
+    pub path: Vec<PathStep>,
+    /// Models of the selected columns with another shape whose held-out error is within one
+    /// standard error of the selected one's: the shapes the data cannot tell apart.
+    pub alternatives: Vec<Model>,
+}
+
+/// Fits a factor model of `y` over every column of `data` (see the module docs).
+///
+/// # Errors
+/// [`SrError::InvalidConfig`] for fewer than two folds, a target whose length is not the
+/// table's, fewer rows than `2 * folds`, a value that is not finite, or a model that cannot
+/// be fitted at all.
+pub fn fit_factors(
+    data: &Table,
+    y: &[f64],
+    link: Link,
+    cfg: &FactorConfig,
+) -> Result<FactorFit, SrError> {
+    Ok(fit_structure(data, y, link, cfg)?.0)
+}
+
+/// [`fit_factors`], with the selected structure itself.
+fn fit_structure(
+    data: &Table,
+    y: &[f64],
+    link: Link,
+    cfg: &FactorConfig,
+) -> Result<(FactorFit, Structure), SrError> {
+    check(data, y, cfg)?;
+    let cols: Vec<&[f64]> = data.columns().iter().map(Vec::as_slice).collect();
+    let problem = select::Problem::new(cols, y, link, cfg);
+    let (chosen, path, alts) = problem.select().ok_or_else(|| {
+        SrError::InvalidConfig("no factor model could be fitted to the rows".into())
+    })?;
+    let chosen = problem.snap(chosen);
+    let names = data.names();
+    let mut model = model_of(&chosen.s, link, names)?;
+    model.train_mse = chosen.mse;
+    model.score = chosen.cv_mean();
+    let alternatives = alts
+        .iter()
+        .map(|a| model_of(&a.s, link, names))
+        .collect::<Result<Vec<_>, _>>()?;
+    let fit = FactorFit {
+        factors: chosen
+            .s
+            .terms
+            .iter()
+            .map(|t| factor_of(t, link, names))
+            .collect(),
+        constant: chosen.s.constant,
+        model,
+        path,
+        alternatives,
+    };
+    Ok((fit, chosen.s))
+}
+
+fn check(data: &Table, y: &[f64], cfg: &FactorConfig) -> Result<(), SrError> {
+    if cfg.folds < 2 {
+        return Err(SrError::InvalidConfig(
+            "the factor form needs at least 2 folds".into(),
+        ));
+    }
+    if y.len() != data.n_rows() {
+        return Err(SrError::TargetLength {
+            target: y.len(),
+            data: data.n_rows(),
+        });
+    }
+    if y.len() < 2 * cfg.folds {
+        return Err(SrError::InvalidConfig(format!(
+            "the factor form needs at least {} rows for {} folds, got {}",
+            2 * cfg.folds,
+            cfg.folds,
+            y.len()
+        )));
+    }
+    if let Some(i) = y.iter().position(|v| !v.is_finite()) {
+        return Err(SrError::InvalidConfig(format!(
+            "the target is not finite at row {} ({})",
+            i + 1,
+            y[i]
+        )));
+    }
+    for (name, col) in data.names().iter().zip(data.columns()) {
+        if let Some(i) = col.iter().position(|v| !v.is_finite()) {
+            return Err(SrError::InvalidConfig(format!(
+                "column {name} is not finite at row {} ({})",
+                i + 1,
+                col[i]
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The model of a structure, over every column of the table (only the factors' columns
+/// appear in the program).
+fn model_of(s: &Structure, link: Link, names: &[String]) -> Result<Model, SrError> {
+    let w = s.write(link);
+    Model::new(names.to_vec(), w.program, w.params)
+}
+
+/// A factor alone, written with its constants.
+fn factor_of(t: &Term, link: Link, names: &[String]) -> Factor {
+    let mut b = Builder::default();
+    let mut local = t.clone();
+    local.cols = (0..t.cols.len()).collect();
+    shape::emit(&local, link, &|c| c as u16, &mut b);
+    let own: Vec<String> = t.cols.iter().map(|&c| names[c].clone()).collect();
+    let mut params = vec![1.0, 0.0];
+    params.extend(b.consts);
+    let program = crate::Program {
+        nodes: b.nodes,
+        affine: false,
+    };
+    let equation = Expr::from_program(&program, &params, &own).to_text(Some(4), false);
+    let refs: Vec<&str> = own.iter().map(String::as_str).collect();
+    let (column, columns) = if own.len() == 1 {
+        (Some(own[0].clone()), None)
+    } else {
+        (None, Some(own.clone()))
+    };
+    Factor {
+        column,
+        columns,
+        shape: t.shape,
+        equation,
+        template: template(t.shape, &refs),
+        complexity: complexity(t.shape),
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,346 @@
+//! Forward selection of factors under cross-validation with the one-standard-error rule,
+//! then interactions, a backward pass, and the snapping of exponents.
+use super::shape::{ColStats, Shape, Term, starts};
+use super::structure::{Folds, Structure, mean, paired};
+use super::{FactorConfig, Link, PathStep};
+use rayon::prelude::*;
+
+/// A structure fitted on all rows with the held-out error of each row.
+#[derive(Clone)]
+pub(crate) struct Scored {
+    pub s: Structure,
+    pub mse: f64,
+    pub cv: Vec<f64>,
+}
+
+impl Scored {
+    pub fn cv_mean(&self) -> f64 {
+        mean(&self.cv)
+    }
+}
+
+/// The data of one selection: columns, target, their statistics and the folds.
+pub(crate) struct Problem<'a> {
+    pub cols: Vec<&'a [f64]>,
+    pub y: &'a [f64],
+    pub stats: Vec<ColStats>,
+    pub folds: Folds,
+    pub link: Link,
+    pub cfg: &'a FactorConfig,
+}
+
+impl<'a> Problem<'a> {
+    pub fn new(cols: Vec<&'a [f64]>, y: &'a [f64], link: Link, cfg: &'a FactorConfig) -> Self {
+        let stats = cols.iter().map(|c| ColStats::of(c)).collect();
+        let folds = Folds::new(&cols, y, cfg.folds, cfg.seed);
+        Self {
+            cols,
+            y,
+            stats,
+            folds,
+            link,
+            cfg,
+        }
+    }
+
+    fn score(&self, mut s: Structure) -> Option<Scored> {
+        let mse = s.fit(self.link, &self.cols, self.y);
+        if !mse.is_finite() {
+            return None;
+        }
+        let cv = self.folds.errors(&s, self.link);
+        Some(Scored { s, mse, cv })
+    }
+
+    /// `base` with one more term of `shape` over `cols`, fitted from each start (a sum's
+    /// amplitude set by projection on the partial residual); the best fit on all rows,
+    /// scored by CV. `None` where no start gives a finite fit.
+    pub fn extend(&self, base: &Scored, shape: Shape, cols: &[usize]) -> Option<Scored> {
+        let st: Vec<ColStats> = cols.iter().map(|&c| self.stats[c]).collect();
+        if shape.needs_positive() && !st.iter().all(|c| c.positive) {
+            return None;
+        }
+        let resid: Vec<f64> = if self.link == Link::Additive {
+            let p = base.s.predict(self.link, &self.cols, self.y.len());
+            self.y.iter().zip(&p).map(|(y, p)| y - p).collect()
+        } else {
+            Vec::new()
+        };
+        let mut best: Option<Structure> = None;
+        let mut best_mse = f64::INFINITY;
+        for mut term in starts(shape, self.link, &st) {
+            term.cols = cols.to_vec();
+            if self.link == Link::Additive {
+                term.params[0] = projection(&term, &self.cols, &resid);
+            }
+            let mut s = base.s.clone();
+            s.terms.push(term);
+            let mse = s.fit(self.link, &self.cols, self.y);
+            if mse < best_mse {
+                best_mse = mse;
+                best = Some(s);
+            }
+        }
+        self.score(best?)
+    }
+
+    /// The best shape for column `c` added to `base`: the earliest shape in the order of
+    /// preference whose held-out error is within one standard error of the best shape's.
+    fn best_shape(&self, base: &Scored, c: usize) -> Option<(Scored, Vec<Scored>)> {
+        let fits: Vec<Scored> = Shape::MAIN
+            .iter()
+            .filter_map(|&sh| self.extend(base, sh, &[c]))
+            .collect();
+        let best = fits
+            .iter()
+            .min_by(|a, b| a.cv_mean().total_cmp(&b.cv_mean()))?
+            .clone();
+        let chosen = fits
+            .iter()
+            .find(|f| {
+                let (d, se) = paired(&f.cv, &best.cv);
+                d <= self.cfg.se_rule * se
+            })
+            .cloned()
+            .unwrap_or(best);
+        Some((chosen, fits))
+    }
+
+    /// Forward selection, the one-standard-error back-off, interactions and a backward
+    /// pass; returns the selected structure, the path and the runner-up shapes of the
+    /// selected columns (the alternatives the data cannot tell apart).
+    pub fn select(&self) -> Option<(Scored, Vec<PathStep>, Vec<Scored>)> {
+        let empty = self.score(Structure::empty(self.link))?;
+        let mut path: Vec<(Scored, String)> = vec![(empty, String::new())];
+        let mut used: Vec<usize> = Vec::new();
+        let mut runners: Vec<Vec<Scored>> = vec![Vec::new()];
+        let n_cols = self.cols.len();
+        while used.len() < self.cfg.max_factors.min(n_cols) {
+            let base = &path[path.len() - 1].0;
+            let cands: Vec<usize> = (0..n_cols).filter(|c| !used.contains(c)).collect();
+            let found: Vec<Option<(Scored, Vec<Scored>)>> = self.cfg.par.run(|| {
+                cands
+                    .par_iter()
+                    .map(|&c| self.best_shape(base, c))
+                    .collect()
+            });
+            let Some((k, (next, fits))) = found
+                .into_iter()
+                .enumerate()
+                .filter_map(|(k, f)| f.map(|f| (k, f)))
+                .min_by(|a, b| a.1.0.cv_mean().total_cmp(&b.1.0.cv_mean()))
+            else {
+                break;
+            };
+            if next.cv_mean() >= base.cv_mean() {
+                break;
+            }
+            used.push(cands[k]);
+            let label = next.s.terms[next.s.terms.len() - 1]
+                .shape
+                .name()
+                .to_string();
+            path.push((next, label));
+            runners.push(fits);
+        }
+        // the one-standard-error rule along the path
+        let best = path
+            .iter()
+            .map(|(p, _)| p)
+            .min_by(|a, b| a.cv_mean().total_cmp(&b.cv_mean()))?
+            .clone();
+        let k = path
+            .iter()
+            .position(|(p, _)| {
+                let (d, se) = paired(&p.cv, &best.cv);
+                d <= self.cfg.se_rule * se
+            })
+            .unwrap_or(path.len() - 1);
+        let mut chosen = path[k].0.clone();
+        let mut alternatives: Vec<Scored> = runners[k]
+            .iter()
+            .filter(|f| f.s != chosen.s)
+            .filter(|f| {
+                let (d, se) = paired(&f.cv, &chosen.cv);
+                d <= self.cfg.se_rule * se
+            })
+            .cloned()
+            .collect();
+        let mut steps: Vec<PathStep> = path
+            .iter()
+            .map(|(p, _)| PathStep {
+                columns: p.s.terms.iter().map(|t| t.cols.clone()).collect(),
+                cv_mse: p.cv_mean(),
+                train_mse: p.mse,
+                kept: false,
+            })
+            .collect();
+        steps[k].kept = true;
+        for _ in 0..self.cfg.interactions {
+            let Some(with) = self.interaction(&chosen) else {
+                break;
+            };
+            let (d, se) = paired(&chosen.cv, &with.cv);
+            if d <= self.cfg.interaction_se * se {
+                break;
+            }
+            chosen = self.backward(with);
+            alternatives.clear();
+            for s in &mut steps {
+                s.kept = false;
+            }
+            steps.push(PathStep {
+                columns: chosen.s.terms.iter().map(|t| t.cols.clone()).collect(),
+                cv_mse: chosen.cv_mean(),
+                train_mse: chosen.mse,
+                kept: true,
+            });
+        }
+        Some((chosen, steps, alternatives))
+    }
+
+    /// The best interaction factor to add to `base`: every pair of columns ranked by the
+    /// training error of the model with the pair's term (a small two-column fit, as FAST
+    /// ranks pairs), the best few scored by CV.
+    fn interaction(&self, base: &Scored) -> Option<Scored> {
+        let n = self.cols.len();
+        let taken: Vec<Vec<usize>> = base.s.terms.iter().map(|t| t.cols.clone()).collect();
+        let pairs: Vec<[usize; 2]> = (0..n)
+            .flat_map(|i| (i + 1..n).map(move |j| [i, j]))
+            .filter(|p| !taken.iter().any(|t| t.as_slice() == p))
+            .collect();
+        let ranked: Vec<Option<(f64, Structure)>> = self.cfg.par.run(|| {
+            pairs
+                .par_iter()
+                .map(|p| self.fit_pair(base, p).map(|s| (s.1, s.0)))
+                .collect()
+        });
+        let mut ranked: Vec<(f64, Structure)> = ranked.into_iter().flatten().collect();
+        ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let scored: Vec<Option<Scored>> = self.cfg.par.run(|| {
+            ranked
+                .into_par_iter()
+                .take(3)
+                .map(|(_, s)| self.score(s))
+                .collect()
+        });
+        scored
+            .into_iter()
+            .flatten()
+            .min_by(|a, b| a.cv_mean().total_cmp(&b.cv_mean()))
+    }
+
+    /// `base` with a pair term over `p`, fitted on all rows from each start.
+    fn fit_pair(&self, base: &Scored, p: &[usize; 2]) -> Option<(Structure, f64)> {
+        let st: Vec<ColStats> = p.iter().map(|&c| self.stats[c]).collect();
+        let resid: Vec<f64> = if self.link == Link::Additive {
+            let pr = base.s.predict(self.link, &self.cols, self.y.len());
+            self.y.iter().zip(&pr).map(|(y, p)| y - p).collect()
+        } else {
+            Vec::new()
+        };
+        let mut best: Option<(Structure, f64)> = None;
+        for mut term in starts(Shape::Pair, self.link, &st) {
+            term.cols = p.to_vec();
+            if self.link == Link::Additive {
+                term.params[0] = projection(&term, &self.cols, &resid);
+            }
+            let mut s = base.s.clone();
+            s.terms.push(term);
+            let mse = s.fit(self.link, &self.cols, self.y);
+            if mse.is_finite() && best.as_ref().is_none_or(|b| mse < b.1) {
+                best = Some((s, mse));
+            }
+        }
+        best
+    }
+
+    /// Drops one-column terms the data no longer needs once an interaction is in (the
+    /// column's effect may be all in the interaction): the one whose removal costs least,
+    /// while the cost is within one standard error.
+    fn backward(&self, mut cur: Scored) -> Scored {
+        loop {
+            let mains: Vec<usize> = (0..cur.s.terms.len())
+                .filter(|&i| cur.s.terms[i].shape != Shape::Pair)
+                .collect();
+            let tries: Vec<Option<Scored>> = self.cfg.par.run(|| {
+                mains
+                    .par_iter()
+                    .map(|&i| {
+                        let mut s = cur.s.clone();
+                        s.terms.remove(i);
+                        self.score(s)
+                    })
+                    .collect()
+            });
+            let Some(best) = tries
+                .into_iter()
+                .flatten()
+                .min_by(|a, b| a.cv_mean().total_cmp(&b.cv_mean()))
+            else {
+                return cur;
+            };
+            let (d, se) = paired(&best.cv, &cur.cv);
+            if d > self.cfg.se_rule * se {
+                return cur;
+            }
+            cur = best;
+        }
+    }
+
+    /// Snaps each fitted exponent to the nearest whole or half number where the Bayesian
+    /// information criterion allows it (the fit loses less than `ln(n)` in `n ln(mse)`,
+    /// the price of the constant it saves).
+    pub fn snap(&self, mut cur: Scored) -> Scored {
+        let n = self.y.len() as f64;
+        for ti in 0..cur.s.terms.len() {
+            let idx: Vec<usize> = match cur.s.terms[ti].shape {
+                Shape::Power => vec![cur.s.terms[ti].params.len() - 1],
+                Shape::Pair => {
+                    let l = cur.s.terms[ti].params.len();
+                    vec![l - 2, l - 1]
+                }
+                _ => continue,
+            };
+            for i in idx {
+                if !cur.s.terms[ti].free[i] {
+                    continue;
+                }
+                let v = cur.s.terms[ti].params[i];
+                let h = (2.0 * v).round() / 2.0;
+                if h == 0.0 || (v - h).abs() > 0.15 * h.abs().max(1.0) {
+                    continue;
+                }
+                let mut s = cur.s.clone();
+                s.terms[ti].params[i] = h;
+                s.terms[ti].free[i] = false;
+                let mse = s.fit(self.link, &self.cols, self.y);
+                if mse.is_finite() && n * (mse / cur.mse).ln() <= n.ln() {
+                    let cv = self.folds.errors(&s, self.link);
+                    cur = Scored { s, mse, cv };
+                }
+            }
+        }
+        cur
+    }
+}
+
+/// The least-squares amplitude of a sum's term (its shape with amplitude 1) against `r`.
+fn projection(term: &Term, cols: &[&[f64]], r: &[f64]) -> f64 {
+    let mut unit = term.clone();
+    unit.params[0] = 1.0;
+    let s = Structure {
+        terms: vec![unit],
+        constant: 0.0,
+    };
+    let v = s.predict(Link::Additive, cols, r.len());
+    let n = r.len() as f64;
+    let (mv, mr) = (v.iter().sum::<f64>() / n, r.iter().sum::<f64>() / n);
+    let (mut num, mut den) = (0.0, 0.0);
+    for (a, b) in v.iter().zip(r) {
+        num += (a - mv) * (b - mr);
+        den += (a - mv) * (a - mv);
+    }
+    let a = num / den;
+    if a.is_finite() { a } else { 0.0 }
+}

@@ -1,0 +1,324 @@
+//! The shapes a factor may take, and how a factor model is written as one program.
+//!
+//! A factor is a short closed form of one column (or, for an interaction, of two). How it
+//! enters depends on the link ([`Link`]): a term `a * s(x)` of a sum (additive), or a
+//! factor `f(x)` of a product (multiplicative and log). The constants of each factor are
+//! [`Node::Const`] leaves of the program, so the model is an ordinary [`Program`]: the
+//! evaluator, Levenberg-Marquardt, the printers and the uncertainty template all work on it
+//! unchanged.
+use super::Link;
+use crate::ops::Op;
+use crate::program::{ComplexityMeasure, Node, Program};
+use serde::{Deserialize, Serialize};
+
+/// The one-column laws a factor can be, in the order of preference: where the data cannot
+/// tell two apart (within one standard error), the earlier one is chosen. Power laws come
+/// first, as in the laws engineers write (Taylor, Kienzle, Archard).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Shape {
+    /// `x^p` (a term `a x^p`); only for a column whose training values are all positive.
+    Power,
+    /// `1 + b x` in a product, `a x` in a sum.
+    Linear,
+    /// `exp(b x)` (a term `a exp(b x)`).
+    Exp,
+    /// `1 + b log(x)` in a product, `a log(x)` in a sum; positive columns only.
+    Log,
+    /// One pole outside the data: `1/(x + c)` (a term `a/(x + c)`).
+    Pole,
+    /// A saturation `x/(x + c)` (a term `a x/(x + c)`).
+    Saturation,
+    /// An interaction of two columns: `1 + a x^p y^q` in a product, `a x^p y^q` in a sum
+    /// (with `p = q = 1` fixed where a column is not positive).
+    Pair,
+}
+
+impl Shape {
+    /// The one-column shapes, in the order of preference.
+    pub const MAIN: [Shape; 6] = [
+        Shape::Power,
+        Shape::Linear,
+        Shape::Exp,
+        Shape::Log,
+        Shape::Pole,
+        Shape::Saturation,
+    ];
+
+    /// `power`, `linear`, `exp`, `log`, `pole`, `saturation`, `pair`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Shape::Power => "power",
+            Shape::Linear => "linear",
+            Shape::Exp => "exp",
+            Shape::Log => "log",
+            Shape::Pole => "pole",
+            Shape::Saturation => "saturation",
+            Shape::Pair => "pair",
+        }
+    }
+
+    /// Whether the shape needs positive values of its column(s).
+    pub(crate) fn needs_positive(self) -> bool {
+        matches!(self, Shape::Power | Shape::Log)
+    }
+}
+
+/// One factor of a model: its shape, its columns (indices into the feature table) and its
+/// constants in the order [`emit`] writes them.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Term {
+    pub shape: Shape,
+    pub cols: Vec<usize>,
+    pub params: Vec<f64>,
+    /// Which of `params` Levenberg-Marquardt fits (an exponent fixed at a simple number,
+    /// or the pair's exponents where a column is not positive, are not fitted).
+    pub free: Vec<bool>,
+}
+
+/// Statistics of a column that the starting values use.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ColStats {
+    pub lo: f64,
+    pub hi: f64,
+    pub positive: bool,
+}
+
+impl ColStats {
+    pub fn of(x: &[f64]) -> Self {
+        let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Self {
+            lo,
+            hi,
+            positive: lo > 0.0,
+        }
+    }
+
+    fn width(&self) -> f64 {
+        (self.hi - self.lo).max(1e-12 * (1.0 + self.hi.abs()))
+    }
+}
+
+/// Starting constants of a new term (several starts; the search keeps the best). The
+/// amplitude of a sum's term (its first constant) starts at 0 and is set by projection on
+/// the partial residual before the fit.
+pub(crate) fn starts(shape: Shape, link: Link, st: &[ColStats]) -> Vec<Term> {
+    let s = st[0];
+    let w = s.width();
+    let one = |params: Vec<f64>| vec![params];
+    let sets: Vec<Vec<f64>> = match (shape, link) {
+        (Shape::Power, Link::Additive) => vec![vec![0.0, 1.0], vec![0.0, -1.0], vec![0.0, 0.5]],
+        (Shape::Power, _) => vec![vec![0.5], vec![-0.5], vec![1.5]],
+        (Shape::Linear, Link::Additive) => one(vec![0.0]),
+        (Shape::Linear, _) => one(vec![1.0, 0.0]),
+        (Shape::Exp, Link::Additive) => vec![vec![0.0, 1.0 / w], vec![0.0, -1.0 / w]],
+        (Shape::Exp, _) => vec![vec![1.0 / w], vec![-1.0 / w]],
+        (Shape::Log, Link::Additive) => one(vec![0.0]),
+        (Shape::Log, _) => one(vec![1.0, 0.0]),
+        (Shape::Pole, Link::Additive) => vec![
+            vec![0.0, -s.lo + 0.5 * w],
+            vec![0.0, -s.lo + 2.0 * w],
+            vec![0.0, -s.hi - 0.5 * w],
+        ],
+        (Shape::Pole, _) => vec![
+            vec![-s.lo + 0.5 * w],
+            vec![-s.lo + 2.0 * w],
+            vec![-s.hi - 0.5 * w],
+        ],
+        (Shape::Saturation, Link::Additive) => {
+            vec![vec![0.0, -s.lo + 0.5 * w], vec![0.0, -s.lo + 2.0 * w]]
+        }
+        (Shape::Saturation, _) => vec![vec![-s.lo + 0.5 * w], vec![-s.lo + 2.0 * w]],
+        (Shape::Pair, link) => {
+            let positive = st.iter().all(|c| c.positive);
+            let pairs: Vec<(f64, f64)> = if positive {
+                vec![(1.0, 1.0), (0.5, 1.5), (1.5, 0.5)]
+            } else {
+                vec![(1.0, 1.0)]
+            };
+            pairs
+                .into_iter()
+                .map(|(p, q)| match link {
+                    Link::Additive => vec![0.0, p, q],
+                    _ => vec![1.0, 0.0, p, q],
+                })
+                .collect()
+        }
+    };
+    sets.into_iter()
+        .map(|params| {
+            let free = free_flags(shape, link, &params, st);
+            Term {
+                shape,
+                cols: Vec::new(),
+                params,
+                free,
+            }
+        })
+        .collect()
+}
+
+/// Which constants of a fresh term are fitted: all but the `1` of `1 + b x` and, for a
+/// pair over a column that is not positive, its exponents (fixed at 1).
+fn free_flags(shape: Shape, link: Link, params: &[f64], st: &[ColStats]) -> Vec<bool> {
+    let mut free = vec![true; params.len()];
+    let product = link != Link::Additive;
+    if product && matches!(shape, Shape::Linear | Shape::Log | Shape::Pair) {
+        free[0] = false;
+    }
+    if shape == Shape::Pair && !st.iter().all(|c| c.positive) {
+        let n = free.len();
+        free[n - 1] = false;
+        free[n - 2] = false;
+    }
+    free
+}
+
+/// Appends `term` to a program under construction: nodes, and its constants in the same
+/// order (each [`Node::Const`] owns the next entry of `params`).
+pub(crate) fn emit(term: &Term, link: Link, var: &dyn Fn(usize) -> u16, b: &mut Builder) {
+    let x = var(term.cols[0]);
+    let p = &term.params;
+    let additive = link == Link::Additive;
+    // the shape itself, with its own constants (the sum's amplitude comes first, below)
+    let body = |b: &mut Builder, q: &[f64]| match term.shape {
+        Shape::Power => {
+            b.var(x);
+            b.konst(q[0]);
+            b.op(Op::Pow);
+        }
+        Shape::Linear => b.var(x),
+        Shape::Exp => {
+            b.konst(q[0]);
+            b.var(x);
+            b.op(Op::Mul);
+            b.op(Op::Exp);
+        }
+        Shape::Log => {
+            b.var(x);
+            b.op(Op::Log);
+        }
+        Shape::Pole => {
+            b.var(x);
+            b.konst(q[0]);
+            b.op(Op::Add);
+            b.op(Op::Inverse);
+        }
+        Shape::Saturation => {
+            b.var(x);
+            b.var(x);
+            b.konst(q[0]);
+            b.op(Op::Add);
+            b.op(Op::Div);
+        }
+        Shape::Pair => {
+            let y = var(term.cols[1]);
+            b.var(x);
+            b.konst(q[0]);
+            b.op(Op::Pow);
+            b.var(y);
+            b.konst(q[1]);
+            b.op(Op::Pow);
+            b.op(Op::Mul);
+        }
+    };
+    if additive {
+        // a * s(x)
+        b.konst(p[0]);
+        body(b, &p[1..]);
+        b.op(Op::Mul);
+        return;
+    }
+    match term.shape {
+        // 1 + b * s(x)
+        Shape::Linear | Shape::Log | Shape::Pair => {
+            b.konst(p[0]);
+            b.konst(p[1]);
+            body(b, &p[2..]);
+            b.op(Op::Mul);
+            b.op(Op::Add);
+        }
+        _ => body(b, p),
+    }
+}
+
+/// A program being written node by node, with its constants.
+#[derive(Debug, Default)]
+pub(crate) struct Builder {
+    pub nodes: Vec<Node>,
+    pub consts: Vec<f64>,
+}
+
+impl Builder {
+    pub fn var(&mut self, j: u16) {
+        self.nodes.push(Node::Var(j));
+    }
+    pub fn konst(&mut self, v: f64) {
+        self.nodes.push(Node::Const);
+        self.consts.push(v);
+    }
+    pub fn op(&mut self, op: Op) {
+        self.nodes.push(Node::Op(op));
+    }
+}
+
+/// The complexity of a factor as the search counts it (inputs and operators; constants
+/// and the `1 + b *` around a product's factor are free, as a search's affine input
+/// scaling is): `x` 1, `x^p`, `exp(b x)`, `log(x)` 2, `1/(x + c)` 3, `x/(x + c)` 4,
+/// `x^p y^q` 5.
+pub fn complexity(shape: Shape) -> usize {
+    let t = Term {
+        shape,
+        cols: vec![0, 1],
+        params: vec![1.0; 4],
+        free: vec![true; 4],
+    };
+    let mut b = Builder::default();
+    emit(&t, Link::Additive, &|c| c as u16, &mut b);
+    let prog = Program {
+        nodes: b.nodes,
+        affine: false,
+    };
+    // the amplitude's `a *` is free, and so is the `b *` inside `exp(b x)`
+    let free_muls = 1 + usize::from(shape == Shape::Exp);
+    prog.complexity(ComplexityMeasure::FeaturesPlusOperators) - free_muls
+}
+
+/// The structure of a factor with its constants written `p0`, `p1`, ... (the sum's
+/// amplitude and the product's `1 +` left out): `x**p0`, `exp(p0*x)`, `log(x)`, ...; the
+/// key of the factor shares in a stability report.
+pub fn template(shape: Shape, names: &[&str]) -> String {
+    let x = names[0];
+    match shape {
+        Shape::Power => format!("{x}**p0"),
+        Shape::Linear => x.to_string(),
+        Shape::Exp => format!("exp(p0*{x})"),
+        Shape::Log => format!("log({x})"),
+        Shape::Pole => format!("1/({x} + p0)"),
+        Shape::Saturation => format!("{x}/({x} + p0)"),
+        Shape::Pair => format!("{x}**p0*{}**p1", names.get(1).copied().unwrap_or("?")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn complexities_are_those_documented() {
+        let got: Vec<usize> = [
+            Shape::Linear,
+            Shape::Power,
+            Shape::Exp,
+            Shape::Log,
+            Shape::Pole,
+            Shape::Saturation,
+            Shape::Pair,
+        ]
+        .iter()
+        .map(|&s| complexity(s))
+        .collect();
+        assert_eq!(got, [1, 2, 2, 2, 3, 4, 5]);
+    }
+}

@@ -1,0 +1,244 @@
+//! A factor model's terms written as one program, fitted by Levenberg-Marquardt, and scored
+//! by cross-validation on fixed folds.
+use super::Link;
+use super::shape::{Builder, Term, emit};
+use crate::eval::Evaluator;
+use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
+use crate::program::Program;
+
+/// The terms of a model and its output constant (the sum's offset, or the product's
+/// overall constant).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Structure {
+    pub terms: Vec<Term>,
+    pub constant: f64,
+}
+
+/// A structure as a program: its nodes, every parameter (output map first) and which
+/// parameters are fitted.
+pub(crate) struct Written {
+    pub program: Program,
+    pub params: Vec<f64>,
+    pub free: Vec<usize>,
+    /// Where each term's constants start in `params`.
+    pub starts: Vec<usize>,
+}
+
+impl Structure {
+    pub fn empty(link: Link) -> Self {
+        Self {
+            terms: Vec::new(),
+            constant: match link {
+                Link::Additive => 0.0,
+                _ => 1.0,
+            },
+        }
+    }
+
+    /// The program: additive `offset + sum_j a_j s_j(x_j)` (scale fixed at 1),
+    /// multiplicative `C * prod_j f_j(x_j) - 1` (offset fixed at -1, so that the hybrid
+    /// `f_p (1 + delta)` is `f_p C prod_j f_j`), log `log(C * prod_j f_j(x_j))` (scale 1,
+    /// offset 0 fixed, so that `f_p exp(delta)` is again `f_p C prod_j f_j`).
+    pub fn write(&self, link: Link) -> Written {
+        let mut b = Builder::default();
+        let mut free: Vec<usize> = Vec::new();
+        let mut starts = Vec::new();
+        let (scale, offset) = match link {
+            Link::Additive => (1.0, self.constant),
+            Link::Multiplicative => (self.constant, -1.0),
+            Link::Log => (1.0, 0.0),
+        };
+        match link {
+            Link::Additive => free.push(1),
+            Link::Multiplicative => free.push(0),
+            Link::Log => {
+                free.push(2);
+                b.konst(self.constant);
+            }
+        }
+        let join = if link == Link::Additive {
+            crate::Op::Add
+        } else {
+            crate::Op::Mul
+        };
+        for (k, t) in self.terms.iter().enumerate() {
+            let at = 2 + b.consts.len();
+            starts.push(at);
+            emit(t, link, &|c| c as u16, &mut b);
+            free.extend(
+                t.free
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, f)| **f)
+                    .map(|(i, _)| at + i),
+            );
+            if k > 0 || link == Link::Log {
+                b.op(join);
+            }
+        }
+        if self.terms.is_empty() && link != Link::Log {
+            // the constant model: the output map alone
+            b.konst(if link == Link::Additive { 0.0 } else { 1.0 });
+        }
+        if link == Link::Log {
+            b.op(crate::Op::Log);
+        }
+        let mut params = vec![scale, offset];
+        params.extend(b.consts);
+        Written {
+            program: Program {
+                nodes: b.nodes,
+                affine: false,
+            },
+            params,
+            free,
+            starts,
+        }
+    }
+
+    /// Reads the fitted parameters of [`Structure::write`]'s program back into the terms.
+    pub fn read(&mut self, link: Link, w: &Written, params: &[f64]) {
+        self.constant = match link {
+            Link::Additive => params[1],
+            Link::Multiplicative => params[0],
+            Link::Log => params[2],
+        };
+        for (t, &at) in self.terms.iter_mut().zip(&w.starts) {
+            let n = t.params.len();
+            t.params.copy_from_slice(&params[at..at + n]);
+        }
+    }
+
+    /// Fits every free constant on `cols` (one slice per feature) against `y`, in place;
+    /// returns the mean squared error (`INFINITY` when the model is not finite there, or
+    /// a pole falls inside the rows' range).
+    pub fn fit(&mut self, link: Link, cols: &[&[f64]], y: &[f64]) -> f64 {
+        let w = self.write(link);
+        let mut params = w.params.clone();
+        let mut ev = Evaluator::new(&w.program);
+        let mse = levenberg_marquardt(
+            &w.program,
+            &mut params,
+            Unknowns::Free(&w.free),
+            cols,
+            y,
+            &LmSettings::new(60, 1e-10),
+            &mut ev,
+        );
+        self.read(link, &w, &params);
+        if !mse.is_finite() || self.pole_inside(cols) {
+            return f64::INFINITY;
+        }
+        mse
+    }
+
+    /// The model's values on `cols` (`n` rows).
+    pub fn predict(&self, link: Link, cols: &[&[f64]], n: usize) -> Vec<f64> {
+        let w = self.write(link);
+        let mut out = Vec::new();
+        Evaluator::new(&w.program).predict(&w.program, &w.params, cols, n, &mut out);
+        out
+    }
+
+    /// Whether a pole or a saturation's denominator `x + c` changes sign over the rows.
+    fn pole_inside(&self, cols: &[&[f64]]) -> bool {
+        use super::shape::Shape;
+        self.terms.iter().any(|t| {
+            if !matches!(t.shape, Shape::Pole | Shape::Saturation) {
+                return false;
+            }
+            let c = t.params[t.params.len() - 1];
+            let x = cols[t.cols[0]];
+            let (mut neg, mut pos) = (false, false);
+            for &v in x {
+                let d = v + c;
+                neg |= d <= 0.0;
+                pos |= d >= 0.0;
+            }
+            neg && pos
+        })
+    }
+}
+
+/// Rows split into folds once, with each fold's training and held-out columns gathered.
+pub(crate) struct Folds {
+    pub folds: Vec<Fold>,
+    pub n: usize,
+}
+
+pub(crate) struct Fold {
+    pub train_cols: Vec<Vec<f64>>,
+    pub train_y: Vec<f64>,
+    pub test_cols: Vec<Vec<f64>>,
+    pub test_y: Vec<f64>,
+    pub test_rows: Vec<usize>,
+}
+
+impl Folds {
+    /// `k` folds of the rows, by a shuffle from `seed`.
+    pub fn new(cols: &[&[f64]], y: &[f64], k: usize, seed: u64) -> Self {
+        use rand::SeedableRng;
+        use rand::seq::SliceRandom;
+        let n = y.len();
+        let mut order: Vec<usize> = (0..n).collect();
+        order.shuffle(&mut rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ 0xFAC7));
+        let mut of = vec![0usize; n];
+        for (pos, &i) in order.iter().enumerate() {
+            of[i] = pos % k;
+        }
+        let folds = (0..k)
+            .map(|f| {
+                let test_rows: Vec<usize> = (0..n).filter(|&i| of[i] == f).collect();
+                let train_rows: Vec<usize> = (0..n).filter(|&i| of[i] != f).collect();
+                let take =
+                    |rows: &[usize], c: &[f64]| rows.iter().map(|&i| c[i]).collect::<Vec<f64>>();
+                Fold {
+                    train_cols: cols.iter().map(|c| take(&train_rows, c)).collect(),
+                    train_y: take(&train_rows, y),
+                    test_cols: cols.iter().map(|c| take(&test_rows, c)).collect(),
+                    test_y: take(&test_rows, y),
+                    test_rows,
+                }
+            })
+            .collect();
+        Self { folds, n }
+    }
+
+    /// The held-out squared error of every row: `s` (fitted on all rows) refitted on each
+    /// fold's training rows from its constants, then predicted on the fold's held-out rows
+    /// (`INFINITY` where the fit or the prediction is not finite).
+    pub fn errors(&self, s: &Structure, link: Link) -> Vec<f64> {
+        let mut e = vec![f64::INFINITY; self.n];
+        for f in &self.folds {
+            let mut t = s.clone();
+            let tc: Vec<&[f64]> = f.train_cols.iter().map(Vec::as_slice).collect();
+            if !t.fit(link, &tc, &f.train_y).is_finite() {
+                continue;
+            }
+            let hc: Vec<&[f64]> = f.test_cols.iter().map(Vec::as_slice).collect();
+            let p = t.predict(link, &hc, f.test_y.len());
+            for ((&row, &pi), &yi) in f.test_rows.iter().zip(&p).zip(&f.test_y) {
+                let d = pi - yi;
+                e[row] = if d.is_finite() { d * d } else { f64::INFINITY };
+            }
+        }
+        e
+    }
+}
+
+/// Mean of the per-row errors.
+pub(crate) fn mean(e: &[f64]) -> f64 {
+    e.iter().sum::<f64>() / e.len().max(1) as f64
+}
+
+/// `(mean(a - b), its standard error)` of paired per-row errors.
+pub(crate) fn paired(a: &[f64], b: &[f64]) -> (f64, f64) {
+    let n = a.len().max(1) as f64;
+    let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
+    let m = d.iter().sum::<f64>() / n;
+    if !m.is_finite() {
+        return (m, 0.0);
+    }
+    let var = d.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (n - 1.0).max(1.0);
+    (m, (var / n).sqrt())
+}

@@ -1,0 +1,235 @@
+//! Tests of the factor form on tables with a known truth: the backfitting recovers a
+//! product of three one-column laws factor by factor (constants inside their 95 %
+//! intervals), the forward selection leaves a distractor out, the interaction rule finds a
+//! true interaction and adds none where there is none, and the model's printed equation
+//! equals its prediction.
+use super::*;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Standard normal draws by Box-Muller (rand_distr is not a dependency of this crate).
+fn normal(rng: &mut ChaCha8Rng) -> f64 {
+    let u: f64 = rng.gen_range(1e-12..1.0);
+    let v: f64 = rng.gen_range(0.0..1.0);
+    (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
+}
+
+/// `n` rows of columns uniform on the given ranges.
+fn columns(n: usize, ranges: &[(&str, f64, f64)], seed: u64) -> Table {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let cols: Vec<Vec<f64>> = ranges
+        .iter()
+        .map(|&(_, lo, hi)| (0..n).map(|_| rng.gen_range(lo..hi)).collect())
+        .collect();
+    let names = ranges.iter().map(|r| r.0.to_string()).collect();
+    Table::new(names, cols).expect("table")
+}
+
+fn col<'a>(t: &'a Table, name: &str) -> &'a [f64] {
+    t.column(name).expect("column")
+}
+
+/// The program indices of each factor's constants, in the order the factors entered.
+fn offsets(fit: &FactorFit, link: Link) -> Vec<usize> {
+    let mut at = if link == Link::Log { 3 } else { 2 };
+    fit.factors
+        .iter()
+        .map(|f| {
+            let start = at;
+            let product = link != Link::Additive;
+            at += match (f.shape, product) {
+                (Shape::Linear | Shape::Log, false) => 1,
+                (Shape::Linear | Shape::Log, true) => 2,
+                (Shape::Pair, false) => 3,
+                (Shape::Pair, true) => 4,
+                (_, false) => 2,
+                (_, true) => 1,
+            };
+            start
+        })
+        .collect()
+}
+
+#[test]
+fn a_product_of_three_laws_is_recovered_factor_by_factor() {
+    let n = 600;
+    let t = columns(
+        n,
+        &[
+            ("f", 0.05, 0.3),
+            ("v", 50.0, 300.0),
+            ("r", 0.0, 10.0),
+            ("d", 1.0, 5.0),
+        ],
+        7,
+    );
+    let mut rng = ChaCha8Rng::seed_from_u64(8);
+    let (c, p, b, k) = (2.0, 0.7, -0.004, 0.05);
+    let y: Vec<f64> = (0..n)
+        .map(|i| {
+            let truth = c
+                * col(&t, "f")[i].powf(p)
+                * (b * col(&t, "v")[i]).exp()
+                * (1.0 + k * col(&t, "r")[i]);
+            truth * (1.0 + 0.01 * normal(&mut rng)) - 1.0
+        })
+        .collect();
+    let fit = fit_factors(&t, &y, Link::Multiplicative, &FactorConfig::default()).expect("fit");
+    let got: Vec<(Option<String>, Shape)> = fit
+        .factors
+        .iter()
+        .map(|f| (f.column.clone(), f.shape))
+        .collect();
+    let mut sorted = got.clone();
+    sorted.sort_by(|a, b| a.0.cmp(&b.0));
+    assert_eq!(
+        sorted,
+        [
+            (Some("f".into()), Shape::Power),
+            (Some("r".into()), Shape::Linear),
+            (Some("v".into()), Shape::Exp),
+        ],
+        "{:?}",
+        fit.factors
+    );
+    // each true constant inside its 95 % interval
+    let unc = fit.model.uncertainty(&t, &y).expect("uncertainty");
+    let interval = |slot: usize| {
+        unc.params
+            .iter()
+            .zip(&unc.slots)
+            .find(|(_, s)| s.as_slice() == [slot])
+            .map(|((_, e), _)| e.ci95)
+            .expect("a free constant")
+    };
+    let offs = offsets(&fit, Link::Multiplicative);
+    let mut checks = vec![(0usize, c)];
+    for (f, &o) in fit.factors.iter().zip(&offs) {
+        match f.shape {
+            Shape::Power => checks.push((o, p)),
+            Shape::Exp => checks.push((o, b)),
+            Shape::Linear => checks.push((o + 1, k)),
+            _ => unreachable!(),
+        }
+    }
+    for (slot, truth) in checks {
+        let ci = interval(slot).expect("an interval");
+        assert!(
+            ci[0] <= truth && truth <= ci[1],
+            "constant {slot}: {truth} outside {ci:?} ({})",
+            fit.model.equation()
+        );
+    }
+    // the printed equation is the prediction
+    let printed = crate::expr::Expr::from_program(
+        &fit.model.program,
+        &fit.model.params,
+        &fit.model.feature_names,
+    );
+    let pred = fit.model.predict(&t).expect("predict");
+    for i in 0..n {
+        let v = printed.eval(&|name| col(&t, name)[i]);
+        assert!((v - pred[i]).abs() <= 1e-9 * pred[i].abs().max(1.0));
+    }
+}
+
+#[test]
+fn a_distractor_is_left_out_of_a_sum() {
+    let n = 400;
+    let t = columns(
+        n,
+        &[
+            ("a", 1.0, 3.0),
+            ("z1", 0.0, 1.0),
+            ("b", 0.0, 2.0),
+            ("z2", 5.0, 9.0),
+        ],
+        11,
+    );
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let y: Vec<f64> = (0..n)
+        .map(|i| 3.0 * col(&t, "a")[i].powf(1.5) - 2.0 * col(&t, "b")[i] + 0.3 * normal(&mut rng))
+        .collect();
+    let fit = fit_factors(&t, &y, Link::Additive, &FactorConfig::default()).expect("fit");
+    let mut cols: Vec<String> = fit
+        .factors
+        .iter()
+        .filter_map(|f| f.column.clone())
+        .collect();
+    cols.sort();
+    assert_eq!(cols, ["a", "b"], "{}", fit.model.equation());
+    assert!(fit.factors.iter().all(|f| f.columns.is_none()));
+}
+
+#[test]
+fn a_true_interaction_is_found_and_none_is_added_without_one() {
+    let n = 500;
+    let t = columns(
+        n,
+        &[
+            ("rake", -5.0, 15.0),
+            ("time", 1.0, 30.0),
+            ("speed", 80.0, 250.0),
+        ],
+        21,
+    );
+    let truth = |i: usize, wear: bool| {
+        let k_rake = 1.0 - 0.015 * (col(&t, "rake")[i] - 6.0);
+        let k_v = (col(&t, "speed")[i] / 100.0).powf(-0.1);
+        let k_w = if wear {
+            1.0 + 0.05 * col(&t, "time")[i].sqrt() * (col(&t, "speed")[i] / 200.0).powf(1.5)
+        } else {
+            1.0
+        };
+        1.3 * k_rake * k_v * k_w
+    };
+    for wear in [true, false] {
+        let mut rng = ChaCha8Rng::seed_from_u64(22);
+        let y: Vec<f64> = (0..n)
+            .map(|i| truth(i, wear) * (1.0 + 0.005 * normal(&mut rng)) - 1.0)
+            .collect();
+        let fit = fit_factors(&t, &y, Link::Multiplicative, &FactorConfig::default()).expect("fit");
+        let pairs: Vec<&Factor> = fit.factors.iter().filter(|f| f.columns.is_some()).collect();
+        if wear {
+            assert_eq!(pairs.len(), 1, "{}", fit.model.equation());
+            let mut cols = pairs[0].columns.clone().unwrap_or_default();
+            cols.sort();
+            assert_eq!(cols, ["speed", "time"], "{}", fit.model.equation());
+        } else {
+            assert!(pairs.is_empty(), "{}", fit.model.equation());
+        }
+        assert!(fit.factors.iter().all(|f| f.complexity <= 5));
+    }
+}
+
+#[test]
+fn bad_input_is_refused_with_a_message() {
+    let t = columns(20, &[("a", 1.0, 2.0)], 1);
+    let short = fit_factors(&t, &[1.0; 3], Link::Additive, &FactorConfig::default());
+    assert!(short.is_err());
+    let mut y = vec![1.0; 20];
+    y[4] = f64::NAN;
+    let e = fit_factors(&t, &y, Link::Additive, &FactorConfig::default())
+        .expect_err("a NaN target is refused");
+    assert!(e.to_string().contains("row 5"), "{e}");
+}
+
+#[test]
+fn the_same_seed_gives_the_same_model_whatever_the_threads() {
+    let n = 200;
+    let t = columns(n, &[("a", 1.0, 3.0), ("b", 0.0, 2.0)], 31);
+    let y: Vec<f64> = (0..n)
+        .map(|i| col(&t, "a")[i].sqrt() + 0.1 * col(&t, "b")[i] * ((i * 7) % 5) as f64)
+        .collect();
+    let one = FactorConfig {
+        par: Par::SEQUENTIAL,
+        ..FactorConfig::default()
+    };
+    let two = FactorConfig {
+        par: Par::threads(2),
+        ..FactorConfig::default()
+    };
+    let a = fit_factors(&t, &y, Link::Additive, &one).expect("fit");
+    let b = fit_factors(&t, &y, Link::Additive, &two).expect("fit");
+    assert_eq!(a, b);
+}
