@@ -452,8 +452,13 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     (``y = f_p exp(delta)``, ``delta`` found on the log scale: for scatter that grows with
     the quantity and for power-law corrections; ``y`` and the physics must be positive); ``delta`` is found
     by symbolic regression on ``features`` (default: every column not in ``exclude``) with
-    the search settings. ``joint`` refits physics parameters and correction constants
-    together. ``fit`` uses every row it is given (split before, as with any estimator).
+    the search settings. ``form="factors"`` searches the correction as one closed-form
+    factor per column instead (power, linear, exponential, logarithm, pole, saturation;
+    kept only where it lowers the cross-validated error; at most one two-column
+    interaction): a product of factors for the multiplicative and log corrections, a sum of
+    terms for the additive one; its factors are in ``factors_``. ``joint`` refits physics
+    parameters and correction constants together. ``fit`` uses every row it is given
+    (split before, as with any estimator).
 
     Fitted attributes: ``physics_parameters_`` {name: value}, ``physics_standard_errors_``,
     ``hybrid_equation_`` (4 digits), ``hybrid_sympy_`` (full precision), ``hybrid_latex_``,
@@ -478,6 +483,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         init=None,
         set=None,
         correction="additive",
+        form="free",
         features=None,
         exclude=(),
         joint=False,
@@ -520,6 +526,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.init = init
         self.set = set
         self.correction = correction
+        self.form = form
         self.features = features
         self.exclude = exclude
         self.joint = joint
@@ -542,6 +549,8 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             raise ValueError(
                 f"correction `{self.correction}`: use additive, multiplicative or log"
             )
+        if self.form not in ("free", "factors"):
+            raise ValueError(f"form `{self.form}`: use free or factors")
         search = json.loads(_search_json(self))
         n_jobs = _n_jobs(self)
         y_in = y
@@ -559,6 +568,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             "features": None if self.features is None else [str(c) for c in self.features],
             "exclude": [str(c) for c in self.exclude],
             "correction": self.correction,
+            "form": self.form,
             "joint": bool(self.joint),
             "conformal_folds": _folds(self.conformal_folds),
             "stability_runs": _stability_runs(self.stability_runs),
@@ -582,6 +592,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.complexity_ = corr["complexity"]
         self.features_ = list(corr["features"])
         self.selection_ = corr.get("selection")
+        self.factors_ = corr.get("factors")
         self.stability_ = doc.get("stability")
         # the traps of the fit (a column copying the target, a physics that changes sign
         # under a multiplicative correction, ...): kept and raised as UserWarning

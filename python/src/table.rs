@@ -5,7 +5,9 @@ use crate::convert::{err, method_of, par_of, parse_json, table_of, to_bytes};
 use crate::settings::with_overrides;
 use hxai_hybrid::IntervalMethod;
 use hxai_hybrid::conformal::DEFAULT_CONFORMAL_FOLDS;
-use hxai_hybrid::tables::{CorrectionForm, TableConfig, TableModel, fit_split, measure_stability};
+use hxai_hybrid::tables::{
+    CorrectionForm, Form, TableConfig, TableModel, fit_split, measure_stability,
+};
 use hxai_symreg::SearchConfig;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -31,6 +33,9 @@ struct ProcessSettings {
     exclude: Vec<String>,
     #[serde(default)]
     correction: CorrectionForm,
+    /// `free` or `factors` (docs/hybrid-tables.md, "The factor form").
+    #[serde(default)]
+    form: Form,
     #[serde(default)]
     joint: bool,
     #[serde(default = "default_conformal_folds")]
@@ -71,6 +76,7 @@ pub(crate) fn table_fit(
     cfg.features = s.features;
     cfg.exclude = s.exclude;
     cfg.correction = s.correction;
+    cfg.form = s.form;
     cfg.joint = s.joint;
     cfg.conformal_folds = s.conformal_folds;
     cfg.seed = search.seed;

@@ -260,6 +260,31 @@ def test_hybrid_fit_predict_roughness(roughness):
     assert m.target_ == "Ra_um"
 
 
+def test_hybrid_factor_form(roughness):
+    X, y = roughness
+    m = HybridRegressor(
+        "k*1000*feed_mm^2/(32*nose_radius_mm)",
+        calibrate=["k"],
+        correction="multiplicative",
+        form="factors",
+        **FAST,
+    ).fit(X, y)
+    assert m.factors_, "the factor form reports its factors"
+    for f in m.factors_:
+        assert f["complexity"] <= 5
+        cols = [f["column"]] if "column" in f else f["columns"]
+        assert set(cols) <= set(X.columns)
+    doc = json.loads(m.model_json_)
+    assert doc["correction"]["form"] == "factors"
+    parts = m.predict_parts(X)
+    np.testing.assert_allclose(
+        parts["hybrid"], parts["physics"] * (1 + parts["correction"]), rtol=1e-12
+    )
+    assert m.score(X, y) > 0.9
+    with pytest.raises(ValueError, match="use free or factors"):
+        HybridRegressor("k*feed_mm", calibrate=["k"], form="product", **FAST).fit(X, y)
+
+
 def test_hybrid_errors_name_the_problem(roughness):
     X, y = roughness
     with pytest.raises(ValueError, match="kk"):

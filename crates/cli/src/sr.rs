@@ -216,6 +216,26 @@ pub fn print_stability(st: &hxai_symreg::Stability) {
         .map(|(k, v)| format!("{k} {:.0} %", 100.0 * v))
         .collect();
     println!("  features: {}", used.join(", "));
+    if let Some(sets) = &st.factor_sets {
+        for s in sets.iter().take(3) {
+            println!(
+                "  factor columns {:>5.1} %  {}",
+                100.0 * s.share,
+                s.template
+            );
+        }
+    }
+    if let Some(factors) = &st.factors {
+        for (col, shapes) in factors {
+            let mut v: Vec<(&String, &f64)> = shapes.iter().collect();
+            v.sort_by(|a, b| b.1.total_cmp(a.1).then(a.0.cmp(b.0)));
+            let shown: Vec<String> = v
+                .iter()
+                .map(|(t, s)| format!("{t} {:.0} %", 100.0 * **s))
+                .collect();
+            println!("  factor of {col}: {}", shown.join(", "));
+        }
+    }
     if let Some(r2) = st.r2 {
         println!("  out-of-bag R^2 {:.4} +- {:.4}", r2.mean, r2.sd);
     }

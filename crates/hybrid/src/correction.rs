@@ -48,6 +48,15 @@ pub struct CorrectionInfo<K> {
     /// ([`SelectionReport`]); absent in files written before it was stored.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub selection: Option<SelectionReport>,
+    /// How the correction was searched (table models): `free` (the search's own
+    /// expressions) or `factors` (one closed-form factor per column,
+    /// [`hxai_symreg::factors`]); absent in record models and older files.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub form: Option<String>,
+    /// The factors of a `factors` correction, in the order they entered (JSON `factors`:
+    /// `column` or `columns`, `shape`, `equation`, `template`, `complexity`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub factors: Option<Vec<hxai_symreg::factors::Factor>>,
 }
 
 impl<K> CorrectionInfo<K> {
@@ -61,6 +70,8 @@ impl<K> CorrectionInfo<K> {
             uncertainty: None,
             pareto: None,
             selection: None,
+            form: None,
+            factors: None,
         }
     }
 

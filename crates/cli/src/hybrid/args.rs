@@ -41,6 +41,18 @@ pub(crate) enum CorrectionArg {
     Log,
 }
 
+/// `--form` values.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub(crate) enum FormArg {
+    /// Free-form symbolic regression over every feature.
+    Free,
+    /// One closed-form factor per column (power, linear, exponential, logarithm, pole,
+    /// saturation), kept only where it lowers the cross-validated error, at most one
+    /// two-column interaction: a product of factors (multiplicative, log) or a sum of terms
+    /// (additive).
+    Factors,
+}
+
 /// Options shared by `fit` and `compare`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct Common {
@@ -71,6 +83,9 @@ pub(crate) struct Common {
     /// How the correction enters the hybrid.
     #[arg(long, value_enum, default_value_t = CorrectionArg::Additive)]
     pub(crate) correction: CorrectionArg,
+    /// How the correction is searched: free form, or one factor per column.
+    #[arg(long, value_enum, default_value_t = FormArg::Free)]
+    pub(crate) form: FormArg,
     /// Rows sharing this column's value stay on one side of every split.
     #[arg(long)]
     pub(crate) group: Option<String>,
@@ -213,6 +228,10 @@ impl Common {
             CorrectionArg::Additive => CorrectionForm::Additive,
             CorrectionArg::Multiplicative => CorrectionForm::Multiplicative,
             CorrectionArg::Log => CorrectionForm::Log,
+        };
+        cfg.form = match c.form {
+            FormArg::Free => hxai_hybrid::tables::Form::Free,
+            FormArg::Factors => hxai_hybrid::tables::Form::Factors,
         };
         cfg.group = c.group.clone();
         cfg.test_fraction = c.test_fraction;

@@ -39,6 +39,21 @@ pub(super) fn print_model(m: &TableModel) {
         m.correction.forms.complexity,
         m.correction.forms.equation
     );
+    if let Some(factors) = &m.correction.factors {
+        for f in factors {
+            let on = f
+                .column
+                .clone()
+                .or_else(|| f.columns.as_ref().map(|c| c.join(" x ")))
+                .unwrap_or_default();
+            println!(
+                "  factor of {on} ({}, complexity {}): {}",
+                f.shape.name(),
+                f.complexity,
+                f.equation
+            );
+        }
+    }
     println!("hybrid: {} = {}", m.target, m.hybrid.equation);
     if let Some(j) = &m.joint {
         println!(

@@ -10,7 +10,7 @@ use super::physics::{
 };
 use super::resolve::{Resolved, resolve};
 use super::split::{check_rows, split_rows};
-use super::{CorrectionForm, TableConfig, TableProgress, calibrate};
+use super::{CorrectionForm, Form, TableConfig, TableProgress, calibrate};
 use crate::HybridError;
 use crate::{CorrectionInfo, SplitInfo};
 use hxai_eval::Split;
@@ -38,6 +38,16 @@ pub fn stability(
     let ft = table
         .select_columns(&model.correction.candidates)?
         .select_rows(&model.split.train)?;
+    if model.correction.form.as_deref() == Some(Form::Factors.name()) {
+        return Ok(hxai_symreg::factors::factor_stability(
+            &ft,
+            &delta,
+            model.correction.kind.link(),
+            &cfg.factor_config(),
+            runs,
+            progress,
+        )?);
+    }
     Ok(hxai_symreg::stability(
         &ft,
         &delta,
@@ -170,9 +180,27 @@ pub(crate) fn fit_inner(
     } else {
         "correction".to_string()
     };
-    let (ft, found) = search_training_rows(table, &res, cfg, split, &delta, task, label, progress)?;
-    let selection = hxai_symreg::SelectionReport::of(&found, &cfg.search_config());
-    let mut correction = found.best;
+    let searched = match cfg.form {
+        Form::Free => {
+            let (ft, found) =
+                search_training_rows(table, &res, cfg, split, &delta, task, label, progress)?;
+            Searched {
+                selection: hxai_symreg::SelectionReport::of(&found, &cfg.search_config()),
+                model: found.best,
+                pareto: found.pareto,
+                factors: None,
+                ft,
+            }
+        }
+        Form::Factors => search_factors(table, &res, cfg, split, &delta)?,
+    };
+    let Searched {
+        ft,
+        model: mut correction,
+        selection,
+        pareto,
+        factors,
+    } = searched;
     let y_train = gather(y_all, &split.train);
 
     let mut joint = None;
@@ -194,7 +222,9 @@ pub(crate) fn fit_inner(
         selection,
         joint,
     };
-    let mut model = model_of(job, &res, &ft, &found.pareto, fitted, y_all, &y_train)?;
+    let mut model = model_of(job, &res, &ft, &pareto, fitted, y_all, &y_train)?;
+    model.correction.form = Some(cfg.form.name().to_string());
+    model.correction.factors = factors;
     model.warnings = super::traps::fit_warnings(table, cfg, &res.features, split, y_all, &physics);
     model.warnings.extend(super::traps::parameter_warnings(
         &model.physics.standard_errors,
@@ -212,6 +242,61 @@ pub(crate) fn fit_inner(
         )?);
     }
     Ok(model)
+}
+
+/// The correction a search found on the training rows: their feature table, the model,
+/// how it was selected, the models it was chosen from and, in the factor form, its factors.
+struct Searched {
+    ft: Table,
+    model: hxai_symreg::Model,
+    selection: hxai_symreg::SelectionReport,
+    pareto: Vec<hxai_symreg::Model>,
+    factors: Option<Vec<hxai_symreg::factors::Factor>>,
+}
+
+/// The factor form's search ([`hxai_symreg::factors::fit_factors`]) of `delta` on the
+/// training rows: its alternatives are the selected columns with another shape that the
+/// held-out error cannot tell apart.
+fn search_factors(
+    table: &Table,
+    res: &Resolved,
+    cfg: &TableConfig,
+    split: &Split,
+    delta: &[f64],
+) -> Result<Searched, HybridError> {
+    let ft = table
+        .select_columns(&res.features)?
+        .select_rows(&split.train)?;
+    let fit =
+        hxai_symreg::factors::fit_factors(&ft, delta, cfg.correction.link(), &cfg.factor_config())?;
+    let alternatives = fit
+        .alternatives
+        .iter()
+        .take(3)
+        .map(|m| hxai_symreg::Alternative {
+            equation: m.equation(),
+            sympy: m.sympy(),
+            complexity: m.complexity(),
+            structure: hxai_symreg::stability::structure_of(m),
+            share: None,
+        })
+        .collect();
+    let selection = hxai_symreg::SelectionReport {
+        method: "factors".into(),
+        structure: hxai_symreg::stability::structure_of(&fit.model),
+        share: None,
+        runs: None,
+        alternatives,
+    };
+    let mut pareto = vec![fit.model.clone()];
+    pareto.extend(fit.alternatives.iter().cloned());
+    Ok(Searched {
+        ft,
+        model: fit.model,
+        selection,
+        pareto,
+        factors: Some(fit.factors),
+    })
 }
 
 /// What a fit found, before it is written down as a [`TableModel`]: the physics with its

@@ -89,6 +89,16 @@ pub enum CorrectionForm {
 }
 
 impl CorrectionForm {
+    /// The link of a factor correction of this form.
+    pub fn link(self) -> hxai_symreg::factors::Link {
+        use hxai_symreg::factors::Link;
+        match self {
+            CorrectionForm::Additive => Link::Additive,
+            CorrectionForm::Multiplicative => Link::Multiplicative,
+            CorrectionForm::Log => Link::Log,
+        }
+    }
+
     /// `additive`, `multiplicative` or `log`.
     pub fn name(self) -> &'static str {
         match self {
@@ -114,6 +124,43 @@ impl CorrectionForm {
     }
 }
 
+/// How the correction is searched.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Form {
+    /// Free-form symbolic regression over every feature ([`hxai_symreg::search()`]).
+    #[default]
+    Free,
+    /// One closed-form factor per column, forward-selected under cross-validation, at most
+    /// one interaction ([`hxai_symreg::factors`]): a product of factors for the
+    /// multiplicative and log corrections, a sum of terms for the additive one.
+    Factors,
+}
+
+impl Form {
+    /// `free` or `factors`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Form::Free => "free",
+            Form::Factors => "factors",
+        }
+    }
+
+    /// Parses `free` or `factors`.
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] naming the two choices.
+    pub fn parse(s: &str) -> Result<Self, crate::HybridError> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "free" => Ok(Form::Free),
+            "factors" | "factor" => Ok(Form::Factors),
+            other => Err(crate::HybridError::InvalidConfig(format!(
+                "unknown correction form {other:?}: use free or factors"
+            ))),
+        }
+    }
+}
+
 /// Settings of [`fit`] and [`compare`].
 #[derive(Clone, Debug)]
 pub struct TableConfig {
@@ -134,6 +181,10 @@ pub struct TableConfig {
     pub exclude: Vec<String>,
     /// Correction form.
     pub correction: CorrectionForm,
+    /// How the correction is searched: free form or one factor per column.
+    pub form: Form,
+    /// Settings of the factor form (its seed is [`TableConfig::seed`]).
+    pub factors: hxai_symreg::factors::FactorConfig,
     /// Rows sharing this column's value stay on one side of every split.
     pub group: Option<String>,
     /// Share of rows (or groups) held out for testing.
@@ -167,6 +218,8 @@ impl TableConfig {
             features: None,
             exclude: Vec::new(),
             correction: CorrectionForm::Additive,
+            form: Form::Free,
+            factors: hxai_symreg::factors::FactorConfig::default(),
             group: None,
             test_fraction: 0.2,
             extrapolate: None,
@@ -174,6 +227,14 @@ impl TableConfig {
             joint: false,
             search: SearchConfig::laws(),
             conformal_folds: DEFAULT_CONFORMAL_FOLDS,
+        }
+    }
+
+    fn factor_config(&self) -> hxai_symreg::factors::FactorConfig {
+        hxai_symreg::factors::FactorConfig {
+            seed: self.seed,
+            par: self.search.par,
+            ..self.factors
         }
     }
 

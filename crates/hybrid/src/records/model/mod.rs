@@ -63,6 +63,8 @@ impl CorrectionInfo<CorrectionKind> {
             uncertainty: None,
             pareto: None,
             selection: None,
+            form: None,
+            factors: None,
         }
     }
 }
