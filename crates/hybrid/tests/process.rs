@@ -4,7 +4,7 @@
 #![allow(clippy::unwrap_used)]
 use hxai_hybrid::HybridError;
 use hxai_hybrid::tables::{
-    CorrectionForm, TableConfig, TableModel, compare, fit, fit_split, split_rows,
+    CorrectionForm, Form, TableConfig, TableModel, compare, fit, fit_split, split_rows,
 };
 use hxai_symreg::Table;
 use hxai_symreg::infix::compile_text;
@@ -158,21 +158,35 @@ fn a_parameter_used_twice_is_one_unknown() {
 }
 
 /// The hybrid's one equation (sympy text, full precision) reproduces `predict` to 1e-9
-/// relative on every row, for every correction form and with the joint refit.
+/// relative on every row, for every correction form, with the joint refit, and for the
+/// factor form's corrections (issue 46) as for the free form's.
 #[test]
 fn hybrid_equation_reproduces_predict() {
     let t = roughness(300, 1e-4, 1);
-    for (form, joint) in [
-        (CorrectionForm::Additive, false),
-        (CorrectionForm::Multiplicative, false),
-        (CorrectionForm::Log, false),
-        (CorrectionForm::Additive, true),
-        (CorrectionForm::Log, true),
+    for (form, joint, search) in [
+        (CorrectionForm::Additive, false, Form::Free),
+        (CorrectionForm::Multiplicative, false, Form::Free),
+        (CorrectionForm::Log, false, Form::Free),
+        (CorrectionForm::Additive, true, Form::Free),
+        (CorrectionForm::Log, true, Form::Free),
+        (CorrectionForm::Additive, false, Form::Factors),
+        (CorrectionForm::Multiplicative, false, Form::Factors),
+        (CorrectionForm::Log, false, Form::Factors),
+        (CorrectionForm::Multiplicative, true, Form::Factors),
     ] {
         let mut cfg = cfg_roughness();
         cfg.correction = form;
         cfg.joint = joint;
+        cfg.form = search;
         let m = fit(&t, &cfg, &mut |_| {}).unwrap();
+        if search == Form::Factors {
+            let factors = m.correction.factors.as_ref().expect("factors");
+            assert!(!factors.is_empty(), "{}", m.correction.forms.equation);
+            assert!(factors.iter().all(|f| f.complexity <= 5));
+            assert_eq!(m.correction.form.as_deref(), Some("factors"));
+            // the product forms print the hybrid as one product: no exp(log(...)) left
+            assert!(!m.hybrid.sympy.contains("exp(log"), "{}", m.hybrid.sympy);
+        }
         let p = m.predict(&t).unwrap();
         let from_text = eval_text(&m.hybrid.sympy, &t);
         assert_rel(
