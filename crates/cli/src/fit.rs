@@ -89,6 +89,11 @@ pub struct Args {
     /// report how often each feature and each structure is selected (JSON `stability`).
     #[arg(long)]
     pub stability: Option<usize>,
+    /// How the correction is searched: free form (the paper's), or one term per signal
+    /// feature (`factors`: a sum of one-feature laws, kept where they lower the
+    /// cross-validated error; docs/hybrid-tables.md, "The factor form").
+    #[arg(long, value_enum, default_value_t = crate::hybrid::args::FormArg::Free)]
+    pub form: crate::hybrid::args::FormArg,
     /// Folds of the CV+ calibration of conformal prediction intervals of the corrected
     /// amplitude, grouped by record and stored in the model file (each fold refits the
     /// correction's constants, not its structure); 0 fits without them (the delta method is
@@ -177,6 +182,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         test_fraction: args.test_fraction,
         seed: args.seed,
         search,
+        form: args.form.into(),
         conformal_folds: args.conformal_folds,
         ..RecordConfig::default()
     };

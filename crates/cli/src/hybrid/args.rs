@@ -53,6 +53,15 @@ pub(crate) enum FormArg {
     Factors,
 }
 
+impl From<FormArg> for hxai_hybrid::tables::Form {
+    fn from(f: FormArg) -> Self {
+        match f {
+            FormArg::Free => hxai_hybrid::tables::Form::Free,
+            FormArg::Factors => hxai_hybrid::tables::Form::Factors,
+        }
+    }
+}
+
 /// Options shared by `fit` and `compare`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct Common {
@@ -229,10 +238,7 @@ impl Common {
             CorrectionArg::Multiplicative => CorrectionForm::Multiplicative,
             CorrectionArg::Log => CorrectionForm::Log,
         };
-        cfg.form = match c.form {
-            FormArg::Free => hxai_hybrid::tables::Form::Free,
-            FormArg::Factors => hxai_hybrid::tables::Form::Factors,
-        };
+        cfg.form = c.form.into();
         cfg.group = c.group.clone();
         cfg.test_fraction = c.test_fraction;
         cfg.extrapolate = c.extrapolate.clone();

@@ -16,7 +16,7 @@ use indicatif::ProgressBar;
 use print::{print_comparison, print_interval, print_model};
 use std::path::Path;
 
-mod args;
+pub(crate) mod args;
 mod print;
 
 pub use args::Args;

@@ -32,6 +32,10 @@ pub struct RecordConfig {
     pub seed: u64,
     /// Symbolic-regression settings.
     pub search: hxai_symreg::SearchConfig,
+    /// How the correction of the signal features is searched: free form (the paper's), or
+    /// one factor per feature ([`hxai_symreg::factors`], an additive correction: a sum of
+    /// one-feature terms; its folds are seeded by `search.seed`).
+    pub form: crate::tables::Form,
     /// Folds of the CV+ calibration of conformal intervals of the corrected amplitude,
     /// grouped by record (0: none; the model file then offers only the delta method).
     pub conformal_folds: usize,
@@ -47,6 +51,7 @@ impl Default for RecordConfig {
             test_fraction: 0.2,
             seed: 42,
             search: hxai_symreg::SearchConfig::paper(),
+            form: crate::tables::Form::Free,
             conformal_folds: crate::conformal::DEFAULT_CONFORMAL_FOLDS,
         }
     }
@@ -112,6 +117,21 @@ impl FitOutput {
                 })
             })
             .collect::<Result<Vec<f64>, HybridError>>()?;
+        if self.model.correction.form.as_deref() == Some(crate::tables::Form::Factors.name()) {
+            let fc = hxai_symreg::factors::FactorConfig {
+                seed: search.seed,
+                par: search.par,
+                ..Default::default()
+            };
+            return Ok(hxai_symreg::factors::factor_stability(
+                &table,
+                &delta,
+                hxai_symreg::factors::Link::Additive,
+                &fc,
+                runs,
+                progress,
+            )?);
+        }
         Ok(hxai_symreg::stability(
             &table, &delta, search, runs, progress,
         )?)
@@ -236,9 +256,16 @@ pub fn fit(
     let train_table = hybrid.feature_table(train.iter().copied())?;
     let test_table = hybrid.feature_table(test.iter().copied())?;
     let (train_delta, test_delta) = (delta_of(&train), delta_of(&test));
-    let result = hxai_symreg::search(&train_table, &train_delta, &cfg.search, &mut |p| {
-        progress(FitProgress::Search(p.clone()));
-    })?;
+    let (result, selection, factors) = match cfg.form {
+        crate::tables::Form::Free => {
+            let result = hxai_symreg::search(&train_table, &train_delta, &cfg.search, &mut |p| {
+                progress(FitProgress::Search(p.clone()));
+            })?;
+            let selection = hxai_symreg::SelectionReport::of(&result, &cfg.search);
+            (result, selection, None)
+        }
+        crate::tables::Form::Factors => factor_search(&train_table, &train_delta, cfg)?,
+    };
     let conformal = if cfg.conformal_folds > 0 {
         Some(conformal_of(
             &result.best,
@@ -256,8 +283,13 @@ pub fn fit(
         &train_table,
         &train_delta,
         &result.pareto,
-        hxai_symreg::SelectionReport::of(&result, &cfg.search),
+        selection,
     )?;
+    let correction = CorrectionInfo {
+        form: Some(cfg.form.name().to_string()),
+        factors,
+        ..correction
+    };
     let hat_train = correction.predict(&train_table)?;
     let hat_test = correction.predict(&test_table)?;
 
@@ -317,6 +349,49 @@ pub fn fit(
         search: result,
         warnings,
     })
+}
+
+/// The factor form's search of the training windows' `delta` (an additive correction: one
+/// term per signal feature), written as a search result with the factor form's selection
+/// report and its factors.
+fn factor_search(
+    table: &Table,
+    delta: &[f64],
+    cfg: &RecordConfig,
+) -> Result<
+    (
+        hxai_symreg::SearchResult,
+        hxai_symreg::SelectionReport,
+        Option<Vec<hxai_symreg::factors::Factor>>,
+    ),
+    HybridError,
+> {
+    let start = std::time::Instant::now();
+    let fc = hxai_symreg::factors::FactorConfig {
+        seed: cfg.search.seed,
+        par: cfg.search.par,
+        ..Default::default()
+    };
+    let fit =
+        hxai_symreg::factors::fit_factors(table, delta, hxai_symreg::factors::Link::Additive, &fc)?;
+    let selection = hxai_symreg::SelectionReport {
+        method: "factors".into(),
+        structure: hxai_symreg::stability::structure_of(&fit.model),
+        share: None,
+        runs: None,
+        alternatives: Vec::new(),
+    };
+    let result = hxai_symreg::SearchResult {
+        best: fit.model.clone(),
+        pareto: vec![fit.model],
+        alternatives: fit.alternatives,
+        consensus: None,
+        evaluations: 0,
+        duplicate_structures: 0,
+        simplified: 0,
+        seconds: start.elapsed().as_secs_f64(),
+    };
+    Ok((result, selection, Some(fit.factors)))
 }
 
 /// CV+ calibration of the correction `best` over `cfg.conformal_folds` folds of the training
