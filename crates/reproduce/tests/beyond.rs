@@ -5,7 +5,7 @@
 use hxai_reproduce::ReproduceConfig;
 use hxai_reproduce::beyond::{compute, figure_name, markdown};
 
-#[path = "../../hybrid/tests/common/mod.rs"]
+#[path = "../../hybrid/tests/it/common/mod.rs"]
 mod hybrid_common;
 use hybrid_common::COMPARE_MODELS;
 
