@@ -6,7 +6,7 @@ every name once (sum of k * name_k). Checks that each T sympifies to exactly Sym
 that S has exactly the names as free symbols, all distinct. Prints one line per failure and
 exits 1 on any; prints "ok: N names" and exits 0 otherwise.
 
-Used by crates/symreg/tests/sympy_export.rs when HXAI_PYTHON names a python with sympy.
+Used by crates/symreg/tests/it/sympy_export.rs when HXAI_PYTHON names a python with sympy.
 """
 import json
 import sys

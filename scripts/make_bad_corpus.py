@@ -1,4 +1,4 @@
-"""Write testdata/bad/: small bad input files for crates/cli/tests/bad_input.rs.
+"""Write testdata/bad/: small bad input files for crates/cli/tests/it/bad_input.rs.
 
 Run from the repository root with a python that has pyarrow (for the Parquet cases):
     python scripts/make_bad_corpus.py

@@ -67,7 +67,7 @@ fn mean_and_sd(values: &[f64]) -> (f64, f64) {
 /// The regularised incomplete beta is statrs' continued fraction. It is evaluated directly
 /// at the small argument `df / (df + t^2)` for large `|t|` (no `1 - cdf` cancellation), so the
 /// relative error stays near machine precision for p-values far below 1e-12 (checked against
-/// scipy in `tests/reference.rs`).
+/// scipy in `tests/it/reference.rs`).
 pub fn t_two_tailed_p(t: f64, df: f64) -> f64 {
     if t.is_nan() || df.is_nan() || df <= 0.0 {
         return f64::NAN;

@@ -39,7 +39,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .filter(|r| !(r.amplitude_um == 4.0 && r.frequency_hz == 40.0))
         .collect();
     let stored = Stored {
-        note: "written by `cargo run -p hxai-sim --example regen_testdata`; checked by crates/sim/tests/regression.rs",
+        note: "written by `cargo run -p hxai-sim --example regen_testdata`; checked by crates/sim/tests/it/regression.rs",
         config: cfg,
         records,
     };

@@ -4,7 +4,7 @@
 //! search fits on at most 2,000). `avx2` is the run-time path on a CPU with AVX2 (four dot
 //! products at a time), `portable` the reference without AVX2 (scalar dot products, as the
 //! AVX2 path also had before, and SSE2 sweeps); both give the same bits
-//! (`tests/properties.rs`).
+//! (`tests/it/properties.rs`).
 #![allow(missing_docs, clippy::unwrap_used)]
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use hxai_symreg::bench_programs::{affine_programs, column};

@@ -13,7 +13,7 @@
 //! fdlibm/musl reduction and polynomial (`Lg1..Lg7`); `sin`/`cos` reduce by `q pi/2` with a
 //! four-part pi/2 and use the fdlibm/musl kernels (`S1..S6`, `C1..C6`); `tanh` is Cephes'
 //! rational form below 0.625 and `1 - 2/(e^{2|x|}+1)` above (one shared division). Agreement with `std` (the C
-//! library) is tested in `tests/vmath.rs`: within 2 ulp for `exp`, `ln` and `tanh`, and
+//! library) is tested in `tests/it/vmath.rs`: within 2 ulp for `exp`, `ln` and `tanh`, and
 //! within 2 ulp or 2e-16 absolute for `sin`/`cos`, over the ranges and special values listed
 //! there.
 //!

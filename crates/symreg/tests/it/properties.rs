@@ -10,8 +10,7 @@ use proptest::prelude::*;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-mod common;
-use common::affine_program;
+use crate::common::affine_program;
 
 fn tables(affine: bool) -> Tables {
     Tables {

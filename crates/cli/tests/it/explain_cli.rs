@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-mod common;
+use crate::common;
 use common::{hxai, hxai_ok, s, text};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;

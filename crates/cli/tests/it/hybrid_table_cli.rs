@@ -4,10 +4,10 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-mod common;
+use crate::common;
 use common::{evaluate_args, hxai, ok, s};
 
-#[path = "../../hybrid/tests/common/mod.rs"]
+#[path = "../../../hybrid/tests/it/common/mod.rs"]
 mod hybrid_common;
 use hybrid_common::COMPARE_MODELS;
 

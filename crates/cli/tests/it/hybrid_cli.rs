@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::path::Path;
 
-mod common;
+use crate::common;
 use common::{evaluate_args, hxai, hxai_ok, predict_args, s};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;

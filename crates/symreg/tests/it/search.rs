@@ -7,8 +7,7 @@ use hxai_symreg::{
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-mod common;
-use common::affine_program;
+use crate::common::affine_program;
 
 fn uniform(n: usize, lo: f64, hi: f64, seed: u64) -> Vec<f64> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
-mod common;
+use crate::common;
 use common::{evaluate_args, predict_args, s};
 
 fn corpus(rel: &str) -> String {

@@ -12,8 +12,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeMap;
 
-mod common;
-use common::COMPARE_MODELS;
+use crate::common::COMPARE_MODELS;
 
 /// Turning-like table: feed f, nose radius r, speed v, a distractor d;
 /// Ra = 1.3 f^2/(32 r) + 2e-4 v + noise (sd `noise`).

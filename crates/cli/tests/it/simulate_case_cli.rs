@@ -5,7 +5,7 @@ use hxai_sim::cases::{CASE_NAMES, RoughnessConfig, generate_case, roughness};
 use std::path::Path;
 use std::process::Output;
 
-mod common;
+use crate::common;
 use common::{hxai, s, text};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;

@@ -3,9 +3,7 @@
 //! writes, and the folder must read back exactly as before.
 #![cfg(unix)]
 
-mod common;
-
-use common::{assert_no_temporary_files, s, scratch, simulate_small};
+use crate::common::{assert_no_temporary_files, s, scratch, simulate_small};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::{Command, Stdio};

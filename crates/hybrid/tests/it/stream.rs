@@ -6,7 +6,7 @@ use hxai_hybrid::records::stream::{Estimator, Row};
 use hxai_hybrid::records::{RecordInput, RecordModel};
 
 fn model() -> RecordModel {
-    RecordModel::from_json(include_str!("../../../testdata/bad/good/model.json"))
+    RecordModel::from_json(include_str!("../../../../testdata/bad/good/model.json"))
         .expect("the test model loads")
 }
 

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-mod common;
+use crate::common;
 use common::hxai;
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;

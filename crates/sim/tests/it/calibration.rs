@@ -1,9 +1,7 @@
 //! Calibration of the default data set against the paper's published magnitudes (targets in
 //! docs/simulator.md), measured with the real physics model of `hxai-signal`.
 
-mod common;
-
-use common::{evaluate, grouped};
+use crate::common::{evaluate, grouped};
 use hxai_sim::{SimConfig, simulate};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;

@@ -6,7 +6,7 @@
 
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 
 fn cell() -> impl Strategy<Value = String> {
     prop_oneof![

@@ -2,7 +2,7 @@
 //! sample; gaps restart with a warning; a bad line is named after the rows before it; the
 //! file output and the summary follow the contract.
 
-mod common;
+use crate::common;
 
 use common::{hxai, s, scratch, stderr};
 use std::io::{BufRead, BufReader, Write};

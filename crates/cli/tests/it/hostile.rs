@@ -6,7 +6,7 @@
 //! option typed, and model files judged in JSON's words.
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 
 use common::{hxai, s, scratch, stderr};
 use std::path::{Path, PathBuf};

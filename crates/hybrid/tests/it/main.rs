@@ -1,0 +1,14 @@
+//! The integration tests of hxai-hybrid, one module per former test file, linked into one
+//! test binary: each binary costs a link of the whole dependency tree, and the tests run
+//! in parallel within a binary but one binary after another (issue 51).
+//! `tests/stream_memory.rs` stays a binary of its own: its counting allocator sees every
+//! thread, so nothing else may run beside it.
+
+mod common;
+
+mod conformal;
+mod end_to_end;
+mod json_shape;
+mod process;
+mod properties;
+mod stream;
