@@ -92,7 +92,8 @@ pub fn factor_stability(
                     par: Par::Current,
                     ..*cfg
                 };
-                let (fit, s) = fit_structure(&train, &yr, link, &run_cfg)?;
+                // a row drawn twice stays in one fold of the run's cross-validation
+                let (fit, s) = fit_structure(&train, &yr, link, &run_cfg, Some(&rows))?;
                 let whole = Whole {
                     data,
                     grids: &grids,

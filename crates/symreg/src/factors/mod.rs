@@ -169,19 +169,21 @@ pub fn fit_factors(
     link: Link,
     cfg: &FactorConfig,
 ) -> Result<FactorFit, SrError> {
-    Ok(fit_structure(data, y, link, cfg)?.0)
+    Ok(fit_structure(data, y, link, cfg, None)?.0)
 }
 
-/// [`fit_factors`], with the selected structure itself.
+/// [`fit_factors`], with the selected structure itself; `groups` (one id per row) keeps
+/// rows sharing an id in one fold.
 fn fit_structure(
     data: &Table,
     y: &[f64],
     link: Link,
     cfg: &FactorConfig,
+    groups: Option<&[usize]>,
 ) -> Result<(FactorFit, Structure), SrError> {
     check(data, y, cfg)?;
     let cols: Vec<&[f64]> = data.columns().iter().map(Vec::as_slice).collect();
-    let problem = select::Problem::new(cols, y, link, cfg);
+    let problem = select::Problem::new(cols, y, link, cfg, groups);
     let (chosen, path, alts) = problem.select().ok_or_else(|| {
         SrError::InvalidConfig("no factor model could be fitted to the rows".into())
     })?;

@@ -30,9 +30,15 @@ pub(crate) struct Problem<'a> {
 }
 
 impl<'a> Problem<'a> {
-    pub fn new(cols: Vec<&'a [f64]>, y: &'a [f64], link: Link, cfg: &'a FactorConfig) -> Self {
+    pub fn new(
+        cols: Vec<&'a [f64]>,
+        y: &'a [f64],
+        link: Link,
+        cfg: &'a FactorConfig,
+        groups: Option<&[usize]>,
+    ) -> Self {
         let stats = cols.iter().map(|c| ColStats::of(c)).collect();
-        let folds = Folds::new(&cols, y, cfg.folds, cfg.seed);
+        let folds = Folds::new(&cols, y, cfg.folds, cfg.seed, groups);
         Self {
             cols,
             y,

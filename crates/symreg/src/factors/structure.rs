@@ -175,17 +175,27 @@ pub(crate) struct Fold {
 }
 
 impl Folds {
-    /// `k` folds of the rows, by a shuffle from `seed`.
-    pub fn new(cols: &[&[f64]], y: &[f64], k: usize, seed: u64) -> Self {
+    /// `k` folds of the rows, by a shuffle from `seed`. With `groups` (one id per row),
+    /// rows sharing an id stay in one fold: a bootstrap resample's copies of one row must
+    /// not be scored on a copy of themselves, or the held-out error rewards overfitting.
+    pub fn new(cols: &[&[f64]], y: &[f64], k: usize, seed: u64, groups: Option<&[usize]>) -> Self {
         use rand::SeedableRng;
         use rand::seq::SliceRandom;
         let n = y.len();
-        let mut order: Vec<usize> = (0..n).collect();
-        order.shuffle(&mut rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ 0xFAC7));
-        let mut of = vec![0usize; n];
-        for (pos, &i) in order.iter().enumerate() {
-            of[i] = pos % k;
-        }
+        let ids: Vec<usize> = match groups {
+            Some(g) => g.to_vec(),
+            None => (0..n).collect(),
+        };
+        let mut distinct: Vec<usize> = ids.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
+        distinct.shuffle(&mut rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ 0xFAC7));
+        let fold_of: std::collections::HashMap<usize, usize> = distinct
+            .iter()
+            .enumerate()
+            .map(|(pos, &g)| (g, pos % k))
+            .collect();
+        let of: Vec<usize> = ids.iter().map(|g| fold_of[g]).collect();
         let folds = (0..k)
             .map(|f| {
                 let test_rows: Vec<usize> = (0..n).filter(|&i| of[i] == f).collect();
