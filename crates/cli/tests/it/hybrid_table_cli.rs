@@ -329,6 +329,67 @@ fn bad_input_gives_one_line_naming_it() -> TestResult {
 
 /// `--operators` limits what the correction's search builds: no model it reports (the
 /// selected one and the whole Pareto front) uses an operator outside the list.
+/// `--form factors`: the model file holds `form` and its `factors` (each with its column and
+/// a complexity of at most 5), the printed output one line per factor, `--stability` the
+/// per-factor shares and bands; the distractor `d` is left out; `--form` refuses other
+/// values, naming the choices; `compare` accepts it.
+#[test]
+fn the_factor_form_writes_its_factors() -> TestResult {
+    let (dir, data) = scratch_table("factors", 120)?;
+    let model = dir.join("m.json");
+    let mut args = fit_args(s(&data), s(&model));
+    args.extend_from_slice(&["--form", "factors", "--stability", "4"]);
+    let out = hxai(&args)?;
+    ok(&out, "fit --form factors");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("factor of "), "{text}");
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model)?)?;
+    let c = &m["correction"];
+    assert_eq!(c["form"], "factors");
+    let factors = c["factors"].as_array().ok_or("factors")?;
+    assert!(!factors.is_empty());
+    for f in factors {
+        assert!(f["complexity"].as_u64().ok_or("complexity")? <= 5, "{f}");
+        assert!(f["column"].is_string() || f["columns"].is_array(), "{f}");
+        assert_ne!(f["column"], "d", "the distractor was kept: {f}");
+    }
+    let st = &m["stability"];
+    assert!(
+        st["factors"].is_object() && st["factor_sets"].is_array(),
+        "{st}"
+    );
+    assert!(st["bands"].is_object(), "{st}");
+    // the free form's model says so too
+    let free = dir.join("free.json");
+    ok(&hxai(&fit_args(s(&data), s(&free)))?, "fit");
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&free)?)?;
+    assert_eq!(m["correction"]["form"], "free");
+    assert!(m["correction"].get("factors").is_none());
+    // a wrong value names the choices
+    let mut bad = fit_args(s(&data), s(&model));
+    bad.extend_from_slice(&["--form", "product"]);
+    let out = hxai(&bad)?;
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("free") && err.contains("factors"), "{err}");
+    // compare runs the factor form's hybrid
+    let mut cmp = hybrid_args("compare", s(&data), LAW);
+    cmp.extend_from_slice(&CALIBRATE_K);
+    cmp.extend_from_slice(&QUICK);
+    cmp.extend_from_slice(&["--form", "factors", "--json"]);
+    let out = hxai(&cmp)?;
+    ok(&out, "compare --form factors");
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+    assert!(
+        j["models"]
+            .as_array()
+            .ok_or("models")?
+            .iter()
+            .any(|m| m["name"] == "hybrid")
+    );
+    Ok(())
+}
+
 #[test]
 fn the_correction_uses_only_the_operators_given() -> TestResult {
     let (dir, data) = scratch_table("operators", 80)?;
