@@ -127,9 +127,9 @@ fn a_product_of_three_laws_is_recovered_factor_by_factor() {
         &fit.model.feature_names,
     );
     let pred = fit.model.predict(&t).expect("predict");
-    for i in 0..n {
+    for (i, p) in pred.iter().enumerate() {
         let v = printed.eval(&|name| col(&t, name)[i]);
-        assert!((v - pred[i]).abs() <= 1e-9 * pred[i].abs().max(1.0));
+        assert!((v - p).abs() <= 1e-9 * p.abs().max(1.0));
     }
 }
 
