@@ -90,6 +90,37 @@ pub(crate) fn bootstrap_rows(seed: u64, r: usize, n: usize) -> (Vec<usize>, Vec<
     (rows, oob)
 }
 
+/// Each counted key with its share of `runs`, most frequent first (ties by text).
+pub(crate) fn shares(counts: BTreeMap<String, usize>, runs: usize) -> Vec<StructureShare> {
+    let mut v: Vec<StructureShare> = counts
+        .into_iter()
+        .map(|(template, c)| StructureShare {
+            template,
+            share: c as f64 / runs as f64,
+        })
+        .collect();
+    v.sort_by(|a, b| {
+        b.share
+            .total_cmp(&a.share)
+            .then(a.template.cmp(&b.template))
+    });
+    v
+}
+
+/// Mean and sample standard deviation of the runs' R^2 (`None` without any).
+pub(crate) fn r2_spread(r2s: &[f64]) -> Option<R2Spread> {
+    (!r2s.is_empty()).then(|| {
+        let m = r2s.len() as f64;
+        let mean = r2s.iter().sum::<f64>() / m;
+        let sd = if r2s.len() > 1 {
+            (r2s.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (m - 1.0)).sqrt()
+        } else {
+            0.0
+        };
+        R2Spread { mean, sd }
+    })
+}
+
 /// The structure of a model with its constants ignored (see the module docs): its
 /// program's [`crate::canonical::structure_key`], sympy-readable text with every constant
 /// written `c`.
@@ -195,28 +226,8 @@ pub(crate) fn stability_of(
         .into_iter()
         .map(|(name, c)| (name, c as f64 / runs as f64))
         .collect();
-    let mut structures: Vec<StructureShare> = counts
-        .into_iter()
-        .map(|(template, c)| StructureShare {
-            template,
-            share: c as f64 / runs as f64,
-        })
-        .collect();
-    structures.sort_by(|a, b| {
-        b.share
-            .total_cmp(&a.share)
-            .then(a.template.cmp(&b.template))
-    });
-    let r2 = (!r2s.is_empty()).then(|| {
-        let m = r2s.len() as f64;
-        let mean = r2s.iter().sum::<f64>() / m;
-        let sd = if r2s.len() > 1 {
-            (r2s.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (m - 1.0)).sqrt()
-        } else {
-            0.0
-        };
-        R2Spread { mean, sd }
-    });
+    let structures = shares(counts, runs);
+    let r2 = r2_spread(&r2s);
     Ok(Stability {
         runs,
         features,

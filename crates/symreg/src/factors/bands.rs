@@ -9,7 +9,7 @@
 use super::shape::Shape;
 use super::structure::Structure;
 use super::{FactorConfig, Link, fit_structure};
-use crate::stability::{R2Spread, Stability, StructureShare, bootstrap_rows, structure_of};
+use crate::stability::{Stability, bootstrap_rows, r2_spread, shares, structure_of};
 use crate::{Par, SrError, Table};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -191,22 +191,6 @@ fn describe(
     }
 }
 
-fn shares(counts: BTreeMap<String, usize>, runs: usize) -> Vec<StructureShare> {
-    let mut v: Vec<StructureShare> = counts
-        .into_iter()
-        .map(|(template, c)| StructureShare {
-            template,
-            share: c as f64 / runs as f64,
-        })
-        .collect();
-    v.sort_by(|a, b| {
-        b.share
-            .total_cmp(&a.share)
-            .then(a.template.cmp(&b.template))
-    });
-    v
-}
-
 fn quantile(sorted: &[f64], q: f64) -> f64 {
     if sorted.is_empty() {
         return f64::NAN;
@@ -258,16 +242,7 @@ fn summarise(data: &Table, grids: &[Vec<f64>], all: Vec<Run>, runs: usize) -> St
             (col, band)
         })
         .collect();
-    let r2 = (!r2s.is_empty()).then(|| {
-        let m = r2s.len() as f64;
-        let mean = r2s.iter().sum::<f64>() / m;
-        let sd = if r2s.len() > 1 {
-            (r2s.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (m - 1.0)).sqrt()
-        } else {
-            0.0
-        };
-        R2Spread { mean, sd }
-    });
+    let r2 = r2_spread(&r2s);
     Stability {
         runs,
         features: used.into_iter().map(|(k, c)| (k, share(c))).collect(),
