@@ -149,7 +149,7 @@ impl Form {
     /// Parses `free` or `factors`.
     ///
     /// # Errors
-    /// [`HybridError::InvalidConfig`] naming the two choices.
+    /// [`crate::HybridError::InvalidConfig`] naming the two choices.
     pub fn parse(s: &str) -> Result<Self, crate::HybridError> {
         match s.trim().to_ascii_lowercase().as_str() {
             "free" => Ok(Form::Free),
