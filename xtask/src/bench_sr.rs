@@ -15,7 +15,15 @@
 //! script's default `--db` is `scripts/suites/NAME.csv`, sources in `scripts/suites/README.md`,
 //! results in `target/bench-sr/NAME/`); `--check-suite` only parses and samples a suite.
 //!
-//! Options (all forwarded to the script): `--engines hxai,feyn,pyoperon,gplearn`,
+//! `--suite real-laws` runs `scripts/bench_real_laws.py` instead (issue 47): `hxai sr` alone on
+//! the seven real tables of `testdata/real/`, each scored against the law the literature fits
+//! to it (`testdata/real/laws.json`), with the `hxai` built here (the dev profile; a later
+//! `--hxai PATH` wins); the venv then needs only sympy, numpy, scipy and pandas.
+//! Its options: `--only NAME,...`, `--extra "HXAI-SR-ARGS"` (or the arguments after `--`),
+//! `--out FILE` (default `target/bench-sr/real-laws/results.jsonl`), `--seed N` (of the scoring
+//! points), `--self-test` (checks the scorer, runs no hxai).
+//!
+//! Options of the other suites (all forwarded to the script): `--engines hxai,feyn,pyoperon,gplearn`,
 //! `--problems N` (first N of 16 equations), `--only I.6.2,I.10.7`, `--noise 0,0.01`,
 //! `--rows 1000`, `--seed 42`, `--out target/bench-sr`, `--hxai-args "..."`, `--hxai-label NAME`,
 //! `--csv FILE --target COL`.
@@ -27,11 +35,13 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-fn ensure_venv(root: &Path) -> Result<PathBuf> {
+/// The venv's interpreter, after `pip install` of the pinned requirements if any module of
+/// `imports` (a Python import list) is missing.
+fn ensure_venv(root: &Path, imports: &str) -> Result<PathBuf> {
     let venv = root.join(".venv-sr");
     let py = crate::venv::create(&venv, "python3")?;
     let check = Command::new(&py)
-        .args(["-c", "import sympy, pandas, numpy, pyoperon, gplearn, feyn"])
+        .args(["-c", &format!("import {imports}")])
         .status()?;
     if !check.success() {
         let requirements = root.join("scripts").join("bench_sr_requirements.txt");
@@ -52,10 +62,30 @@ fn suite_name(args: &[String]) -> Option<String> {
     })
 }
 
+/// The arguments without `--suite NAME` or `--suite=NAME`.
+fn without_suite(args: &[String]) -> Vec<String> {
+    let mut kept = Vec::new();
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        if a == "--suite" {
+            it.next();
+        } else if !a.starts_with("--suite=") {
+            kept.push(a.clone());
+        }
+    }
+    kept
+}
+
 /// Runs the benchmark with the given command-line arguments.
 pub fn run(args: &[String]) -> Result<()> {
     let root = root();
-    let py = ensure_venv(&root)?;
+    let suite = suite_name(args);
+    let real_laws = suite.as_deref() == Some("real-laws");
+    let py = if real_laws {
+        ensure_venv(&root, "sympy, pandas, numpy, scipy")?
+    } else {
+        ensure_venv(&root, "sympy, pandas, numpy, pyoperon, gplearn, feyn")?
+    };
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let ok = Command::new(&cargo)
         .current_dir(&root)
@@ -69,11 +99,18 @@ pub fn run(args: &[String]) -> Result<()> {
         .map(PathBuf::from)
         .unwrap_or_else(|_| root.join("target"));
     let hxai = target.join("debug").join("hxai");
-    let suite = suite_name(args);
-    let script = if suite.is_some() {
+    let script = if real_laws {
+        "bench_real_laws.py"
+    } else if suite.is_some() {
         "bench_sr_suite.py"
     } else {
         "bench_sr_run.py"
+    };
+    // bench_real_laws.py has one suite and takes no `--suite`
+    let args = if real_laws {
+        without_suite(args)
+    } else {
+        args.to_vec()
     };
     let mut cmd = Command::new(&py);
     cmd.current_dir(&root)
@@ -92,7 +129,7 @@ pub fn run(args: &[String]) -> Result<()> {
         cmd.arg("--db").arg(db);
     }
     let status = cmd
-        .args(args)
+        .args(&args)
         .status()
         .with_context(|| format!("running scripts/{script}"))?;
     if !status.success() {

@@ -3,7 +3,8 @@
 //! - `cargo xtask reproduce [--quick] [--check] [--out DIR]`: the paper's tables and figures
 //!   into `docs/results/` (or `DIR`); `--check` writes nothing and fails when the committed
 //!   files differ from what the code produces now.
-//! - `cargo xtask bench-sr [...]`: symbolic regression side by side with peer engines.
+//! - `cargo xtask bench-sr [...]`: symbolic regression side by side with peer engines, and
+//!   `--suite real-laws`: `hxai sr` against the laws of real tables (issue 47).
 //! - `cargo xtask check-docs`: fails when `README.md` or `docs/` name a path that does not
 //!   exist, or when a module is missing from the code map of `docs/architecture.md` (CI runs
 //!   it).
@@ -28,8 +29,9 @@ commands:
       --quick   reduced data and epochs (CI smoke run), written to target/reproduce-quick/
       --check   write nothing; fail if the committed docs/results/ differ from a fresh run
       --out DIR write somewhere else
-  bench-sr [--help]
-      hxai vs feyn, pyoperon and gplearn on AI-Feynman problems (creates .venv-sr)
+  bench-sr [--suite feynman|nguyen|keijzer|korns|livermore|strogatz|real-laws] [--help]
+      hxai vs feyn, pyoperon and gplearn on AI-Feynman problems (creates .venv-sr);
+      --suite real-laws: hxai sr on the real tables of testdata/real/ against their laws
   check-docs
       fail when README.md or docs/ name a repository path that does not exist,
       or when a module is missing from the code map of docs/architecture.md
