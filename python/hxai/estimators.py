@@ -7,6 +7,7 @@ clones like any other.
 """
 
 import json
+import re
 import warnings
 
 import numpy as np
@@ -64,6 +65,7 @@ _SEARCH_KEYS = (
     "snap_tolerance",
     "named_constants",
     "separability",
+    "power_laws",
     "nesting",
     "consensus_runs",
     "skip_equivalent",
@@ -78,6 +80,7 @@ _CRITERIA = {
     "pareto": "pareto_score",
     "pareto_score": "pareto_score",
     "cv": "cv",
+    "mdl": "mdl",
 }
 _RANDOM_STARTS = {"always": "always", "on_failure": "on_failure", "on-failure": "on_failure"}
 _STRATEGIES = {
@@ -99,7 +102,7 @@ def _search_json(est):
         s["operators"] = list(s["operators"])
     crit = str(s["criterion"]).lower()
     if crit not in _CRITERIA:
-        raise ValueError(f"criterion `{s['criterion']}`: use bic, aic, pareto or cv")
+        raise ValueError(f"criterion `{s['criterion']}`: use bic, aic, pareto, cv or mdl")
     s["criterion"] = _CRITERIA[crit]
     strat = str(s["strategy"]).lower()
     if strat not in _STRATEGIES:
@@ -126,7 +129,7 @@ def _search_json(est):
         nest = "none"
     if not isinstance(nest, (str, dict)):
         raise ValueError(
-            f"nesting must be 'none', 'readable', rules like 'exp:exp=0' or a dict like "
+            f"nesting must be 'none', 'readable', 'strict', rules like 'exp:exp=0' or a dict like "
             f"{{'exp': {{'exp': 0}}}}, got {nest!r}"
         )
     s["nesting"] = nest
@@ -246,6 +249,102 @@ def _level(v):
     return float(v)
 
 
+_MISSING = ("refuse", "drop", "impute")
+
+
+def _missing_policy(est):
+    policy = str(getattr(est, "missing", "refuse")).lower()
+    if policy not in _MISSING:
+        raise ValueError(f"missing `{est.missing}`: use refuse, drop or impute")
+    return policy
+
+
+def _missing_fit(est, X, y, names, protected=()):
+    """Empty cells (NaN) of the training rows, by ``est.missing`` (``hxai ... --missing``):
+    ``refuse`` raises naming the column, its count and the two other choices; ``drop``
+    drops every row with a NaN; ``impute`` drops the rows whose target is NaN and fills a
+    feature's NaN with its median on the kept rows (never a ``protected`` column's: the
+    physics is never given a made-up value). Returns X, y and the report stored as
+    ``missing_`` (policy, medians, dropped_rows, filled)."""
+    policy = _missing_policy(est)
+    X = np.array(X, dtype=np.float64, copy=True)
+    y = np.asarray(y, dtype=np.float64)
+    xnan, ynan = np.isnan(X), np.isnan(y)
+    report = {"policy": policy, "medians": {}, "dropped_rows": 0, "filled": {}}
+    gaps = [(n, int(xnan[:, j].sum())) for j, n in enumerate(names) if xnan[:, j].any()]
+    if ynan.any():
+        gaps.append(("the target", int(ynan.sum())))
+    if policy == "refuse" and gaps:
+        n, k = gaps[0]
+        raise ValueError(
+            f"column `{n}` has {k} empty cell(s) (NaN) of {len(y)}; hxai refuses empty cells "
+            "by default: choose missing='drop' (drop the rows with an empty cell) or "
+            "missing='impute' (fill a feature's empty cells with its training median)"
+        )
+    for j, n in enumerate(names):
+        if policy != "refuse" and xnan[:, j].all():
+            raise ValueError(f"column `{n}` is empty (NaN) in every row: leave it out")
+    keep = ~(xnan.any(axis=1) | ynan) if policy == "drop" else ~ynan
+    if not keep.any():
+        raise ValueError(f"missing='{policy}': every row has an empty cell, no row is left")
+    X, y = X[keep], y[keep]
+    report["dropped_rows"] = int((~keep).sum())
+    if policy == "impute":
+        for j, n in enumerate(names):
+            col = X[:, j]
+            empty = np.isnan(col)
+            if n in protected:
+                if empty.any():
+                    raise ValueError(
+                        f"column `{n}` has {int(empty.sum())} empty cell(s) and feeds the "
+                        "physics, which is never given a made-up value: use missing='drop' "
+                        "or fill the cells"
+                    )
+                continue
+            m = float(np.median(col[~empty]))
+            report["medians"][n] = m
+            if empty.any():
+                X[:, j] = np.where(empty, m, col)
+                report["filled"][n] = int(empty.sum())
+    if report["dropped_rows"]:
+        warnings.warn(
+            f"missing='{policy}': dropped {report['dropped_rows']} row(s) with an empty cell",
+            UserWarning,
+            stacklevel=3,
+        )
+    for n, k in report["filled"].items():
+        warnings.warn(
+            f"missing='impute': filled {k} empty cell(s) of `{n}` with its training median "
+            f"{report['medians'][n]:.6g}",
+            UserWarning,
+            stacklevel=3,
+        )
+    return X, y, report
+
+
+def _missing_predict(est, X, names):
+    """NaN in rows to predict: filled with the training medians when the estimator was
+    fitted with ``missing='impute'``; otherwise refused, naming the column (a prediction is
+    one value per row, so no row is dropped here)."""
+    nan = np.isnan(X)
+    if not nan.any():
+        return X
+    report = getattr(est, "missing_", None) or {}
+    medians = report.get("medians", {})
+    X = np.array(X, dtype=np.float64, copy=True)
+    for j, n in enumerate(names):
+        if not nan[:, j].any():
+            continue
+        if report.get("policy") != "impute" or n not in medians:
+            raise ValueError(
+                f"column `{n}` has {int(nan[:, j].sum())} empty cell(s) (NaN) in the rows to "
+                "predict; only an estimator fitted with missing='impute' fills them (with "
+                "the training medians), and only in its feature columns"
+            )
+        X[:, j] = np.where(nan[:, j], medians[n], X[:, j])
+    return X
+
+
 class _SearchParams:
     """Search settings shared by both estimators (defaults: hxai's ``SearchConfig``)."""
 
@@ -255,17 +354,20 @@ class _SearchParams:
         self.n_jobs = loc["n_jobs"]
 
     def __sklearn_tags__(self):
-        # Both estimators refuse NaN in X (the engine has no missing-value handling).
+        # NaN in X is an empty cell: refused unless missing='drop' or 'impute' says what to
+        # do with it (_missing_fit).
         tags = super().__sklearn_tags__()
-        tags.input_tags.allow_nan = False
+        tags.input_tags.allow_nan = str(getattr(self, "missing", "refuse")).lower() != "refuse"
         return tags
 
 
 class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     """Symbolic regression (``hxai sr``) as a scikit-learn regressor.
 
-    Parameters are the engine's search settings with its defaults (the paper's set-up:
-    seed 42, 10 epochs of 1000 candidates, complexity at most 10, BIC). ``fit`` takes a
+    Parameters are the engine's search settings with ``hxai sr``'s defaults (seed 42, 10
+    epochs of 1000 candidates, complexity at most 10 plus 2 per input beyond the first,
+    selection by description length ``criterion="mdl"``, ``nesting="strict"``,
+    ``power_laws=True``, ``missing="refuse"``). ``fit`` takes a
     DataFrame (its column names become the equation's names) or an array (names x0, x1...).
 
     Fitted attributes: ``equation_`` (4 significant digits, for reading), ``sympy_`` (full
@@ -308,6 +410,13 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     Feynman 100 and recovered as many laws; 10 took 40 % less and recovered 2 fewer at
     noise 0 and 4 fewer at 1 % (docs/benchmarks.md, "Keys for the short programs only").
 
+    ``power_laws=True`` (``hxai sr``'s default; ``--no-power-laws`` turns it off) offers
+    selection closed-form factor models of the target: a product ``C * x1**a * x2**b ...``
+    and a sum of one-column terms, the power with a fitted exponent first. ``nesting`` is
+    ``"strict"`` by default: no transcendental function inside another (except a power
+    ``exp(a*log(x))``) and ``sin``/``cos`` only of a sum of inputs; ``"none"`` was the
+    default before issue 47 (docs/benchmarks.md, "Laws in small real tables").
+
     ``n_jobs`` is the number of threads of the search: ``None`` (the default) uses every
     core (the engine's shared thread pool, sized by ``RAYON_NUM_THREADS`` if set), ``-1``
     every core in a pool of its own, a positive int that many threads. It is chosen per
@@ -327,7 +436,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         operator_complexity=None,
         operators=DEFAULT_OPERATORS,
         strategy="combined",
-        criterion="bic",
+        criterion="mdl",
         complexity_penalty=1.0,
         cv_folds=5,
         time_limit_s=None,
@@ -342,7 +451,8 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         snap_tolerance=1e-3,
         named_constants=True,
         separability=True,
-        nesting="none",
+        power_laws=True,
+        nesting="strict",
         consensus_runs=0,
         skip_equivalent=True,
         max_key_nodes=SR_MAX_KEY_NODES,
@@ -352,9 +462,11 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         stability_runs=0,
         units=None,
         target_units=None,
+        missing="refuse",
         n_jobs=None,
     ):
         self._set_search(locals())
+        self.missing = missing
         self.conformal_folds = conformal_folds
         self.stability_runs = stability_runs
         self.units = units
@@ -367,6 +479,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             self, X, y, dtype=np.float64, y_numeric=True, ensure_all_finite=False
         )
         names = _names(self, X.shape[1])
+        X, y, self.missing_ = _missing_fit(self, X, y, names)
         folds = _folds(self.conformal_folds)
         runs = _stability_runs(self.stability_runs)
         units, target_units = _units(self.units, self.target_units, names)
@@ -421,6 +534,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         check_is_fitted(self, "model_json_")
         X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
         names = _names(self, X.shape[1])
+        X = _missing_predict(self, X, names)
         lo, hi, used = _hxai.sr_intervals(
             self.model_json_,
             self.uncertainty_json_,
@@ -438,6 +552,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         check_is_fitted(self, "model_json_")
         X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
         names = _names(self, X.shape[1])
+        X = _missing_predict(self, X, names)
         return from_bytes(_hxai.sr_predict(self.model_json_, names, columns_of(X)))
 
 
@@ -509,6 +624,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         snap_tolerance=1e-3,
         named_constants=False,
         separability=False,
+        power_laws=False,
         nesting="readable",
         consensus_runs=0,
         skip_equivalent=True,
@@ -517,10 +633,12 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         runners_up=3,
         conformal_folds=5,
         stability_runs=0,
+        missing="refuse",
         n_jobs=None,
     ):
         self.conformal_folds = conformal_folds
         self.stability_runs = stability_runs
+        self.missing = missing
         self.physics = physics
         self.calibrate = calibrate
         self.init = init
@@ -559,6 +677,10 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         )
         names = _names(self, X.shape[1])
         target = self._target_name(y_in, names)
+        physics_names = set(re.findall(r"[A-Za-z_][A-Za-z0-9_]*", self.physics))
+        X, y, self.missing_ = _missing_fit(
+            self, X, y, names, protected=[n for n in names if n in physics_names]
+        )
         settings = {
             "target": target,
             "physics": self.physics,
@@ -605,6 +727,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         check_is_fitted(self, "model_json_")
         X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
         names = _names(self, X.shape[1])
+        X = _missing_predict(self, X, names)
         return _hxai.table_predict(self.model_json_, names, columns_of(X))
 
     def predict(self, X):
@@ -623,6 +746,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         check_is_fitted(self, "model_json_")
         X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
         names = _names(self, X.shape[1])
+        X = _missing_predict(self, X, names)
         lo, hi, used = _hxai.table_intervals(
             self.model_json_, names, columns_of(X), _level(level), method
         )

@@ -14,9 +14,9 @@ TRANSCENDENTAL = ("exp(", "log(", "sin(", "cos(", "tanh(")
 
 def test_every_nesting_form_is_read_and_a_bad_one_refused(quadratic):
     X, y = quadratic
-    for form in ("none", "readable", "readable,exp:log=0", {"exp": {"exp": 0}}):
+    for form in ("none", "readable", "strict", "readable,exp:log=0", {"exp": {"exp": 0}}):
         est = SymbolicRegressor(**FAST, nesting=form).fit(X, y)
-        assert est.selection_["method"] == "bic"
+        assert est.selection_["method"] == "mdl"
         assert est.selection_["share"] is None
     with pytest.raises(ValueError, match="nesting"):
         SymbolicRegressor(**FAST, nesting="exp:exp").fit(X, y)

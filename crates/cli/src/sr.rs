@@ -65,9 +65,10 @@ pub struct Args {
     /// tanh abs gaussian gaussian2 (default: all of them, the paper's and feyn's sets).
     #[arg(long, value_delimiter = ',')]
     pub operators: Option<Vec<String>>,
-    /// Which operator may appear inside which: `none` (the default of `sr`), `readable`
-    /// (no exp, log, sin, cos, tanh or gaussian inside another, except a power law
-    /// `exp(a*log(x))`), or rules `OUTER:INNER=MAX` (e.g. `readable,exp:log=0`).
+    /// Which operator may appear inside which: `strict` (the default of `sr`: `readable`,
+    /// and `sin`/`cos` only of a sum of inputs), `readable` (no exp, log, sin, cos, tanh or
+    /// gaussian inside another, except a power law `exp(a*log(x))`), `none` (free nesting,
+    /// the default before issue 47), or rules `OUTER:INNER=MAX` (e.g. `strict,sin:mul=1`).
     #[arg(long)]
     pub nesting: Option<String>,
     /// Consensus selection: also search N bootstrap resamples of the rows and select the
@@ -102,6 +103,12 @@ pub struct Args {
     /// about 40 % more time.
     #[arg(long, conflicts_with = "separability")]
     pub no_separability: bool,
+    /// Leave out the power primitive (on by default): closed-form factor models of the
+    /// target, a product `C x^a y^b ...` and a sum of one-column terms (powers with fitted
+    /// exponents first, then the allowed operators' shapes), chosen by cross-validation and
+    /// offered to selection beside the search's models (docs/interfaces.md).
+    #[arg(long)]
+    pub no_power_laws: bool,
     /// The tools `--no-separability` leaves out: the default since they measured better; kept
     /// so that command lines written when they were opt-in still run.
     #[arg(long, hide = true)]
@@ -139,10 +146,12 @@ pub struct Args {
     /// Search strategy.
     #[arg(long, value_enum, default_value_t = StrategyArg::Combined)]
     pub strategy: StrategyArg,
-    /// How the reported model is chosen: BIC or AIC (the simplest model within one
-    /// parameter's charge of the lowest), PySR's score along the Pareto front, or k-fold
-    /// cross-validated loss (the simplest within one standard error of the lowest).
-    #[arg(long, value_enum, default_value_t = CriterionArg::Bic)]
+    /// How the reported model is chosen: `mdl` (the default: BIC plus a charge for writing
+    /// the structure down, which decides on small tables and fades on large ones), BIC or
+    /// AIC (the simplest model within one parameter's charge of the lowest), PySR's score
+    /// along the Pareto front, or k-fold cross-validated loss (the simplest within one
+    /// standard error of the lowest).
+    #[arg(long, value_enum, default_value_t = CriterionArg::Mdl)]
     pub criterion: CriterionArg,
     /// Folds of `--criterion cv`.
     #[arg(long, default_value_t = 5)]
@@ -162,9 +171,45 @@ pub struct Args {
     /// from the CSV's first row under the header instead (one unit per column).
     #[arg(long, value_delimiter = ',')]
     pub units: Vec<String>,
+    /// Empty cells: `refuse` (the default; the message names the column, its count and the
+    /// two other choices), `drop` (drop the rows with an empty cell) or `impute` (fill an
+    /// input's empty cells with its median; rows with an empty target are dropped). What
+    /// was done goes to stderr and the JSON's `warnings`, the medians to its `missing`.
+    #[arg(long, default_value = "refuse", value_parser = hxai_data::MissingPolicy::parse)]
+    pub missing: hxai_data::MissingPolicy,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Reads `hxai sr`'s table: every cell a number, or, under `--missing drop|impute` (and
+/// to say what to do when `refuse` meets an empty cell), the gaps resolved; the report of
+/// what was done when anything was.
+pub(crate) fn read_with_missing(
+    path: &std::path::Path,
+    target: &str,
+    policy: hxai_data::MissingPolicy,
+) -> Result<(hxai_data::Table, Option<hxai_data::MissingReport>)> {
+    let cannot = || format!("cannot read the table {}", path.display());
+    if policy == hxai_data::MissingPolicy::Refuse {
+        match hxai_data::read_table(path) {
+            Ok(t) => return Ok((t, None)),
+            Err(hxai_data::DataError::MissingValue { .. }) => {}
+            Err(e) => return Err(e).with_context(cannot),
+        }
+    }
+    let gappy = hxai_data::read_gappy_table(path).with_context(cannot)?;
+    let (mixed, report) = gappy
+        .resolve(policy, Some(target), &[], &[], None)
+        .with_context(cannot)?;
+    let (table, text) = mixed.numeric().with_context(cannot)?;
+    anyhow::ensure!(
+        text.is_empty(),
+        "{}: column(s) {} hold text; hxai sr reads numbers only",
+        path.display(),
+        text.join(", ")
+    );
+    Ok((table, Some(report)))
 }
 
 /// How a model was selected, in lines: its structure's share over resamples when measured,
@@ -242,16 +287,22 @@ pub fn print_stability(st: &hxai_symreg::Stability) {
 }
 
 /// Runs `hxai sr`.
-#[allow(clippy::print_stdout)]
+#[allow(clippy::print_stdout, clippy::print_stderr)]
 pub fn run(args: Args, _g: &Global) -> Result<()> {
     let units_row = args.units.len() == 1 && args.units[0] == "row";
+    anyhow::ensure!(
+        !(units_row && args.missing != hxai_data::MissingPolicy::Refuse),
+        "--units row and --missing {} cannot be combined: give the units with --units",
+        args.missing.name()
+    );
+    let mut missing: Option<hxai_data::MissingReport> = None;
     let (mut data, row_units) = if units_row {
         let (t, u) = hxai_data::read_table_with_units(&args.csv)
             .with_context(|| format!("cannot read the table {}", args.csv.display()))?;
         (t, Some(u))
     } else {
-        let t = hxai_data::read_table(&args.csv)
-            .with_context(|| format!("cannot read the table {}", args.csv.display()))?;
+        let (t, report) = read_with_missing(&args.csv, &args.target, args.missing)?;
+        missing = report;
         (t, None)
     };
     // the units row, as the pairs --units takes, before the target leaves the table
@@ -294,6 +345,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         max_key_nodes: args.max_key_nodes.0,
         simplify: !args.no_simplify,
         separability: !args.no_separability,
+        power_laws: !args.no_power_laws,
+        nesting: hxai_symreg::Nesting::strict(),
         ..SearchConfig::default()
     };
     if let Some(ops) = args.operators {
@@ -358,8 +411,18 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let unc = res.best.uncertainty(&data, &y)?;
     let mut report = hxai_symreg::SearchReport::of(&res, &cfg, (&data, &y), &unc, true, stability)?;
     report.dimensional_groups = reduction.as_ref().map(|r| r.describe(&args.target));
+    if let Some(m) = &missing {
+        report.warnings.extend(m.lines());
+    }
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        let mut doc = serde_json::to_value(&report)?;
+        if let (Some(m), Some(obj)) = (&missing, doc.as_object_mut()) {
+            obj.insert("missing".into(), serde_json::to_value(m)?);
+        }
+        println!("{}", serde_json::to_string_pretty(&doc)?);
     } else {
         let num = |v: Option<f64>| v.unwrap_or(f64::NAN);
         println!(

@@ -38,6 +38,10 @@ pub enum CriterionArg {
     Pareto,
     /// K-fold cross-validated loss (`--cv-folds`), with the one-standard-error rule.
     Cv,
+    /// Description length: BIC plus a charge for each operator and input of the structure
+    /// (`2 ln B` per unit of complexity, B the operators and inputs), so a structure must
+    /// pay for itself on small tables.
+    Mdl,
 }
 
 impl From<CriterionArg> for Criterion {
@@ -47,6 +51,7 @@ impl From<CriterionArg> for Criterion {
             CriterionArg::Aic => Criterion::Aic,
             CriterionArg::Pareto => Criterion::ParetoScore,
             CriterionArg::Cv => Criterion::CrossValidation,
+            CriterionArg::Mdl => Criterion::Mdl,
         }
     }
 }

@@ -83,7 +83,7 @@ pub use report::{
     SelectionReport,
 };
 pub use search::{
-    Criterion, DEFAULT_OPERATORS, LAW_OPERATORS, PAPER_OPERATORS, Progress, RandomStart,
+    Criterion, DEFAULT_OPERATORS, FEW_ROWS, LAW_OPERATORS, PAPER_OPERATORS, Progress, RandomStart,
     SearchConfig, SearchResult, Strategy, fit_structure, search,
 };
 pub use stability::{Stability, stability};

@@ -19,12 +19,14 @@
 //! inside another, with one exception, `log` directly inside `exp` once: `exp(a log(x) + b)`
 //! is the power law `e^b x^a` (Taylor's tool life, Kienzle's force, Archard's wear), which
 //! prints as a power. A gaussian of a sum or product of inputs (`gaussian2(x*y, z)`) is one
-//! transcendental, as QLattice counts it. `hxai sr` searches without constraints
-//! ([`Nesting::none()`]) by default: laws of physics nest freely (`exp(-sqrt(..))`,
-//! `cos(sin(..))`).
+//! transcendental, as QLattice counts it. [`Nesting::strict()`] adds that `sin` and `cos`
+//! take only a sum of inputs: the default of `hxai sr` and `SymbolicRegressor` since issue
+//! 47, where the free search ([`Nesting::none()`], the library's
+//! [`crate::SearchConfig::default()`]) returned periodic and nested tangles on small real
+//! tables.
 //!
 //! Text form (CLI `--nesting`, Python `nesting=` as a string): a comma-separated list of
-//! items read left to right, each either a preset (`none`, `readable`) or a rule
+//! items read left to right, each either a preset (`none`, `readable`, `strict`) or a rule
 //! `OUTER:INNER=MAX`; a later item overrides an earlier one, so
 //! `readable,exp:log=0` is the readable preset without power laws.
 use crate::SrError;
@@ -86,6 +88,25 @@ impl Nesting {
         Nesting(rules)
     }
 
+    /// [`Nesting::readable()`], and a periodic function (`sin`, `cos`) of an affine function
+    /// of the inputs only: nothing but `add` and `sub` beneath it, so `sin(a*x + b*y + c)`
+    /// and never `sin(x/cos(y))` or `cos(x*y)`. The default of `hxai sr` and
+    /// `SymbolicRegressor` (text form `strict`): on small real tables the unconstrained
+    /// search returned periodic and nested tangles that fit the rows and not the law
+    /// (issue 47, docs/benchmarks.md).
+    pub fn strict() -> Self {
+        let mut out = Self::readable();
+        for outer in [Op::Sin, Op::Cos] {
+            let inner = out.0.entry(outer.name().to_string()).or_default();
+            for op in Op::ALL {
+                if !matches!(op, Op::Add | Op::Sub) {
+                    inner.insert(op.name().to_string(), 0);
+                }
+            }
+        }
+        out
+    }
+
     /// Whether nothing is constrained.
     pub fn is_empty(&self) -> bool {
         self.0.values().all(BTreeMap::is_empty)
@@ -102,7 +123,8 @@ impl Nesting {
         let items: Vec<&str> = text.split(',').map(str::trim).collect();
         if items.iter().all(|s| s.is_empty()) {
             return Err(SrError::InvalidConfig(
-                "--nesting is empty: give `none`, `readable` or rules like `exp:exp=0`".into(),
+                "--nesting is empty: give `none`, `readable`, `strict` or rules like `exp:exp=0`"
+                    .into(),
             ));
         }
         for item in items {
@@ -110,10 +132,11 @@ impl Nesting {
                 "" => continue,
                 "none" => out = Nesting::none(),
                 "readable" => out = Nesting::readable(),
+                "strict" => out = Nesting::strict(),
                 _ => {
                     let bad = || {
                         SrError::InvalidConfig(format!(
-                            "--nesting item `{item}` is not `none`, `readable` or \
+                            "--nesting item `{item}` is not `none`, `readable`, `strict` or \
                              OUTER:INNER=MAX (for example `exp:exp=0`)"
                         ))
                     };
@@ -247,6 +270,15 @@ mod tests {
         ])));
         // exp(log(log(x))): a log inside the log is not
         assert!(!r.allows(&prog(vec![x, op(Op::Log), op(Op::Log), op(Op::Exp)])));
+        // strict: sin(x + y) is allowed, sin(x * y) and cos(x / cos(y)) are not, and
+        // everything readable forbids stays forbidden
+        let s = Nesting::strict().rules().unwrap();
+        assert!(s.allows(&prog(vec![x, y, op(Op::Add), op(Op::Sin)])));
+        assert!(!s.allows(&prog(vec![x, y, op(Op::Mul), op(Op::Sin)])));
+        assert!(!s.allows(&prog(vec![x, y, op(Op::Cos), op(Op::Div), op(Op::Cos)])));
+        assert!(!s.allows(&prog(vec![x, op(Op::Exp), op(Op::Exp)])));
+        assert!(s.allows(&prog(vec![x, op(Op::Log), op(Op::Exp)])));
+        assert_eq!(Nesting::parse("strict").unwrap(), Nesting::strict());
         // gaussian2(x*y, z) * exp(x): side by side, not nested
         assert!(r.allows(&prog(vec![
             x,

@@ -172,6 +172,23 @@ pub struct SearchReport {
     /// ([`crate::units::Reduction::describe`]); absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dimensional_groups: Option<Vec<String>>,
+    /// What the user should know about the result: fewer than [`crate::FEW_ROWS`] rows
+    /// (absent when empty).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
+}
+
+/// The warning a search on `rows` rows carries when they are fewer than
+/// [`crate::FEW_ROWS`]: every candidate had at most `rows - 2` constants, and the law is
+/// pinned down by very few points.
+pub fn few_rows_warning(rows: usize) -> Option<String> {
+    (rows < crate::FEW_ROWS).then(|| {
+        format!(
+            "only {rows} rows: models were limited to at most {} fitted constants; with so \
+             few points, check the equation against more measurements",
+            rows.saturating_sub(2)
+        )
+    })
 }
 
 impl SearchReport {
@@ -217,6 +234,7 @@ impl SearchReport {
             seconds: result.seconds,
             stability,
             dimensional_groups: None,
+            warnings: few_rows_warning(y.len()).into_iter().collect(),
         })
     }
 }
@@ -323,5 +341,6 @@ pub fn criterion_name(c: Criterion) -> &'static str {
         Criterion::Aic => "aic",
         Criterion::ParetoScore => "pareto",
         Criterion::CrossValidation => "cv",
+        Criterion::Mdl => "mdl",
     }
 }

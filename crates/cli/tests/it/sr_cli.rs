@@ -132,9 +132,9 @@ fn bad_input_gives_a_clear_error() -> TestResult {
                 "--target".into(),
                 "y".into(),
                 "--criterion".into(),
-                "mdl".into(),
+                "aicc".into(),
             ],
-            "mdl",
+            "aicc",
         ),
         (
             vec![
@@ -222,7 +222,7 @@ fn bad_input_gives_a_clear_error() -> TestResult {
         assert!(!err.contains("panicked"), "{err}");
     }
     let constant: String = (0..12).map(|i| format!("{i},2\n")).collect();
-    let short: String = (0..5).map(|i| format!("{i},{}\n", 2 * i)).collect();
+    let short: String = (0..4).map(|i| format!("{i},{}\n", 2 * i)).collect();
     let files = [
         (
             table("constant.csv", &format!("x,y\n{constant}"))?,
@@ -256,6 +256,7 @@ fn strategy_criterion_and_budget_options() -> TestResult {
         ("qlattice", "aic"),
         ("genetic", "pareto"),
         ("combined", "bic"),
+        ("combined", "mdl"),
     ] {
         let doc = sr_json(
             &csv,
@@ -516,5 +517,37 @@ fn reported_models_come_back_in_their_shorter_form() -> TestResult {
     assert!(count(&plain)? > 0, "{plain}");
     let written = sr_json(&csv, &["--epochs", "3", "--no-simplify"])?;
     assert_eq!(count(&written)?, 0);
+    Ok(())
+}
+
+// An engineer's calibration table of six points: a two-constant law is searched with at most
+// four constants per model, found, and the result carries a warning that says how few rows
+// there are (stderr and JSON `warnings`); four rows are still refused.
+#[test]
+fn a_two_constant_law_on_six_rows_is_found_with_a_warning() -> TestResult {
+    let rows: String = (1..=6)
+        .map(|i| {
+            let x = i as f64;
+            format!("{x},{}\n", 2.0 * x.powf(1.5))
+        })
+        .collect();
+    let (_dir, path) = table("six.csv", &format!("x,y\n{rows}"))?;
+    let p = path.to_str().ok_or("path")?;
+    let out = hxai(&["sr", "--csv", p, "--target", "y", "--json"])?;
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("warning: only 6 rows"), "{err}");
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+    let warnings = doc["warnings"].as_array().ok_or("warnings")?;
+    assert!(
+        warnings.iter().any(|w| w
+            .as_str()
+            .is_some_and(|s| s.contains("at most 4 fitted constants"))),
+        "{warnings:?}"
+    );
+    let r2 = doc["best"]["r2"].as_f64().ok_or("r2")?;
+    assert!(r2 > 0.999_999, "R^2 {r2}: {}", doc["best"]["equation"]);
+    let n_params = doc["best"]["params"].as_object().ok_or("params")?.len();
+    assert!(n_params <= 4, "{n_params} constants on 6 rows");
     Ok(())
 }

@@ -88,10 +88,36 @@ pub struct FactorConfig {
     /// an interaction is searched among every pair of columns, so it must pay more than a
     /// main effect).
     pub interaction_se: f64,
+    /// The shapes a factor may take (default all; `hxai sr`'s power-law candidates leave
+    /// out the shapes whose operators the user did not allow).
+    pub shapes: Shapes,
     /// Seed of the folds.
     pub seed: u64,
     /// Threads of the parallel loops (results never depend on it).
     pub par: Par,
+}
+
+/// A set of [`Shape`]s (the interaction is [`Shape::Pair`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shapes(u8);
+
+impl Shapes {
+    /// Every shape.
+    pub const ALL: Shapes = Shapes(0x7f);
+
+    /// No shape.
+    pub const NONE: Shapes = Shapes(0);
+
+    /// Whether `shape` is in the set.
+    pub fn contains(self, shape: Shape) -> bool {
+        self.0 & (1 << shape as u8) != 0
+    }
+
+    /// The set with `shape` added.
+    #[must_use]
+    pub fn with(self, shape: Shape) -> Shapes {
+        Shapes(self.0 | (1 << shape as u8))
+    }
 }
 
 impl Default for FactorConfig {
@@ -102,6 +128,7 @@ impl Default for FactorConfig {
             interactions: 1,
             se_rule: 1.0,
             interaction_se: 2.0,
+            shapes: Shapes::ALL,
             seed: 42,
             par: Par::Current,
         }

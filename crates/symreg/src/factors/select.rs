@@ -95,6 +95,7 @@ impl<'a> Problem<'a> {
     fn best_shape(&self, base: &Scored, c: usize) -> Option<(Scored, Vec<Scored>)> {
         let fits: Vec<Scored> = Shape::MAIN
             .iter()
+            .filter(|&&sh| self.cfg.shapes.contains(sh))
             .filter_map(|&sh| self.extend(base, sh, &[c]))
             .collect();
         let best = fits
@@ -238,6 +239,9 @@ impl<'a> Problem<'a> {
 
     /// `base` with a pair term over `p`, fitted on all rows from each start.
     fn fit_pair(&self, base: &Scored, p: &[usize; 2]) -> Option<(Structure, f64)> {
+        if !self.cfg.shapes.contains(Shape::Pair) {
+            return None;
+        }
         let st: Vec<ColStats> = p.iter().map(|&c| self.stats[c]).collect();
         let resid: Vec<f64> = if self.link == Link::Additive {
             let pr = base.s.predict(self.link, &self.cols, self.y.len());

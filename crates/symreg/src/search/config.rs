@@ -16,10 +16,18 @@ pub(crate) const MAX_COMPLEXITY_LIMIT: usize = 60;
 /// on all rows and cross-validated at the end of a search.
 pub(crate) const MAX_RUNNERS_UP: usize = 20;
 
-/// Fewest rows a search runs on, and the smallest `max_fit_rows`. The simplest model has
-/// four parameters (output scale and offset, one input's weight and bias); twice that many
-/// rows leaves the fit residual degrees of freedom, so a criterion can tell models apart.
-pub(crate) const MIN_ROWS: usize = 8;
+/// Fewest rows a search runs on: a two-constant law on five rows keeps three residual
+/// degrees of freedom. Below [`FEW_ROWS`] a candidate may have at most `n - 2` fitted
+/// constants, and the command line warns how few rows there are.
+pub(crate) const MIN_ROWS: usize = 5;
+
+/// Rows below which a search is on "few rows" (the smallest `max_fit_rows`, too): the
+/// simplest model has four parameters before simplification (output scale and offset, one
+/// input's weight and bias), and twice that many rows leaves the fit residual degrees of
+/// freedom, so a criterion can tell models apart. Engineers' calibration tables are often
+/// smaller (six or seven points), so such tables are searched with the constants capped at
+/// `n - 2` (issue 47).
+pub const FEW_ROWS: usize = 8;
 
 /// The default operators: the paper's (arithmetic, `sin`, `cos`, the one- and two-input
 /// gaussians, `log`, `abs`) and feyn's (`exp`, `sqrt`, `square`, `inverse`, `tanh`).
@@ -100,6 +108,16 @@ pub enum Criterion {
     /// snapped by BIC's charge. Serialised as `cv`.
     #[serde(rename = "cv")]
     CrossValidation,
+    /// Description length: BIC's score plus a charge for writing the structure down,
+    /// `2 c ln(B)` for a model of complexity `c` over an alphabet of `B` symbols (the
+    /// search's operators and the inputs), after Bartlett, Desmond and Ferreira's exhaustive
+    /// symbolic regression (2023), whose description length codes a function's tree in
+    /// `c ln(B)` nats. BIC charges the constants only, so among thousands of structures one
+    /// with five more operators wins on a few tenths of a percent of R^2; this charge does
+    /// not grow with the rows, so it decides on a few dozen rows and fades on thousands.
+    /// The pick is the simplest model within one parameter's charge of the lowest, as with
+    /// BIC. Serialised as `mdl`.
+    Mdl,
 }
 
 /// Where the constants of a new candidate's fit start during the search.
@@ -187,8 +205,20 @@ pub struct SearchConfig {
     /// on the AI Feynman 100 it recovered one more law at noise 0 and none at 1 % for
     /// about 40 % more CPU time (docs/benchmarks.md, "Separability").
     pub separability: bool,
-    /// Which operator may appear inside which ([`Nesting`]): none constrained by default
-    /// (`hxai sr`), [`Nesting::readable()`] for hybrid corrections ([`SearchConfig::paper`]).
+    /// Offer selection closed-form factor models of the target ([`crate::factors`]): a
+    /// product `C prod_j f_j(x_j)` and a sum `c + sum_j a_j s_j(x_j)` of one-column shapes
+    /// (a power `x^p` with a fitted exponent first, then the shapes whose operators are
+    /// allowed: linear, `exp`, `log`, a pole or a saturation with `div` or `inverse`) and
+    /// at most one `x^p y^q` interaction, chosen by cross-validation. The power primitive
+    /// of `hxai sr` (issue 47): a product of powers is one candidate, not a search through
+    /// `exp(a log(x) + b log(y))`. Only on tables of at most 300 rows (larger ones reach a
+    /// power law through the search itself; measured on the AI Feynman 100, see
+    /// `search::power`). False by default (hybrid corrections have their own `--form
+    /// factors`); `hxai sr` and `SymbolicRegressor` turn it on.
+    pub power_laws: bool,
+    /// Which operator may appear inside which ([`Nesting`]): none constrained by default,
+    /// [`Nesting::readable()`] for hybrid corrections ([`SearchConfig::paper`]),
+    /// [`Nesting::strict()`] in `hxai sr` and `SymbolicRegressor`.
     /// Candidates that break a constraint are never fitted.
     pub nesting: Nesting,
     /// Consensus selection over this many bootstrap searches ([`crate::consensus`]); 0
@@ -255,6 +285,7 @@ impl Default for SearchConfig {
             snap_tolerance: 1e-3,
             named_constants: true,
             separability: false,
+            power_laws: false,
             nesting: Nesting::none(),
             consensus_runs: 0,
             skip_equivalent: true,
@@ -380,9 +411,9 @@ impl SearchConfig {
                 "candidates_per_epoch is 0: propose at least one model per epoch".into(),
             ));
         }
-        if self.max_fit_rows < MIN_ROWS {
+        if self.max_fit_rows < FEW_ROWS {
             return Err(SrError::InvalidConfig(format!(
-                "max_fit_rows is {}: fit on at least {MIN_ROWS} rows",
+                "max_fit_rows is {}: fit on at least {FEW_ROWS} rows",
                 self.max_fit_rows
             )));
         }

@@ -1,7 +1,7 @@
 //! Fitting one candidate: the data a search fits on ([`Problem`]), the criterion that scores
 //! a fit, the seeds of the random starts, and the checks on the target.
 use super::archive::{Candidate, Fitted};
-use super::config::{Criterion, MIN_ROWS, RandomStart, SearchConfig};
+use super::config::{Criterion, FEW_ROWS, MIN_ROWS, RandomStart, SearchConfig};
 use crate::eval::Evaluator;
 use crate::fit::{InputScales, LmSettings, Unknowns, initial_params, levenberg_marquardt};
 use crate::ops::OpCosts;
@@ -122,6 +122,14 @@ impl<'a> Problem<'a> {
         }
     }
 
+    /// What [`Criterion::Mdl`] charges per unit of complexity, in units of `n ln(mse)`:
+    /// `2 ln(B)`, `B` the symbols a structure is written in (the search's operators and the
+    /// inputs, at least 2).
+    pub(crate) fn structure_charge(&self) -> f64 {
+        let symbols = self.cfg.operators.len() + self.cols.len();
+        2.0 * (symbols.max(2) as f64).ln()
+    }
+
     /// The criterion (lower is better) of a fit with loss `mse` and `n_params` fitted
     /// parameters on `n` rows: `n ln(mse/var + LOSS_FLOOR)` plus the parameter charge.
     pub(crate) fn score(&self, mse: f64, n_params: usize, n: usize) -> f64 {
@@ -156,8 +164,8 @@ impl<'a> Problem<'a> {
     /// the canonical start and, as [`SearchConfig::random_start`] says (always, or when the
     /// canonical start gives no finite loss), one random start drawn from `seed`; keeps the
     /// better.
-    /// Non-finite fits, and structures with at least as many parameters as rows, are
-    /// rejected (infinite loss and score).
+    /// Non-finite fits, and structures with at least as many parameters as rows (below
+    /// [`FEW_ROWS`] rows: more than `n - 2`), are rejected (infinite loss and score).
     pub(crate) fn fit(&self, c: &Candidate, seed: u64) -> Fitted {
         let cols = self.fit_cols();
         let y = &self.fit_y;
@@ -173,7 +181,7 @@ impl<'a> Problem<'a> {
             source: c.source,
             tag: c.tag,
         };
-        if n_params >= y.len() {
+        if n_params >= y.len() || (y.len() < FEW_ROWS && n_params + 2 > y.len()) {
             return reject(vec![0.0; n_params]);
         }
         let mut ev = Evaluator::new(prog);

@@ -15,7 +15,10 @@
 //!   the criterion's pick
 //!   ([`SearchResult`]);
 //! - `export`: a fit becomes a [`Model`](crate::Model) naming only the features it uses;
-//! - `structure`: [`fit_structure`], one given structure without a search.
+//! - `structure`: [`fit_structure`], one given structure without a search;
+//! - `power`: closed-form factor models of the target (products and sums of powers and
+//!   other one-column shapes, [`crate::factors`]) offered to selection
+//!   ([`SearchConfig::power_laws`]).
 //!
 //! Every heuristic constant is named and explained where it is used.
 mod archive;
@@ -28,6 +31,7 @@ mod fitting;
 pub mod generate;
 mod genetic;
 mod mutual_information;
+mod power;
 mod qlattice;
 mod run;
 mod selection;
@@ -38,8 +42,8 @@ mod symmetry;
 mod transform;
 
 pub use config::{
-    Criterion, DEFAULT_OPERATORS, LAW_OPERATORS, PAPER_OPERATORS, RandomStart, SearchConfig,
-    Strategy,
+    Criterion, DEFAULT_OPERATORS, FEW_ROWS, LAW_OPERATORS, PAPER_OPERATORS, RandomStart,
+    SearchConfig, Strategy,
 };
 pub(crate) use run::plain_search;
 pub use run::{Progress, search};

@@ -8,7 +8,7 @@ use super::mutual_information::input_priors;
 use super::selection::{SearchResult, finish};
 use super::separable;
 use super::strategy::{self, ROUNDS_PER_EPOCH, Step};
-use super::transform;
+use super::{power, transform};
 use crate::canonical::{self, Effort};
 use crate::nesting::NestingRules;
 use crate::program::Program;
@@ -153,6 +153,13 @@ fn search_at_depth(
         decomposition
             .candidates
             .extend(transform::candidates(&problem, &ops));
+    }
+    // and closed-form factor models: products and sums of powers and other one-column
+    // shapes (the power primitive), on the top-level problem only
+    if cfg.power_laws && depth == 0 {
+        decomposition
+            .candidates
+            .extend(power::candidates(&problem, &ops, &nesting));
     }
     state.evaluations += decomposition.evaluations;
     finish(

@@ -134,11 +134,19 @@ pub(crate) fn finish(
             m.score = *mean;
         }
     }
+    if problem.cfg.criterion == Criterion::Mdl {
+        let charge = problem.structure_charge();
+        for m in &mut models {
+            m.score += charge * m.complexity as f64;
+        }
+    }
     let pareto = pareto_front(&models);
     let best = match problem.cfg.criterion {
         Criterion::ParetoScore => pareto_score_pick(&pareto),
         Criterion::CrossValidation => one_standard_error_pick(&models, &cv),
-        Criterion::Bic | Criterion::Aic => simplest_within_one_charge(problem, &models),
+        Criterion::Bic | Criterion::Aic | Criterion::Mdl => {
+            simplest_within_one_charge(problem, &models)
+        }
     }
     .ok_or(SrError::NoModel)?;
     let alternatives = within_one_standard_error(&models, &cv, &best);
