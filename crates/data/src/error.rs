@@ -191,6 +191,15 @@ pub enum DataError {
         /// What is wrong.
         source: hxai_table::TableError,
     },
+    /// The table cannot be used as asked (empty cells under `--missing`, ...); the message
+    /// names the column and what to do.
+    #[error("{}: {message}", path.display())]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong and what to do.
+        message: String,
+    },
     /// A table was given a different number of names and columns.
     #[error("{}: {names} column names but {columns} columns", path.display())]
     NamesMismatch {

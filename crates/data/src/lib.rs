@@ -15,6 +15,9 @@
 //!   text, whose numeric part is a [`Table`]): generic tables for
 //!   `hxai sr`, `hxai compare` and outputs; [`read_table`], [`write_table`],
 //!   [`read_mixed_table`], [`write_mixed_table`].
+//! - [`read_gappy_table`], [`GappyTable::resolve`] and [`MissingPolicy`]: tables with empty
+//!   cells, refused, dropped or filled with training medians by the user's choice
+//!   (`--missing`).
 //! - [`read_text`] / [`write_text`]: whole text files such as model JSON, so that file
 //!   access stays in this crate.
 //! - [`write_atomic`] / [`write_bytes`]: every file this crate writes goes through them
@@ -72,6 +75,7 @@ mod cells;
 mod csvscan;
 mod error;
 mod folder;
+mod missing;
 mod raw;
 mod record;
 mod stream;
@@ -88,6 +92,7 @@ pub use folder::{
 };
 pub use hxai_table::format_number;
 pub use hxai_table::{Table, TableError};
+pub use missing::{GappyColumn, GappyTable, MissingPolicy, MissingReport, read_gappy_table};
 pub use record::{RECORD_COLUMNS, Record, UNIFORM_TIME_TOLERANCE, read_record, write_record};
 pub use stream::{MAX_LINE_BYTES, Sample, SampleReader};
 pub use table::{

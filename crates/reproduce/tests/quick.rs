@@ -116,7 +116,7 @@ fn every_case_at_both_splits() -> Result<(), Box<dyn std::error::Error>> {
             assert!(!s.hybrid.equation.is_empty());
         }
         // Cross-validation at the random split only.
-        assert_eq!(c.random.cv.len(), 5);
+        assert_eq!(c.random.cv.len(), COMPARE_MODELS.len());
         assert!(c.extrapolation.cv.is_empty());
         // The extrapolation split tests on the high values of its column.
         let [train, test] = c.extrapolation.ranges.ok_or("no ranges")?;

@@ -144,6 +144,13 @@ pub(crate) struct Common {
     /// them (the delta method is then the only interval).
     #[arg(long, default_value_t = hxai_hybrid::conformal::DEFAULT_CONFORMAL_FOLDS)]
     pub(crate) conformal_folds: usize,
+    /// Empty cells: `refuse` (the default; the message names the column, its count and the
+    /// other choices), `drop` (drop the rows with an empty cell in a column the model
+    /// reads) or `impute` (fill a feature's empty cells with its training median, stored
+    /// in the model file so `predict` fills new rows the same way; never the target's,
+    /// whose empty rows are dropped, nor the physics columns', whose gaps are refused).
+    #[arg(long, default_value = "refuse", value_parser = hxai_data::MissingPolicy::parse)]
+    pub(crate) missing: hxai_data::MissingPolicy,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     pub(crate) json: bool,
@@ -198,6 +205,11 @@ pub(crate) struct PredictArgs {
     /// stores its calibration, else delta).
     #[arg(long, value_enum, requires = "interval")]
     pub(crate) interval_method: Option<crate::strategy::IntervalMethodArg>,
+    /// Empty cells in the columns the model reads: `refuse` (the default), `drop` (drop
+    /// those rows, counted on stderr) or `impute` (fill them with the training medians the
+    /// model file stores; a model fitted without `--missing impute` has none).
+    #[arg(long, default_value = "refuse", value_parser = hxai_data::MissingPolicy::parse)]
+    pub(crate) missing: hxai_data::MissingPolicy,
 }
 
 #[derive(Debug, clap::Args)]
@@ -215,6 +227,11 @@ pub(crate) struct EvaluateArgs {
     /// stores its calibration, else delta).
     #[arg(long, value_enum)]
     pub(crate) interval_method: Option<crate::strategy::IntervalMethodArg>,
+    /// Empty cells in the columns the model reads: `refuse` (the default), `drop` (drop
+    /// those rows, counted on stderr) or `impute` (fill them with the training medians the
+    /// model file stores; a model fitted without `--missing impute` has none).
+    #[arg(long, default_value = "refuse", value_parser = hxai_data::MissingPolicy::parse)]
+    pub(crate) missing: hxai_data::MissingPolicy,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     pub(crate) json: bool,

@@ -48,12 +48,139 @@ pub(crate) fn read_for(path: &Path, model: &TableModel, with_target: bool) -> Re
     Ok(view)
 }
 
-/// What `fit` and `compare` start from: the configuration, the table (checked for text
-/// where numbers are needed), the warnings about it (said once the command has succeeded)
-/// and the progress bar of the search.
-fn prepare(c: &Common) -> Result<(TableConfig, NumericView, Vec<String>, ProgressBar)> {
+/// Reads the table at `path` with its empty cells resolved by `policy` (`refuse` reads as
+/// [`read`] does): `used` are the columns that matter (a gap elsewhere is ignored; `None`
+/// for every column), `protected` those never filled, `medians` those stored by a model.
+/// Returns the report of what was done, except under `refuse`.
+pub(crate) fn read_missing(
+    path: &Path,
+    group: Option<&str>,
+    policy: hxai_data::MissingPolicy,
+    target: Option<&str>,
+    (used, protected): (Option<&[String]>, &[String]),
+    medians: Option<&std::collections::BTreeMap<String, f64>>,
+) -> Result<(NumericView, Option<hxai_data::MissingReport>)> {
+    if policy == hxai_data::MissingPolicy::Refuse {
+        return Ok((read(path, group)?, None));
+    }
+    let cannot = || format!("cannot read the table {}", path.display());
+    let gappy = hxai_data::read_gappy_table(path).with_context(cannot)?;
+    let ignore: Vec<&str> = gappy
+        .names
+        .iter()
+        .filter(|n| used.is_some_and(|u| !u.contains(n)))
+        .map(String::as_str)
+        .collect();
+    let protected: Vec<&str> = protected.iter().map(String::as_str).collect();
+    let (mixed, report) = gappy
+        .resolve(policy, target, &protected, &ignore, medians)
+        .with_context(cannot)?;
+    let view = mixed
+        .numeric_view(group)
+        .with_context(|| format!("the table {} has no usable numeric column", path.display()))?;
+    Ok((view, Some(report)))
+}
+
+/// [`read_for`] with the empty cells of the columns `model` reads resolved by `policy`:
+/// `impute` fills them with the medians the model file stores (refused when it has none).
+/// Rows dropped or cells filled are said on stderr.
+pub(crate) fn read_for_missing(
+    path: &Path,
+    model: &TableModel,
+    with_target: bool,
+    policy: hxai_data::MissingPolicy,
+) -> Result<NumericView> {
+    if policy == hxai_data::MissingPolicy::Refuse {
+        return read_for(path, model, with_target);
+    }
+    let medians = match (policy, &model.missing) {
+        (hxai_data::MissingPolicy::Impute, Some(m)) if !m.medians.is_empty() => Some(&m.medians),
+        (hxai_data::MissingPolicy::Impute, _) => anyhow::bail!(
+            "--missing impute: the model was fitted without --missing impute and stores no \
+             training medians to fill empty cells with; use --missing drop, or refit with \
+             --missing impute"
+        ),
+        _ => None,
+    };
+    let used = model_columns(model, with_target);
+    let (view, report) = read_missing(
+        path,
+        model.group.as_deref(),
+        policy,
+        Some(model.target.as_str()),
+        (Some(&used), &model.physics.columns),
+        medians,
+    )?;
+    check_used_columns(&used, &view.text).with_context(|| path.display().to_string())?;
+    if let Some(r) = report {
+        crate::safety::warn(&r.lines());
+    }
+    Ok(view)
+}
+
+/// The physics' column names among `names` (its variables that are not parameters).
+fn physics_columns(cfg: &TableConfig, names: &[String]) -> Vec<String> {
+    hxai_symreg::infix::parse(&cfg.physics)
+        .map(|p| {
+            p.names()
+                .into_iter()
+                .filter(|n| names.iter().any(|c| c == n))
+                .map(str::to_string)
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// What `fit` and `compare` start from ([`prepare`]).
+struct Prepared {
+    /// The configuration.
+    cfg: TableConfig,
+    /// The table, checked for text where numbers are needed, its empty cells resolved by
+    /// `--missing`.
+    loaded: NumericView,
+    /// The warnings about it (said once the command has succeeded).
+    warnings: Vec<String>,
+    /// What `--missing drop|impute` did.
+    missing: Option<hxai_data::MissingReport>,
+    /// The progress bar of the search.
+    bar: ProgressBar,
+}
+
+/// Reads and checks what `fit` and `compare` start from.
+fn prepare(c: &Common) -> Result<Prepared> {
     let mut cfg = c.config()?;
-    let loaded = read(&c.data, cfg.group.as_deref())?;
+    let (loaded, missing) = if c.missing == hxai_data::MissingPolicy::Refuse {
+        (read(&c.data, cfg.group.as_deref())?, None)
+    } else {
+        // the columns that matter: the named ones, or every one not excluded
+        let names = hxai_data::read_gappy_table(&c.data)
+            .with_context(|| format!("cannot read the table {}", c.data.display()))?
+            .names;
+        let protected = physics_columns(&cfg, &names);
+        let used: Option<Vec<String>> = cfg.features.as_ref().map(|f| {
+            let mut u = f.clone();
+            u.push(cfg.target.clone());
+            u.extend(protected.iter().cloned());
+            u.extend(cfg.extrapolate.iter().cloned());
+            u.extend(cfg.group.iter().cloned());
+            u
+        });
+        let used = used.unwrap_or_else(|| {
+            names
+                .iter()
+                .filter(|n| !cfg.exclude.iter().any(|e| e.trim() == n.as_str()))
+                .cloned()
+                .collect()
+        });
+        read_missing(
+            &c.data,
+            cfg.group.as_deref(),
+            c.missing,
+            Some(cfg.target.as_str()),
+            (Some(&used), &protected),
+            None,
+        )?
+    };
     let warnings =
         check_text_columns(&cfg, &loaded.text).with_context(|| c.data.display().to_string())?;
     // A text column is never a feature: excluding it is allowed and needs no word to the
@@ -64,7 +191,13 @@ fn prepare(c: &Common) -> Result<(TableConfig, NumericView, Vec<String>, Progres
         cfg.search.epochs as u64,
         "{bar:30} {pos}/{len} {msg} [{elapsed}]",
     );
-    Ok((cfg, loaded, warnings, b))
+    Ok(Prepared {
+        cfg,
+        loaded,
+        warnings,
+        missing,
+        bar: b,
+    })
 }
 
 fn on_progress(b: &ProgressBar) -> impl FnMut(&TableProgress) + '_ {
@@ -83,9 +216,22 @@ fn fit(a: FitArgs) -> Result<()> {
         &a.out,
         &[crate::safety::input(&a.common.data, "the table (--data)")],
     )?;
-    let (cfg, loaded, warnings, b) = prepare(&a.common)?;
+    let Prepared {
+        cfg,
+        loaded,
+        warnings,
+        missing,
+        bar: b,
+    } = prepare(&a.common)?;
     let mut model = tables::fit(&loaded.table, &cfg, &mut on_progress(&b))?;
     b.finish_and_clear();
+    if let Some(r) = missing {
+        model.warnings.extend(r.lines());
+        model.missing = Some(tables::MissingInfo {
+            policy: r.policy.name().to_string(),
+            medians: r.medians,
+        });
+    }
     crate::safety::warn(&warnings);
     crate::safety::warn(&model.warnings);
     if let Some(runs) = a.stability {
@@ -141,7 +287,7 @@ fn predict(a: PredictArgs) -> Result<()> {
         crate::safety::check_level(level, "--interval")?;
     }
     let model = load_model(&a.model)?;
-    let loaded = read_for(&a.data, &model, false)?;
+    let loaded = read_for_missing(&a.data, &model, false, a.missing)?;
     let p = model.predict(&loaded.table)?;
     crate::safety::warn(&model.range_warnings(&loaded.table));
     let bounds = match a.interval {
@@ -185,7 +331,7 @@ fn predict(a: PredictArgs) -> Result<()> {
 fn evaluate(a: EvaluateArgs) -> Result<()> {
     crate::safety::check_level(a.interval, "--interval")?;
     let model = load_model(&a.model)?;
-    let loaded = read_for(&a.data, &model, true)?;
+    let loaded = read_for_missing(&a.data, &model, true, a.missing)?;
     let e = match (a.interval_method, model.default_interval_method(a.interval)) {
         (None, None) => model.evaluate_at(&loaded.table, a.interval)?,
         (asked, _) => model.evaluate_with(
@@ -218,7 +364,14 @@ fn evaluate(a: EvaluateArgs) -> Result<()> {
 #[allow(clippy::print_stdout)]
 fn compare(a: CompareArgs) -> Result<()> {
     crate::safety::check_level(a.interval, "--interval")?;
-    let (cfg, loaded, warnings, b) = prepare(&a.common)?;
+    let Prepared {
+        cfg,
+        loaded,
+        mut warnings,
+        missing,
+        bar: b,
+    } = prepare(&a.common)?;
+    warnings.extend(missing.iter().flat_map(hxai_data::MissingReport::lines));
     let mut c = tables::compare(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
     b.finish_and_clear();
     crate::safety::warn(&c.hybrid.warnings);

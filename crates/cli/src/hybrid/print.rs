@@ -137,5 +137,11 @@ pub(super) fn print_comparison(c: &Comparison) {
     if let Some(iv) = &c.interval {
         print_interval(iv, "test rows");
     }
+    println!(
+        "hybrid: {:.2} times the best black box's test RMSE ({}, {})",
+        c.hybrid_over_best_black_box,
+        c.best_black_box.name,
+        n(c.best_black_box.rmse)
+    );
     println!("hybrid: {} = {}", c.target, c.hybrid.hybrid.equation);
 }

@@ -245,8 +245,25 @@ fn parquet_tables_and_compare_work() -> TestResult {
             assert!(m[k].is_number(), "{m}");
         }
     }
+    // the best black box and the hybrid's ratio to it (issue 48)
+    let best = c["best_black_box"]["name"]
+        .as_str()
+        .ok_or("best_black_box")?;
+    assert!(["physics_forest", "boosting"].contains(&best), "{best}");
+    let rmse_of = |n: &str| {
+        c["models"]
+            .as_array()
+            .and_then(|v| v.iter().find(|m| m["name"] == n))
+            .and_then(|m| m["rmse"].as_f64())
+    };
+    let ratio = c["hybrid_over_best_black_box"].as_f64().ok_or("ratio")?;
+    let want = rmse_of("hybrid").ok_or("hybrid")?
+        / rmse_of("physics_forest")
+            .ok_or("forest")?
+            .min(rmse_of("boosting").ok_or("boosting")?);
+    assert!((ratio - want).abs() <= 1e-12 * want, "{ratio} vs {want}");
     let cv = c["cv"].as_array().ok_or("cv")?;
-    assert_eq!(cv.len(), 5);
+    assert_eq!(cv.len(), COMPARE_MODELS.len());
     for s in cv {
         for k in ["name", "r2_mean", "r2_sd", "r2_ci"] {
             assert!(!s[k].is_null(), "{s}");
@@ -713,6 +730,152 @@ fn interval_methods_are_chosen_and_reported() -> TestResult {
         common::stderr(&out).contains("--conformal-folds"),
         "{}",
         common::stderr(&out)
+    );
+    Ok(())
+}
+
+/// `text` with the cells at (data row, column index) emptied.
+fn with_gaps(text: &str, gaps: &[(usize, usize)]) -> String {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let mut cells: Vec<String> = l.split(',').map(str::to_owned).collect();
+            for &(row, col) in gaps {
+                if i == row {
+                    cells[col] = String::new();
+                }
+            }
+            cells.join(",") + "\n"
+        })
+        .collect()
+}
+
+// Empty cells by the user's choice (issue 48): refused by default with the count and the two
+// other choices; `drop` fits on the complete rows; `impute` fills a feature's gaps with its
+// training median, stores the medians in the model file and fills a new row the same way at
+// predict; the physics' gaps and a model without medians are refused, nothing written.
+#[test]
+fn empty_cells_are_refused_dropped_or_imputed_by_choice() -> TestResult {
+    let (dir, csv) = scratch_table("missing", 60)?;
+    let text = std::fs::read_to_string(&csv)?;
+    // columns: batch,f,r,v,d,Ra; gaps in v (rows 3, 9) and d (row 4); the target in row 20
+    let gapped = dir.join("gapped.csv");
+    std::fs::write(
+        &gapped,
+        with_gaps(&text, &[(3, 3), (9, 3), (4, 4), (20, 5)]),
+    )?;
+    let model = dir.join("m.json");
+    let mut args = fit_args(s(&gapped), s(&model));
+    args.extend(["--exclude", "batch"]);
+    let o = hxai(&args)?;
+    assert_eq!(o.status.code(), Some(1));
+    let err = common::stderr(&o);
+    assert!(
+        err.contains("empty cell(s)") && err.contains("--missing drop"),
+        "{err}"
+    );
+    assert!(!model.exists());
+
+    let mut drop = args.clone();
+    drop.extend(["--missing", "drop"]);
+    let o = hxai(&drop)?;
+    ok(&o, "fit --missing drop");
+    assert!(
+        common::stderr(&o).contains("dropped 4 row(s)"),
+        "{}",
+        common::stderr(&o)
+    );
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model)?)?;
+    assert_eq!(doc["missing"]["policy"], "drop");
+    assert!(doc["warnings"].to_string().contains("dropped 4 row(s)"));
+
+    let mut impute = args.clone();
+    impute.extend(["--missing", "impute"]);
+    let o = hxai(&impute)?;
+    ok(&o, "fit --missing impute");
+    let err = common::stderr(&o);
+    assert!(err.contains("dropped 1 row(s)"), "{err}");
+    assert!(err.contains("filled 2 empty cell(s) of `v`"), "{err}");
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model)?)?;
+    assert_eq!(doc["missing"]["policy"], "impute");
+    // the median of v over the 59 rows with a target, the two gaps left out
+    let mut v: Vec<f64> = text
+        .lines()
+        .skip(1)
+        .enumerate()
+        .filter(|(i, _)| ![2, 8, 19].contains(i))
+        .map(|(_, l)| l.split(',').nth(3).unwrap_or("").parse::<f64>())
+        .collect::<Result<_, _>>()?;
+    v.sort_by(f64::total_cmp);
+    let median = if v.len() % 2 == 1 {
+        v[v.len() / 2]
+    } else {
+        0.5 * (v[v.len() / 2 - 1] + v[v.len() / 2])
+    };
+    let stored = doc["missing"]["medians"]["v"]
+        .as_f64()
+        .ok_or("median of v")?;
+    assert!(
+        (stored - median).abs() <= 1e-12 * median,
+        "{stored} vs {median}"
+    );
+
+    // predict: a new row with an empty v is filled with the stored median, so it predicts
+    // as the same row with v = median
+    let new = dir.join("new.csv");
+    let full = dir.join("full.csv");
+    let rows: Vec<&str> = text.lines().take(3).collect();
+    std::fs::write(&full, rows.join("\n") + "\n")?;
+    let mut filled = rows.iter().map(|l| l.to_string()).collect::<Vec<_>>();
+    let mut cells: Vec<String> = filled[1].split(',').map(str::to_owned).collect();
+    cells[3] = format!("{median}");
+    filled[1] = cells.join(",");
+    std::fs::write(&full, filled.join("\n") + "\n")?;
+    std::fs::write(&new, with_gaps(&(rows.join("\n") + "\n"), &[(1, 3)]))?;
+    let out_a = dir.join("pa.csv");
+    let out_b = dir.join("pb.csv");
+    let o = hxai(&predict_args(&model, &new, &out_a))?;
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "a gap is refused without --missing"
+    );
+    let mut pa = predict_args(&model, &new, &out_a);
+    pa.extend(["--missing", "impute"]);
+    ok(&hxai(&pa)?, "predict --missing impute");
+    ok(
+        &hxai(&predict_args(&model, &full, &out_b))?,
+        "predict the filled row",
+    );
+    assert_eq!(
+        std::fs::read_to_string(&out_a)?,
+        std::fs::read_to_string(&out_b)?
+    );
+
+    // the physics' gap is refused under impute, naming the column; nothing written
+    let phys_gap = dir.join("phys.csv");
+    std::fs::write(&phys_gap, with_gaps(&text, &[(5, 1)]))?;
+    let model2 = dir.join("m2.json");
+    let mut a2 = fit_args(s(&phys_gap), s(&model2));
+    a2.extend(["--exclude", "batch", "--missing", "impute"]);
+    let o = hxai(&a2)?;
+    assert_eq!(o.status.code(), Some(1));
+    let err = common::stderr(&o);
+    assert!(err.contains("`f`") && err.contains("physics"), "{err}");
+    assert!(!model2.exists());
+    // a model fitted on complete rows has no medians to fill with
+    let model3 = dir.join("m3.json");
+    let mut a3 = fit_args(s(&csv), s(&model3));
+    a3.extend(["--exclude", "batch"]);
+    ok(&hxai(&a3)?, "fit on complete rows");
+    let mut p3 = predict_args(&model3, &new, &out_a);
+    p3.extend(["--missing", "impute"]);
+    let o = hxai(&p3)?;
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        common::stderr(&o).contains("stores no"),
+        "{}",
+        common::stderr(&o)
     );
     Ok(())
 }

@@ -29,16 +29,22 @@ fn bad_cell(name: &str, cells: &[String], excludable: bool) -> Option<HybridErro
         .iter()
         .enumerate()
         .find(|(_, v)| !v.trim().parse::<f64>().is_ok_and(f64::is_finite))?;
-    let what = if cell.trim().is_empty() {
-        "the cell is empty".to_string()
-    } else {
-        format!("`{}` is not a number", cell.trim())
-    };
     let or_exclude = if excludable {
         format!(", or --exclude {name}")
     } else {
         String::new()
     };
+    if cell.trim().is_empty() {
+        let empty = cells.iter().filter(|v| v.trim().is_empty()).count();
+        return Some(HybridError::NoData(format!(
+            "row {}, column `{name}`: the cell is empty ({empty} empty cell(s) in the column); \
+             hxai refuses empty cells by default: choose --missing drop (drop the rows with \
+             an empty cell) or --missing impute (fill a feature's empty cells with its \
+             training median){or_exclude}",
+            row + 1
+        )));
+    }
+    let what = format!("`{}` is not a number", cell.trim());
     Some(HybridError::NoData(format!(
         "row {}, column `{name}`: {what}; hxai hybrid needs a number in every row of a column \
          it uses (mend the cell or remove the row{or_exclude})",

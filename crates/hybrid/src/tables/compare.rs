@@ -5,7 +5,7 @@ use super::{
     fit_inner, gather, physics_values, resolve, search_training_rows, split_rows,
 };
 use crate::HybridError;
-use hxai_baselines::{Par, RandomForest, Regressor};
+use hxai_baselines::{GradientBoosting, Par, RandomForest, Regressor};
 use hxai_eval::{Metrics, Split, TTest};
 use hxai_symreg::Table;
 use serde::{Deserialize, Serialize};
@@ -13,11 +13,21 @@ use serde::{Deserialize, Serialize};
 /// Test-split scores of one model.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct ModelScore {
-    /// `physics`, `physics_calibrated`, `symbolic`, `physics_forest` or `hybrid`.
+    /// `physics`, `physics_calibrated`, `symbolic`, `physics_forest`, `boosting` or
+    /// `hybrid`.
     pub name: String,
     /// R^2, RMSE and MAE on the test rows (flattened into this object in JSON).
     #[serde(flatten)]
     pub metrics: Metrics,
+}
+
+/// A black box of the comparison and its test RMSE.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct BlackBox {
+    /// `physics_forest` or `boosting`.
+    pub name: String,
+    /// Its test RMSE.
+    pub rmse: f64,
 }
 
 /// Cross-validated R^2 of one model.
@@ -62,8 +72,13 @@ pub struct Comparison {
     /// Test rows.
     pub n_test: usize,
     /// Test-split scores, in the order physics, physics_calibrated (with calibration),
-    /// symbolic, physics_forest, hybrid.
+    /// symbolic, physics_forest, boosting, hybrid.
     pub models: Vec<ModelScore>,
+    /// The black box with the lowest test RMSE (`physics_forest` or `boosting`).
+    pub best_black_box: BlackBox,
+    /// The hybrid's test RMSE divided by the best black box's: below 1 the readable
+    /// equation is the more accurate.
+    pub hybrid_over_best_black_box: f64,
     /// k-fold cross-validation (empty when fewer than 2 folds were asked for).
     pub cv: Vec<CvScore>,
     /// Folds of the cross-validation.
@@ -104,6 +119,24 @@ fn forest_delta(
     forest.par = par;
     forest.fit(&pick(&split.train)?, delta)?;
     Ok(forest.predict(&pick(&split.test)?)?)
+}
+
+/// Gradient boosting ([`GradientBoosting`], scikit-learn's `HistGradientBoostingRegressor`
+/// defaults) of the target itself on `columns` (the physics' columns and the correction's
+/// features): the black box an engineer reaches for, with no physics.
+fn boosting_on(
+    table: &Table,
+    columns: &[String],
+    split: &Split,
+    y_train: &[f64],
+    seed: u64,
+    par: Par,
+) -> Result<Vec<f64>, HybridError> {
+    let x = table.select_columns(columns)?;
+    let mut b = GradientBoosting::with_seed(seed);
+    b.par = par;
+    b.fit(&x.select_rows(&split.train)?, y_train)?;
+    Ok(b.predict(&x.select_rows(&split.test)?)?)
 }
 
 fn predictions_on(
@@ -169,6 +202,22 @@ fn predictions_on(
             .collect(),
     );
 
+    let mut black_box_columns = res.columns.clone();
+    for f in &res.features {
+        if !black_box_columns.contains(f) {
+            black_box_columns.push(f.clone());
+        }
+    }
+    names.push("boosting");
+    preds.push(boosting_on(
+        table,
+        &black_box_columns,
+        split,
+        &gather(y, &split.train),
+        cfg.seed,
+        cfg.search.par,
+    )?);
+
     names.push("hybrid");
     preds.push(gather(&hp.hybrid, &split.test));
     Ok(SplitPredictions {
@@ -199,7 +248,9 @@ fn t_test(
 /// equation with `--init`/`--set` values, uncalibrated), `physics_calibrated` (when
 /// parameters are calibrated), `symbolic` (symbolic regression of the target on the
 /// features, no physics), `physics_forest` (calibrated physics + a random forest on the
-/// same `delta`), `hybrid`; then the same over `folds` folds (grouped when `cfg.group` is
+/// same `delta`), `boosting` (gradient boosting of the target on the physics' columns and
+/// the features, no physics), `hybrid`, and the hybrid's test RMSE over the best black
+/// box's; then the same over `folds` folds (grouped when `cfg.group` is
 /// set; skipped when `folds` is 0), and paired t-tests of the hybrid on the test rows. The
 /// Student-t interval of the folds' mean R² is cut at 1, which no R² exceeds (with few
 /// folds the symmetric interval can reach past it).
@@ -271,12 +322,30 @@ pub fn compare(
         "physics_calibrated",
         "physics_forest",
         "symbolic",
+        "boosting",
     ] {
         if let Some(b) = pred_of(base) {
             t_tests.push(t_test(&y_test, hybrid, b, "hybrid", base)?);
         }
     }
     let t_test_physics = t_tests[0].clone();
+    let rmse_of = |name: &str| {
+        models
+            .iter()
+            .find(|m| m.name == name)
+            .map(|m| m.metrics.rmse)
+    };
+    let best_black_box = ["physics_forest", "boosting"]
+        .into_iter()
+        .filter_map(|n| {
+            rmse_of(n).map(|r| BlackBox {
+                name: n.to_string(),
+                rmse: r,
+            })
+        })
+        .min_by(|a, b| a.rmse.total_cmp(&b.rmse))
+        .ok_or_else(|| HybridError::NoData("no black box was scored".into()))?;
+    let hybrid_over_best_black_box = rmse_of("hybrid").unwrap_or(f64::NAN) / best_black_box.rmse;
 
     let mut per_model: Vec<(Vec<f64>, Vec<f64>)> = vec![(Vec::new(), Vec::new()); main.names.len()];
     for (f, s) in cv_splits.iter().enumerate() {
@@ -319,6 +388,8 @@ pub fn compare(
         folds: cv_splits.len(),
         t_test: t_test_physics,
         t_tests,
+        best_black_box,
+        hybrid_over_best_black_box,
         hybrid: main.model,
     })
 }

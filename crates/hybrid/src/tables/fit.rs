@@ -451,6 +451,7 @@ fn model_of(
         stability: None,
         conformal: None,
         warnings: Vec::new(),
+        missing: None,
         scores: ScoresInfo {
             train: PairScores {
                 physics: zero_metrics(),

@@ -55,11 +55,11 @@ pub mod traps;
 
 pub use crate::conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, ResidualScale};
 pub use columns::{check_text_columns, check_used_columns, model_columns};
-pub use compare::{Comparison, CvScore, ModelScore, TTestScore, compare};
+pub use compare::{BlackBox, Comparison, CvScore, ModelScore, TTestScore, compare};
 pub use fit::{fit, fit_split, measure_stability, stability};
 pub use model::{
-    EquationInfo, JointInfo, PairScores, PhysicsInfo, SCHEMA_VERSION, ScoresInfo, TableEvaluation,
-    TableModel, TablePrediction,
+    EquationInfo, JointInfo, MissingInfo, PairScores, PhysicsInfo, SCHEMA_VERSION, ScoresInfo,
+    TableEvaluation, TableModel, TablePrediction,
 };
 pub use split::split_rows;
 

@@ -138,6 +138,21 @@ pub struct TableModel {
     /// ([`super::traps`]); absent when there were none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// How empty cells were handled (`--missing drop|impute`): absent when the table had to
+    /// be complete (the default, `refuse`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub missing: Option<MissingInfo>,
+}
+
+/// How a table hybrid's fit handled empty cells (`--missing`, the model file's `missing`).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct MissingInfo {
+    /// `drop` or `impute`.
+    pub policy: String,
+    /// Under `impute`, each feature column's training median, with which `predict --missing
+    /// impute` fills a new row's empty cell.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub medians: std::collections::BTreeMap<String, f64>,
 }
 
 /// Per-row predictions of a table hybrid.

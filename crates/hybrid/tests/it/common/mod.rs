@@ -5,10 +5,11 @@
 #![allow(dead_code)]
 
 /// The models `tables::compare` scores, in the order it reports them.
-pub const COMPARE_MODELS: [&str; 5] = [
+pub const COMPARE_MODELS: [&str; 6] = [
     "physics",
     "physics_calibrated",
     "symbolic",
     "physics_forest",
+    "boosting",
     "hybrid",
 ];
