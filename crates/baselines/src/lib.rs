@@ -7,6 +7,9 @@
 //!   scikit-learn's split rule.
 //! * [`RandomForest`]: 200 bootstrap trees, seed 42, built in parallel, identical for any
 //!   thread count.
+//! * [`GradientBoosting`]: scikit-learn's `HistGradientBoostingRegressor` at its defaults
+//!   (quantile bins, leaf-wise trees of 31 leaves, 100 iterations), one of the black boxes
+//!   `hxai hybrid compare` sets beside the hybrid.
 //! * [`SymbolicRegressor`]: `hxai_symreg::search` behind the same trait.
 //! * Every model takes its features as an `hxai_table::Table` (re-exported as [`Table`]);
 //!   the ones that walk rows make their row-major copy inside. [`cross_validate`] runs any
@@ -35,6 +38,7 @@
 //! ```
 #![deny(missing_docs)]
 
+mod boosting;
 mod compare;
 mod cv;
 mod error;
@@ -45,6 +49,7 @@ mod matrix;
 mod symbolic;
 mod tree;
 
+pub use boosting::{AUTO_EARLY_STOPPING_ROWS, EarlyStopping, GradientBoosting};
 pub use compare::{Comparison, compare};
 pub use cv::cross_validate;
 pub use error::BaselineError;

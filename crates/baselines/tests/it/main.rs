@@ -2,5 +2,6 @@
 //! test binary: each binary costs a link of the whole dependency tree, and the tests run
 //! in parallel within a binary but one binary after another (issue 51).
 
+mod boosting;
 mod properties;
 mod reference;
