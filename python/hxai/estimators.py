@@ -259,7 +259,32 @@ def _missing_policy(est):
     return policy
 
 
-def _missing_fit(est, X, y, names, protected=()):
+def _target_gaps(est, X, y):
+    """Rows whose target is NaN, before scikit-learn's checks (which refuse NaN in ``y``
+    outright): refused naming the target under ``missing='refuse'``, else dropped here (and
+    counted by ``_missing_fit`` through the returned count)."""
+    if y is None:
+        return X, y, 0  # scikit-learn's check says that y is required
+    try:
+        yv = np.asarray(y, dtype=np.float64).ravel()
+    except (TypeError, ValueError):
+        return X, y, 0  # not numbers: scikit-learn's check names the problem
+    gaps = np.isnan(yv)
+    if not gaps.any():
+        return X, y, 0
+    if _missing_policy(est) == "refuse":
+        raise ValueError(
+            f"the target has {int(gaps.sum())} empty cell(s) (NaN) of {len(yv)}; hxai refuses "
+            "empty cells by default: choose missing='drop' or missing='impute' (either drops "
+            "the rows without a target; the target is never filled)"
+        )
+    keep = ~gaps
+    X = X.iloc[keep] if hasattr(X, "iloc") else np.asarray(X)[keep]
+    y = y.iloc[keep] if hasattr(y, "iloc") else yv[keep]
+    return X, y, int(gaps.sum())
+
+
+def _missing_fit(est, X, y, names, protected=(), dropped=0):
     """Empty cells (NaN) of the training rows, by ``est.missing`` (``hxai ... --missing``):
     ``refuse`` raises naming the column, its count and the two other choices; ``drop``
     drops every row with a NaN; ``impute`` drops the rows whose target is NaN and fills a
@@ -288,7 +313,7 @@ def _missing_fit(est, X, y, names, protected=()):
     if not keep.any():
         raise ValueError(f"missing='{policy}': every row has an empty cell, no row is left")
     X, y = X[keep], y[keep]
-    report["dropped_rows"] = int((~keep).sum())
+    report["dropped_rows"] = int((~keep).sum()) + dropped
     if policy == "impute":
         for j, n in enumerate(names):
             col = X[:, j]
@@ -475,11 +500,12 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     def fit(self, X, y):
         """Searches for an equation of ``y`` over the columns of ``X``. Returns ``self``."""
         settings = _search_json(self)
+        X, y, dropped = _target_gaps(self, X, y)
         X, y = validate_data(
             self, X, y, dtype=np.float64, y_numeric=True, ensure_all_finite=False
         )
         names = _names(self, X.shape[1])
-        X, y, self.missing_ = _missing_fit(self, X, y, names)
+        X, y, self.missing_ = _missing_fit(self, X, y, names, dropped=dropped)
         folds = _folds(self.conformal_folds)
         runs = _stability_runs(self.stability_runs)
         units, target_units = _units(self.units, self.target_units, names)
@@ -671,6 +697,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             raise ValueError(f"form `{self.form}`: use free or factors")
         search = json.loads(_search_json(self))
         n_jobs = _n_jobs(self)
+        X, y, dropped = _target_gaps(self, X, y)
         y_in = y
         X, y = validate_data(
             self, X, y, dtype=np.float64, y_numeric=True, ensure_all_finite=False
@@ -679,7 +706,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         target = self._target_name(y_in, names)
         physics_names = set(re.findall(r"[A-Za-z_][A-Za-z0-9_]*", self.physics))
         X, y, self.missing_ = _missing_fit(
-            self, X, y, names, protected=[n for n in names if n in physics_names]
+            self, X, y, names, protected=[n for n in names if n in physics_names], dropped=dropped
         )
         settings = {
             "target": target,

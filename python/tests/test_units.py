@@ -34,10 +34,14 @@ def test_units_give_the_law_and_its_groups(gravitation):
     m = SymbolicRegressor(**FAST, units=UNITS, target_units="N").fit(X, y)
     assert m.dimensional_groups_ == ["pi1 = m2/m1", "y = G*m1^2/r^2 * phi(pi1)"]
     assert m.score(X, y) > 1 - 1e-12
-    # without units the same small search does not find it
-    plain = SymbolicRegressor(**FAST).fit(X, y)
+    # without units the same small search does not find it by itself ...
+    plain = SymbolicRegressor(**FAST, power_laws=False).fit(X, y)
     assert plain.dimensional_groups_ is None
     assert plain.score(X, y) < m.score(X, y)
+    # ... but the power primitive (issue 47, on by default up to 300 rows) offers the
+    # product of powers G m1 m2 / r^2 as one candidate
+    powered = SymbolicRegressor(**FAST).fit(X, y)
+    assert powered.score(X, y) > 1 - 1e-12, powered.equation_
 
 
 def test_same_result_as_cli(gravitation, tmp_path):
