@@ -366,6 +366,12 @@ impl<'a> Grower<'a> {
         let mut best: Option<(usize, f64, f64, usize)> = None;
         // the last bin never goes left: the right child would be empty
         for (b, bin) in hist.iter().enumerate().take(self.n_bins[f] - 1) {
+            // An empty bin leaves every sum as it was, so its position scores exactly as
+            // the previous one and cannot beat it (strict `>`): skipping it changes no
+            // choice, and a small node has far fewer rows than bins.
+            if bin.n == 0 {
+                continue;
+            }
             n_left += bin.n as usize;
             let n_right = n - n_left;
             h_left += f64::from(bin.n);
