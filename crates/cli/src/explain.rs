@@ -96,7 +96,11 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         }
         Model::Process(model) => {
             let table = match &args.data {
-                Some(path) => Some(crate::hybrid::read_for(path, &model, true)?.table),
+                Some(path) => {
+                    let mut view = crate::hybrid::read_for(path, &model, true)?;
+                    crate::hybrid::add_levels(&model, &mut view)?;
+                    Some(view.table)
+                }
                 None => None,
             };
             let e = model.explain(table.as_ref(), args.interval, method);

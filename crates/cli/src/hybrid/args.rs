@@ -151,6 +151,11 @@ pub(crate) struct Common {
     /// whose empty rows are dropped, nor the physics columns', whose gaps are refused).
     #[arg(long, default_value = "refuse", value_parser = hxai_data::MissingPolicy::parse)]
     pub(crate) missing: hxai_data::MissingPolicy,
+    /// Physics parameters fitted once per level of a text column: COL=P1,P2 (e.g.
+    /// `material=kc` for Kienzle's kc per material). The model file holds `P1[level]` per
+    /// level with its standard error; `predict` refuses a level the fit never saw.
+    #[arg(long)]
+    pub(crate) calibrate_per: Option<String>,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     pub(crate) json: bool,

@@ -81,6 +81,42 @@ pub(crate) fn read_missing(
     Ok((view, Some(report)))
 }
 
+/// The cells of `col` as level names: a text column's cells, or a numeric column's
+/// numbers as written.
+fn level_cells(view: &NumericView, col: &str) -> Result<Vec<String>> {
+    if let Some((_, cells)) = view.text.iter().find(|(n, _)| n == col) {
+        return Ok(cells.iter().map(|c| c.trim().to_string()).collect());
+    }
+    match view.table.column(col) {
+        Some(v) => Ok(v.iter().map(|&x| hxai_data::format_number(x)).collect()),
+        None => anyhow::bail!(
+            "the table has no column `{col}` (its columns: {})",
+            view.table
+                .names()
+                .iter()
+                .chain(view.text.iter().map(|(n, _)| n))
+                .cloned()
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+/// Adds the level indicators of a model with per-class constants to a table read for it
+/// (refusing a level it never saw).
+pub(crate) fn add_levels(model: &TableModel, view: &mut NumericView) -> Result<()> {
+    if let Some(pc) = &model.per_class {
+        let cells = level_cells(view, &pc.column).with_context(|| {
+            format!(
+                "the model's physics has constants per level of `{}`",
+                pc.column
+            )
+        })?;
+        tables::per_class::add_indicators(pc, &mut view.table, &cells)?;
+    }
+    Ok(())
+}
+
 /// [`read_for`] with the empty cells of the columns `model` reads resolved by `policy`:
 /// `impute` fills them with the medians the model file stores (refused when it has none).
 /// Rows dropped or cells filled are said on stderr.
@@ -142,6 +178,8 @@ struct Prepared {
     warnings: Vec<String>,
     /// What `--missing drop|impute` did.
     missing: Option<hxai_data::MissingReport>,
+    /// `--calibrate-per`: the column, its levels and the parameters fitted per level.
+    per_class: Option<tables::PerClassInfo>,
     /// The progress bar of the search.
     bar: ProgressBar,
 }
@@ -181,6 +219,22 @@ fn prepare(c: &Common) -> Result<Prepared> {
             None,
         )?
     };
+    let mut loaded = loaded;
+    let per_class = match &c.calibrate_per {
+        Some(spec) => {
+            let (col, params) = tables::per_class::parse_spec(spec)?;
+            let cells =
+                level_cells(&loaded, &col).with_context(|| format!("--calibrate-per {spec}"))?;
+            let info =
+                tables::per_class::expand(&mut cfg, &mut loaded.table, &col, &cells, &params)?;
+            // the column's levels are in the physics now, never a feature
+            if cfg.features.is_none() && !cfg.exclude.contains(&col) {
+                cfg.exclude.push(col);
+            }
+            Some(info)
+        }
+        None => None,
+    };
     let warnings =
         check_text_columns(&cfg, &loaded.text).with_context(|| c.data.display().to_string())?;
     // A text column is never a feature: excluding it is allowed and needs no word to the
@@ -196,6 +250,7 @@ fn prepare(c: &Common) -> Result<Prepared> {
         loaded,
         warnings,
         missing,
+        per_class,
         bar: b,
     })
 }
@@ -221,10 +276,12 @@ fn fit(a: FitArgs) -> Result<()> {
         loaded,
         warnings,
         missing,
+        per_class,
         bar: b,
     } = prepare(&a.common)?;
     let mut model = tables::fit(&loaded.table, &cfg, &mut on_progress(&b))?;
     b.finish_and_clear();
+    model.per_class = per_class;
     if let Some(r) = missing {
         model.warnings.extend(r.lines());
         model.missing = Some(tables::MissingInfo {
@@ -287,7 +344,8 @@ fn predict(a: PredictArgs) -> Result<()> {
         crate::safety::check_level(level, "--interval")?;
     }
     let model = load_model(&a.model)?;
-    let loaded = read_for_missing(&a.data, &model, false, a.missing)?;
+    let mut loaded = read_for_missing(&a.data, &model, false, a.missing)?;
+    add_levels(&model, &mut loaded)?;
     let p = model.predict(&loaded.table)?;
     crate::safety::warn(&model.range_warnings(&loaded.table));
     let bounds = match a.interval {
@@ -331,7 +389,8 @@ fn predict(a: PredictArgs) -> Result<()> {
 fn evaluate(a: EvaluateArgs) -> Result<()> {
     crate::safety::check_level(a.interval, "--interval")?;
     let model = load_model(&a.model)?;
-    let loaded = read_for_missing(&a.data, &model, true, a.missing)?;
+    let mut loaded = read_for_missing(&a.data, &model, true, a.missing)?;
+    add_levels(&model, &mut loaded)?;
     let e = match (a.interval_method, model.default_interval_method(a.interval)) {
         (None, None) => model.evaluate_at(&loaded.table, a.interval)?,
         (asked, _) => model.evaluate_with(
@@ -369,11 +428,13 @@ fn compare(a: CompareArgs) -> Result<()> {
         loaded,
         mut warnings,
         missing,
+        per_class,
         bar: b,
     } = prepare(&a.common)?;
     warnings.extend(missing.iter().flat_map(hxai_data::MissingReport::lines));
     let mut c = tables::compare(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
     b.finish_and_clear();
+    c.hybrid.per_class = per_class;
     crate::safety::warn(&c.hybrid.warnings);
     if a.interval_method.is_some() || a.interval != hxai_hybrid::DEFAULT_INTERVAL {
         let method = interval_method(

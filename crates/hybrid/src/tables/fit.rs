@@ -39,9 +39,11 @@ pub fn stability(
         .select_columns(&model.correction.candidates)?
         .select_rows(&model.split.train)?;
     if model.correction.form.as_deref() == Some(Form::Factors.name()) {
-        return Ok(hxai_symreg::factors::factor_stability(
+        let fp: Vec<f64> = model.split.train.iter().map(|&i| physics[i]).collect();
+        return Ok(hxai_symreg::factors::factor_stability_on_physics(
             &ft,
             &delta,
+            &fp,
             model.correction.kind.link(),
             &cfg.factor_config(),
             runs,
@@ -192,7 +194,7 @@ pub(crate) fn fit_inner(
                 ft,
             }
         }
-        Form::Factors => search_factors(table, &res, cfg, split, &delta)?,
+        Form::Factors => search_factors(table, &res, cfg, split, &delta, &physics)?,
     };
     let Searched {
         ft,
@@ -256,19 +258,27 @@ struct Searched {
 
 /// The factor form's search ([`hxai_symreg::factors::fit_factors`]) of `delta` on the
 /// training rows: its alternatives are the selected columns with another shape that the
-/// held-out error cannot tell apart.
+/// held-out error cannot tell apart. A multiplicative correction is fitted by the
+/// hybrid's error in the target's units (`physics` on every row of the table).
 fn search_factors(
     table: &Table,
     res: &Resolved,
     cfg: &TableConfig,
     split: &Split,
     delta: &[f64],
+    physics: &[f64],
 ) -> Result<Searched, HybridError> {
     let ft = table
         .select_columns(&res.features)?
         .select_rows(&split.train)?;
-    let fit =
-        hxai_symreg::factors::fit_factors(&ft, delta, cfg.correction.link(), &cfg.factor_config())?;
+    let fp: Vec<f64> = split.train.iter().map(|&i| physics[i]).collect();
+    let fit = hxai_symreg::factors::fit_factors_on_physics(
+        &ft,
+        delta,
+        &fp,
+        cfg.correction.link(),
+        &cfg.factor_config(),
+    )?;
     let alternatives = fit
         .alternatives
         .iter()
@@ -452,6 +462,7 @@ fn model_of(
         conformal: None,
         warnings: Vec::new(),
         missing: None,
+        per_class: None,
         scores: ScoresInfo {
             train: PairScores {
                 physics: zero_metrics(),

@@ -48,6 +48,7 @@ mod compare;
 mod conformal;
 mod fit;
 mod model;
+pub mod per_class;
 mod physics;
 mod resolve;
 mod split;
@@ -61,6 +62,7 @@ pub use model::{
     EquationInfo, JointInfo, MissingInfo, PairScores, PhysicsInfo, SCHEMA_VERSION, ScoresInfo,
     TableEvaluation, TableModel, TablePrediction,
 };
+pub use per_class::PerClassInfo;
 pub use split::split_rows;
 
 use fit::{SplitJob, fit_inner, search_training_rows};

@@ -9,6 +9,7 @@ mod common;
 mod conformal;
 mod end_to_end;
 mod json_shape;
+mod per_class;
 mod process;
 mod properties;
 mod stream;

@@ -343,6 +343,25 @@ mod tests {
         }
     }
 
+    /// A snapped exponent of 1 or -1 reads as the column or its reciprocal: `v**1` is `v`,
+    /// `f**2*r**(-1)` is `f**2/r`, and the value is unchanged.
+    #[test]
+    fn unit_exponents_read_as_the_column_or_its_reciprocal() {
+        let num = |v: f64| Box::new(Expr::Num(v));
+        let pow = |name: &str, p: f64| Box::new(Expr::Bin(Op::Pow, var(name), num(p)));
+        let e = Expr::Bin(Op::Mul, num(2e-4), pow("v", 1.0)).simplify();
+        assert_eq!(e.to_text(None, false), "0.0002*v");
+        let f2r = Expr::Bin(
+            Op::Mul,
+            Box::new(Expr::Bin(Op::Mul, num(-0.36), pow("f", 2.0))),
+            pow("r", -1.0),
+        );
+        let s = f2r.clone().simplify();
+        assert_eq!(s.to_text(None, false), "-0.36*f**2/r");
+        let at = |e: &Expr| e.eval(&|n: &str| if n == "f" { 0.2 } else { 1.3 });
+        assert!((at(&s) - at(&f2r)).abs() <= 1e-15 * at(&f2r).abs());
+    }
+
     /// log(exp(u)) is u and log(gaussian(u)) is -u^2, so reported equations do not carry
     /// the pair (it appeared in a selected delta model).
     #[test]

@@ -87,8 +87,12 @@ impl Expr {
             Expr::Var(n) => {
                 if sympy {
                     sympy_symbol(n)
-                } else {
+                } else if is_identifier(n) {
                     n.clone()
+                } else {
+                    // a column such as `v [m/min]` or `insul=After` is written as the infix
+                    // parser reads it back
+                    format!("`{n}`")
                 }
             }
             Expr::Neg(a) => format!("-{}", wrap(a, 3)),
@@ -352,4 +356,12 @@ fn latex_name(n: &str) -> String {
     } else {
         format!("\\mathrm{{{}}}", n.replace('_', "\\_"))
     }
+}
+
+/// Whether `n` is a bare name of the infix syntax (a letter or `_`, then letters, digits
+/// and `_`, as its lexer reads names).
+fn is_identifier(n: &str) -> bool {
+    let mut c = n.chars();
+    c.next().is_some_and(|f| f.is_alphabetic() || f == '_')
+        && c.all(|ch| ch.is_alphanumeric() || ch == '_')
 }

@@ -204,6 +204,16 @@ impl Expr {
                 let b = b.simplify();
                 match (op, a, b) {
                     (_, Num(x), Num(y)) => Num(op.apply2(x, y)),
+                    // a snapped exponent of 1 or -1 reads as the column or its reciprocal
+                    // (`powf` is exact for both)
+                    (Op::Pow, e, Num(1.0)) => e,
+                    (Op::Pow, e, Num(-1.0)) => {
+                        Bin(Op::Div, Box::new(Num(1.0)), Box::new(e)).simplify()
+                    }
+                    // `f**2*1/r` reads `f**2/r`
+                    (Op::Mul, x, Bin(Op::Div, one, d)) if matches!(*one, Num(v) if v == 1.0) => {
+                        Bin(Op::Div, Box::new(x), d).simplify()
+                    }
                     // gaussian2 with a constant argument c is exp(-c^2) gaussian(other)
                     (Op::Gaussian2, Num(c), y) | (Op::Gaussian2, y, Num(c)) => Bin(
                         Op::Mul,

@@ -62,6 +62,41 @@ pub fn factor_stability(
     runs: usize,
     progress: &mut (dyn FnMut(usize, usize) + Send),
 ) -> Result<Stability, SrError> {
+    stability_inner(data, y, None, link, cfg, runs, progress)
+}
+
+/// [`factor_stability`] of a hybrid's correction with each row's physics prediction, every
+/// run fitted as [`super::fit_factors_on_physics`] fits it.
+///
+/// # Errors
+/// [`factor_stability`]'s, and [`super::fit_factors_on_physics`]'s.
+pub fn factor_stability_on_physics(
+    data: &Table,
+    y: &[f64],
+    physics: &[f64],
+    link: Link,
+    cfg: &FactorConfig,
+    runs: usize,
+    progress: &mut (dyn FnMut(usize, usize) + Send),
+) -> Result<Stability, SrError> {
+    if physics.len() != y.len() {
+        return Err(SrError::TargetLength {
+            target: physics.len(),
+            data: y.len(),
+        });
+    }
+    stability_inner(data, y, Some(physics), link, cfg, runs, progress)
+}
+
+fn stability_inner(
+    data: &Table,
+    y: &[f64],
+    physics: Option<&[f64]>,
+    link: Link,
+    cfg: &FactorConfig,
+    runs: usize,
+    progress: &mut (dyn FnMut(usize, usize) + Send),
+) -> Result<Stability, SrError> {
     if runs == 0 {
         return Err(SrError::InvalidConfig(
             "--stability needs at least one run".into(),
@@ -93,7 +128,9 @@ pub fn factor_stability(
                     ..*cfg
                 };
                 // a row drawn twice stays in one fold of the run's cross-validation
-                let (fit, s) = fit_structure(&train, &yr, link, &run_cfg, Some(&rows))?;
+                let pr: Option<Vec<f64>> = physics.map(|p| rows.iter().map(|&i| p[i]).collect());
+                let (fit, s) =
+                    fit_structure(&train, &yr, link, &run_cfg, Some(&rows), pr.as_deref())?;
                 let whole = Whole {
                     data,
                     grids: &grids,
@@ -153,6 +190,7 @@ fn describe(
             let one = Structure {
                 terms: vec![t.clone()],
                 constant: if link == Link::Additive { 0.0 } else { 1.0 },
+                scale: None,
             };
             let v = one.predict(link, cols, m);
             match link {

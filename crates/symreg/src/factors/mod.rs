@@ -52,7 +52,7 @@ mod select;
 mod shape;
 mod structure;
 
-pub use bands::{FactorBand, FactorStability, factor_stability};
+pub use bands::{FactorBand, FactorStability, factor_stability, factor_stability_on_physics};
 pub use shape::{Shape, complexity, template};
 
 use crate::expr::Expr;
@@ -196,32 +196,78 @@ pub fn fit_factors(
     link: Link,
     cfg: &FactorConfig,
 ) -> Result<FactorFit, SrError> {
-    Ok(fit_structure(data, y, link, cfg, None)?.0)
+    Ok(fit_structure(data, y, link, cfg, None, None)?.0)
+}
+
+/// [`fit_factors`] of a hybrid's correction `y` (its `delta`) with each row's physics
+/// prediction `physics`: a multiplicative model is then fitted and scored by the hybrid's
+/// error in the target's units, `f_p (1 + delta)` against `f_p (1 + y)`, not by the error
+/// of `delta` itself, which weighs every row by `1 / f_p^2` and lets the rows of small
+/// physics decide the fit. (Additive and log models are fitted as [`fit_factors`] does:
+/// an additive `delta` is already in the target's units, and the log form is chosen for
+/// relative errors.) The model returned is the correction `delta`; its `score` and
+/// `train_mse` and the path's errors are in the target's units.
+///
+/// # Errors
+/// [`fit_factors`]'s, and a `physics` of another length or not finite.
+pub fn fit_factors_on_physics(
+    data: &Table,
+    y: &[f64],
+    physics: &[f64],
+    link: Link,
+    cfg: &FactorConfig,
+) -> Result<FactorFit, SrError> {
+    Ok(fit_structure(data, y, link, cfg, None, Some(physics))?.0)
 }
 
 /// [`fit_factors`], with the selected structure itself; `groups` (one id per row) keeps
-/// rows sharing an id in one fold.
+/// rows sharing an id in one fold; `physics` as [`fit_factors_on_physics`].
 fn fit_structure(
     data: &Table,
     y: &[f64],
     link: Link,
     cfg: &FactorConfig,
     groups: Option<&[usize]>,
+    physics: Option<&[f64]>,
 ) -> Result<(FactorFit, Structure), SrError> {
     check(data, y, cfg)?;
-    let cols: Vec<&[f64]> = data.columns().iter().map(Vec::as_slice).collect();
-    let problem = select::Problem::new(cols, y, link, cfg, groups);
+    let mut cols: Vec<&[f64]> = data.columns().iter().map(Vec::as_slice).collect();
+    let physics = physics.filter(|_| link == Link::Multiplicative);
+    let target: Vec<f64>;
+    let (y, scale) = match physics {
+        Some(fp) => {
+            if fp.len() != y.len() {
+                return Err(SrError::TargetLength {
+                    target: fp.len(),
+                    data: y.len(),
+                });
+            }
+            if let Some(i) = fp.iter().position(|v| !v.is_finite()) {
+                return Err(SrError::InvalidConfig(format!(
+                    "the physics is not finite at row {} ({})",
+                    i + 1,
+                    fp[i]
+                )));
+            }
+            target = fp.iter().zip(y).map(|(p, d)| p * (1.0 + d)).collect();
+            cols.push(fp);
+            (target.as_slice(), Some(cols.len() - 1))
+        }
+        None => (y, None),
+    };
+    let problem = select::Problem::new(cols, y, link, cfg, groups, scale);
     let (chosen, path, alts) = problem.select().ok_or_else(|| {
         SrError::InvalidConfig("no factor model could be fitted to the rows".into())
     })?;
-    let chosen = problem.snap(chosen);
+    let mut chosen = problem.snap(chosen);
+    chosen.s = chosen.s.unscaled();
     let names = data.names();
     let mut model = model_of(&chosen.s, link, names)?;
     model.train_mse = chosen.mse;
     model.score = chosen.cv_mean();
     let alternatives = alts
         .iter()
-        .map(|a| model_of(&a.s, link, names))
+        .map(|a| model_of(&a.s.unscaled(), link, names))
         .collect::<Result<Vec<_>, _>>()?;
     let fit = FactorFit {
         factors: chosen

@@ -27,26 +27,52 @@ pub(crate) struct Problem<'a> {
     pub folds: Folds,
     pub link: Link,
     pub cfg: &'a FactorConfig,
+    /// How many of `cols` are features (a physics column may follow them).
+    pub n_feat: usize,
+    /// The physics column of a multiplicative model fitted on the target's scale.
+    pub scale: Option<usize>,
+    /// Differences of mean squared error below this are ties: `1e-10` of the target's
+    /// variance (a gain of R² below 1e-10). On noise-free rows the paired standard error
+    /// is itself at rounding level, and without a floor a distractor whose amplitude is
+    /// 1e-19 "pays".
+    pub floor: f64,
 }
 
 impl<'a> Problem<'a> {
+    /// `cols` are the features, then (with `scale`) the physics column, in which case `y`
+    /// is the measured target rather than the correction.
     pub fn new(
         cols: Vec<&'a [f64]>,
         y: &'a [f64],
         link: Link,
         cfg: &'a FactorConfig,
         groups: Option<&[usize]>,
+        scale: Option<usize>,
     ) -> Self {
         let stats = cols.iter().map(|c| ColStats::of(c)).collect();
         let folds = Folds::new(&cols, y, cfg.folds, cfg.seed, groups);
+        let n_feat = scale.unwrap_or(cols.len());
+        let n = y.len().max(1) as f64;
+        let my = y.iter().sum::<f64>() / n;
+        let floor = 1e-10 * y.iter().map(|v| (v - my) * (v - my)).sum::<f64>() / n;
         Self {
+            floor,
             cols,
             y,
             stats,
             folds,
             link,
             cfg,
+            n_feat,
+            scale,
         }
+    }
+
+    /// Whether `a`'s held-out errors are within `k` paired standard errors of `b`'s (or
+    /// within [`Problem::floor`]): `a` is as good as `b`.
+    fn within(&self, a: &Scored, b: &Scored, k: f64) -> bool {
+        let (d, se) = paired(&a.cv, &b.cv);
+        d <= (k * se).max(self.floor)
     }
 
     fn score(&self, mut s: Structure) -> Option<Scored> {
@@ -104,10 +130,7 @@ impl<'a> Problem<'a> {
             .clone();
         let chosen = fits
             .iter()
-            .find(|f| {
-                let (d, se) = paired(&f.cv, &best.cv);
-                d <= self.cfg.se_rule * se
-            })
+            .find(|f| self.within(f, &best, self.cfg.se_rule))
             .cloned()
             .unwrap_or(best);
         Some((chosen, fits))
@@ -117,11 +140,11 @@ impl<'a> Problem<'a> {
     /// pass; returns the selected structure, the path and the runner-up shapes of the
     /// selected columns (the alternatives the data cannot tell apart).
     pub fn select(&self) -> Option<(Scored, Vec<PathStep>, Vec<Scored>)> {
-        let empty = self.score(Structure::empty(self.link))?;
+        let empty = self.score(Structure::empty(self.link, self.scale))?;
         let mut path: Vec<(Scored, String)> = vec![(empty, String::new())];
         let mut used: Vec<usize> = Vec::new();
         let mut runners: Vec<Vec<Scored>> = vec![Vec::new()];
-        let n_cols = self.cols.len();
+        let n_cols = self.n_feat;
         while used.len() < self.cfg.max_factors.min(n_cols) {
             let base = &path[path.len() - 1].0;
             let cands: Vec<usize> = (0..n_cols).filter(|c| !used.contains(c)).collect();
@@ -139,7 +162,7 @@ impl<'a> Problem<'a> {
             else {
                 break;
             };
-            if next.cv_mean() >= base.cv_mean() {
+            if next.cv_mean() >= base.cv_mean() - self.floor {
                 break;
             }
             used.push(cands[k]);
@@ -158,19 +181,13 @@ impl<'a> Problem<'a> {
             .clone();
         let k = path
             .iter()
-            .position(|(p, _)| {
-                let (d, se) = paired(&p.cv, &best.cv);
-                d <= self.cfg.se_rule * se
-            })
+            .position(|(p, _)| self.within(p, &best, self.cfg.se_rule))
             .unwrap_or(path.len() - 1);
         let mut chosen = path[k].0.clone();
         let mut alternatives: Vec<Scored> = runners[k]
             .iter()
             .filter(|f| f.s != chosen.s)
-            .filter(|f| {
-                let (d, se) = paired(&f.cv, &chosen.cv);
-                d <= self.cfg.se_rule * se
-            })
+            .filter(|f| self.within(f, &chosen, self.cfg.se_rule))
             .cloned()
             .collect();
         let mut steps: Vec<PathStep> = path
@@ -187,8 +204,7 @@ impl<'a> Problem<'a> {
             let Some(with) = self.interaction(&chosen) else {
                 break;
             };
-            let (d, se) = paired(&chosen.cv, &with.cv);
-            if d <= self.cfg.interaction_se * se {
+            if self.within(&chosen, &with, self.cfg.interaction_se) {
                 break;
             }
             chosen = self.backward(with);
@@ -210,7 +226,7 @@ impl<'a> Problem<'a> {
     /// training error of the model with the pair's term (a small two-column fit, as FAST
     /// ranks pairs), the best few scored by CV.
     fn interaction(&self, base: &Scored) -> Option<Scored> {
-        let n = self.cols.len();
+        let n = self.n_feat;
         let taken: Vec<Vec<usize>> = base.s.terms.iter().map(|t| t.cols.clone()).collect();
         let pairs: Vec<[usize; 2]> = (0..n)
             .flat_map(|i| (i + 1..n).map(move |j| [i, j]))
@@ -290,8 +306,7 @@ impl<'a> Problem<'a> {
             else {
                 return cur;
             };
-            let (d, se) = paired(&best.cv, &cur.cv);
-            if d > self.cfg.se_rule * se {
+            if !self.within(&best, &cur, self.cfg.se_rule) {
                 return cur;
             }
             cur = best;
@@ -342,6 +357,7 @@ fn projection(term: &Term, cols: &[&[f64]], r: &[f64]) -> f64 {
     let s = Structure {
         terms: vec![unit],
         constant: 0.0,
+        scale: None,
     };
     let v = s.predict(Link::Additive, cols, r.len());
     let n = r.len() as f64;

@@ -12,6 +12,11 @@ use crate::program::Program;
 pub(crate) struct Structure {
     pub terms: Vec<Term>,
     pub constant: f64,
+    /// The column holding each row's physics `f_p` when a multiplicative model is fitted on
+    /// the hybrid's own scale: the program is then `C * prod_j f_j(x_j) * f_p` against the
+    /// measured target, so that every row weighs by its error in the target's units
+    /// instead of its relative error (which the rows of small physics dominate).
+    pub scale: Option<usize>,
 }
 
 /// A structure as a program: its nodes, every parameter (output map first) and which
@@ -25,13 +30,22 @@ pub(crate) struct Written {
 }
 
 impl Structure {
-    pub fn empty(link: Link) -> Self {
+    pub fn empty(link: Link, scale: Option<usize>) -> Self {
         Self {
             terms: Vec::new(),
             constant: match link {
                 Link::Additive => 0.0,
                 _ => 1.0,
             },
+            scale: scale.filter(|_| link == Link::Multiplicative),
+        }
+    }
+
+    /// The same structure as a correction `delta` (without the physics column).
+    pub fn unscaled(&self) -> Self {
+        Self {
+            scale: None,
+            ..self.clone()
         }
     }
 
@@ -45,6 +59,7 @@ impl Structure {
         let mut starts = Vec::new();
         let (scale, offset) = match link {
             Link::Additive => (1.0, self.constant),
+            Link::Multiplicative if self.scale.is_some() => (self.constant, 0.0),
             Link::Multiplicative => (self.constant, -1.0),
             Link::Log => (1.0, 0.0),
         };
@@ -82,6 +97,10 @@ impl Structure {
         }
         if link == Link::Log {
             b.op(crate::Op::Log);
+        }
+        if let (Link::Multiplicative, Some(k)) = (link, self.scale) {
+            b.var(k as u16);
+            b.op(crate::Op::Mul);
         }
         let mut params = vec![scale, offset];
         params.extend(b.consts);

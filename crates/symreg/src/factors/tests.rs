@@ -233,3 +233,49 @@ fn the_same_seed_gives_the_same_model_whatever_the_threads() {
     let b = fit_factors(&t, &y, Link::Additive, &two).expect("fit");
     assert_eq!(a, b);
 }
+
+/// A multiplicative correction over physics spanning three decades, with scatter in the
+/// target's units: fitted by `delta`'s own squared error the rows of small physics (whose
+/// `delta` the scatter blows up) decide the fit; fitted on the physics' scale
+/// ([`fit_factors_on_physics`]) the factor's exponent is recovered and the hybrid's error
+/// is the scatter's.
+#[test]
+fn a_multiplicative_factor_is_fitted_in_the_targets_units() {
+    let n = 400;
+    let t = columns(n, &[("x", 1.0, 4.0), ("q", 0.01, 10.0)], 41);
+    let mut rng = ChaCha8Rng::seed_from_u64(42);
+    let sigma = 0.05;
+    // the physics is q itself; the truth is q * 1.2 * x^0.5
+    let fp: Vec<f64> = col(&t, "q").to_vec();
+    let y: Vec<f64> = (0..n)
+        .map(|i| fp[i] * 1.2 * col(&t, "x")[i].sqrt() + sigma * normal(&mut rng))
+        .collect();
+    let delta: Vec<f64> = y.iter().zip(&fp).map(|(y, p)| y / p - 1.0).collect();
+    let feats = Table::new(vec!["x".into()], vec![col(&t, "x").to_vec()]).expect("table");
+    let cfg = FactorConfig::default();
+    let rmse = |fit: &FactorFit| {
+        let d = fit.model.predict(&feats).expect("predict");
+        let se: f64 = (0..n)
+            .map(|i| (fp[i] * (1.0 + d[i]) - y[i]).powi(2))
+            .sum::<f64>();
+        (se / n as f64).sqrt()
+    };
+    let scaled = fit_factors_on_physics(&feats, &delta, &fp, Link::Multiplicative, &cfg)
+        .expect("fit on the physics' scale");
+    let plain = fit_factors(&feats, &delta, Link::Multiplicative, &cfg).expect("plain fit");
+    let (r_scaled, r_plain) = (rmse(&scaled), rmse(&plain));
+    assert!(
+        r_scaled < 1.1 * sigma,
+        "{r_scaled} {}",
+        scaled.model.equation()
+    );
+    assert!(r_scaled < r_plain, "{r_scaled} vs {r_plain}");
+    assert_eq!(scaled.factors.len(), 1, "{}", scaled.model.equation());
+    assert_eq!(scaled.factors[0].shape, Shape::Power);
+    // the exponent snapped to 1/2, or within 0.05 of it
+    let p = &scaled.model.params;
+    let e = p[p.len() - 1];
+    assert!((e - 0.5).abs() < 0.05, "{}", scaled.model.equation());
+    // physics of another length is refused
+    assert!(fit_factors_on_physics(&feats, &delta, &fp[1..], Link::Multiplicative, &cfg).is_err());
+}

@@ -142,6 +142,11 @@ pub struct TableModel {
     /// be complete (the default, `refuse`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub missing: Option<MissingInfo>,
+    /// With `--calibrate-per COL=P1,P2`: the text column, its levels and the physics
+    /// parameters fitted once per level (`physics.parameters` holds `P1[level]`); `predict`
+    /// builds the same level indicators and refuses a level it never saw.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub per_class: Option<super::per_class::PerClassInfo>,
 }
 
 /// How a table hybrid's fit handled empty cells (`--missing`, the model file's `missing`).

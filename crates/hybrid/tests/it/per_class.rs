@@ -1,0 +1,122 @@
+//! Per-class constants of the physics (`--calibrate-per`, issue 48) on `MASS::whiteside`:
+//! gas consumption against outside temperature, before and after cavity-wall insulation.
+//! One line per level, `a[level] + b[level]*temp`, calibrated on all 56 weeks, must equal R's
+//! `lm(Gas ~ Insul/Temp)`: the reference values and standard errors were written by
+//! `scripts/ref_per_class.py` (numpy's least squares, checked against statsmodels) to
+//! `testdata/per_class/whiteside_lm.json`. Tolerance: 1e-6 relative (issue 48's goal).
+use hxai_eval::Split;
+use hxai_hybrid::tables::{TableConfig, fit_split, per_class};
+use hxai_symreg::Table;
+use std::path::PathBuf;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The whiteside table: the numeric columns and the `insul` cells.
+fn whiteside() -> (Table, Vec<String>) {
+    let text = std::fs::read_to_string(root().join("testdata/real/whiteside.csv")).expect("csv");
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("insul,temp,gas"));
+    let (mut insul, mut temp, mut gas) = (Vec::new(), Vec::new(), Vec::new());
+    for l in lines.filter(|l| !l.trim().is_empty()) {
+        let f: Vec<&str> = l.split(',').collect();
+        insul.push(f[0].to_string());
+        temp.push(f[1].parse::<f64>().expect("temp"));
+        gas.push(f[2].parse::<f64>().expect("gas"));
+    }
+    let t = Table::new(vec!["temp".into(), "gas".into()], vec![temp, gas]).expect("table");
+    (t, insul)
+}
+
+fn close(got: f64, want: f64, what: &str) {
+    assert!(
+        (got - want).abs() <= 1e-6 * want.abs(),
+        "{what}: hxai {got}, reference {want}"
+    );
+}
+
+#[test]
+fn whiteside_lines_per_level_equal_rs_lm() {
+    let (mut table, insul) = whiteside();
+    let mut cfg = TableConfig::new("gas", "a + b*temp");
+    cfg.search.epochs = 1;
+    cfg.search.candidates_per_epoch = 50;
+    cfg.conformal_folds = 0;
+    let info = per_class::expand(
+        &mut cfg,
+        &mut table,
+        "insul",
+        &insul,
+        &["a".to_string(), "b".to_string()],
+    )
+    .expect("expand");
+    assert_eq!(info.levels, ["After", "Before"]);
+    assert!(
+        cfg.exclude.contains(&"insul=After".to_string()),
+        "indicators are not features"
+    );
+    // calibrated on every row, as lm is
+    let split = Split {
+        train: (0..table.n_rows()).collect(),
+        test: Vec::new(),
+    };
+    let model = fit_split(&table, &cfg, &split, &mut |_| {}).expect("fit");
+    let reference: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("testdata/per_class/whiteside_lm.json"))
+            .expect("reference"),
+    )
+    .expect("json");
+    for level in ["After", "Before"] {
+        let r = &reference["levels"][level];
+        let p = &model.physics;
+        for (param, key) in [("a", "intercept"), ("b", "slope")] {
+            let name = format!("{param}[{level}]");
+            close(p.parameters[&name], r[key].as_f64().expect("value"), &name);
+            let se = p.standard_errors[&name].expect("standard error");
+            close(
+                se,
+                r[format!("{key}_se")].as_f64().expect("se"),
+                &format!("se {name}"),
+            );
+        }
+    }
+    // the correction never reads the level indicators
+    if let Some(m) = &model.correction.model {
+        assert!(
+            m.feature_names.iter().all(|f| !f.contains('=')),
+            "{:?}",
+            m.feature_names
+        );
+    }
+}
+
+/// A parameter named per class must be in the physics, not fixed, and the column must have
+/// two levels or more; each refusal names what is wrong.
+#[test]
+fn bad_per_class_settings_are_refused_by_name() {
+    let (table, insul) = whiteside();
+    let try_expand = |physics: &str, params: &[&str], cells: &[String], set: Option<&str>| {
+        let mut cfg = TableConfig::new("gas", physics);
+        if let Some(s) = set {
+            cfg.set.insert(s.to_string(), 1.0);
+        }
+        let mut t = table.clone();
+        let params: Vec<String> = params.iter().map(|s| s.to_string()).collect();
+        per_class::expand(&mut cfg, &mut t, "insul", cells, &params)
+            .map(|_| ())
+            .expect_err("refused")
+            .to_string()
+    };
+    let e = try_expand("a + b*temp", &["c"], &insul, None);
+    assert!(e.contains("`c`"), "{e}");
+    let e = try_expand("a + b*temp", &["a"], &insul, Some("a"));
+    assert!(e.contains("--set"), "{e}");
+    let one: Vec<String> = vec!["Before".into(); insul.len()];
+    let e = try_expand("a + b*temp", &["a"], &one, None);
+    assert!(e.contains("one level"), "{e}");
+    let mut gap = insul.clone();
+    gap[4] = String::new();
+    let e = try_expand("a + b*temp", &["a"], &gap, None);
+    assert!(e.contains("row 5") && e.contains("empty level"), "{e}");
+}
