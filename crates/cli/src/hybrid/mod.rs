@@ -88,7 +88,7 @@ fn level_cells(view: &NumericView, col: &str) -> Result<Vec<String>> {
         return Ok(cells.iter().map(|c| c.trim().to_string()).collect());
     }
     match view.table.column(col) {
-        Some(v) => Ok(v.iter().map(|&x| hxai_data::format_number(x)).collect()),
+        Some(v) => Ok(v.iter().map(|x| x.to_string()).collect()),
         None => anyhow::bail!(
             "the table has no column `{col}` (its columns: {})",
             view.table
@@ -303,8 +303,8 @@ fn fit(a: FitArgs) -> Result<()> {
         )?;
         sb.finish_and_clear();
     }
-    let json = model.to_json();
     let cannot = || format!("cannot write the model to {}", a.out.display());
+    let json = model.to_checked_json().with_context(cannot)?;
     let staged = hxai_data::stage_text(&a.out, &json).with_context(cannot)?;
     if a.common.json {
         // the document first: a full stdout then leaves the old model file as it was
@@ -348,6 +348,7 @@ fn predict(a: PredictArgs) -> Result<()> {
     add_levels(&model, &mut loaded)?;
     let p = model.predict(&loaded.table)?;
     crate::safety::warn(&model.range_warnings(&loaded.table));
+    crate::safety::warn(&model.value_warnings(&loaded.table));
     let bounds = match a.interval {
         Some(level) => Some(model.intervals_with(
             &loaded.table,

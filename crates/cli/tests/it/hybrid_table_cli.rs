@@ -974,3 +974,67 @@ fn per_class_constants_give_one_line_per_level() -> TestResult {
     assert!(String::from_utf8_lossy(&out.stderr).contains("COLUMN=P1,P2"));
     Ok(())
 }
+
+/// Issue 52's sentinel values: a `-9999` (a logger's missing-value code) in the target is
+/// fitted but named by row on stderr and in the model's `warnings`; a target of `1e300`
+/// under the log correction (whose squared errors overflow) is refused naming the row, and
+/// the model file already there is left as it was, never replaced by one that cannot be
+/// read back.
+#[test]
+fn sentinel_values_are_named_and_overflowing_scores_refused() -> TestResult {
+    let (dir, data) = scratch_table("sentinel", 80)?;
+    let text = std::fs::read_to_string(&data)?;
+    let with = |row: usize, value: &str| -> String {
+        text.lines()
+            .enumerate()
+            .map(|(i, l)| {
+                if i == row {
+                    let mut f: Vec<&str> = l.split(',').collect();
+                    let n = f.len();
+                    f[n - 1] = value;
+                    f.join(",")
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+            + "\n"
+    };
+    let coded = dir.join("coded.csv");
+    std::fs::write(&coded, with(5, "-9999"))?;
+    let model = dir.join("m.json");
+    let args = fit_args(s(&coded), s(&model));
+    let out = hxai(&args)?;
+    ok(&out, "fit with -9999");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("row 5 (-9999)") && err.contains("missing-value code"),
+        "{err}"
+    );
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model)?)?;
+    assert!(
+        m["warnings"]
+            .as_array()
+            .ok_or("warnings")?
+            .iter()
+            .any(|w| w.as_str().is_some_and(|w| w.contains("row 5 (-9999)"))),
+        "{}",
+        m["warnings"]
+    );
+    // 1e300 under the log correction: refused, the old model kept
+    let huge = dir.join("huge.csv");
+    std::fs::write(&huge, with(7, "1e300"))?;
+    let before = std::fs::read(&model)?;
+    let mut args = fit_args(s(&huge), s(&model));
+    args.extend_from_slice(&["--correction", "log"]);
+    let out = hxai(&args)?;
+    assert!(
+        !out.status.success(),
+        "a fit whose scores overflow must fail"
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("row 7") && err.contains("1e300"), "{err}");
+    assert_eq!(std::fs::read(&model)?, before, "the old model file is kept");
+    Ok(())
+}

@@ -228,6 +228,15 @@ pub(crate) fn fit_inner(
     model.correction.form = Some(cfg.form.name().to_string());
     model.correction.factors = factors;
     model.warnings = super::traps::fit_warnings(table, cfg, &res.features, split, y_all, &physics);
+    let mut read: Vec<String> = vec![cfg.target.clone()];
+    for c in res.columns.iter().chain(&res.features) {
+        if !read.contains(c) {
+            read.push(c.clone());
+        }
+    }
+    model
+        .warnings
+        .extend(super::traps::value_warnings(table, &read));
     model.warnings.extend(super::traps::parameter_warnings(
         &model.physics.standard_errors,
         &model.physics.parameters,
@@ -484,9 +493,14 @@ fn scores_of(
     let pred = model.predict(table)?;
     let pair = |rows: &[usize]| -> Result<PairScores, HybridError> {
         let y = gather(y_all, rows);
+        let scored = |what: &str, p: &[f64]| -> Result<hxai_eval::Metrics, HybridError> {
+            let m = hxai_eval::score(&y, &gather(p, rows))?;
+            finite_scores(what, &m, rows, y_all, p)?;
+            Ok(m)
+        };
         Ok(PairScores {
-            physics: hxai_eval::score(&y, &gather(&pred.physics, rows))?,
-            hybrid: hxai_eval::score(&y, &gather(&pred.hybrid, rows))?,
+            physics: scored("physics", &pred.physics)?,
+            hybrid: scored("hybrid", &pred.hybrid)?,
         })
     };
     let train = pair(&split.train)?;
@@ -497,6 +511,35 @@ fn scores_of(
         Some(pair(&split.test)?)
     };
     Ok(ScoresInfo { train, test })
+}
+
+/// Refuses scores that are not finite numbers (a squared error that overflows: a target of
+/// 1e300, or a prediction that far off), naming the row with the largest error, since a
+/// model file cannot hold them and "RMSE inf, R² 1" means nothing.
+fn finite_scores(
+    what: &str,
+    m: &hxai_eval::Metrics,
+    rows: &[usize],
+    y: &[f64],
+    p: &[f64],
+) -> Result<(), HybridError> {
+    if m.rmse.is_finite() && m.r2.is_finite() && m.mae.is_finite() {
+        return Ok(());
+    }
+    let worst = rows
+        .iter()
+        .copied()
+        .max_by(|&a, &b| (y[a] - p[a]).abs().total_cmp(&(y[b] - p[b]).abs()))
+        .unwrap_or(0);
+    let g = |v: f64| hxai_table::format_number(v);
+    Err(HybridError::NoData(format!(
+        "the {what}'s error is not a finite number (RMSE {}, R² {}): row {} has target {} and          {what} {}, too large for a squared error; check that row (a sentinel value such as          1e300 or 9.96921e36?), drop it, or rescale the target",
+        g(m.rmse),
+        g(m.r2),
+        worst + 1,
+        g(y[worst]),
+        g(p[worst])
+    )))
 }
 
 /// `delta` on the training rows with the final physics parameters (those of the joint refit

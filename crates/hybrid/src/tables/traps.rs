@@ -251,3 +251,141 @@ mod tests {
         assert!(range_warnings(&t, &[("a".into(), -1.0, 3.0)]).is_empty());
     }
 }
+
+/// Values data loggers and file formats write for "no value": `-9999`, `-999`, `9999`,
+/// `99999`, `-99999`, NetCDF's fill value `9.96921e36`, and `±1e30`, `±1e20`.
+pub const MISSING_CODES: [f64; 10] = [
+    -9999.0, -999.0, 9999.0, 99999.0, -99999.0, 9.96921e36, 1e30, -1e30, 1e20, -1e20,
+];
+
+/// A value further than this many robust standard deviations (1.4826 median absolute
+/// deviations) from its column's median is a gross outlier.
+pub const OUTLIER_ROBUST_SDS: f64 = 10.0;
+
+/// Warnings, naming row (from 1) and column, for values of `columns` that look like a
+/// missing-value code ([`MISSING_CODES`], within 1e-6 relative) or are gross outliers
+/// ([`OUTLIER_ROBUST_SDS`]), each only where it stands far outside the column's other
+/// values (beyond [`OUTLIER_ROBUST_SDS`] robust standard deviations of the median, or, for
+/// a column whose median absolute deviation is 0, anywhere off the median). At most three
+/// rows are named per column, then the count.
+pub fn value_warnings(table: &Table, columns: &[String]) -> Vec<String> {
+    let mut out = Vec::new();
+    for name in columns {
+        let Some(col) = table.column(name) else {
+            continue;
+        };
+        let finite: Vec<f64> = col.iter().copied().filter(|v| v.is_finite()).collect();
+        if finite.len() < 5 {
+            continue;
+        }
+        let med = median(&finite);
+        let dev: Vec<f64> = finite.iter().map(|v| (v - med).abs()).collect();
+        let sd = 1.4826 * median(&dev);
+        let far = |v: f64| {
+            let d = (v - med).abs();
+            if sd > 0.0 {
+                d > OUTLIER_ROBUST_SDS * sd
+            } else {
+                d > 0.0
+            }
+        };
+        let is_code = |v: f64| {
+            MISSING_CODES
+                .iter()
+                .any(|c| (v - c).abs() <= 1e-6 * c.abs())
+        };
+        let (mut codes, mut outliers) = (Vec::new(), Vec::new());
+        for (i, &v) in col.iter().enumerate() {
+            if !v.is_finite() || !far(v) {
+                continue;
+            }
+            if is_code(v) {
+                codes.push(i);
+            } else if sd > 0.0 {
+                outliers.push(i);
+            }
+        }
+        let rows = |idx: &[usize]| {
+            let shown: Vec<String> = idx
+                .iter()
+                .take(3)
+                .map(|&i| format!("row {} ({})", i + 1, num(col[i])))
+                .collect();
+            let more = idx.len().saturating_sub(3);
+            if more > 0 {
+                format!("{} and {more} more", shown.join(", "))
+            } else {
+                shown.join(", ")
+            }
+        };
+        if !codes.is_empty() {
+            out.push(format!(
+                "column `{name}`: {} look(s) like a missing-value code, far outside the \
+                 column's other values (median {}): if it means \"no value\", empty those \
+                 cells and choose --missing drop or impute",
+                rows(&codes),
+                num(med)
+            ));
+        }
+        if !outliers.is_empty() {
+            out.push(format!(
+                "column `{name}`: {} lie(s) more than {OUTLIER_ROBUST_SDS} robust standard \
+                 deviations from the column's median {} (robust sd {}): a gross outlier or a \
+                 typo? check those rows",
+                rows(&outliers),
+                num(med),
+                num(sd)
+            ));
+        }
+    }
+    out
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    }
+}
+
+#[cfg(test)]
+mod value_tests {
+    use super::*;
+
+    fn table(v: Vec<f64>) -> Table {
+        Table::new(vec!["y".into()], vec![v]).expect("table")
+    }
+
+    /// A logger's `-9999` and NetCDF's fill value are named by row as missing-value codes,
+    /// a typo's 1000-fold value as a gross outlier, and an ordinary spread gives no word.
+    #[test]
+    fn codes_and_gross_outliers_are_named_by_row() {
+        let base: Vec<f64> = (0..40).map(|i| 1.0 + 0.01 * i as f64).collect();
+        assert!(value_warnings(&table(base.clone()), &["y".into()]).is_empty());
+        let mut v = base.clone();
+        v[6] = -9999.0;
+        v[20] = 9.96921e36;
+        let w = value_warnings(&table(v), &["y".into()]);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].contains("row 7 (-9999)") && w[0].contains("row 21 (9.96921e36)"),
+            "{w:?}"
+        );
+        assert!(w[0].contains("missing-value code"), "{w:?}");
+        let mut v = base;
+        v[3] = 1130.0;
+        let w = value_warnings(&table(v), &["y".into()]);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].contains("row 4 (1130)") && w[0].contains("gross outlier"),
+            "{w:?}"
+        );
+        // -9999 inside a column whose values are all near it is not a code out of place
+        let near: Vec<f64> = (0..20).map(|i| -10_000.0 + i as f64).collect();
+        assert!(value_warnings(&table(near), &["y".into()]).is_empty());
+    }
+}

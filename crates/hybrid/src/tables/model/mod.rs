@@ -199,6 +199,27 @@ impl TableModel {
         serde_json::to_string_pretty(self).unwrap_or_default()
     }
 
+    /// [`TableModel::to_json`], checked: the text is read back with
+    /// [`TableModel::from_json`] and written again, and the two texts must be equal, so that
+    /// no file is written that hxai cannot read (a value that is not a finite number is
+    /// written as `null`, which only the fields documented as "NaN when unknown" accept).
+    ///
+    /// # Errors
+    /// [`HybridError::ModelFormat`] naming what does not read back.
+    pub fn to_checked_json(&self) -> Result<String, HybridError> {
+        let json = self.to_json();
+        match Self::from_json(&json) {
+            Ok(back) if back.to_json() == json => Ok(json),
+            Ok(_) => Err(HybridError::ModelFormat(
+                "the model does not read back as it was written (a value in it is not a finite                  number); nothing was written"
+                    .into(),
+            )),
+            Err(e) => Err(HybridError::ModelFormat(format!(
+                "the model could not be read back ({e}); nothing was written"
+            ))),
+        }
+    }
+
     /// Reads a model file written by [`TableModel::to_json`] and checks it.
     ///
     /// # Errors

@@ -65,6 +65,14 @@ impl TableModel {
         crate::tables::traps::range_warnings(table, &ranges)
     }
 
+    /// Warnings for values of `table` in the columns the model reads that look like a
+    /// missing-value code or are gross outliers among the table's rows
+    /// ([`crate::tables::traps::value_warnings`]).
+    pub fn value_warnings(&self, table: &Table) -> Vec<String> {
+        let used = crate::tables::model_columns(self, false);
+        crate::tables::traps::value_warnings(table, &used)
+    }
+
     /// The interval method used at `level` when none is asked for: conformal (CV+) when the
     /// file stores its calibration and it has enough scores for `level`
     /// ([`crate::conformal::ConformalInfo::serves`]: 19 at 95 %), else the delta method when it stores the hybrid's
