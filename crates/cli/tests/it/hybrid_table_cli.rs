@@ -1038,3 +1038,65 @@ fn sentinel_values_are_named_and_overflowing_scores_refused() -> TestResult {
     assert_eq!(std::fs::read(&model)?, before, "the old model file is kept");
     Ok(())
 }
+
+/// Issue 52's names and settings: `--calibrate k,k` is refused (it used to fit and report
+/// `k` as undetermined), `--cv-folds` above the training rows is refused (it used to
+/// cross-validate with fewer folds in silence), and a physics typo on a 40-column table
+/// lists 12 columns and the count of the rest instead of every name.
+#[test]
+fn repeated_parameters_too_many_folds_and_wide_tables_are_told_briefly() -> TestResult {
+    let (dir, data) = scratch_table("settings", 40)?;
+    let model = dir.join("m.json");
+    let mut args = hybrid_args("fit", s(&data), LAW);
+    args.extend_from_slice(&["--calibrate", "k,k", "--out", s(&model)]);
+    let out = hxai(&args)?;
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("`k` is named twice in --calibrate"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut args = fit_args(s(&data), s(&model));
+    args.extend_from_slice(&["--cv-folds", "1000"]);
+    let out = hxai(&args)?;
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("cannot make 1000 cross-validation folds"),
+        "{err}"
+    );
+    assert!(!model.exists());
+    // a wide table
+    let wide = dir.join("wide.csv");
+    let names: Vec<String> = (0..40).map(|j| format!("c{j}")).collect();
+    let mut text = names.join(",") + ",y\n";
+    for i in 0..30 {
+        let row: Vec<String> = (0..41)
+            .map(|j| format!("{}", (i * 7 + j * 3) % 11 + 1))
+            .collect();
+        text.push_str(&(row.join(",") + "\n"));
+    }
+    std::fs::write(&wide, text)?;
+    let out = hxai(&[
+        "hybrid",
+        "fit",
+        "--data",
+        s(&wide),
+        "--target",
+        "y",
+        "--physics",
+        "k*c1 + cc9",
+        "--calibrate",
+        "k",
+        "--out",
+        s(&model),
+    ])?;
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("`cc9`") && err.contains("and 29 more"),
+        "{err}"
+    );
+    assert!(err.len() < 600, "{} characters: {err}", err.len());
+    Ok(())
+}

@@ -18,8 +18,19 @@ pub(crate) struct Resolved {
     pub features: Vec<String>,
 }
 
+/// The table's columns for a message: the first 12, then how many more (a wide table's
+/// list would bury the message).
 pub(super) fn cols_list(table: &Table) -> String {
-    table.names().join(", ")
+    const SHOWN: usize = 12;
+    let names = table.names();
+    if names.len() <= SHOWN {
+        return names.join(", ");
+    }
+    format!(
+        "{}, and {} more",
+        names[..SHOWN].join(", "),
+        names.len() - SHOWN
+    )
 }
 
 fn require_column(table: &Table, name: &str, what: &'static str) -> Result<(), HybridError> {
@@ -77,7 +88,12 @@ pub(crate) fn resolve(table: &Table, cfg: &TableConfig) -> Result<Resolved, Hybr
             }
         }
     }
-    for n in &cfg.calibrate {
+    for (i, n) in cfg.calibrate.iter().enumerate() {
+        if cfg.calibrate[..i].contains(n) {
+            return Err(HybridError::InvalidConfig(format!(
+                "parameter `{n}` is named twice in --calibrate: name each parameter once"
+            )));
+        }
         if cfg.set.contains_key(n) {
             return Err(HybridError::InvalidConfig(format!(
                 "parameter `{n}` is both calibrated (--calibrate) and fixed (--set): choose one"

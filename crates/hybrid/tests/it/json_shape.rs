@@ -63,3 +63,33 @@ fn a_tool_model_file_is_written_back_unchanged() {
     let m = RecordModel::from_json(&text).unwrap();
     same(&text, &m.to_json().unwrap(), path);
 }
+
+/// Issue 52: a model file that is not a table hybrid at all says what it holds instead of
+/// "schema_version none": `null`, a list, `{}`, a number, a text `schema_version`, a
+/// fractional one, and `hxai sr --json`'s output (named as such).
+#[test]
+fn files_that_are_not_table_models_say_what_they_hold() {
+    use hxai_hybrid::tables::TableModel;
+    let cases = [
+        ("null", "JSON `null`"),
+        ("[]", "a JSON list of 0 item(s)"),
+        ("{}", "an empty JSON object"),
+        ("3", "the number 3"),
+        (
+            "{\"schema_version\": \"1\"}",
+            "a text where a whole number is expected",
+        ),
+        ("{\"schema_version\": 1.5}", "1.5, not a whole number"),
+        ("{\"best\": {}, \"pareto\": []}", "`hxai sr --json`"),
+    ];
+    for (text, says) in cases {
+        let e = TableModel::from_json(text).expect_err(text).to_string();
+        assert!(e.contains(says), "{text}: {e}");
+        assert!(!e.contains("schema_version none"), "{text}: {e}");
+    }
+    // a whole number of another version keeps its own message
+    let e = TableModel::from_json("{\"schema_version\": 7}")
+        .expect_err("version 7")
+        .to_string();
+    assert!(e.contains("schema_version 7"), "{e}");
+}

@@ -57,6 +57,15 @@ pub fn search(
     cfg: &SearchConfig,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<SearchResult, SrError> {
+    if cfg.criterion == crate::Criterion::CrossValidation && cfg.cv_folds > target.len() {
+        // cross-validation would quietly use fewer folds; say so instead (as `--folds` does)
+        return Err(SrError::InvalidConfig(format!(
+            "cannot make {} cross-validation folds (--cv-folds) from {} rows: use at most {}",
+            cfg.cv_folds,
+            target.len(),
+            target.len()
+        )));
+    }
     if cfg.consensus_runs > 0 {
         cfg.check()?;
         return crate::consensus::search(data, target, cfg, progress);

@@ -236,6 +236,9 @@ impl TableModel {
                     .into(),
             ));
         }
+        if let Some(what) = not_a_table_model(&v) {
+            return Err(HybridError::ModelFormat(what));
+        }
         match v.get("schema_version").and_then(serde_json::Value::as_u64) {
             Some(n) if n == u64::from(SCHEMA_VERSION) => {}
             other => {
@@ -263,4 +266,41 @@ impl TableModel {
         }
         Ok(m)
     }
+}
+
+/// What a JSON document that cannot be a table model is, for the message (issue 52: every
+/// such file said "schema_version none"): `None` for an object that may be one.
+fn not_a_table_model(v: &serde_json::Value) -> Option<String> {
+    use serde_json::Value;
+    let ask = "is this a model written by `hxai hybrid fit`?";
+    let found = match v {
+        Value::Null => "JSON `null`".to_string(),
+        Value::Bool(b) => format!("JSON `{b}`"),
+        Value::Number(n) => format!("the number {n}"),
+        Value::String(_) => "a JSON text (a string)".to_string(),
+        Value::Array(a) => format!("a JSON list of {} item(s)", a.len()),
+        Value::Object(o) if o.is_empty() => "an empty JSON object `{}`".to_string(),
+        Value::Object(o) => {
+            if o.contains_key("best") && o.contains_key("pareto") && !o.contains_key("target") {
+                return Some(format!(
+                    "the file holds an equation search's result, not a table hybrid: {ask} it \
+                     looks like the output of `hxai sr --json`"
+                ));
+            }
+            match o.get("schema_version") {
+                Some(Value::String(t)) => {
+                    format!("`schema_version` {t:?}, a text where a whole number is expected")
+                }
+                Some(Value::Number(n)) if n.as_u64().is_none() => {
+                    format!("`schema_version` {n}, not a whole number")
+                }
+                Some(Value::Number(_)) | None => return None,
+                Some(other) => format!("`schema_version` {other}, not a whole number"),
+            }
+        }
+    };
+    Some(format!(
+        "the file holds {found}, not a table hybrid (a JSON object with `schema_version` \
+         {SCHEMA_VERSION}, `target`, `physics`, `correction`, ...): {ask}"
+    ))
 }
