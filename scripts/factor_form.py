@@ -88,6 +88,10 @@ def main():
     ap.add_argument("--runs", type=int, default=20)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--only", default="")
+    ap.add_argument("--reuse-free", default="",
+                    help="a folder of an earlier run: read the free form's models from it "
+                         "instead of refitting them (the free form's code did not change); "
+                         "its seconds are then not measured")
     a = ap.parse_args()
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -119,6 +123,12 @@ def main():
             base += ["--exclude", ",".join(excl)]
         res = {}
         for form in ["free", "factors"]:
+            if form == "free" and a.reuse_free:
+                old = Path(a.reuse_free)
+                m = json.loads((old / f"{name}-free.json").read_text())
+                x = json.loads((old / f"{name}-free-x.json").read_text())
+                res[form] = (m, x, float("nan"), float("nan"))
+                continue
             m_path = out / f"{name}-{form}.json"
             secs, _ = run(base + ["--form", form, "--stability", str(a.runs),
                                   "--out", str(m_path)])

@@ -241,6 +241,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
                     Column::Number(s.window.iter().map(|&w| w as f64).collect()),
                     Column::Text(s.split.iter().map(|s| s.to_string()).collect()),
                 ],
+                skipped_rows: 0,
             };
             table.push_table(s.values);
             Some(

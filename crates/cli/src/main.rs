@@ -31,6 +31,37 @@ pub struct Global {
     /// Worker threads for parallel work (default: all cores). Results never depend on it.
     #[arg(long, global = true)]
     pub threads: Option<usize>,
+    /// The separator of CSV cells (`,`, `;`, `tab`, or any one character; default: found
+    /// from the header line, `,` before `;` before a tab).
+    #[arg(long, global = true, value_parser = parse_delimiter)]
+    pub delimiter: Option<char>,
+    /// The decimal mark of numbers in CSV files: `.` (default) or `,` (a European CSV,
+    /// `0,05`; the cells must then be separated by another character, e.g. `;`).
+    #[arg(long, global = true, value_parser = parse_decimal)]
+    pub decimal: Option<char>,
+}
+
+fn parse_delimiter(s: &str) -> Result<char, String> {
+    match s {
+        "tab" | "\\t" | "\t" => Ok('\t'),
+        _ => {
+            let mut c = s.chars();
+            match (c.next(), c.next()) {
+                (Some(d), None) if d != '"' && d != '\n' && d != '\r' => Ok(d),
+                _ => Err(format!(
+                    "{s:?} is not one character: give the separator, e.g. --delimiter ';' or --delimiter tab"
+                )),
+            }
+        }
+    }
+}
+
+fn parse_decimal(s: &str) -> Result<char, String> {
+    match s {
+        "." => Ok('.'),
+        "," => Ok(','),
+        _ => Err(format!("{s:?}: the decimal mark is `.` or `,`")),
+    }
 }
 
 #[derive(Debug, Parser)]
@@ -184,6 +215,17 @@ fn run(cli: Cli) -> Result<()> {
             .num_threads(n)
             .build_global()
             .map_err(|e| anyhow::anyhow!("cannot set up {n} threads: {e}"))?;
+    }
+    if cli.global.delimiter.is_some() || cli.global.decimal.is_some() {
+        let d = hxai_data::CsvDialect {
+            delimiter: cli.global.delimiter,
+            decimal: cli.global.decimal.unwrap_or('.'),
+        };
+        anyhow::ensure!(
+            !(d.decimal == ',' && d.delimiter == Some(',')),
+            "--decimal , with --delimiter ,: a comma cannot both separate cells and mark              decimals; European CSV files separate cells with `;` (--delimiter ';')"
+        );
+        hxai_data::set_csv_dialect(d);
     }
     let g = &cli.global;
     match cli.command {

@@ -157,3 +157,276 @@ mod tests {
         assert!(check(p, b"\xef\xbb\xbfx,y\n1,2\n").is_ok());
     }
 }
+
+/// How a CSV file writes its cells: the separator between cells (`None`: found from the
+/// header line, see [`separator_of`]) and the decimal mark (`.`, or `,` for a European CSV:
+/// `0,05` is then 0.05).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CsvDialect {
+    /// The separator between cells; `None` detects it from the header line.
+    pub delimiter: Option<char>,
+    /// The decimal mark of numbers.
+    pub decimal: char,
+}
+
+impl Default for CsvDialect {
+    fn default() -> Self {
+        Self {
+            delimiter: None,
+            decimal: '.',
+        }
+    }
+}
+
+static DIALECT: std::sync::OnceLock<CsvDialect> = std::sync::OnceLock::new();
+
+/// Sets the dialect every CSV read of this process uses (the command line's `--delimiter`
+/// and `--decimal`); once per process, before the first read. Returns `false` when it was
+/// already set (the first setting stays).
+pub fn set_csv_dialect(d: CsvDialect) -> bool {
+    DIALECT.set(d).is_ok()
+}
+
+/// The dialect of this process's CSV reads ([`set_csv_dialect`], else the default: the
+/// separator found from the header line, `.` as the decimal mark).
+pub fn csv_dialect() -> CsvDialect {
+    DIALECT.get().copied().unwrap_or_default()
+}
+
+/// The separator of a header line: `,` if it holds one outside quotes, else `;`, else a
+/// tab, else `,` (a one-column file).
+pub(crate) fn separator_of(text: &str) -> char {
+    let mut in_quotes = false;
+    let (mut comma, mut semi, mut tab) = (false, false, false);
+    for c in text.chars() {
+        match c {
+            '"' => in_quotes = !in_quotes,
+            '\n' | '\r' if !in_quotes => break,
+            ',' if !in_quotes => comma = true,
+            ';' if !in_quotes => semi = true,
+            '\t' if !in_quotes => tab = true,
+            _ => {}
+        }
+    }
+    if comma {
+        ','
+    } else if semi {
+        ';'
+    } else if tab {
+        '\t'
+    } else {
+        ','
+    }
+}
+
+/// A CSV text rewritten as the reader expects it, and what was changed.
+pub(crate) struct Normalised {
+    /// Comma-separated, `.` decimal marks, `\n` line ends; `None` when the text needed no
+    /// change (the common case costs one pass and no copy).
+    pub text: Option<String>,
+    /// Blank lines and rows whose every cell is empty (an Excel export's trailing `,,,,`),
+    /// skipped.
+    pub skipped: usize,
+}
+
+/// Rewrites `text` (BOM already removed) for the reader: records split on `dialect`'s
+/// separator (or the header's, [`separator_of`]) with RFC 4180 quoting, any line end
+/// (`\r\n`, `\n`, or an old Mac's lone `\r`), blank lines and all-empty rows skipped, and
+/// with a decimal comma each number cell's `,` read as `.`.
+pub(crate) fn normalise(text: &str, dialect: CsvDialect) -> Normalised {
+    let sep = dialect.delimiter.unwrap_or_else(|| separator_of(text));
+    if sep == ',' && dialect.decimal == '.' && !irregular(text) {
+        return Normalised {
+            text: None,
+            skipped: 0,
+        };
+    }
+    let mut records: Vec<Vec<String>> = Vec::new();
+    let mut fields: Vec<String> = Vec::new();
+    let mut field = String::new();
+    let mut in_quotes = false;
+    let mut has = false;
+    let mut changed = sep != ',' || dialect.decimal != '.';
+    let mut skipped = 0usize;
+    let mut chars = text.chars().peekable();
+    let mut end = |fields: &mut Vec<String>, field: &mut String, has: &mut bool| {
+        fields.push(std::mem::take(field));
+        let record = std::mem::take(fields);
+        if !*has || (!records.is_empty() && record.iter().all(|f| f.trim().is_empty())) {
+            skipped += 1;
+        } else {
+            records.push(record);
+        }
+        *has = false;
+    };
+    while let Some(c) = chars.next() {
+        if in_quotes {
+            if c == '"' {
+                if chars.peek() == Some(&'"') {
+                    chars.next();
+                    field.push('"');
+                } else {
+                    in_quotes = false;
+                }
+            } else {
+                field.push(c);
+            }
+            continue;
+        }
+        match c {
+            '"' => {
+                in_quotes = true;
+                has = true;
+            }
+            c if c == sep => {
+                fields.push(std::mem::take(&mut field));
+                has = true;
+            }
+            '\r' if chars.peek() == Some(&'\n') => {}
+            '\r' => {
+                changed = true;
+                end(&mut fields, &mut field, &mut has);
+            }
+            '\n' => end(&mut fields, &mut field, &mut has),
+            c => {
+                field.push(c);
+                has = true;
+            }
+        }
+    }
+    if has || !fields.is_empty() || !field.is_empty() {
+        end(&mut fields, &mut field, &mut has);
+    }
+    if skipped > 0 {
+        changed = true;
+    }
+    if !changed {
+        return Normalised {
+            text: None,
+            skipped: 0,
+        };
+    }
+    let mut out = String::with_capacity(text.len() + 16);
+    for (r, record) in records.iter().enumerate() {
+        for (i, f) in record.iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            let cell = if r > 0 && dialect.decimal != '.' {
+                decimal_cell(f, dialect.decimal)
+            } else {
+                std::borrow::Cow::Borrowed(f.as_str())
+            };
+            if cell.contains([',', '"', '\n', '\r']) {
+                out.push('"');
+                out.push_str(&cell.replace('"', "\"\""));
+                out.push('"');
+            } else {
+                out.push_str(&cell);
+            }
+        }
+        out.push('\n');
+    }
+    Normalised {
+        text: Some(out),
+        skipped,
+    }
+}
+
+/// Whether a comma-separated `text` has a lone `\r` line end, a blank line or a data row
+/// whose every cell is blank: one pass, nothing allocated.
+fn irregular(text: &str) -> bool {
+    let mut in_quotes = false;
+    let (mut has, mut filled, mut first) = (false, false, true);
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        if in_quotes {
+            if c == '"' {
+                if chars.peek() == Some(&'"') {
+                    chars.next();
+                    filled = true;
+                } else {
+                    in_quotes = false;
+                }
+            } else {
+                filled |= !c.is_whitespace();
+            }
+            continue;
+        }
+        match c {
+            '"' => {
+                in_quotes = true;
+                has = true;
+            }
+            '\r' if chars.peek() == Some(&'\n') => {}
+            '\r' => return true,
+            '\n' => {
+                if !has || (!first && !filled) {
+                    return true;
+                }
+                (has, filled, first) = (false, false, false);
+            }
+            ',' => has = true,
+            c => {
+                has = true;
+                filled |= !c.is_whitespace();
+            }
+        }
+    }
+    has && !first && !filled
+}
+
+/// A cell with `mark` as its decimal mark, as `.`: only where the result is a number (a
+/// word with a comma stays as it is).
+fn decimal_cell(f: &str, mark: char) -> std::borrow::Cow<'_, str> {
+    if !f.contains(mark) {
+        return std::borrow::Cow::Borrowed(f);
+    }
+    let t = f.trim().replacen(mark, ".", 1);
+    if t.parse::<f64>().is_ok() {
+        std::borrow::Cow::Owned(t)
+    } else {
+        std::borrow::Cow::Borrowed(f)
+    }
+}
+
+#[cfg(test)]
+mod dialect_tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    fn norm(text: &str, d: CsvDialect) -> (String, usize) {
+        let n = normalise(text, d);
+        (n.text.unwrap_or_else(|| text.to_string()), n.skipped)
+    }
+
+    #[test]
+    fn separators_line_ends_and_blank_rows() {
+        let d = CsvDialect::default();
+        // an ordinary file is handed on untouched
+        assert!(normalise("a,b\n1,2\n", d).text.is_none());
+        assert_eq!(norm("a;b\n1;2\n", d), ("a,b\n1,2\n".into(), 0));
+        assert_eq!(norm("a\tb\n1\t2\n", d), ("a,b\n1,2\n".into(), 0));
+        assert_eq!(norm("a,b\r1,2\r3,4\r", d), ("a,b\n1,2\n3,4\n".into(), 0));
+        assert_eq!(norm("a,b\r\n1,2\r\n", d).1, 0);
+        // blank lines inside and at the end, Excel's trailing ,, rows
+        assert_eq!(
+            norm("a,b\n1,2\n\n3,4\n,\n , \n\n", d),
+            ("a,b\n1,2\n3,4\n".into(), 4)
+        );
+        // a cell holding the separator keeps its quotes
+        assert_eq!(norm("a;b\n\"x,y\";2\n", d), ("a,b\n\"x,y\",2\n".into(), 0));
+    }
+
+    #[test]
+    fn a_decimal_comma_is_read_in_number_cells_only() {
+        let d = CsvDialect {
+            delimiter: Some(';'),
+            decimal: ',',
+        };
+        assert_eq!(
+            norm("v [m/min];f,mm;name\n120,5;0,05;a,b\n-1,5e3;2;x\n", d).0,
+            "v [m/min],\"f,mm\",name\n120.5,0.05,\"a,b\"\n-1.5e3,2,x\n"
+        );
+    }
+}

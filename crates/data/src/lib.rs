@@ -73,6 +73,7 @@
 mod atomic;
 mod cells;
 mod csvscan;
+pub use csvscan::{CsvDialect, csv_dialect, set_csv_dialect};
 mod error;
 mod folder;
 mod missing;

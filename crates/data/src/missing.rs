@@ -121,6 +121,8 @@ pub struct GappyTable {
     pub names: Vec<String>,
     /// Columns, in the order of `names`.
     pub columns: Vec<GappyColumn>,
+    /// Blank lines and all-empty rows of the CSV that were skipped (0 for Parquet).
+    pub skipped_rows: usize,
 }
 
 /// Reads a table whose numeric columns may have empty cells; CSV or Parquet by extension.
@@ -172,6 +174,7 @@ pub fn read_gappy_table(path: &Path) -> Result<GappyTable, DataError> {
         path: path.to_path_buf(),
         names: raw.names,
         columns,
+        skipped_rows: raw.skipped,
     })
 }
 

@@ -47,6 +47,8 @@ pub(crate) struct RawTable {
     pub columns: Vec<RawColumn>,
     /// For each column stored as integers (Parquet), the type's name; `None` otherwise.
     pub integer_type: Vec<Option<String>>,
+    /// Blank lines and all-empty rows of a CSV, skipped.
+    pub skipped: usize,
 }
 
 impl RawTable {
@@ -96,21 +98,45 @@ pub(crate) fn read(path: &Path, format: Format) -> Result<RawTable, DataError> {
     }
     // the CSV header as RFC 4180 reads it (polars leaves doubled quotes doubled)
     let mut header: Option<Vec<String>> = None;
+    let mut skipped = 0usize;
     let df = match format {
         Format::Csv => {
             // The header and the row lengths are checked here, not by polars: polars
             // renames a repeated column (`y_duplicated_0`) and reports ragged rows in
             // its own terms.
             let text = std::fs::read(path).map_err(|e| DataError::io(path, e))?;
-            header = Some(crate::csvscan::check(path, &text)?);
-            CsvReadOptions::default()
+            if std::str::from_utf8(&text).is_err() {
+                // refused there, with the offset of the first bad byte
+                crate::csvscan::check(path, &text)?;
+            }
+            // Another separator (`;`, tab, found from the header or given), a decimal comma,
+            // an old Mac's `\r` line ends, blank lines or Excel's trailing `,,,,` rows: the
+            // text is rewritten as a plain CSV first (the common file is read as it is).
+            let utf8 = std::str::from_utf8(&text).unwrap_or_default();
+            let utf8 = utf8.strip_prefix('\u{feff}').unwrap_or(utf8);
+            let normal = crate::csvscan::normalise(utf8, crate::csvscan::csv_dialect());
+            skipped = normal.skipped;
+            let options = CsvReadOptions::default()
                 .with_has_header(true)
                 // Read every cell as text: our own parser reports row and column of bad cells.
                 .with_infer_schema_length(Some(0))
-                .with_n_threads(Some(1))
-                .try_into_reader_with_file_path(Some(path.to_path_buf()))
-                .and_then(|r| r.finish())
-                .map_err(|e| parse_err(path, e))?
+                .with_n_threads(Some(1));
+            match normal.text {
+                None => {
+                    header = Some(crate::csvscan::check(path, &text)?);
+                    options
+                        .try_into_reader_with_file_path(Some(path.to_path_buf()))
+                        .and_then(|r| r.finish())
+                        .map_err(|e| parse_err(path, e))?
+                }
+                Some(clean) => {
+                    header = Some(crate::csvscan::check(path, clean.as_bytes())?);
+                    options
+                        .into_reader_with_file_handle(std::io::Cursor::new(clean.into_bytes()))
+                        .finish()
+                        .map_err(|e| parse_err(path, e))?
+                }
+            }
         }
         Format::Parquet => {
             let file = File::open(path).map_err(|e| DataError::io(path, e))?;
@@ -183,6 +209,7 @@ pub(crate) fn read(path: &Path, format: Format) -> Result<RawTable, DataError> {
         names,
         columns,
         integer_type,
+        skipped,
     })
 }
 

@@ -38,6 +38,8 @@ pub struct MixedTable {
     pub names: Vec<String>,
     /// Columns, in the order of `names`.
     pub columns: Vec<Column>,
+    /// Blank lines and all-empty rows of the CSV that were skipped (0 for Parquet).
+    pub skipped_rows: usize,
 }
 
 /// What a model sees of a [`MixedTable`]: its numeric columns, a group column whatever it
@@ -212,6 +214,7 @@ pub fn read_mixed_table(path: &Path) -> Result<MixedTable, DataError> {
     Ok(MixedTable {
         names: raw.names,
         columns,
+        skipped_rows: raw.skipped,
     })
 }
 

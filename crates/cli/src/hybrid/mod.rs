@@ -33,10 +33,37 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
 
 /// Reads the table at `path` as a model grouped by `group` sees it.
 pub(crate) fn read(path: &Path, group: Option<&str>) -> Result<NumericView> {
-    hxai_data::read_mixed_table(path)
-        .with_context(|| format!("cannot read the table {}", path.display()))?
-        .numeric_view(group)
-        .with_context(|| format!("the table {} has no usable numeric column", path.display()))
+    let mixed = hxai_data::read_mixed_table(path)
+        .with_context(|| format!("cannot read the table {}", path.display()))?;
+    note_skipped(path, mixed.skipped_rows);
+    let text: Vec<(String, Vec<String>)> = mixed
+        .names
+        .iter()
+        .zip(&mixed.columns)
+        .filter_map(|(n, c)| match c {
+            hxai_data::Column::Text(cells) => Some((n.clone(), cells.clone())),
+            hxai_data::Column::Number(_) => None,
+        })
+        .collect();
+    mixed.numeric_view(group).or_else(|e| {
+        // no column is all numbers: name the first bad cell of a column of numbers (a gap,
+        // a repeated header, a typo) rather than "no columns"
+        if let Some(bad) = tables::first_bad_cell(&text) {
+            return Err(bad).with_context(|| path.display().to_string());
+        }
+        Err(e).with_context(|| format!("the table {} has no usable numeric column", path.display()))
+    })
+}
+
+/// Says on stderr how many blank lines or all-empty rows of the file at `path` the reader
+/// skipped.
+fn note_skipped(path: &Path, skipped: usize) {
+    if skipped > 0 {
+        crate::safety::warn(&[format!(
+            "{}: skipped {skipped} blank line(s) or row(s) with every cell empty",
+            path.display()
+        )]);
+    }
 }
 
 /// Reads the table at `path` for the fitted `model`; the columns it reads (and the target,
@@ -65,6 +92,7 @@ pub(crate) fn read_missing(
     }
     let cannot = || format!("cannot read the table {}", path.display());
     let gappy = hxai_data::read_gappy_table(path).with_context(cannot)?;
+    note_skipped(path, gappy.skipped_rows);
     let ignore: Vec<&str> = gappy
         .names
         .iter()

@@ -1100,3 +1100,93 @@ fn repeated_parameters_too_many_folds_and_wide_tables_are_told_briefly() -> Test
     assert!(err.len() < 600, "{} characters: {err}", err.len());
     Ok(())
 }
+
+/// A European CSV (`;` between cells, a decimal comma, a header with units) read with
+/// `--delimiter ';' --decimal ','` gives the same model as the plain CSV; a file with blank
+/// lines, Excel's trailing `,,,` rows and old-Mac `\r` line ends is read too (the skipped
+/// rows counted on stderr), and a header repeated mid-file is named by row and cell
+/// (issues 48 and 52).
+#[test]
+fn european_and_untidy_csv_files_are_read() -> TestResult {
+    let (dir, data) = scratch_table("european", 60)?;
+    let plain = std::fs::read_to_string(&data)?;
+    // the same table with units in two names, `;` and decimal commas
+    let euro: String = plain
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 0 {
+                "batch;f [mm];r;v;d;Ra".to_string()
+            } else {
+                l.replace(',', ";").replace('.', ",")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n";
+    let euro_path = dir.join("euro.csv");
+    std::fs::write(&euro_path, euro)?;
+    let renamed = dir.join("renamed.csv");
+    std::fs::write(&renamed, plain.replacen("batch,f,", "batch,f [mm],", 1))?;
+    let law = "k*`f [mm]`^2/(32*r)";
+    let fit = |path: &Path,
+               out: &Path,
+               extra: &[&str]|
+     -> Result<serde_json::Value, Box<dyn std::error::Error>> {
+        let mut args = hybrid_args("fit", s(path), law);
+        args.extend_from_slice(&CALIBRATE_K);
+        args.extend_from_slice(&["--out", s(out), "--exclude", "batch"]);
+        args.extend_from_slice(&QUICK);
+        args.extend_from_slice(extra);
+        let o = hxai(&args)?;
+        ok(&o, "fit");
+        Ok(serde_json::from_str(&std::fs::read_to_string(out)?)?)
+    };
+    let a = fit(&renamed, &dir.join("a.json"), &[])?;
+    let b = fit(
+        &euro_path,
+        &dir.join("b.json"),
+        &["--delimiter", ";", "--decimal", ","],
+    )?;
+    assert_eq!(a["physics"]["parameters"], b["physics"]["parameters"]);
+    assert_eq!(a["hybrid"]["equation"], b["hybrid"]["equation"]);
+    // a comma cannot be both
+    let c_json = dir.join("c.json");
+    let mut args = hybrid_args("fit", s(&euro_path), law);
+    args.extend_from_slice(&["--out", s(&c_json), "--decimal", ",", "--delimiter", ","]);
+    let o = hxai(&args)?;
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--delimiter ';'"));
+    // blank lines, Excel's trailing rows, lone \r line ends
+    let untidy = plain.replacen('\n', "\n\n", 3).replace('\n', "\r") + ",,,,,\r,,,,,\r";
+    let untidy_path = dir.join("untidy.csv");
+    std::fs::write(&untidy_path, untidy)?;
+    let d_json = dir.join("d.json");
+    let mut args = fit_args(s(&untidy_path), s(&d_json));
+    args.extend_from_slice(&["--exclude", "batch"]);
+    let o = hxai(&args)?;
+    ok(&o, "fit an untidy file");
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("skipped 5 blank line(s)"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    // a header repeated in the middle: row and cell named
+    let header = plain.lines().next().ok_or("header")?;
+    let repeated: String = plain
+        .lines()
+        .enumerate()
+        .flat_map(|(i, l)| if i == 10 { vec![header, l] } else { vec![l] })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let rep_path = dir.join("repeated.csv");
+    std::fs::write(&rep_path, repeated + "\n")?;
+    let o = hxai(&fit_args(s(&rep_path), s(&dir.join("e.json"))))?;
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("row 10") && err.contains("is not a number"),
+        "{err}"
+    );
+    Ok(())
+}

@@ -476,6 +476,7 @@ fn parquet_with_null_and_text_cells() -> TestResult {
             hxai_data::Column::Number(vec![0.0, 0.001, 0.002]),
             hxai_data::Column::Text(vec!["1".into(), "x".into(), "2".into()]),
         ],
+        skipped_rows: 0,
     };
     hxai_data::write_mixed_table(&p, &t)?;
     let err = error_of(read_record(&p))?;

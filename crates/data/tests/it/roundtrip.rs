@@ -135,6 +135,7 @@ fn mixed_table_round_trips() -> Result<(), Box<dyn std::error::Error>> {
             Column::Text(vec!["train".into(), "test".into()]),
             Column::Number(vec![10.0, 0.1]),
         ],
+        skipped_rows: 0,
     };
     for back in round_trip("m", &t, write_mixed_table, read_mixed_table)? {
         assert_eq!(back, t);

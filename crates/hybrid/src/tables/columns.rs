@@ -95,6 +95,13 @@ pub fn check_used_columns(
     Ok(())
 }
 
+/// The first column of `text` that is numbers but for a few bad cells (a gap, a typo, a
+/// header repeated mid-file), as the error naming its row and cell; `None` when every text
+/// column is real text.
+pub fn first_bad_cell(text: &[(String, Vec<String>)]) -> Option<HybridError> {
+    text.iter().find_map(|(n, cells)| bad_cell(n, cells, false))
+}
+
 /// The columns a fitted model reads to predict (the physics' columns and the correction's
 /// features, and the group column), and the target when `with_target` (to evaluate).
 pub fn model_columns(model: &super::TableModel, with_target: bool) -> Vec<String> {

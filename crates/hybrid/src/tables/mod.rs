@@ -55,7 +55,7 @@ mod split;
 pub mod traps;
 
 pub use crate::conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, ResidualScale};
-pub use columns::{check_text_columns, check_used_columns, model_columns};
+pub use columns::{check_text_columns, check_used_columns, first_bad_cell, model_columns};
 pub use compare::{BlackBox, Comparison, CvScore, ModelScore, TTestScore, compare};
 pub use fit::{fit, fit_split, measure_stability, stability};
 pub use model::{

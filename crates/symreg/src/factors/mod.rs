@@ -200,13 +200,19 @@ pub fn fit_factors(
 }
 
 /// [`fit_factors`] of a hybrid's correction `y` (its `delta`) with each row's physics
-/// prediction `physics`: a multiplicative model is then fitted and scored by the hybrid's
-/// error in the target's units, `f_p (1 + delta)` against `f_p (1 + y)`, not by the error
-/// of `delta` itself, which weighs every row by `1 / f_p^2` and lets the rows of small
-/// physics decide the fit. (Additive and log models are fitted as [`fit_factors`] does:
-/// an additive `delta` is already in the target's units, and the log form is chosen for
-/// relative errors.) The model returned is the correction `delta`; its `score` and
-/// `train_mse` and the path's errors are in the target's units.
+/// prediction `physics`: a multiplicative model is then fitted and scored with each row
+/// weighed by the inverse of its scatter. A pilot is fitted by the hybrid's error in the
+/// target's units, `f_p (1 + delta)` against `f_p (1 + y)`; the pilot's residuals tell how
+/// the scatter grows with the physics (`Var ~ |f_p|^(2 theta)`, `theta` in [0, 1] by a
+/// log-log regression); where `theta` is above 0.1 the model is selected again with the
+/// weights `|f_p|^(2 - 2 theta)` on `delta` (at `theta` 1, `delta`'s own squared error).
+/// Unweighted, the error of `delta` weighs every row by `f_p^2` less than the target does,
+/// and with scatter in the target's units the rows of small physics decide the fit (R²
+/// 0.03 on a roughness table); weighted in the target's units alone, scatter in proportion
+/// (wear, cutting force) lets the rows of large physics decide it. (Additive and log models
+/// are fitted as [`fit_factors`] does: an additive `delta` is already in the target's units,
+/// and the log form is chosen for relative errors.) The model returned is the correction
+/// `delta`; its `score` and `train_mse` and the path's errors are on the weighted scale.
 ///
 /// # Errors
 /// [`fit_factors`]'s, and a `physics` of another length or not finite.
@@ -231,10 +237,28 @@ fn fit_structure(
     physics: Option<&[f64]>,
 ) -> Result<(FactorFit, Structure), SrError> {
     check(data, y, cfg)?;
-    let mut cols: Vec<&[f64]> = data.columns().iter().map(Vec::as_slice).collect();
+    let cols: Vec<&[f64]> = data.columns().iter().map(Vec::as_slice).collect();
     let physics = physics.filter(|_| link == Link::Multiplicative);
-    let target: Vec<f64>;
-    let (y, scale) = match physics {
+    let select = |scale: Option<&[f64]>| -> Result<Selected, SrError> {
+        let mut cols = cols.clone();
+        let target: Vec<f64>;
+        let (yy, at) = match scale {
+            Some(sc) => {
+                target = sc.iter().zip(y).map(|(s, d)| s * (1.0 + d)).collect();
+                cols.push(sc);
+                (target.as_slice(), Some(cols.len() - 1))
+            }
+            None => (y, None),
+        };
+        let problem = select::Problem::new(cols, yy, link, cfg, groups, at);
+        let (chosen, path, alts) = problem.select().ok_or_else(|| {
+            SrError::InvalidConfig("no factor model could be fitted to the rows".into())
+        })?;
+        let mut chosen = problem.snap(chosen);
+        chosen.s = chosen.s.unscaled();
+        Ok((chosen, path, alts))
+    };
+    let (chosen, path, alts) = match physics {
         Some(fp) => {
             if fp.len() != y.len() {
                 return Err(SrError::TargetLength {
@@ -249,18 +273,21 @@ fn fit_structure(
                     fp[i]
                 )));
             }
-            target = fp.iter().zip(y).map(|(p, d)| p * (1.0 + d)).collect();
-            cols.push(fp);
-            (target.as_slice(), Some(cols.len() - 1))
+            // a pilot on the target's scale, then the scatter's growth with the physics
+            // (the variance power) sets the weights of the fit that is kept
+            let pilot = select(Some(fp))?;
+            let delta = pilot.0.s.predict(link, &cols, y.len());
+            let measured: Vec<f64> = fp.iter().zip(y).map(|(p, d)| p * (1.0 + d)).collect();
+            let theta = variance_power(fp, &measured, &delta);
+            if theta > VARIANCE_POWER_STEP {
+                let scale: Vec<f64> = fp.iter().map(|p| p.abs().powf(1.0 - theta)).collect();
+                select(Some(&scale))?
+            } else {
+                pilot
+            }
         }
-        None => (y, None),
+        None => select(None)?,
     };
-    let problem = select::Problem::new(cols, y, link, cfg, groups, scale);
-    let (chosen, path, alts) = problem.select().ok_or_else(|| {
-        SrError::InvalidConfig("no factor model could be fitted to the rows".into())
-    })?;
-    let mut chosen = problem.snap(chosen);
-    chosen.s = chosen.s.unscaled();
     let names = data.names();
     let mut model = model_of(&chosen.s, link, names)?;
     model.train_mse = chosen.mse;
@@ -282,6 +309,46 @@ fn fit_structure(
         alternatives,
     };
     Ok((fit, chosen.s))
+}
+
+/// A selection's result: the chosen structure (scored), the path, the alternatives.
+type Selected = (select::Scored, Vec<PathStep>, Vec<select::Scored>);
+
+/// Variance powers at or below this are taken for 0 (the pilot's weights are kept).
+const VARIANCE_POWER_STEP: f64 = 0.1;
+
+/// How the scatter of a multiplicative hybrid grows with its physics: `theta` in
+/// `Var(y - f_p (1 + delta)) ~ |f_p|^(2 theta)`, the slope of `log r^2` on `log |f_p|` over
+/// the rows, halved and kept within [0, 1] (0: scatter in the target's units, as a gauge's;
+/// 1: scatter in proportion, as tool life's and wear's). 0 where it cannot be told (fewer
+/// than 8 usable rows, or physics within a factor 1.5 over the rows). The fit that is kept
+/// weighs each row's `delta` by `|f_p|^(2 - 2 theta)`, the inverse of its variance.
+fn variance_power(fp: &[f64], y: &[f64], delta: &[f64]) -> f64 {
+    let pts: Vec<(f64, f64)> = fp
+        .iter()
+        .zip(y)
+        .zip(delta)
+        .filter_map(|((&p, &yy), &d)| {
+            let r = yy - p * (1.0 + d);
+            (p != 0.0 && r != 0.0 && r.is_finite()).then(|| (p.abs().ln(), (r * r).ln()))
+        })
+        .collect();
+    if pts.len() < 8 {
+        return 0.0;
+    }
+    let n = pts.len() as f64;
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let spread = pts.iter().map(|p| p.0).fold(f64::NEG_INFINITY, f64::max)
+        - pts.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
+    if spread < 1.5f64.ln() || sxx <= 0.0 {
+        return 0.0;
+    }
+    (0.5 * sxy / sxx).clamp(0.0, 1.0)
 }
 
 fn check(data: &Table, y: &[f64], cfg: &FactorConfig) -> Result<(), SrError> {

@@ -279,3 +279,56 @@ fn a_multiplicative_factor_is_fitted_in_the_targets_units() {
     // physics of another length is refused
     assert!(fit_factors_on_physics(&feats, &delta, &fp[1..], Link::Multiplicative, &cfg).is_err());
 }
+
+/// The variance power is read from residuals whose scatter grows as `f_p^theta`: 0 for a
+/// gauge's scatter, 1 for scatter in proportion, and in between for 0.5 (within 0.15 on
+/// 400 rows), and 0 where the physics hardly varies.
+#[test]
+fn the_variance_power_is_read_from_the_residuals() {
+    let n = 400;
+    let mut rng = ChaCha8Rng::seed_from_u64(51);
+    let fp: Vec<f64> = (0..n)
+        .map(|i| 0.1 * 100f64.powf(i as f64 / n as f64))
+        .collect();
+    for theta in [0.0, 0.5, 1.0] {
+        let y: Vec<f64> = fp
+            .iter()
+            .map(|p| p + 0.05 * p.powf(theta) * normal(&mut rng))
+            .collect();
+        let got = super::variance_power(&fp, &y, &vec![0.0; n]);
+        assert!((got - theta).abs() < 0.15, "theta {theta}: {got}");
+    }
+    let flat = vec![2.0; n];
+    let y: Vec<f64> = flat.iter().map(|p| p + 0.1 * normal(&mut rng)).collect();
+    assert_eq!(super::variance_power(&flat, &y, &vec![0.0; n]), 0.0);
+}
+
+/// Scatter in proportion to the physics: the pilot in the target's units is reweighted
+/// (theta near 1), and the factor's exponent is recovered.
+#[test]
+fn a_multiplicative_factor_with_proportional_scatter_is_recovered() {
+    let n = 400;
+    let t = columns(n, &[("x", 1.0, 4.0), ("q", 0.01, 10.0)], 61);
+    let mut rng = ChaCha8Rng::seed_from_u64(62);
+    let fp: Vec<f64> = col(&t, "q").to_vec();
+    let y: Vec<f64> = (0..n)
+        .map(|i| fp[i] * 1.2 * col(&t, "x")[i].powf(0.7) * (1.0 + 0.05 * normal(&mut rng)))
+        .collect();
+    let delta: Vec<f64> = y.iter().zip(&fp).map(|(y, p)| y / p - 1.0).collect();
+    let feats = Table::new(vec!["x".into()], vec![col(&t, "x").to_vec()]).expect("table");
+    let fit = fit_factors_on_physics(
+        &feats,
+        &delta,
+        &fp,
+        Link::Multiplicative,
+        &FactorConfig::default(),
+    )
+    .expect("fit");
+    assert_eq!(fit.factors.len(), 1, "{}", fit.model.equation());
+    let p = &fit.model.params;
+    assert!(
+        (p[p.len() - 1] - 0.7).abs() < 0.05,
+        "{}",
+        fit.model.equation()
+    );
+}
