@@ -266,8 +266,10 @@ pub const OUTLIER_ROBUST_SDS: f64 = 10.0;
 /// missing-value code ([`MISSING_CODES`], within 1e-6 relative) or are gross outliers
 /// ([`OUTLIER_ROBUST_SDS`]), each only where it stands far outside the column's other
 /// values (beyond [`OUTLIER_ROBUST_SDS`] robust standard deviations of the median, or, for
-/// a column whose median absolute deviation is 0, anywhere off the median). At most three
-/// rows are named per column, then the count.
+/// a column whose median absolute deviation is 0, anywhere off the median). In a column of
+/// positive values an outlier must also be one among the logarithms (tool life and wear
+/// spread over decades: a long tail is not a typo, a value 1000 times too large is). At
+/// most three rows are named per column, then the count.
 pub fn value_warnings(table: &Table, columns: &[String]) -> Vec<String> {
     let mut out = Vec::new();
     for name in columns {
@@ -289,6 +291,27 @@ pub fn value_warnings(table: &Table, columns: &[String]) -> Vec<String> {
                 d > 0.0
             }
         };
+        // a column of positive values (tool life, wear) is often skewed: a value is a gross
+        // outlier only if it is also one among the logarithms
+        let positive = finite.iter().all(|&v| v > 0.0);
+        let logs: Vec<f64> = if positive {
+            finite.iter().map(|v| v.ln()).collect()
+        } else {
+            Vec::new()
+        };
+        let log_med = if positive { median(&logs) } else { 0.0 };
+        let log_sd = if positive {
+            let d: Vec<f64> = logs.iter().map(|v| (v - log_med).abs()).collect();
+            1.4826 * median(&d)
+        } else {
+            0.0
+        };
+        let far_in_logs = |v: f64| {
+            !positive
+                || v <= 0.0
+                || log_sd <= 0.0
+                || (v.ln() - log_med).abs() > OUTLIER_ROBUST_SDS * log_sd
+        };
         let is_code = |v: f64| {
             MISSING_CODES
                 .iter()
@@ -301,7 +324,7 @@ pub fn value_warnings(table: &Table, columns: &[String]) -> Vec<String> {
             }
             if is_code(v) {
                 codes.push(i);
-            } else if sd > 0.0 {
+            } else if sd > 0.0 && far_in_logs(v) {
                 outliers.push(i);
             }
         }
@@ -387,5 +410,40 @@ mod value_tests {
         // -9999 inside a column whose values are all near it is not a code out of place
         let near: Vec<f64> = (0..20).map(|i| -10_000.0 + i as f64).collect();
         assert!(value_warnings(&table(near), &["y".into()]).is_empty());
+    }
+}
+
+#[cfg(test)]
+mod skew_tests {
+    use super::*;
+
+    /// A log-normal column (tool lives spread over two decades, whose long tail lies more
+    /// than 10 robust standard deviations above the median on the linear scale) gives no
+    /// outlier warning; a value a million times too large in it (a unit slip) does.
+    #[test]
+    fn a_long_tail_is_not_an_outlier_but_a_unit_slip_is() {
+        // logistic quantiles of a log-normal law with a log-scale spread of about 1
+        let v: Vec<f64> = (0..60)
+            .map(|i| {
+                let p = (i as f64 + 0.5) / 60.0;
+                (2.0 + (p / (1.0 - p)).ln() / 1.7).exp()
+            })
+            .collect();
+        let t = Table::new(vec!["life".into()], vec![v.clone()]).expect("table");
+        let linear_sd = {
+            let m = median(&v);
+            1.4826 * median(&v.iter().map(|x| (x - m).abs()).collect::<Vec<_>>())
+        };
+        let top = v.iter().copied().fold(0.0, f64::max);
+        assert!(
+            top - median(&v) > OUTLIER_ROBUST_SDS * linear_sd,
+            "the tail is far on the linear scale"
+        );
+        assert!(value_warnings(&t, &["life".into()]).is_empty());
+        let mut bad = v;
+        bad[9] *= 1e6;
+        let t = Table::new(vec!["life".into()], vec![bad]).expect("table");
+        let w = value_warnings(&t, &["life".into()]);
+        assert!(w.len() == 1 && w[0].contains("row 10"), "{w:?}");
     }
 }
