@@ -159,7 +159,7 @@ mod tests {
 }
 
 /// How a CSV file writes its cells: the separator between cells (`None`: found from the
-/// header line, see [`separator_of`]) and the decimal mark (`.`, or `,` for a European CSV:
+/// header line: `,` if it holds one, else `;`, else a tab) and the decimal mark (`.`, or `,` for a European CSV:
 /// `0,05` is then 0.05).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CsvDialect {
