@@ -66,6 +66,33 @@ fn resolve_link(path: &Path) -> Result<PathBuf, DataError> {
 /// device, pipe or socket, which the rename would replace). A symbolic link is judged by
 /// what it points to.
 fn check_target(path: &Path) -> Result<(), DataError> {
+    // a folder on the way that is a file (`--out T.csv/out.json` with T.csv a file): said now,
+    // not after the work, when the temporary file cannot be made
+    for ancestor in path.ancestors().skip(1) {
+        if ancestor.as_os_str().is_empty() {
+            break;
+        }
+        if let Ok(m) = std::fs::metadata(ancestor) {
+            if !m.is_dir() {
+                return Err(DataError::NotADirectory {
+                    path: ancestor.to_path_buf(),
+                });
+            }
+            break;
+        }
+    }
+    if let Some(name) = path.file_name() {
+        let len = name.to_string_lossy().len();
+        if len > MAX_NAME_BYTES {
+            return Err(DataError::Write {
+                path: path.to_path_buf(),
+                message: format!(
+                    "the file name is {len} bytes long; file systems allow {MAX_NAME_BYTES}: \
+                     choose a shorter name"
+                ),
+            });
+        }
+    }
     if path.is_dir() {
         return Err(DataError::IsADirectory {
             path: path.to_path_buf(),
@@ -77,6 +104,24 @@ fn check_target(path: &Path) -> Result<(), DataError> {
         }),
         _ => Ok(()),
     }
+}
+
+/// The longest file name most file systems allow (ext4, XFS, APFS, NTFS: 255 bytes).
+const MAX_NAME_BYTES: usize = 255;
+
+/// The part of a target's file name its temporary file repeats: the whole name, or its first
+/// 200 bytes for a longer one, so that `.NAME.PID-N.tmp` stays within [`MAX_NAME_BYTES`]
+/// whenever the target's own name does.
+fn temp_stem(name: &str) -> &str {
+    const KEEP: usize = 200;
+    if name.len() <= KEEP {
+        return name;
+    }
+    let mut end = KEEP;
+    while !name.is_char_boundary(end) {
+        end -= 1;
+    }
+    &name[..end]
 }
 
 /// Whether the process `pid` still runs. Only Linux says so cheaply (`/proc/PID`); elsewhere
@@ -93,7 +138,7 @@ fn process_alive(pid: u32) -> bool {
 /// (killed before they could clean up). Best effort: a file that cannot be read or removed
 /// is left alone. Files of a running process (another hxai writing the same target) are kept.
 fn sweep_stale(parent: &Path, name: &str) {
-    let prefix = format!(".{name}.");
+    let prefix = format!(".{}.", temp_stem(name));
     let Ok(entries) = std::fs::read_dir(parent) else {
         return;
     };
@@ -158,7 +203,8 @@ impl AtomicFile {
             })?;
         sweep_stale(&parent, &name);
         let tmp = parent.join(format!(
-            ".{name}.{}-{}.tmp",
+            ".{}.{}-{}.tmp",
+            temp_stem(&name),
             std::process::id(),
             COUNTER.fetch_add(1, Ordering::Relaxed)
         ));
@@ -448,5 +494,41 @@ mod tests {
             Err(DataError::IsADirectory { .. })
         ));
         std::fs::remove_dir_all(&d).unwrap();
+    }
+}
+
+#[cfg(test)]
+mod path_tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    /// Issue 52 item 6: an output below a file, and a name too long for the file system, are
+    /// refused by `check_output` (before any work); a legal name of 250 bytes is written,
+    /// its temporary name shortened.
+    #[test]
+    fn outputs_below_a_file_or_with_too_long_a_name_are_refused_early() {
+        let d = std::env::temp_dir().join(format!("hxai-atomic-paths-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        let file = d.join("T.csv");
+        std::fs::write(&file, "x\n1\n").unwrap();
+        let e = check_output(&file.join("out.json"), &[])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("T.csv") && e.contains("is a file, not a folder"),
+            "{e}"
+        );
+        let long = d.join(format!("{}.json", "a".repeat(256)));
+        let e = check_output(&long, &[]).unwrap_err().to_string();
+        assert!(e.contains("261 bytes long"), "{e}");
+        let legal = d.join(format!("{}.json", "b".repeat(245)));
+        check_output(&legal, &[]).unwrap();
+        write_atomic(&legal, |f| {
+            f.write_all(b"ok").map_err(|e| DataError::io(&legal, e))
+        })
+        .unwrap();
+        assert_eq!(std::fs::read_to_string(&legal).unwrap(), "ok");
+        let _ = std::fs::remove_dir_all(&d);
     }
 }
