@@ -197,8 +197,9 @@ pub fn read_table_with_units(path: &Path) -> Result<(Table, Vec<String>), DataEr
 }
 
 /// Reads a table whose columns may be text. A column is numeric when every cell parses
-/// as a number; numeric columns must be finite (NaN or infinity is an error naming row
-/// and column), every other column is kept as text.
+/// as a finite number; every other column is kept as text, including a column of numbers
+/// with a NaN, an infinity or an overflow such as `1e400` (a caller that uses the column
+/// refuses it naming row and cell; one that does not, ignores it).
 pub fn read_mixed_table(path: &Path) -> Result<MixedTable, DataError> {
     let format = Format::from_path(path)?;
     let raw = raw::read(path, format)?;
@@ -206,7 +207,14 @@ pub fn read_mixed_table(path: &Path) -> Result<MixedTable, DataError> {
     let mut columns = Vec::with_capacity(raw.names.len());
     for i in 0..raw.names.len() {
         columns.push(if is_numeric(&raw, i) {
-            Column::Number(finite_column(path, &raw, i)?)
+            match finite_column(path, &raw, i) {
+                Ok(v) => Column::Number(v),
+                // numbers, but one is NaN, infinite or 1e400: kept as text, so that a column
+                // the caller does not use (excluded, or the target at prediction) costs
+                // nothing, and one it uses is refused by the caller, naming row and cell
+                Err(DataError::NonFinite { .. }) => Column::Text(text_column(&raw, i)),
+                Err(e) => return Err(e),
+            }
         } else {
             Column::Text(text_column(&raw, i))
         });
