@@ -430,3 +430,61 @@ mod dialect_tests {
         );
     }
 }
+
+#[cfg(test)]
+mod fuzz {
+    //! Bounded fuzzing of the reader's first pass (issue 52 item 7): any text, in any
+    //! dialect, is normalised without a panic; a table of plain cells written in a dialect
+    //! reads back as the same cells.
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+
+        #[test]
+        fn any_text_is_normalised_without_a_panic(
+            text in "[a-c0-9,;\t\"\r\n .-]{0,80}",
+            sep in prop::sample::select(vec![None, Some(','), Some(';'), Some('\t')]),
+            decimal in prop::sample::select(vec!['.', ',']),
+        ) {
+            let n = normalise(&text, CsvDialect { delimiter: sep, decimal });
+            if let Some(t) = n.text {
+                // one line per record kept, each ended by `\n`
+                prop_assert!(t.is_empty() || t.ends_with('\n'), "{t:?}");
+                prop_assert!(!t.contains('\r') || t.contains('"'), "{t:?}");
+            }
+            let _ = separator_of(&text);
+        }
+
+        #[test]
+        fn a_table_in_a_dialect_reads_back_as_its_cells(
+            rows in prop::collection::vec(prop::collection::vec(-1e6f64..1e6, 3), 1..6),
+            semi in any::<bool>(),
+        ) {
+            let (sep, mark) = if semi { (';', ',') } else { (',', '.') };
+            let mut text = String::from("a;b;c\n").replace(';', &sep.to_string());
+            for r in &rows {
+                let cells: Vec<String> = r
+                    .iter()
+                    .map(|v| format!("{v}").replace('.', &mark.to_string()))
+                    .collect();
+                text.push_str(&cells.join(&sep.to_string()));
+                text.push('\n');
+            }
+            let n = normalise(&text, CsvDialect { delimiter: Some(sep), decimal: mark });
+            let plain = n.text.unwrap_or(text);
+            let mut lines = plain.lines();
+            prop_assert_eq!(lines.next(), Some("a,b,c"));
+            for r in &rows {
+                let got: Vec<f64> = lines
+                    .next()
+                    .unwrap_or_default()
+                    .split(',')
+                    .map(|c| c.parse::<f64>().unwrap_or(f64::NAN))
+                    .collect();
+                prop_assert_eq!(&got, r);
+            }
+        }
+    }
+}

@@ -381,3 +381,17 @@ fn samples_table_columns_and_missing_truth() -> Result<(), Box<dyn std::error::E
     );
     Ok(())
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    /// Bounded fuzzing of the infix parser and the table-model loader (issue 52 item 7):
+    /// arbitrary text is refused or accepted, never a panic.
+    #[test]
+    fn arbitrary_text_never_panics_the_parser_or_the_loader(
+        text in "[a-z0-9_`+*/^().,\\-{}\\[\\]\": ]{0,60}",
+    ) {
+        let _ = hxai_symreg::infix::parse(&text);
+        let _ = hxai_hybrid::tables::TableModel::from_json(&text);
+    }
+}
