@@ -83,6 +83,15 @@ pub(super) fn print_model(m: &TableModel) {
             t.hybrid.r2
         );
     }
+    if let Some(b) = &s.black_boxes {
+        println!(
+            "black boxes on the test rows: physics + forest RMSE {}, boosting RMSE {}; the \
+             hybrid has {:.2} times the best black box's test RMSE",
+            n(b.physics_forest),
+            n(b.boosting),
+            b.hybrid_over_best_black_box
+        );
+    }
 }
 
 #[allow(clippy::print_stdout)]

@@ -924,6 +924,20 @@ fn per_class_constants_give_one_line_per_level() -> TestResult {
         assert!(se[k].is_f64(), "{k}: {se}");
     }
     assert_eq!(m["per_class"]["column"], "insul");
+    // the black boxes on the same split, in the model file's scores (issue 48)
+    let bb = &m["scores"]["black_boxes"];
+    let ratio = bb["hybrid_over_best_black_box"].as_f64().ok_or("ratio")?;
+    let best = bb["best_black_box"]["rmse"].as_f64().ok_or("best")?;
+    let hybrid = m["scores"]["test"]["hybrid"]["rmse"]
+        .as_f64()
+        .ok_or("hybrid")?;
+    assert!((ratio - hybrid / best).abs() <= 1e-12 * ratio, "{bb}");
+    assert!(
+        best <= bb["physics_forest"].as_f64().ok_or("forest")?
+            && best <= bb["boosting"].as_f64().ok_or("boosting")?,
+        "{bb}"
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("times the best black box's test RMSE"));
     assert_eq!(
         m["per_class"]["levels"],
         serde_json::json!(["After", "Before"])

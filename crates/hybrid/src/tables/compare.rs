@@ -139,6 +139,78 @@ fn boosting_on(
     Ok(b.predict(&x.select_rows(&split.test)?)?)
 }
 
+/// The black boxes of `hxai hybrid compare` (physics + forest, boosting) on `split`, scored
+/// against the fitted `model`'s test RMSE; `None` with fewer than two test rows, or where a
+/// black box has no error (the ratio would not be a number).
+pub(crate) fn black_box_scores(
+    table: &Table,
+    cfg: &TableConfig,
+    split: &Split,
+    model: &TableModel,
+) -> Result<Option<crate::tables::BlackBoxScores>, HybridError> {
+    let Some(test) = model.scores.test.as_ref().filter(|_| split.test.len() >= 2) else {
+        return Ok(None);
+    };
+    let res = resolve(table, cfg)?;
+    let y = table.require(&cfg.target)?;
+    let yt = gather(y, &split.test);
+    let (phys, _) = calibrate_physics(table, cfg, &res, &split.train)?;
+    let physics = physics_values(table, &res, &phys)?;
+    let delta = deltas(cfg.correction, y, &physics, &split.train)?;
+    let d = forest_delta(
+        table,
+        &res.features,
+        split,
+        &delta,
+        cfg.seed,
+        cfg.search.par,
+    )?;
+    let forest: Vec<f64> = split
+        .test
+        .iter()
+        .zip(&d)
+        .map(|(&i, &d)| combine_values(cfg.correction, physics[i], d))
+        .collect();
+    let mut columns = res.columns.clone();
+    for f in &res.features {
+        if !columns.contains(f) {
+            columns.push(f.clone());
+        }
+    }
+    let boosted = boosting_on(
+        table,
+        &columns,
+        split,
+        &gather(y, &split.train),
+        cfg.seed,
+        cfg.search.par,
+    )?;
+    let physics_forest = hxai_eval::rmse(&yt, &forest)?;
+    let boosting = hxai_eval::rmse(&yt, &boosted)?;
+    let best_black_box = if boosting < physics_forest {
+        BlackBox {
+            name: "boosting".into(),
+            rmse: boosting,
+        }
+    } else {
+        BlackBox {
+            name: "physics_forest".into(),
+            rmse: physics_forest,
+        }
+    };
+    let ratio = test.hybrid.rmse / best_black_box.rmse;
+    // a black box without error (a constant target) leaves no ratio to report
+    if !(ratio.is_finite() && physics_forest.is_finite() && boosting.is_finite()) {
+        return Ok(None);
+    }
+    Ok(Some(crate::tables::BlackBoxScores {
+        physics_forest,
+        boosting,
+        hybrid_over_best_black_box: ratio,
+        best_black_box,
+    }))
+}
+
 fn predictions_on(
     job: SplitJob,
     progress: &mut dyn FnMut(&TableProgress),

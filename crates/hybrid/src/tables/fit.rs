@@ -92,7 +92,9 @@ pub fn fit(
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
     let (split, kind) = split_rows(table, cfg)?;
-    fit_inner(SplitJob::single(table, cfg, &split, &kind), progress)
+    let mut model = fit_inner(SplitJob::single(table, cfg, &split, &kind), progress)?;
+    model.scores.black_boxes = super::compare::black_box_scores(table, cfg, &split, &model)?;
+    Ok(model)
 }
 
 /// Fits on a given split (test rows may be empty: everything is then training data).
@@ -473,6 +475,7 @@ fn model_of(
         missing: None,
         per_class: None,
         scores: ScoresInfo {
+            black_boxes: None,
             train: PairScores {
                 physics: zero_metrics(),
                 hybrid: zero_metrics(),
@@ -510,7 +513,11 @@ fn scores_of(
     } else {
         Some(pair(&split.test)?)
     };
-    Ok(ScoresInfo { train, test })
+    Ok(ScoresInfo {
+        train,
+        test,
+        black_boxes: None,
+    })
 }
 
 /// Refuses scores that are not finite numbers (a squared error that overflows: a target of

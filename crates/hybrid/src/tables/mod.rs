@@ -59,8 +59,8 @@ pub use columns::{check_text_columns, check_used_columns, first_bad_cell, model_
 pub use compare::{BlackBox, Comparison, CvScore, ModelScore, TTestScore, compare};
 pub use fit::{fit, fit_split, measure_stability, stability};
 pub use model::{
-    EquationInfo, JointInfo, MissingInfo, PairScores, PhysicsInfo, SCHEMA_VERSION, ScoresInfo,
-    TableEvaluation, TableModel, TablePrediction,
+    BlackBoxScores, EquationInfo, JointInfo, MissingInfo, PairScores, PhysicsInfo, SCHEMA_VERSION,
+    ScoresInfo, TableEvaluation, TableModel, TablePrediction,
 };
 pub use per_class::PerClassInfo;
 pub use split::split_rows;

@@ -81,12 +81,32 @@ pub struct PairScores {
 }
 
 /// Scores on the fitting table.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct ScoresInfo {
     /// On the training rows.
     pub train: PairScores,
     /// On the test rows (absent when the split left none).
     pub test: Option<PairScores>,
+    /// The black boxes on the same split (`hxai hybrid fit`, with two test rows or more):
+    /// absent from files written before it existed, from `fit_split`, and without test rows.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub black_boxes: Option<BlackBoxScores>,
+}
+
+/// The black boxes an engineer would compare the hybrid with, fitted on the hybrid's
+/// training rows and scored on its test rows, as `hxai hybrid compare` fits them (the model
+/// file's `scores.black_boxes`).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct BlackBoxScores {
+    /// Test RMSE of the calibrated physics plus a random forest on its `delta`.
+    pub physics_forest: f64,
+    /// Test RMSE of gradient boosting of the target on the physics' columns and the
+    /// correction's features (scikit-learn's `HistGradientBoostingRegressor` defaults).
+    pub boosting: f64,
+    /// The better of the two.
+    pub best_black_box: crate::tables::BlackBox,
+    /// The hybrid's test RMSE divided by the best black box's.
+    pub hybrid_over_best_black_box: f64,
 }
 
 /// The two-stage result that a joint refit replaced.
