@@ -360,6 +360,18 @@ mod tests {
         assert_eq!(s.to_text(None, false), "-0.36*f**2/r");
         let at = |e: &Expr| e.eval(&|n: &str| if n == "f" { 0.2 } else { 1.3 });
         assert!((at(&s) - at(&f2r)).abs() <= 1e-15 * at(&f2r).abs());
+        // a product with an inverse reads as a quotient
+        let inv = Expr::Bin(
+            Op::Mul,
+            num(-9.0),
+            Box::new(Expr::Un(
+                Op::Inverse,
+                Box::new(Expr::Bin(Op::Add, var("c"), num(4.0))),
+            )),
+        );
+        let q = inv.clone().simplify();
+        assert_eq!(q.to_text(None, false), "-9/(c + 4)");
+        assert!((at(&q) - at(&inv)).abs() <= 1e-15 * at(&inv).abs());
     }
 
     /// log(exp(u)) is u and log(gaussian(u)) is -u^2, so reported equations do not carry

@@ -210,6 +210,10 @@ impl Expr {
                     (Op::Pow, e, Num(-1.0)) => {
                         Bin(Op::Div, Box::new(Num(1.0)), Box::new(e)).simplify()
                     }
+                    // `-9*1/(c + 4)` (a product with an inverse) reads `-9/(c + 4)`
+                    (Op::Mul, x, Un(Op::Inverse, d)) | (Op::Mul, Un(Op::Inverse, d), x) => {
+                        Bin(Op::Div, Box::new(x), d).simplify()
+                    }
                     // `f**2*1/r` reads `f**2/r`
                     (Op::Mul, x, Bin(Op::Div, one, d)) if matches!(*one, Num(v) if v == 1.0) => {
                         Bin(Op::Div, Box::new(x), d).simplify()
