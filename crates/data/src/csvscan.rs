@@ -8,8 +8,7 @@
 use crate::DataError;
 use std::path::Path;
 
-/// Splits CSV text into records of fields (RFC 4180 quoting, `\n` or `\r\n` line ends).
-/// Returns each record's field count and, for the first record, its fields.
+/// A CSV text's header and each data row's cell count.
 struct Scan {
     header: Vec<String>,
     /// (data row from 1, fields) for each non-empty data line.
@@ -19,30 +18,31 @@ struct Scan {
 fn scan(text: &str) -> Scan {
     let mut header: Option<Vec<String>> = None;
     let mut counts = Vec::new();
+    for_each_record(text, ',', |fields, has| {
+        if !has {
+            return;
+        }
+        if header.is_none() {
+            header = Some(fields);
+        } else {
+            counts.push((counts.len() + 1, fields.len()));
+        }
+    });
+    Scan {
+        header: header.unwrap_or_default(),
+        counts,
+    }
+}
+
+/// Calls `each(fields, has_content)` for every record of `text`: cells split on `sep` with
+/// RFC 4180 quoting (`"a,b"` is one cell, `""` inside quotes is `"`), records ended by
+/// `\n`, `\r\n` or an old Mac's lone `\r`; `has_content` is false for a blank line.
+fn for_each_record(text: &str, sep: char, mut each: impl FnMut(Vec<String>, bool)) {
     let mut fields: Vec<String> = Vec::new();
     let mut field = String::new();
     let mut in_quotes = false;
-    let mut line_has_content = false;
+    let mut has = false;
     let mut chars = text.chars().peekable();
-    let mut row = 0usize;
-    let mut end_record = |fields: &mut Vec<String>,
-                          field: &mut String,
-                          has: &mut bool,
-                          header: &mut Option<Vec<String>>| {
-        if *has {
-            fields.push(std::mem::take(field));
-            if header.is_none() {
-                *header = Some(std::mem::take(fields));
-            } else {
-                row += 1;
-                counts.push((row, fields.len()));
-                fields.clear();
-            }
-        }
-        field.clear();
-        fields.clear();
-        *has = false;
-    };
     while let Some(c) = chars.next() {
         if in_quotes {
             if c == '"' {
@@ -60,24 +60,38 @@ fn scan(text: &str) -> Scan {
         match c {
             '"' => {
                 in_quotes = true;
-                line_has_content = true;
+                has = true;
             }
-            ',' => {
+            c if c == sep => {
                 fields.push(std::mem::take(&mut field));
-                line_has_content = true;
+                has = true;
             }
             '\r' if chars.peek() == Some(&'\n') => {}
-            '\n' => end_record(&mut fields, &mut field, &mut line_has_content, &mut header),
+            '\r' | '\n' => {
+                fields.push(std::mem::take(&mut field));
+                each(std::mem::take(&mut fields), has);
+                has = false;
+            }
             c => {
                 field.push(c);
-                line_has_content = true;
+                has = true;
             }
         }
     }
-    end_record(&mut fields, &mut field, &mut line_has_content, &mut header);
-    Scan {
-        header: header.unwrap_or_default(),
-        counts,
+    if has {
+        fields.push(field);
+        each(fields, true);
+    }
+}
+
+/// The refusal of a file that is not UTF-8 text, with the offset of its first bad byte.
+pub(crate) fn not_utf8(path: &Path, e: &std::str::Utf8Error) -> DataError {
+    DataError::Parse {
+        path: path.to_path_buf(),
+        message: format!(
+            "the file is not UTF-8 text (invalid byte at offset {}); is it a CSV file?",
+            e.valid_up_to()
+        ),
     }
 }
 
@@ -85,18 +99,7 @@ fn scan(text: &str) -> Scan {
 /// header's names as RFC 4180 reads them (`"a""b"` is `a"b`, which polars would give as
 /// `a""b`).
 pub(crate) fn check(path: &Path, bytes: &[u8]) -> Result<Vec<String>, DataError> {
-    let text = match std::str::from_utf8(bytes) {
-        Ok(t) => t,
-        Err(e) => {
-            return Err(DataError::Parse {
-                path: path.to_path_buf(),
-                message: format!(
-                    "the file is not UTF-8 text (invalid byte at offset {}); is it a CSV file?",
-                    e.valid_up_to()
-                ),
-            });
-        }
-    };
+    let text = std::str::from_utf8(bytes).map_err(|e| not_utf8(path, &e))?;
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let s = scan(text);
     for (i, name) in s.header.iter().enumerate() {
@@ -242,70 +245,14 @@ pub(crate) fn normalise(text: &str, dialect: CsvDialect) -> Normalised {
         };
     }
     let mut records: Vec<Vec<String>> = Vec::new();
-    let mut fields: Vec<String> = Vec::new();
-    let mut field = String::new();
-    let mut in_quotes = false;
-    let mut has = false;
-    let mut changed = sep != ',' || dialect.decimal != '.';
     let mut skipped = 0usize;
-    let mut chars = text.chars().peekable();
-    let mut end = |fields: &mut Vec<String>, field: &mut String, has: &mut bool| {
-        fields.push(std::mem::take(field));
-        let record = std::mem::take(fields);
-        if !*has || (!records.is_empty() && record.iter().all(|f| f.trim().is_empty())) {
+    for_each_record(text, sep, |record, has| {
+        if !has || (!records.is_empty() && record.iter().all(|f| f.trim().is_empty())) {
             skipped += 1;
         } else {
             records.push(record);
         }
-        *has = false;
-    };
-    while let Some(c) = chars.next() {
-        if in_quotes {
-            if c == '"' {
-                if chars.peek() == Some(&'"') {
-                    chars.next();
-                    field.push('"');
-                } else {
-                    in_quotes = false;
-                }
-            } else {
-                field.push(c);
-            }
-            continue;
-        }
-        match c {
-            '"' => {
-                in_quotes = true;
-                has = true;
-            }
-            c if c == sep => {
-                fields.push(std::mem::take(&mut field));
-                has = true;
-            }
-            '\r' if chars.peek() == Some(&'\n') => {}
-            '\r' => {
-                changed = true;
-                end(&mut fields, &mut field, &mut has);
-            }
-            '\n' => end(&mut fields, &mut field, &mut has),
-            c => {
-                field.push(c);
-                has = true;
-            }
-        }
-    }
-    if has || !fields.is_empty() || !field.is_empty() {
-        end(&mut fields, &mut field, &mut has);
-    }
-    if skipped > 0 {
-        changed = true;
-    }
-    if !changed {
-        return Normalised {
-            text: None,
-            skipped: 0,
-        };
-    }
+    });
     let mut out = String::with_capacity(text.len() + 16);
     for (r, record) in records.iter().enumerate() {
         for (i, f) in record.iter().enumerate() {

@@ -105,14 +105,11 @@ pub(crate) fn read(path: &Path, format: Format) -> Result<RawTable, DataError> {
             // renames a repeated column (`y_duplicated_0`) and reports ragged rows in
             // its own terms.
             let text = std::fs::read(path).map_err(|e| DataError::io(path, e))?;
-            if std::str::from_utf8(&text).is_err() {
-                // refused there, with the offset of the first bad byte
-                crate::csvscan::check(path, &text)?;
-            }
+            let utf8 =
+                std::str::from_utf8(&text).map_err(|e| crate::csvscan::not_utf8(path, &e))?;
             // Another separator (`;`, tab, found from the header or given), a decimal comma,
             // an old Mac's `\r` line ends, blank lines or Excel's trailing `,,,,` rows: the
             // text is rewritten as a plain CSV first (the common file is read as it is).
-            let utf8 = std::str::from_utf8(&text).unwrap_or_default();
             let utf8 = utf8.strip_prefix('\u{feff}').unwrap_or(utf8);
             let normal = crate::csvscan::normalise(utf8, crate::csvscan::csv_dialect());
             skipped = normal.skipped;

@@ -36,18 +36,18 @@ pub(crate) fn read(path: &Path, group: Option<&str>) -> Result<NumericView> {
     let mixed = hxai_data::read_mixed_table(path)
         .with_context(|| format!("cannot read the table {}", path.display()))?;
     note_skipped(path, mixed.skipped_rows);
-    let text: Vec<(String, Vec<String>)> = mixed
-        .names
-        .iter()
-        .zip(&mixed.columns)
-        .filter_map(|(n, c)| match c {
-            hxai_data::Column::Text(cells) => Some((n.clone(), cells.clone())),
-            hxai_data::Column::Number(_) => None,
-        })
-        .collect();
     mixed.numeric_view(group).or_else(|e| {
         // no column is all numbers: name the first bad cell of a column of numbers (a gap,
         // a repeated header, a typo) rather than "no columns"
+        let text: Vec<(String, Vec<String>)> = mixed
+            .names
+            .iter()
+            .zip(&mixed.columns)
+            .filter_map(|(n, c)| match c {
+                hxai_data::Column::Text(cells) => Some((n.clone(), cells.clone())),
+                hxai_data::Column::Number(_) => None,
+            })
+            .collect();
         if let Some(bad) = tables::first_bad_cell(&text) {
             return Err(bad).with_context(|| path.display().to_string());
         }

@@ -1,5 +1,6 @@
 //! Every way of modelling the target on the same splits (`hxai hybrid compare`).
 use super::model::{columns_of, combine_values};
+use super::resolve::Resolved;
 use super::{
     SplitJob, TableConfig, TableModel, TableProgress, calibrate_physics, check_rows, deltas,
     fit_inner, gather, physics_values, resolve, search_training_rows, split_rows,
@@ -139,24 +140,18 @@ fn boosting_on(
     Ok(b.predict(&x.select_rows(&split.test)?)?)
 }
 
-/// The black boxes of `hxai hybrid compare` (physics + forest, boosting) on `split`, scored
-/// against the fitted `model`'s test RMSE; `None` with fewer than two test rows, or where a
-/// black box has no error (the ratio would not be a number).
-pub(crate) fn black_box_scores(
+/// The black boxes' test-row predictions on `split`: the calibrated `physics` (every row)
+/// plus a forest on its `delta`, and gradient boosting of the target on the physics' columns
+/// and the correction's features.
+fn black_box_predictions(
     table: &Table,
     cfg: &TableConfig,
+    res: &Resolved,
     split: &Split,
-    model: &TableModel,
-) -> Result<Option<crate::tables::BlackBoxScores>, HybridError> {
-    let Some(test) = model.scores.test.as_ref().filter(|_| split.test.len() >= 2) else {
-        return Ok(None);
-    };
-    let res = resolve(table, cfg)?;
+    physics: &[f64],
+) -> Result<(Vec<f64>, Vec<f64>), HybridError> {
     let y = table.require(&cfg.target)?;
-    let yt = gather(y, &split.test);
-    let (phys, _) = calibrate_physics(table, cfg, &res, &split.train)?;
-    let physics = physics_values(table, &res, &phys)?;
-    let delta = deltas(cfg.correction, y, &physics, &split.train)?;
+    let delta = deltas(cfg.correction, y, physics, &split.train)?;
     let d = forest_delta(
         table,
         &res.features,
@@ -165,7 +160,7 @@ pub(crate) fn black_box_scores(
         cfg.seed,
         cfg.search.par,
     )?;
-    let forest: Vec<f64> = split
+    let forest = split
         .test
         .iter()
         .zip(&d)
@@ -185,6 +180,27 @@ pub(crate) fn black_box_scores(
         cfg.seed,
         cfg.search.par,
     )?;
+    Ok((forest, boosted))
+}
+
+/// The black boxes of `hxai hybrid compare` (physics + forest, boosting) on `split`, scored
+/// against the fitted `model`'s test RMSE; `None` with fewer than two test rows, or where a
+/// black box has no error (the ratio would not be a number).
+pub(crate) fn black_box_scores(
+    table: &Table,
+    cfg: &TableConfig,
+    split: &Split,
+    model: &TableModel,
+) -> Result<Option<crate::tables::BlackBoxScores>, HybridError> {
+    let Some(test) = model.scores.test.as_ref().filter(|_| split.test.len() >= 2) else {
+        return Ok(None);
+    };
+    let res = resolve(table, cfg)?;
+    let y = table.require(&cfg.target)?;
+    let yt = gather(y, &split.test);
+    let (phys, _) = calibrate_physics(table, cfg, &res, &split.train)?;
+    let physics = physics_values(table, &res, &phys)?;
+    let (forest, boosted) = black_box_predictions(table, cfg, &res, split, &physics)?;
     let physics_forest = hxai_eval::rmse(&yt, &forest)?;
     let boosting = hxai_eval::rmse(&yt, &boosted)?;
     let best_black_box = if boosting < physics_forest {
@@ -255,40 +271,11 @@ fn predictions_on(
     names.push("symbolic");
     preds.push(sym.best.predict(&test_table)?);
 
-    let delta = deltas(cfg.correction, y, &physics, &split.train)?;
-    let d = forest_delta(
-        table,
-        &res.features,
-        split,
-        &delta,
-        cfg.seed,
-        cfg.search.par,
-    )?;
+    let (forest, boosted) = black_box_predictions(table, cfg, &res, split, &physics)?;
     names.push("physics_forest");
-    preds.push(
-        split
-            .test
-            .iter()
-            .zip(&d)
-            .map(|(&i, &d)| combine_values(cfg.correction, physics[i], d))
-            .collect(),
-    );
-
-    let mut black_box_columns = res.columns.clone();
-    for f in &res.features {
-        if !black_box_columns.contains(f) {
-            black_box_columns.push(f.clone());
-        }
-    }
+    preds.push(forest);
     names.push("boosting");
-    preds.push(boosting_on(
-        table,
-        &black_box_columns,
-        split,
-        &gather(y, &split.train),
-        cfg.seed,
-        cfg.search.par,
-    )?);
+    preds.push(boosted);
 
     names.push("hybrid");
     preds.push(gather(&hp.hybrid, &split.test));

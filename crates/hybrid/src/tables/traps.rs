@@ -280,9 +280,7 @@ pub fn value_warnings(table: &Table, columns: &[String]) -> Vec<String> {
         if finite.len() < 5 {
             continue;
         }
-        let med = median(&finite);
-        let dev: Vec<f64> = finite.iter().map(|v| (v - med).abs()).collect();
-        let sd = 1.4826 * median(&dev);
+        let (med, sd) = robust(&finite);
         let far = |v: f64| {
             let d = (v - med).abs();
             if sd > 0.0 {
@@ -294,17 +292,10 @@ pub fn value_warnings(table: &Table, columns: &[String]) -> Vec<String> {
         // a column of positive values (tool life, wear) is often skewed: a value is a gross
         // outlier only if it is also one among the logarithms
         let positive = finite.iter().all(|&v| v > 0.0);
-        let logs: Vec<f64> = if positive {
-            finite.iter().map(|v| v.ln()).collect()
+        let (log_med, log_sd) = if positive {
+            robust(&finite.iter().map(|v| v.ln()).collect::<Vec<_>>())
         } else {
-            Vec::new()
-        };
-        let log_med = if positive { median(&logs) } else { 0.0 };
-        let log_sd = if positive {
-            let d: Vec<f64> = logs.iter().map(|v| (v - log_med).abs()).collect();
-            1.4826 * median(&d)
-        } else {
-            0.0
+            (0.0, 0.0)
         };
         let far_in_logs = |v: f64| {
             !positive
@@ -364,15 +355,13 @@ pub fn value_warnings(table: &Table, columns: &[String]) -> Vec<String> {
     out
 }
 
-fn median(v: &[f64]) -> f64 {
-    let mut s = v.to_vec();
-    s.sort_by(f64::total_cmp);
-    let n = s.len();
-    if n % 2 == 1 {
-        s[n / 2]
-    } else {
-        0.5 * (s[n / 2 - 1] + s[n / 2])
-    }
+/// The median of `v` (finite values, not empty) and its robust standard deviation, 1.4826
+/// median absolute deviations.
+fn robust(v: &[f64]) -> (f64, f64) {
+    use crate::explain::median;
+    let med = median(v.iter().copied()).unwrap_or(0.0);
+    let sd = 1.4826 * median(v.iter().map(|x| (x - med).abs())).unwrap_or(0.0);
+    (med, sd)
 }
 
 #[cfg(test)]
@@ -430,13 +419,10 @@ mod skew_tests {
             })
             .collect();
         let t = Table::new(vec!["life".into()], vec![v.clone()]).expect("table");
-        let linear_sd = {
-            let m = median(&v);
-            1.4826 * median(&v.iter().map(|x| (x - m).abs()).collect::<Vec<_>>())
-        };
+        let (med, linear_sd) = robust(&v);
         let top = v.iter().copied().fold(0.0, f64::max);
         assert!(
-            top - median(&v) > OUTLIER_ROBUST_SDS * linear_sd,
+            top - med > OUTLIER_ROBUST_SDS * linear_sd,
             "the tail is far on the linear scale"
         );
         assert!(value_warnings(&t, &["life".into()]).is_empty());
