@@ -39,6 +39,17 @@ pub struct Global {
     /// `0,05`; the cells must then be separated by another character, e.g. `;`).
     #[arg(long, global = true, value_parser = parse_decimal)]
     pub decimal: Option<char>,
+    /// Numbers your files write for a missing value (`-9999,9.96921e36`): every cell of a
+    /// table or record equal to one (within 1e-6 of its size) is read as empty, and
+    /// `--missing` decides what happens to it. Default: none.
+    #[arg(long, global = true, value_delimiter = ',', allow_hyphen_values = true, value_parser = parse_code)]
+    pub missing_codes: Vec<f64>,
+}
+
+fn parse_code(s: &str) -> Result<f64, String> {
+    s.trim().parse::<f64>().map_err(|_| {
+        format!("{s:?} is not a number: give codes such as --missing-codes=-9999,-999")
+    })
 }
 
 fn parse_delimiter(s: &str) -> Result<char, String> {
@@ -124,6 +135,8 @@ fn main() {
     let installed: Result<()> = Ok(());
     let result = installed.and_then(|()| run(cli));
     safety::wait_if_stopping();
+    // cells emptied by --missing-codes that no command said yet (before a refusal of them)
+    safety::note_missing_codes();
     if let Err(e) = result {
         // One line on stderr: the reason, with its causes (each said once).
         #[allow(clippy::print_stderr)]
@@ -223,9 +236,14 @@ fn run(cli: Cli) -> Result<()> {
         };
         anyhow::ensure!(
             !(d.decimal == ',' && d.delimiter == Some(',')),
-            "--decimal , with --delimiter ,: a comma cannot both separate cells and mark              decimals; European CSV files separate cells with `;` (--delimiter ';')"
+            "--decimal , with --delimiter ,: a comma cannot both separate cells and mark \
+             decimals; European CSV files separate cells with `;` (--delimiter ';')"
         );
         hxai_data::set_csv_dialect(d);
+    }
+    if !cli.global.missing_codes.is_empty() {
+        hxai_data::set_missing_codes(cli.global.missing_codes.clone())
+            .map_err(anyhow::Error::msg)?;
     }
     let g = &cli.global;
     match cli.command {

@@ -175,6 +175,12 @@ pub fn warn<S: std::fmt::Display>(warnings: &[S]) {
     }
 }
 
+/// Says on stderr which cells `--missing-codes` emptied in the files read since the last
+/// call (each note once).
+pub fn note_missing_codes() {
+    warn(&hxai_data::take_missing_code_notes());
+}
+
 /// Installs a panic hook for the one panic that is not a bug: `println!` failing to write
 /// stdout. A closed stdout (the reader went away: `| head -1`) ends the process normally
 /// with exit code 0; any other failure (a full disk under `> out.json`, `> /dev/full`) is

@@ -411,6 +411,8 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let unc = res.best.uncertainty(&data, &y)?;
     let mut report = hxai_symreg::SearchReport::of(&res, &cfg, (&data, &y), &unc, true, stability)?;
     report.dimensional_groups = reduction.as_ref().map(|r| r.describe(&args.target));
+    // the cells --missing-codes emptied, then what --missing did with them
+    report.warnings.extend(hxai_data::take_missing_code_notes());
     if let Some(m) = &missing {
         report.warnings.extend(m.lines());
     }

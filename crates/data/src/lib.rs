@@ -17,7 +17,8 @@
 //!   [`read_mixed_table`], [`write_mixed_table`].
 //! - [`read_gappy_table`], [`GappyTable::resolve`] and [`MissingPolicy`]: tables with empty
 //!   cells, refused, dropped or filled with training medians by the user's choice
-//!   (`--missing`).
+//!   (`--missing`); [`set_missing_codes`]: numbers a file writes for a missing value
+//!   (`-9999`), read as empty cells by every read of the process (`--missing-codes`).
 //! - [`read_text`] / [`write_text`]: whole text files such as model JSON, so that file
 //!   access stays in this crate.
 //! - [`write_atomic`] / [`write_bytes`]: every file this crate writes goes through them
@@ -72,6 +73,8 @@
 
 mod atomic;
 mod cells;
+mod codes;
+pub use codes::{CODE_TOLERANCE, missing_codes, set_missing_codes, take_missing_code_notes};
 mod csvscan;
 pub use csvscan::{CsvDialect, csv_dialect, set_csv_dialect};
 mod error;

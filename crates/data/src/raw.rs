@@ -202,12 +202,14 @@ pub(crate) fn read(path: &Path, format: Format) -> Result<RawTable, DataError> {
         names.push(name);
         columns.push(raw);
     }
-    Ok(RawTable {
+    let mut raw = RawTable {
         names,
         columns,
         integer_type,
         skipped,
-    })
+    };
+    crate::codes::apply(path, &mut raw);
+    Ok(raw)
 }
 
 /// Refuses, by name, a Parquet type that is neither a number nor text this crate reads.

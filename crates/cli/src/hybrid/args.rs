@@ -83,11 +83,13 @@ pub(crate) struct Common {
     /// Values of parameters that are not calibrated: P=V (repeat or comma-separate).
     #[arg(long, value_delimiter = ',')]
     pub(crate) set: Vec<String>,
-    /// Feature columns of the correction (default: every column except target and group).
-    #[arg(long, value_delimiter = ',', conflicts_with = "exclude")]
+    /// Feature columns of the correction, comma-separated (default: every column except
+    /// target and group); a name holding a comma in backquotes: `` `rate, 1/s` ``.
+    #[arg(long, conflicts_with = "exclude")]
     pub(crate) features: Option<Vec<String>>,
-    /// Columns left out of the default feature set.
-    #[arg(long, value_delimiter = ',')]
+    /// Columns left out of the default feature set, comma-separated (backquotes as for
+    /// `--features`).
+    #[arg(long)]
     pub(crate) exclude: Vec<String>,
     /// How the correction enters the hybrid.
     #[arg(long, value_enum, default_value_t = CorrectionArg::Additive)]
@@ -242,6 +244,49 @@ pub(crate) struct EvaluateArgs {
     pub(crate) json: bool,
 }
 
+/// Column names given to `flag` (each value comma-separated, the flag repeatable): a name
+/// in backquotes may hold a comma (`` `rate, 1/s` ``), as in the physics equation.
+///
+/// # Errors
+/// An unmatched backquote, or an empty name.
+pub(crate) fn column_names(values: &[String], flag: &str) -> anyhow::Result<Vec<String>> {
+    let mut out = Vec::new();
+    for v in values {
+        let mut name = String::new();
+        let mut quoted = false;
+        let mut push = |name: &mut String| -> anyhow::Result<()> {
+            let n = name.trim();
+            let n = n
+                .strip_prefix('`')
+                .and_then(|x| x.strip_suffix('`'))
+                .unwrap_or(n);
+            anyhow::ensure!(
+                !n.trim().is_empty(),
+                "{flag} {v:?}: an empty column name (two commas in a row, or one at an end?)"
+            );
+            out.push(n.to_string());
+            name.clear();
+            Ok(())
+        };
+        for ch in v.chars() {
+            match ch {
+                '`' => {
+                    quoted = !quoted;
+                    name.push(ch);
+                }
+                ',' if !quoted => push(&mut name)?,
+                _ => name.push(ch),
+            }
+        }
+        anyhow::ensure!(
+            !quoted,
+            "{flag} {v:?}: a backquote is not closed (a name with a comma is written `name, unit`)"
+        );
+        push(&mut name)?;
+    }
+    Ok(out)
+}
+
 impl Common {
     /// The library's configuration for these options.
     pub(crate) fn config(&self) -> anyhow::Result<TableConfig> {
@@ -253,8 +298,9 @@ impl Common {
         cfg.features = c
             .features
             .as_ref()
-            .map(|f| f.iter().map(|s| s.trim().to_string()).collect());
-        cfg.exclude = c.exclude.iter().map(|s| s.trim().to_string()).collect();
+            .map(|f| column_names(f, "--features"))
+            .transpose()?;
+        cfg.exclude = column_names(&c.exclude, "--exclude")?;
         cfg.correction = match c.correction {
             CorrectionArg::Additive => CorrectionForm::Additive,
             CorrectionArg::Multiplicative => CorrectionForm::Multiplicative,
@@ -283,5 +329,31 @@ impl Common {
             cfg.search.consensus_runs = b;
         }
         Ok(cfg)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::column_names;
+
+    fn v(s: &[&str]) -> Vec<String> {
+        s.iter().map(|x| x.to_string()).collect()
+    }
+
+    /// Issue 52: a column whose name holds a comma is given in backquotes; plain names are
+    /// split on commas and trimmed; repeated flags add up; a lone backquote or an empty
+    /// name is refused in words.
+    #[test]
+    fn names_with_commas_are_given_in_backquotes() -> anyhow::Result<()> {
+        assert_eq!(
+            column_names(&v(&["a, `rate, 1/s` ,b", "c"]), "--exclude")?,
+            v(&["a", "rate, 1/s", "b", "c"])
+        );
+        assert_eq!(column_names(&v(&["`x`"]), "--features")?, v(&["x"]));
+        let e = column_names(&v(&["a,`b"]), "--exclude").err();
+        assert!(e.is_some_and(|e| e.to_string().contains("not closed")));
+        let e = column_names(&v(&["a,,b"]), "--exclude").err();
+        assert!(e.is_some_and(|e| e.to_string().contains("empty column name")));
+        Ok(())
     }
 }

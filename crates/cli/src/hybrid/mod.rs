@@ -58,6 +58,7 @@ pub(crate) fn read(path: &Path, group: Option<&str>) -> Result<NumericView> {
 /// Says on stderr how many blank lines or all-empty rows of the file at `path` the reader
 /// skipped.
 fn note_skipped(path: &Path, skipped: usize) {
+    crate::safety::note_missing_codes();
     if skipped > 0 {
         crate::safety::warn(&[format!(
             "{}: skipped {skipped} blank line(s) or row(s) with every cell empty",

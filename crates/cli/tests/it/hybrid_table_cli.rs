@@ -881,6 +881,129 @@ fn empty_cells_are_refused_dropped_or_imputed_by_choice() -> TestResult {
     Ok(())
 }
 
+/// `text` with the cells at (data row, column index) replaced by `code`.
+fn with_codes(text: &str, cells: &[(usize, usize)], code: &str) -> String {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let mut row: Vec<String> = l.split(',').map(str::to_owned).collect();
+            for &(r, c) in cells {
+                if i == r {
+                    row[c] = code.to_string();
+                }
+            }
+            row.join(",") + "\n"
+        })
+        .collect()
+}
+
+// A data logger's `-9999` (issue 52): without `--missing-codes` it is a number, named by the
+// fit's warning with the flag to give; with `--missing-codes=-9999` those cells are empty,
+// so `--missing` decides: refused by default (after a note naming the cells), and under
+// `drop` the very model of the same file with the cells left empty. `hxai sr` reads the
+// codes the same way (its JSON's warnings name them); a code that is not a number is refused.
+#[test]
+fn missing_value_codes_are_read_as_empty_cells_when_named() -> TestResult {
+    let (dir, csv) = scratch_table("codes", 60)?;
+    let text = std::fs::read_to_string(&csv)?;
+    // columns: batch,f,r,v,d,Ra; codes in v (rows 3, 9) and the target (row 20)
+    let cells = [(3, 3), (9, 3), (20, 5)];
+    let coded = dir.join("coded.csv");
+    std::fs::write(&coded, with_codes(&text, &cells, "-9999"))?;
+    let gapped = dir.join("gapped.csv");
+    std::fs::write(&gapped, with_gaps(&text, &cells))?;
+
+    let plain = dir.join("plain.json");
+    let mut args = fit_args(s(&coded), s(&plain));
+    args.extend(["--exclude", "batch"]);
+    let o = hxai(&args)?;
+    ok(&o, "fit with -9999 as a number");
+    let err = common::stderr(&o);
+    assert!(
+        err.contains("missing-value code") && err.contains("--missing-codes=-9999"),
+        "{err}"
+    );
+
+    let refused = dir.join("refused.json");
+    let mut a = fit_args(s(&coded), s(&refused));
+    a.extend(["--exclude", "batch", "--missing-codes=-9999"]);
+    let o = hxai(&a)?;
+    assert_eq!(o.status.code(), Some(1));
+    let err = common::stderr(&o);
+    assert!(
+        err.contains("read 3 cell(s) equal to a --missing-codes value as empty")
+            && err.contains("`v` 2")
+            && err.contains("`Ra` 1")
+            && err.contains("--missing drop"),
+        "{err}"
+    );
+    assert!(!refused.exists());
+
+    let (m_coded, m_gapped) = (dir.join("mc.json"), dir.join("mg.json"));
+    let mut a = fit_args(s(&coded), s(&m_coded));
+    a.extend([
+        "--exclude",
+        "batch",
+        "--missing-codes",
+        "-9999,9.96921e36",
+        "--missing",
+        "drop",
+    ]);
+    ok(&hxai(&a)?, "fit --missing-codes -9999 --missing drop");
+    let mut b = fit_args(s(&gapped), s(&m_gapped));
+    b.extend(["--exclude", "batch", "--missing", "drop"]);
+    ok(&hxai(&b)?, "fit the gapped file --missing drop");
+    let (jc, jg): (serde_json::Value, serde_json::Value) = (
+        serde_json::from_str(&std::fs::read_to_string(&m_coded)?)?,
+        serde_json::from_str(&std::fs::read_to_string(&m_gapped)?)?,
+    );
+    assert_eq!(jc["equation"], jg["equation"]);
+    assert_eq!(jc["scores"], jg["scores"]);
+    assert_eq!(jc["missing"]["policy"], "drop");
+    assert!(jc["warnings"].to_string().contains("dropped 3 row(s)"));
+
+    // hxai sr reads numbers only: the same file without its text column `batch`
+    let numbers = dir.join("numbers.csv");
+    let no_batch: String = std::fs::read_to_string(&coded)?
+        .lines()
+        .map(|l| l.split_once(',').map_or(l, |(_, rest)| rest).to_string() + "\n")
+        .collect();
+    std::fs::write(&numbers, no_batch)?;
+    let o = hxai(&[
+        "sr",
+        "--csv",
+        s(&numbers),
+        "--target",
+        "Ra",
+        "--missing-codes=-9999",
+        "--missing",
+        "drop",
+        "--max-evaluations",
+        "2000",
+        "--json",
+    ])?;
+    ok(&o, "sr --missing-codes");
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout)?;
+    let w = doc["warnings"].to_string();
+    assert!(
+        w.contains("--missing-codes") && w.contains("dropped 3 row(s)"),
+        "{w}"
+    );
+
+    let o = hxai(&[
+        "sr",
+        "--csv",
+        s(&numbers),
+        "--target",
+        "Ra",
+        "--missing-codes",
+        "none",
+    ])?;
+    assert_eq!(o.status.code(), Some(2));
+    assert!(common::stderr(&o).contains("is not a number"));
+    Ok(())
+}
+
 /// `--calibrate-per insul=a,b` on `MASS::whiteside` (one line per insulation state): the
 /// model file holds `a[After]`, `a[Before]`, ... with standard errors and `per_class`, the
 /// slopes are those of R's `lm(Gas ~ Insul/Temp)` within the scatter of a 45-row training

@@ -37,7 +37,8 @@ fn num(v: f64) -> String {
     crate::error::num(v)
 }
 
-/// Warnings about one record's settings: a sampling rate outside [`PLAUSIBLE_FS_HZ`], and
+/// Warnings about one record's settings: a sampling rate outside [`PLAUSIBLE_FS_HZ`], a
+/// commanded frequency at or above the Nyquist frequency (half the sampling rate), and
 /// fewer than [`MIN_PERIODS_PER_WINDOW`] periods of the commanded frequency per window.
 pub fn input_warnings(r: &RecordInput<'_>, window: &WindowConfig) -> Vec<Warning> {
     let mut out = Vec::new();
@@ -52,6 +53,17 @@ pub fn input_warnings(r: &RecordInput<'_>, window: &WindowConfig) -> Vec<Warning
             num(r.fs_hz),
             num(lo),
             num(hi)
+        )));
+    }
+    let nyquist = 0.5 * r.fs_hz;
+    if r.fs_hz.is_finite() && r.frequency_hz.is_finite() && r.frequency_hz >= nyquist {
+        out.push(w(format!(
+            "the commanded frequency {} Hz is at or above the Nyquist frequency {} Hz of a \
+             record sampled at {} Hz: the samples cannot hold it (it aliases to a lower \
+             frequency); is the frequency in Hz and `time_s` in seconds?",
+            num(r.frequency_hz),
+            num(nyquist),
+            num(r.fs_hz)
         )));
     }
     let periods = window.length_s * r.frequency_hz;
@@ -166,12 +178,37 @@ mod tests {
     fn sampling_rate_and_periods() {
         let w = WindowConfig::default();
         assert!(input_warnings(&input(10_000.0, 20.0, None, &[]), &w).is_empty());
+        // (20 Hz sampled at 10 Hz is also above the Nyquist frequency)
         let ms = input_warnings(&input(10.0, 20.0, None, &[]), &w);
-        assert_eq!(ms.len(), 1);
+        assert_eq!(ms.len(), 2, "{ms:?}");
         assert!(ms[0].message.contains("10 Hz"), "{}", ms[0]);
         let short = input_warnings(&input(10_000.0, 6.0, None, &[]), &w);
         assert_eq!(short.len(), 1);
         assert!(short[0].message.contains("3 periods"), "{}", short[0]);
+    }
+
+    /// `--frequency-hz` at or above half the sampling rate is named (issue 52): the samples
+    /// cannot hold it; just below it is not.
+    #[test]
+    fn a_frequency_above_nyquist_is_named() {
+        let w = WindowConfig::default();
+        let above = input_warnings(&input(1000.0, 600.0, None, &[]), &w);
+        assert_eq!(above.len(), 1, "{above:?}");
+        assert!(
+            above[0].message.contains("Nyquist frequency 500 Hz"),
+            "{}",
+            above[0]
+        );
+        assert_eq!(
+            input_warnings(&input(1000.0, 500.0, None, &[]), &w).len(),
+            1
+        );
+        assert!(input_warnings(&input(1000.0, 499.0, None, &[]), &w).is_empty());
+        let whole = record_warnings("r", 1000.0, 2000.0, 10_000);
+        assert!(
+            whole.iter().any(|x| x.message.contains("Nyquist")),
+            "{whole:?}"
+        );
     }
 
     #[test]

@@ -262,6 +262,20 @@ pub const MISSING_CODES: [f64; 10] = [
 /// deviations) from its column's median is a gross outlier.
 pub const OUTLIER_ROBUST_SDS: f64 = 10.0;
 
+/// The `--missing-codes` value naming the codes found at `idx` of `col` (each once, in
+/// the order met: `-9999` or `-9999,9.96921e36`; `=` so that a negative code reads as a
+/// value).
+fn codes_flag(col: &[f64], idx: &[usize]) -> String {
+    let mut seen: Vec<String> = Vec::new();
+    for &i in idx {
+        let s = num(col[i]);
+        if !seen.contains(&s) {
+            seen.push(s);
+        }
+    }
+    format!("--missing-codes={}", seen.join(","))
+}
+
 /// Warnings, naming row (from 1) and column, for values of `columns` that look like a
 /// missing-value code ([`MISSING_CODES`], within 1e-6 relative) or are gross outliers
 /// ([`OUTLIER_ROBUST_SDS`]), each only where it stands far outside the column's other
@@ -335,10 +349,11 @@ pub fn value_warnings(table: &Table, columns: &[String]) -> Vec<String> {
         if !codes.is_empty() {
             out.push(format!(
                 "column `{name}`: {} look(s) like a missing-value code, far outside the \
-                 column's other values (median {}): if it means \"no value\", empty those \
-                 cells and choose --missing drop or impute",
+                 column's other values (median {}): if it means \"no value\", give \
+                 {} (the cells are then empty) and --missing drop or impute",
                 rows(&codes),
-                num(med)
+                num(med),
+                codes_flag(col, &codes)
             ));
         }
         if !outliers.is_empty() {
