@@ -347,6 +347,44 @@ def _missing_fit(est, X, y, names, protected=(), dropped=0):
     return X, y, report
 
 
+def _per_class_spec(spec):
+    """``calibrate_per`` as ``(column, [parameters])``: from ``"COL=P1,P2"`` (as
+    ``--calibrate-per``) or ``(COL, [P1, P2])``; ``None`` stays ``None``."""
+    if spec is None:
+        return None
+    if isinstance(spec, str):
+        column, sep, params = spec.partition("=")
+        params = [p.strip() for p in params.split(",") if p.strip()]
+    else:
+        try:
+            column, params = spec
+        except (TypeError, ValueError):
+            column, sep, params = "", "", []
+        else:
+            sep = "="
+            params = [params] if isinstance(params, str) else [str(p) for p in params]
+    column = str(column).strip()
+    if not sep or not column or not params:
+        raise ValueError(
+            f"calibrate_per={spec!r}: give 'COLUMN=P1,P2' or ('COLUMN', ['P1', 'P2']): the "
+            "text column, then the physics parameters fitted once per level of it"
+        )
+    return column, params
+
+
+def _level_cells(X, column):
+    """``X`` without ``column`` (a DataFrame's), and the column's cells as text (an empty
+    cell or NaN as ``""``, which the engine refuses naming the row)."""
+    if not hasattr(X, "columns") or column not in list(X.columns):
+        raise ValueError(
+            f"the physics has constants per level of `{column}`: give X as a DataFrame with "
+            "that column (its levels as text or numbers)"
+        )
+    col = X[column]
+    cells = ["" if pd.isna(v) else str(v).strip() for v in col.tolist()]
+    return X.drop(columns=[column]), cells
+
+
 def _missing_predict(est, X, names):
     """NaN in rows to predict: filled with the training medians when the estimator was
     fitted with ``missing='impute'``; otherwise refused, naming the column (a prediction is
@@ -611,6 +649,12 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     are then the resamples') and ``model_json_`` (the model file of ``hxai hybrid
     fit``, readable by ``hxai hybrid predict``). ``predict_parts(X)`` returns physics, correction and hybrid.
 
+    ``calibrate_per="COL=P1,P2"`` (or ``("COL", ["P1", "P2"])``), as ``hxai hybrid fit
+    --calibrate-per``: the physics parameters ``P1``, ``P2`` are fitted once per level of the
+    column ``COL`` of ``X`` (a DataFrame; the levels as text or numbers), ``physics_parameters_``
+    then holds ``P1[level]``; the column is not a feature of the correction, and ``predict``
+    needs it too, refusing a level the fit never saw.
+
     ``n_jobs`` is the number of threads of the fit, as on :class:`SymbolicRegressor`
     (``None``, the default: every core; ``-1``: every core in a pool of its own; a positive
     int: that many); it never changes the result.
@@ -660,11 +704,13 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         conformal_folds=5,
         stability_runs=0,
         missing="refuse",
+        calibrate_per=None,
         n_jobs=None,
     ):
         self.conformal_folds = conformal_folds
         self.stability_runs = stability_runs
         self.missing = missing
+        self.calibrate_per = calibrate_per
         self.physics = physics
         self.calibrate = calibrate
         self.init = init
@@ -698,6 +744,18 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         search = json.loads(_search_json(self))
         n_jobs = _n_jobs(self)
         X, y, dropped = _target_gaps(self, X, y)
+        per_class = _per_class_spec(self.calibrate_per)
+        cells = None
+        if per_class is not None:
+            X, cells = _level_cells(X, per_class[0])
+            if _missing_policy(self) == "drop" and np.isnan(
+                np.asarray(X, dtype=np.float64)
+            ).any():
+                raise ValueError(
+                    "calibrate_per with missing='drop' and empty cells in X is not supported: "
+                    "drop the rows with NaN first (the level column must keep its rows)"
+                )
+        self.calibrate_per_column_ = None if per_class is None else per_class[0]
         y_in = y
         X, y = validate_data(
             self, X, y, dtype=np.float64, y_numeric=True, ensure_all_finite=False
@@ -723,6 +781,12 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             "stability_runs": _stability_runs(self.stability_runs),
             "search": search,
         }
+        if per_class is not None:
+            settings["calibrate_per"] = {
+                "column": per_class[0],
+                "parameters": per_class[1],
+                "cells": cells,
+            }
         text = _hxai.table_fit(
             names + [target], columns_of(X) + [to_bytes(y, "y")], json.dumps(settings), n_jobs
         )
@@ -750,12 +814,21 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             warnings.warn(w, UserWarning, stacklevel=2)
         return self
 
+    def _levels(self, X):
+        """``X`` without the level column of ``calibrate_per``, and that column's cells
+        (``None`` for a model without per-level constants)."""
+        column = getattr(self, "calibrate_per_column_", None)
+        if column is None:
+            return X, None
+        return _level_cells(X, column)
+
     def _parts(self, X):
         check_is_fitted(self, "model_json_")
+        X, levels = self._levels(X)
         X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
         names = _names(self, X.shape[1])
         X = _missing_predict(self, X, names)
-        return _hxai.table_predict(self.model_json_, names, columns_of(X))
+        return _hxai.table_predict(self.model_json_, names, columns_of(X), levels)
 
     def predict(self, X):
         """The hybrid's values on the rows of ``X``."""
@@ -771,11 +844,12 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         ``hxai hybrid predict --interval-method``. ``interval_method_`` names the method
         used."""
         check_is_fitted(self, "model_json_")
+        X, levels = self._levels(X)
         X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
         names = _names(self, X.shape[1])
         X = _missing_predict(self, X, names)
         lo, hi, used = _hxai.table_intervals(
-            self.model_json_, names, columns_of(X), _level(level), method
+            self.model_json_, names, columns_of(X), _level(level), method, levels
         )
         self.interval_method_ = used
         return np.column_stack([from_bytes(lo), from_bytes(hi)])

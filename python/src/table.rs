@@ -45,6 +45,42 @@ struct ProcessSettings {
     stability_runs: usize,
     #[serde(default)]
     search: Value,
+    /// `calibrate_per`: the physics parameters fitted once per level of a text column.
+    #[serde(default)]
+    calibrate_per: Option<PerClassSettings>,
+}
+
+/// The estimator's `calibrate_per` (`--calibrate-per COL=P1,P2`): the column, the
+/// parameters, and the column's cells (the estimator takes the column out of `X`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PerClassSettings {
+    column: String,
+    parameters: Vec<String>,
+    cells: Vec<String>,
+}
+
+/// Appends the level indicators of a model with per-class constants to `table`, from the
+/// cells of its text column (`levels`); refuses levels for a model without, or none for a
+/// model with them.
+fn with_levels(
+    model: &TableModel,
+    table: &mut hxai_symreg::Table,
+    levels: Option<Vec<String>>,
+) -> PyResult<()> {
+    match (&model.per_class, levels) {
+        (Some(pc), Some(cells)) => {
+            hxai_hybrid::tables::per_class::add_indicators(pc, table, &cells).map_err(err)
+        }
+        (Some(pc), None) => Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "the model's physics has constants per level of `{}`: X needs that column",
+            pc.column
+        ))),
+        (None, Some(_)) => Err(pyo3::exceptions::PyValueError::new_err(
+            "levels were given but the model has no per-level constants",
+        )),
+        (None, None) => Ok(()),
+    }
 }
 
 fn default_conformal_folds() -> usize {
@@ -65,7 +101,7 @@ pub(crate) fn table_fit(
     settings_json: &str,
     n_jobs: Option<i64>,
 ) -> PyResult<String> {
-    let table = table_of(names, &columns)?;
+    let mut table = table_of(names, &columns)?;
     let s: ProcessSettings = parse_json(settings_json, "hybrid settings")?;
     let mut search: SearchConfig = with_overrides("search", &s.search.to_string())?;
     search.par = par_of(n_jobs)?;
@@ -81,6 +117,19 @@ pub(crate) fn table_fit(
     cfg.conformal_folds = s.conformal_folds;
     cfg.seed = search.seed;
     cfg.search = search;
+    let per_class = match &s.calibrate_per {
+        Some(pc) => Some(
+            hxai_hybrid::tables::per_class::expand(
+                &mut cfg,
+                &mut table,
+                &pc.column,
+                &pc.cells,
+                &pc.parameters,
+            )
+            .map_err(err)?,
+        ),
+        None => None,
+    };
     let split = hxai_eval::Split {
         train: (0..table.n_rows()).collect(),
         test: Vec::new(),
@@ -89,6 +138,7 @@ pub(crate) fn table_fit(
     let model = py
         .detach(move || {
             let mut model = fit_split(&table, &cfg, &split, &mut |_| {})?;
+            model.per_class = per_class;
             if runs > 0 {
                 measure_stability(&table, &cfg, &mut model, runs, &mut |_, _| {})?;
             }
@@ -98,21 +148,25 @@ pub(crate) fn table_fit(
     Ok(model.to_json())
 }
 
-/// `table_predict(model_json, names, columns)` -> `(physics, correction, hybrid)`.
+/// `table_predict(model_json, names, columns, levels=None)` -> `(physics, correction,
+/// hybrid)`; `levels`: the cells of the text column of a model with per-level constants.
 #[pyfunction]
+#[pyo3(signature = (model_json, names, columns, levels=None))]
 #[allow(clippy::type_complexity)]
 pub(crate) fn table_predict<'py>(
     py: Python<'py>,
     model_json: &str,
     names: Vec<String>,
     columns: Vec<Bound<'py, PyBytes>>,
+    levels: Option<Vec<String>>,
 ) -> PyResult<(
     Bound<'py, PyBytes>,
     Bound<'py, PyBytes>,
     Bound<'py, PyBytes>,
 )> {
     let model = TableModel::from_json(model_json).map_err(err)?;
-    let table = table_of(names, &columns)?;
+    let mut table = table_of(names, &columns)?;
+    with_levels(&model, &mut table, levels)?;
     let p = py.detach(move || model.predict(&table)).map_err(err)?;
     Ok((
         to_bytes(py, &p.physics),
@@ -121,12 +175,13 @@ pub(crate) fn table_predict<'py>(
     ))
 }
 
-/// `table_intervals(model_json, names, columns, level, method=None)` -> `(lo, hi,
-/// method)`: the table hybrid's prediction intervals at `level` on a table
+/// `table_intervals(model_json, names, columns, level, method=None, levels=None)` -> `(lo,
+/// hi, method)`: the table hybrid's prediction intervals at `level` on a table
 /// (`TableModel::intervals_with`), by `method` (`conformal`, `split` or `delta`; default:
-/// the model file's, conformal where it stores the calibration).
+/// the model file's, conformal where it stores the calibration); `levels` as for
+/// [`table_predict`].
 #[pyfunction]
-#[pyo3(signature = (model_json, names, columns, level, method=None))]
+#[pyo3(signature = (model_json, names, columns, level, method=None, levels=None))]
 pub(crate) fn table_intervals<'py>(
     py: Python<'py>,
     model_json: &str,
@@ -134,13 +189,15 @@ pub(crate) fn table_intervals<'py>(
     columns: Vec<Bound<'py, PyBytes>>,
     level: f64,
     method: Option<&str>,
+    levels: Option<Vec<String>>,
 ) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>, String)> {
     let model = TableModel::from_json(model_json).map_err(err)?;
     let default = model
         .default_interval_method(level)
         .unwrap_or(IntervalMethod::Delta);
     let method = method_of(method, default)?;
-    let table = table_of(names, &columns)?;
+    let mut table = table_of(names, &columns)?;
+    with_levels(&model, &mut table, levels)?;
     let iv = py
         .detach(move || model.intervals_with(&table, level, method))
         .map_err(err)?;

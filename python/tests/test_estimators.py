@@ -424,3 +424,38 @@ def test_missing_cells_are_refused_dropped_or_imputed():
     Xa.loc[5, "a"] = np.nan
     with pytest.raises(ValueError, match="`a`.*physics"):
         HybridRegressor(physics="k*a^2", calibrate=["k"], missing="impute", **FAST).fit(Xa, y)
+
+
+def test_calibrate_per_gives_one_line_per_level_as_r_lm():
+    """``calibrate_per`` (issue 48) on ``MASS::whiteside``: the physics ``a + b*temp`` with
+    ``a`` and ``b`` per insulation state is R's ``lm(Gas ~ Insul/Temp)`` on every row, so
+    the calibrated parameters match the stored reference (scripts/ref_per_class.py) to 1e-6
+    relative; ``predict`` needs the level column and refuses a level the fit never saw;
+    the spec is checked in words."""
+    import pathlib
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    data = pd.read_csv(root / "testdata" / "real" / "whiteside.csv")
+    ref = json.loads((root / "testdata" / "per_class" / "whiteside_lm.json").read_text())
+    X, y = data[["insul", "temp"]], data["gas"]
+    est = HybridRegressor("a + b*temp", calibrate_per="insul=a,b", **FAST).fit(X, y)
+    p = est.physics_parameters_
+    for level, r in ref["levels"].items():
+        assert p[f"a[{level}]"] == pytest.approx(r["intercept"], rel=1e-6)
+        assert p[f"b[{level}]"] == pytest.approx(r["slope"], rel=1e-6)
+    assert est.physics_standard_errors_["b[After]"] == pytest.approx(
+        ref["levels"]["After"]["slope_se"], rel=1e-6
+    )
+    pred = est.predict(X)
+    assert pred.shape == (len(X),) and np.isfinite(pred).all()
+    iv = est.predict_interval(X)
+    assert iv.shape == (len(X), 2)
+    # the same spec as a tuple gives the same model
+    est2 = HybridRegressor("a + b*temp", calibrate_per=("insul", ["a", "b"]), **FAST).fit(X, y)
+    assert est2.physics_parameters_ == p
+    with pytest.raises(ValueError, match="not fitted on"):
+        est.predict(pd.DataFrame({"insul": ["Later"], "temp": [1.0]}))
+    with pytest.raises(ValueError, match="needs that column|give X as a DataFrame"):
+        est.predict(X[["temp"]])
+    with pytest.raises(ValueError, match="COLUMN=P1,P2"):
+        HybridRegressor("a + b*temp", calibrate_per="insul").fit(X, y)

@@ -158,3 +158,17 @@ impl std::str::FromStr for Format {
         }
     }
 }
+
+/// The CSV reader's first pass (the separator, blank lines, Excel's empty rows), exposed
+/// for `benches/reader.rs` only: it measures what the one reader of issue 52 costs beyond
+/// the read itself. Internal: public and hidden from the docs only for the bench.
+#[doc(hidden)]
+pub mod bench_support {
+    /// Whether `text` (a whole CSV file) needs the rewrite of `normalise` under the
+    /// process's dialect: the pass every CSV read makes before polars sees the file.
+    pub fn needs_rewrite(text: &str) -> bool {
+        crate::csvscan::normalise(text, crate::csvscan::csv_dialect())
+            .text
+            .is_some()
+    }
+}

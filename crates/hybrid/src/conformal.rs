@@ -41,13 +41,25 @@ pub fn refit_constants(model: &Model, cols: &[&[f64]], target: &[f64], domain: &
     let free: Vec<usize> = (0..model.params.len())
         .filter(|&i| !is_exact(model.params[i]))
         .collect();
+    refit_these(model, &free, cols, target, domain)
+}
+
+/// [`refit_constants`] with the constants at the indices `free` refitted, whatever their
+/// values (the others stay as they are).
+pub fn refit_these(
+    model: &Model,
+    free: &[usize],
+    cols: &[&[f64]],
+    target: &[f64],
+    domain: &[&[f64]],
+) -> Model {
     let mut m = model.clone();
     let mut ev = Evaluator::new(&m.program);
     let settings = LmSettings::new(200, 1e-12);
     let mse = levenberg_marquardt(
         &m.program,
         &mut m.params,
-        Unknowns::Free(&free),
+        Unknowns::Free(free),
         cols,
         target,
         &settings,

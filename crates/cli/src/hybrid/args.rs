@@ -158,6 +158,11 @@ pub(crate) struct Common {
     /// level with its standard error; `predict` refuses a level the fit never saw.
     #[arg(long)]
     pub(crate) calibrate_per: Option<String>,
+    /// The correction's constants refitted per level of a text column COL (its structure
+    /// shared): "the same law, its constants per batch of material". `predict` refuses a
+    /// level the fit never saw; prediction intervals are not built for it.
+    #[arg(long)]
+    pub(crate) correction_per: Option<String>,
     /// Print one JSON document on stdout instead of text.
     #[arg(long)]
     pub(crate) json: bool,

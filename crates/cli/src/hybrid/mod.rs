@@ -134,6 +134,15 @@ fn level_cells(view: &NumericView, col: &str) -> Result<Vec<String>> {
 /// Adds the level indicators of a model with per-class constants to a table read for it
 /// (refusing a level it never saw).
 pub(crate) fn add_levels(model: &TableModel, view: &mut NumericView) -> Result<()> {
+    if let Some(cp) = &model.correction_per {
+        let cells = level_cells(view, &cp.column).with_context(|| {
+            format!(
+                "the model's correction has constants per level of `{}`",
+                cp.column
+            )
+        })?;
+        tables::correction_per::add_indicators(cp, &mut view.table, &cells)?;
+    }
     if let Some(pc) = &model.per_class {
         let cells = level_cells(view, &pc.column).with_context(|| {
             format!(
@@ -264,6 +273,10 @@ fn prepare(c: &Common) -> Result<Prepared> {
         }
         None => None,
     };
+    if let Some(col) = &c.correction_per {
+        let cells = level_cells(&loaded, col).with_context(|| format!("--correction-per {col}"))?;
+        tables::correction_per::expand(&mut cfg, &mut loaded.table, col, &cells)?;
+    }
     let warnings =
         check_text_columns(&cfg, &loaded.text).with_context(|| c.data.display().to_string())?;
     // A text column is never a feature: excluding it is allowed and needs no word to the

@@ -54,6 +54,15 @@ pub(super) fn print_model(m: &TableModel) {
             );
         }
     }
+    if let Some(cp) = &m.correction_per {
+        println!(
+            "correction constants per level of `{}` (the equation above has the shared ones):",
+            cp.column
+        );
+        for l in cp.lines() {
+            println!("{l}");
+        }
+    }
     println!("hybrid: {} = {}", m.target, m.hybrid.equation);
     if let Some(j) = &m.joint {
         println!(

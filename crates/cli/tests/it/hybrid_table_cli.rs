@@ -1368,3 +1368,93 @@ fn cells_in_columns_not_used_are_not_read_for_numbers() -> TestResult {
     );
     Ok(())
 }
+
+/// `--correction-per batch` (issue 48): on `y = 2*x + c[batch]*z` with three batches in
+/// words, the fit prints each batch's correction and stores `correction_per`; its test RMSE
+/// is below the shared correction's; `predict` reads the text column, refuses a batch the
+/// fit never saw (nothing written) and refuses `--interval` in words.
+#[test]
+fn correction_constants_per_batch() -> TestResult {
+    let dir = common::scratch("hxai-cli-hybrid-table", "correction-per")?;
+    let data = dir.join("batches.csv");
+    let mut text = String::from("batch,x,z,y\n");
+    for i in 0..240 {
+        let b = i % 3;
+        let x = 1.0 + 4.0 * ((i * 7) % 31) as f64 / 30.0;
+        let z = 0.5 + 2.5 * ((i * 11) % 37) as f64 / 36.0;
+        let y = 2.0 * x + [1.0, 2.5, 4.0][b] * z;
+        text.push_str(&format!("{},{x},{z},{y}\n", ["alpha", "beta", "gamma"][b]));
+    }
+    std::fs::write(&data, &text)?;
+    let fit = |out: &Path, per: bool| -> Result<std::process::Output, Box<dyn std::error::Error>> {
+        let mut a = vec![
+            "hybrid",
+            "fit",
+            "--data",
+            s(&data),
+            "--target",
+            "y",
+            "--physics",
+            "k*x",
+            "--calibrate",
+            "k",
+            "--epochs",
+            "2",
+            "--out",
+            s(out),
+        ];
+        if per {
+            a.extend(["--correction-per", "batch"]);
+        }
+        Ok(hxai(&a)?)
+    };
+    let (shared, per) = (dir.join("shared.json"), dir.join("per.json"));
+    ok(&fit(&shared, false)?, "fit, shared correction");
+    let o = fit(&per, true)?;
+    ok(&o, "fit --correction-per batch");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("correction constants per level of `batch`")
+            && stdout.contains("batch=gamma"),
+        "{stdout}"
+    );
+    let read = |p: &Path| -> Result<serde_json::Value, Box<dyn std::error::Error>> {
+        Ok(serde_json::from_str(&std::fs::read_to_string(p)?)?)
+    };
+    let (js, jp) = (read(&shared)?, read(&per)?);
+    assert_eq!(
+        jp["correction_per"]["levels"],
+        serde_json::json!(["alpha", "beta", "gamma"])
+    );
+    let rmse = |j: &serde_json::Value| j["scores"]["test"]["hybrid"]["rmse"].as_f64();
+    let (a, b) = (
+        rmse(&jp).ok_or("per rmse")?,
+        rmse(&js).ok_or("shared rmse")?,
+    );
+    assert!(a < 0.5 * b, "per-batch test RMSE {a}, shared {b}");
+
+    let pred = dir.join("p.csv");
+    ok(
+        &hxai(&predict_args(&per, &data, &pred))?,
+        "predict with the batch column",
+    );
+    let other = dir.join("other.csv");
+    std::fs::write(&other, "batch,x,z\nalpha,2,1\ndelta,2,1\n")?;
+    let none = dir.join("none.csv");
+    let o = hxai(&predict_args(&per, &other, &none))?;
+    assert_eq!(o.status.code(), Some(1));
+    let err = common::stderr(&o);
+    assert!(err.contains("\"delta\"") && err.contains("row 2"), "{err}");
+    assert!(!none.exists());
+    let mut iv = predict_args(&per, &data, &none);
+    iv.extend(["--interval", "0.9"]);
+    let o = hxai(&iv)?;
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        common::stderr(&o).contains("--correction-per"),
+        "{}",
+        common::stderr(&o)
+    );
+    assert!(!none.exists());
+    Ok(())
+}

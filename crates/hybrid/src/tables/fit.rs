@@ -173,6 +173,13 @@ pub(crate) fn fit_inner(
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
     let (table, cfg, split, task) = (job.table, job.cfg, job.split, job.task);
+    if cfg.joint && cfg.correction_per.is_some() {
+        return Err(HybridError::InvalidConfig(
+            "--joint with --correction-per is not built: the joint refit fits one set of \
+             correction constants; use one of them"
+                .into(),
+        ));
+    }
     check_rows(table, split)?;
     let res = resolve(table, cfg)?;
     let (mut phys, mut ses) = calibrate_physics(table, cfg, &res, &split.train)?;
@@ -243,8 +250,20 @@ pub(crate) fn fit_inner(
         &model.physics.standard_errors,
         &model.physics.parameters,
     ));
+    if let Some(setting) = &cfg.correction_per {
+        let cp = super::correction_per::fit_levels(setting, &model, table, &split.train, &delta)?;
+        if !cp.shared.is_empty() {
+            model.warnings.push(format!(
+                "--correction-per {}: level(s) {} have too few training rows to refit the \
+                 correction's constants, and keep the shared ones",
+                cp.column,
+                cp.shared.join(", ")
+            ));
+        }
+        model.correction_per = Some(cp);
+    }
     model.scores = scores_of(&model, table, y_all, split)?;
-    if cfg.conformal_folds > 0 {
+    if cfg.conformal_folds > 0 && cfg.correction_per.is_none() {
         model.conformal = Some(super::conformal::calibrate(
             table,
             cfg,
@@ -474,6 +493,7 @@ fn model_of(
         warnings: Vec::new(),
         missing: None,
         per_class: None,
+        correction_per: None,
         scores: ScoresInfo {
             black_boxes: None,
             train: PairScores {

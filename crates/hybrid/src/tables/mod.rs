@@ -46,6 +46,7 @@ mod calibrate;
 mod columns;
 mod compare;
 mod conformal;
+pub mod correction_per;
 mod fit;
 mod model;
 pub mod per_class;
@@ -57,6 +58,7 @@ pub mod traps;
 pub use crate::conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, ResidualScale};
 pub use columns::{check_text_columns, check_used_columns, first_bad_cell, model_columns};
 pub use compare::{BlackBox, Comparison, CvScore, ModelScore, TTestScore, compare};
+pub use correction_per::{CorrectionPer, CorrectionPerInfo};
 pub use fit::{fit, fit_split, measure_stability, stability};
 pub use model::{
     BlackBoxScores, EquationInfo, JointInfo, MissingInfo, PairScores, PhysicsInfo, SCHEMA_VERSION,
@@ -203,6 +205,9 @@ pub struct TableConfig {
     /// Folds of the CV+ calibration of conformal prediction intervals (0: none; the model
     /// file then offers only the delta method). See [`ConformalInfo`].
     pub conformal_folds: usize,
+    /// `--correction-per COL`: the correction's constants refitted per level of a text
+    /// column, read from its indicator columns ([`correction_per::expand`] sets it).
+    pub correction_per: Option<CorrectionPer>,
 }
 
 impl TableConfig {
@@ -229,6 +234,7 @@ impl TableConfig {
             joint: false,
             search: SearchConfig::laws(),
             conformal_folds: DEFAULT_CONFORMAL_FOLDS,
+            correction_per: None,
         }
     }
 

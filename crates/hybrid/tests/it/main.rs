@@ -7,6 +7,7 @@
 mod common;
 
 mod conformal;
+mod correction_per;
 mod end_to_end;
 mod json_shape;
 mod per_class;

@@ -167,6 +167,11 @@ pub struct TableModel {
     /// builds the same level indicators and refuses a level it never saw.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub per_class: Option<super::per_class::PerClassInfo>,
+    /// With `--correction-per COL`: the correction's constants per level of the text column
+    /// (each level's constants, equation and training rows); `predict` uses the row's
+    /// level's constants and refuses a level it never saw.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub correction_per: Option<super::correction_per::CorrectionPerInfo>,
 }
 
 /// How a table hybrid's fit handled empty cells (`--missing`, the model file's `missing`).

@@ -33,7 +33,10 @@ impl TableModel {
         let physics = finite_physics(table, &phys, &phys.inputs)?;
         let model = self.correction.fitted()?;
         columns_of(table, &model.feature_names, "correction feature")?;
-        let correction = model.predict(table)?;
+        let correction = match &self.correction_per {
+            Some(cp) => cp.predict(model, table)?,
+            None => model.predict(table)?,
+        };
         if let Some((row, v)) = correction.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(HybridError::BadCorrection { row, value: *v });
         }
@@ -76,8 +79,12 @@ impl TableModel {
     /// The interval method used at `level` when none is asked for: conformal (CV+) when the
     /// file stores its calibration and it has enough scores for `level`
     /// ([`crate::conformal::ConformalInfo::serves`]: 19 at 95 %), else the delta method when it stores the hybrid's
-    /// uncertainty, else none.
+    /// uncertainty, else none (and none for constants per level, `correction_per`).
     pub fn default_interval_method(&self, level: f64) -> Option<IntervalMethod> {
+        if self.correction_per.is_some() {
+            // one set of constants is what both methods assume (intervals_with says so)
+            return None;
+        }
         crate::intervals::default_method(
             self.conformal.as_ref(),
             self.hybrid.uncertainty.is_some(),
@@ -127,6 +134,15 @@ impl TableModel {
         method: IntervalMethod,
     ) -> Result<Vec<(f64, f64)>, HybridError> {
         crate::intervals::check_level(level)?;
+        if let Some(cp) = &self.correction_per {
+            return Err(HybridError::InvalidConfig(format!(
+                "prediction intervals are not built for a correction with constants per level \
+                 of `{}` (--correction-per): the conformal calibration and the delta method \
+                 both assume one set of constants; predict without --interval, or refit \
+                 without --correction-per",
+                cp.column
+            )));
+        }
         let phys = self.physics_program()?;
         let c = combine(&phys, self.correction.fitted()?, self.correction.kind);
         if method != IntervalMethod::Delta {
