@@ -211,6 +211,20 @@ fn compare_refuses_one_test_row_and_warns_on_repeated_rows() {
         "{}",
         stderr(&o)
     );
+    // the models of the contract, gradient boosting among them (issue 48)
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let names: Vec<&str> = doc["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|m| m["name"].as_str())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "linear", "lasso_cv", "tree_5", "tree_6", "tree_8", "forest", "boosting", "symbolic"
+        ]
+    );
 }
 
 #[test]
