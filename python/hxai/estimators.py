@@ -372,17 +372,22 @@ def _per_class_spec(spec):
     return column, params
 
 
-def _level_cells(X, column):
-    """``X`` without ``column`` (a DataFrame's), and the column's cells as text (an empty
-    cell or NaN as ``""``, which the engine refuses naming the row)."""
-    if not hasattr(X, "columns") or column not in list(X.columns):
-        raise ValueError(
-            f"the physics has constants per level of `{column}`: give X as a DataFrame with "
-            "that column (its levels as text or numbers)"
-        )
-    col = X[column]
-    cells = ["" if pd.isna(v) else str(v).strip() for v in col.tolist()]
-    return X.drop(columns=[column]), cells
+def _level_cells(X, columns):
+    """``X`` without the level ``columns`` (a DataFrame's), and each column's cells as text
+    ({column: cells}; an empty cell or NaN as ``""``, which the engine refuses naming the
+    row)."""
+    if not columns:
+        return X, {}
+    for column in columns:
+        if not hasattr(X, "columns") or column not in list(X.columns):
+            raise ValueError(
+                f"the model has constants per level of `{column}`: give X as a DataFrame with "
+                "that column (its levels as text or numbers)"
+            )
+    cells = {
+        c: ["" if pd.isna(v) else str(v).strip() for v in X[c].tolist()] for c in columns
+    }
+    return X.drop(columns=list(columns)), cells
 
 
 def _missing_predict(est, X, names):
@@ -653,7 +658,10 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     --calibrate-per``: the physics parameters ``P1``, ``P2`` are fitted once per level of the
     column ``COL`` of ``X`` (a DataFrame; the levels as text or numbers), ``physics_parameters_``
     then holds ``P1[level]``; the column is not a feature of the correction, and ``predict``
-    needs it too, refusing a level the fit never saw.
+    needs it too, refusing a level the fit never saw. ``correction_per="COL"``, as ``hxai
+    hybrid fit --correction-per``: the correction's structure is shared and its constants are
+    refitted on each level's rows (the model file's ``correction_per``); ``predict`` needs the
+    column, and ``predict_interval`` is refused for such a model.
 
     ``n_jobs`` is the number of threads of the fit, as on :class:`SymbolicRegressor`
     (``None``, the default: every core; ``-1``: every core in a pool of its own; a positive
@@ -705,12 +713,14 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         stability_runs=0,
         missing="refuse",
         calibrate_per=None,
+        correction_per=None,
         n_jobs=None,
     ):
         self.conformal_folds = conformal_folds
         self.stability_runs = stability_runs
         self.missing = missing
         self.calibrate_per = calibrate_per
+        self.correction_per = correction_per
         self.physics = physics
         self.calibrate = calibrate
         self.init = init
@@ -745,17 +755,27 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         n_jobs = _n_jobs(self)
         X, y, dropped = _target_gaps(self, X, y)
         per_class = _per_class_spec(self.calibrate_per)
-        cells = None
+        if self.correction_per is not None and (
+            not isinstance(self.correction_per, str) or not self.correction_per.strip()
+        ):
+            raise ValueError(
+                f"correction_per={self.correction_per!r}: give the name of the text column "
+                "whose levels get their own correction constants"
+            )
+        level_columns = []
         if per_class is not None:
-            X, cells = _level_cells(X, per_class[0])
-            if _missing_policy(self) == "drop" and np.isnan(
-                np.asarray(X, dtype=np.float64)
-            ).any():
-                raise ValueError(
-                    "calibrate_per with missing='drop' and empty cells in X is not supported: "
-                    "drop the rows with NaN first (the level column must keep its rows)"
-                )
-        self.calibrate_per_column_ = None if per_class is None else per_class[0]
+            level_columns.append(per_class[0])
+        if self.correction_per is not None and self.correction_per.strip() not in level_columns:
+            level_columns.append(self.correction_per.strip())
+        X, cells = _level_cells(X, level_columns)
+        if level_columns and _missing_policy(self) == "drop" and np.isnan(
+            np.asarray(X, dtype=np.float64)
+        ).any():
+            raise ValueError(
+                "calibrate_per or correction_per with missing='drop' and empty cells in X is "
+                "not supported: drop the rows with NaN first (the level column must keep its rows)"
+            )
+        self.level_columns_ = level_columns
         y_in = y
         X, y = validate_data(
             self, X, y, dtype=np.float64, y_numeric=True, ensure_all_finite=False
@@ -785,8 +805,11 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             settings["calibrate_per"] = {
                 "column": per_class[0],
                 "parameters": per_class[1],
-                "cells": cells,
+                "cells": cells[per_class[0]],
             }
+        if self.correction_per is not None:
+            column = self.correction_per.strip()
+            settings["correction_per"] = {"column": column, "cells": cells[column]}
         text = _hxai.table_fit(
             names + [target], columns_of(X) + [to_bytes(y, "y")], json.dumps(settings), n_jobs
         )
@@ -815,12 +838,12 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         return self
 
     def _levels(self, X):
-        """``X`` without the level column of ``calibrate_per``, and that column's cells
-        (``None`` for a model without per-level constants)."""
-        column = getattr(self, "calibrate_per_column_", None)
-        if column is None:
+        """``X`` without the level columns of ``calibrate_per`` and ``correction_per``, and
+        their cells ({column: cells}; ``None`` for a model without per-level constants)."""
+        columns = getattr(self, "level_columns_", None) or []
+        if not columns:
             return X, None
-        return _level_cells(X, column)
+        return _level_cells(X, columns)
 
     def _parts(self, X):
         check_is_fitted(self, "model_json_")

@@ -48,6 +48,17 @@ struct ProcessSettings {
     /// `calibrate_per`: the physics parameters fitted once per level of a text column.
     #[serde(default)]
     calibrate_per: Option<PerClassSettings>,
+    /// `correction_per`: the correction's constants refitted per level of a text column.
+    #[serde(default)]
+    correction_per: Option<CorrectionPerSettings>,
+}
+
+/// The estimator's `correction_per` (`--correction-per COL`): the column and its cells.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CorrectionPerSettings {
+    column: String,
+    cells: Vec<String>,
 }
 
 /// The estimator's `calibrate_per` (`--calibrate-per COL=P1,P2`): the column, the
@@ -60,27 +71,31 @@ struct PerClassSettings {
     cells: Vec<String>,
 }
 
-/// Appends the level indicators of a model with per-class constants to `table`, from the
-/// cells of its text column (`levels`); refuses levels for a model without, or none for a
-/// model with them.
+/// Appends the level indicators of a model with per-level constants (of the physics,
+/// `per_class`, or of the correction, `correction_per`) to `table`, from the cells of each
+/// text column (`levels`: column -> cells); refuses a column the model needs and lacks.
 fn with_levels(
     model: &TableModel,
     table: &mut hxai_symreg::Table,
-    levels: Option<Vec<String>>,
+    levels: Option<BTreeMap<String, Vec<String>>>,
 ) -> PyResult<()> {
-    match (&model.per_class, levels) {
-        (Some(pc), Some(cells)) => {
-            hxai_hybrid::tables::per_class::add_indicators(pc, table, &cells).map_err(err)
-        }
-        (Some(pc), None) => Err(pyo3::exceptions::PyValueError::new_err(format!(
-            "the model's physics has constants per level of `{}`: X needs that column",
-            pc.column
-        ))),
-        (None, Some(_)) => Err(pyo3::exceptions::PyValueError::new_err(
-            "levels were given but the model has no per-level constants",
-        )),
-        (None, None) => Ok(()),
+    let levels = levels.unwrap_or_default();
+    let cells_of = |column: &str, what: &str| {
+        levels.get(column).ok_or_else(|| {
+            pyo3::exceptions::PyValueError::new_err(format!(
+                "the model's {what} has constants per level of `{column}`: X needs that column"
+            ))
+        })
+    };
+    if let Some(cp) = &model.correction_per {
+        let cells = cells_of(&cp.column, "correction")?;
+        hxai_hybrid::tables::correction_per::add_indicators(cp, table, cells).map_err(err)?;
     }
+    if let Some(pc) = &model.per_class {
+        let cells = cells_of(&pc.column, "physics")?;
+        hxai_hybrid::tables::per_class::add_indicators(pc, table, cells).map_err(err)?;
+    }
+    Ok(())
 }
 
 fn default_conformal_folds() -> usize {
@@ -130,6 +145,10 @@ pub(crate) fn table_fit(
         ),
         None => None,
     };
+    if let Some(cp) = &s.correction_per {
+        hxai_hybrid::tables::correction_per::expand(&mut cfg, &mut table, &cp.column, &cp.cells)
+            .map_err(err)?;
+    }
     let split = hxai_eval::Split {
         train: (0..table.n_rows()).collect(),
         test: Vec::new(),
@@ -149,7 +168,8 @@ pub(crate) fn table_fit(
 }
 
 /// `table_predict(model_json, names, columns, levels=None)` -> `(physics, correction,
-/// hybrid)`; `levels`: the cells of the text column of a model with per-level constants.
+/// hybrid)`; `levels`: {column: cells} of the text columns of a model with per-level
+/// constants.
 #[pyfunction]
 #[pyo3(signature = (model_json, names, columns, levels=None))]
 #[allow(clippy::type_complexity)]
@@ -158,7 +178,7 @@ pub(crate) fn table_predict<'py>(
     model_json: &str,
     names: Vec<String>,
     columns: Vec<Bound<'py, PyBytes>>,
-    levels: Option<Vec<String>>,
+    levels: Option<BTreeMap<String, Vec<String>>>,
 ) -> PyResult<(
     Bound<'py, PyBytes>,
     Bound<'py, PyBytes>,
@@ -189,7 +209,7 @@ pub(crate) fn table_intervals<'py>(
     columns: Vec<Bound<'py, PyBytes>>,
     level: f64,
     method: Option<&str>,
-    levels: Option<Vec<String>>,
+    levels: Option<BTreeMap<String, Vec<String>>>,
 ) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>, String)> {
     let model = TableModel::from_json(model_json).map_err(err)?;
     let default = model

@@ -459,3 +459,33 @@ def test_calibrate_per_gives_one_line_per_level_as_r_lm():
         est.predict(X[["temp"]])
     with pytest.raises(ValueError, match="COLUMN=P1,P2"):
         HybridRegressor("a + b*temp", calibrate_per="insul").fit(X, y)
+
+
+def test_correction_per_refits_the_constants_per_batch():
+    """``correction_per`` (issue 48): on ``y = 2*x + c[batch]*z`` with three slopes over three
+    batches in words, the per-batch constants follow each batch (training RMSE far below the
+    shared correction's), the model file holds ``correction_per``, ``predict`` refuses a
+    batch the fit never saw and ``predict_interval`` says why it is not built."""
+    rng = np.random.default_rng(3)
+    n = 240
+    batch = np.array(["alpha", "beta", "gamma"])[np.arange(n) % 3]
+    x = rng.uniform(1, 5, n)
+    z = rng.uniform(0.5, 3, n)
+    slope = np.select([batch == "alpha", batch == "beta"], [1.0, 2.5], 4.0)
+    y = pd.Series(2 * x + slope * z, name="y")
+    X = pd.DataFrame({"batch": batch, "x": x, "z": z})
+    shared = HybridRegressor("k*x", calibrate=["k"], **FAST).fit(X[["x", "z"]], y)
+    per = HybridRegressor("k*x", calibrate=["k"], correction_per="batch", **FAST).fit(X, y)
+    doc = json.loads(per.model_json_)
+    assert doc["correction_per"]["levels"] == ["alpha", "beta", "gamma"]
+
+    def rmse(p):
+        return float(np.sqrt(np.mean((p - y.to_numpy()) ** 2)))
+
+    assert rmse(per.predict(X)) < 0.5 * rmse(shared.predict(X[["x", "z"]]))
+    with pytest.raises(ValueError, match="not fitted on"):
+        per.predict(pd.DataFrame({"batch": ["delta"], "x": [2.0], "z": [1.0]}))
+    with pytest.raises(ValueError, match="correction-per"):
+        per.predict_interval(X)
+    with pytest.raises(ValueError, match="name of the text column"):
+        HybridRegressor("k*x", calibrate=["k"], correction_per=3).fit(X, y)
