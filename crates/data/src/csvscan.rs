@@ -459,8 +459,17 @@ mod fuzz {
     use super::*;
     use proptest::prelude::*;
 
+    /// Cases of each property: 512 in every test run, `HXAI_FUZZ_CASES` for a long run
+    /// (docs/bad-input.md).
+    fn cases() -> u32 {
+        std::env::var("HXAI_FUZZ_CASES")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(512)
+    }
+
     proptest! {
-        #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+        #![proptest_config(ProptestConfig { cases: cases(), ..ProptestConfig::default() })]
 
         #[test]
         fn any_text_is_normalised_without_a_panic(

@@ -382,8 +382,17 @@ fn samples_table_columns_and_missing_truth() -> Result<(), Box<dyn std::error::E
     Ok(())
 }
 
+/// Cases of the fuzz properties: 256 in every test run, `HXAI_FUZZ_CASES` for a long run
+/// (docs/bad-input.md).
+fn fuzz_cases() -> u32 {
+    std::env::var("HXAI_FUZZ_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(256)
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: fuzz_cases(), ..ProptestConfig::default() })]
 
     /// Bounded fuzzing of the infix parser and the table-model loader (issue 52 item 7):
     /// arbitrary text is refused or accepted, never a panic.
