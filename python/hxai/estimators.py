@@ -877,6 +877,51 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.interval_method_ = used
         return np.column_stack([from_bytes(lo), from_bytes(hi)])
 
+    def _repr_html_(self):
+        """A compact card in a notebook: the hybrid as MathML with its text, the calibrated
+        parameters with their 95 % intervals, the scores (unfitted: the parameters)."""
+        if not hasattr(self, "model_json_"):
+            return None
+        return _hxai.table_card(self.model_json_)
+
+    def report(self, path, X=None, y=None, compare=None):
+        """Writes the HTML page of ``hxai report`` for the fitted model to ``path`` (through a
+        temporary file and a rename, never over an existing file that is not HTML): with
+        ``X`` and ``y``, the correction's figures drawn on those rows; ``compare``, the JSON
+        text (or dict) of ``hxai hybrid compare --json``. Returns the path."""
+        import os
+        import tempfile
+
+        check_is_fitted(self, "model_json_")
+        names = columns = levels = None
+        if X is not None:
+            if y is None:
+                raise ValueError("report: give y with X (the figures compare the model with it)")
+            X, levels = self._levels(X)
+            X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
+            names = _names(self, X.shape[1])
+            X = _missing_predict(self, X, names)
+            yv = np.asarray(y, dtype=np.float64).ravel()
+            names = names + [self.target_]
+            columns = columns_of(X) + [to_bytes(yv, "y")]
+        if isinstance(compare, dict):
+            compare = json.dumps(compare)
+        html = _hxai.table_report(self.model_json_, names, columns, levels, compare)
+        path = os.fspath(path)
+        if os.path.exists(path) and not path.lower().endswith((".html", ".htm")):
+            raise ValueError(f"{path}: exists and is not an .html file; not written over")
+        folder = os.path.dirname(os.path.abspath(path))
+        fd, tmp = tempfile.mkstemp(prefix=".hxai-report-", suffix=".tmp", dir=folder)
+        try:
+            with os.fdopen(fd, "w", encoding="utf-8") as f:
+                f.write(html)
+            os.replace(tmp, path)
+        except BaseException:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            raise
+        return path
+
     def predict_parts(self, X):
         """A DataFrame with the columns physics, correction and hybrid."""
         p, c, h = self._parts(X)

@@ -228,3 +228,59 @@ pub(crate) fn table_intervals<'py>(
         method.name().to_string(),
     ))
 }
+
+/// `table_report(model_json, names=None, columns=None, levels=None, compare_json=None,
+/// data_name=None)` -> the HTML page of `hxai report` for the model; with a table (the
+/// model's columns and its target), the correction's figures drawn on it.
+#[pyfunction]
+#[pyo3(signature = (model_json, names=None, columns=None, levels=None, compare_json=None, data_name=None))]
+pub(crate) fn table_report(
+    model_json: &str,
+    names: Option<Vec<String>>,
+    columns: Option<Vec<Bound<'_, PyBytes>>>,
+    levels: Option<BTreeMap<String, Vec<String>>>,
+    compare_json: Option<&str>,
+    data_name: Option<String>,
+) -> PyResult<String> {
+    let model = TableModel::from_json(model_json).map_err(err)?;
+    let compare: Option<Value> = compare_json
+        .map(|t| parse_json(t, "comparison"))
+        .transpose()?;
+    let (pictures, rows) = match (names, columns) {
+        (Some(n), Some(c)) => {
+            let mut table = table_of(n, &c)?;
+            with_levels(&model, &mut table, levels)?;
+            let rows = table.n_rows();
+            let label = format!(
+                "δ ({} correction of {})",
+                model.correction.kind.name(),
+                model.target
+            );
+            let e = model
+                .explain(Some(&table), hxai_hybrid::DEFAULT_INTERVAL, None)
+                .map_err(err)?;
+            let p = hxai_plot::explain::pictures(&e, &label, "")
+                .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+            (Some(p), Some(rows))
+        }
+        _ => (None, None),
+    };
+    let name = data_name.unwrap_or_else(|| "the DataFrame given".to_string());
+    Ok(hxai_plot::report::table_report(
+        &model,
+        &hxai_plot::report::ReportInputs {
+            pictures: pictures.as_ref(),
+            data: rows.map(|r| (name.as_str(), r)),
+            compare: compare.as_ref(),
+            version: env!("CARGO_PKG_VERSION"),
+        },
+    ))
+}
+
+/// `table_card(model_json)` -> the compact HTML card of a fitted table hybrid (the
+/// estimator's `_repr_html_`).
+#[pyfunction]
+pub(crate) fn table_card(model_json: &str) -> PyResult<String> {
+    let model = TableModel::from_json(model_json).map_err(err)?;
+    Ok(hxai_plot::report::table_card(&model))
+}

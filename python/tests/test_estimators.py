@@ -489,3 +489,30 @@ def test_correction_per_refits_the_constants_per_batch():
         per.predict_interval(X)
     with pytest.raises(ValueError, match="name of the text column"):
         HybridRegressor("k*x", calibrate=["k"], correction_per=3).fit(X, y)
+
+
+def test_report_and_notebook_card(tmp_path):
+    """Issue 50 in Python: ``_repr_html_`` of a fitted ``HybridRegressor`` is a card with the
+    hybrid as MathML; ``report(path, X, y)`` writes ``hxai report``'s self-contained page
+    (``#hybrid-equation`` on the ``<math>``, inline figures, no address, no script) through a
+    rename, and refuses to write over a file that is not HTML."""
+    rng = np.random.default_rng(5)
+    X = pd.DataFrame({"a": rng.uniform(1, 3, 80), "b": rng.uniform(0, 1, 80)})
+    y = pd.Series(2.0 * X["a"] ** 2 + 0.5 * X["b"], name="y")
+    est = HybridRegressor("k*a^2", calibrate=["k"], **FAST)
+    assert est._repr_html_() is None
+    est.fit(X, y)
+    card = est._repr_html_()
+    assert "<math" in card and "k = " in card
+    page = tmp_path / "r.html"
+    assert est.report(page, X, y) == str(page)
+    html = page.read_text(encoding="utf-8")
+    assert 'id="hybrid-equation"' in html and "<svg" in html
+    for bad in ("http:", "https:", "<script"):
+        assert bad not in html
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".hxai-report-")]
+    data = tmp_path / "data.csv"
+    data.write_text("a,b\n1,2\n")
+    with pytest.raises(ValueError, match="not written over"):
+        est.report(data)
+    assert data.read_text() == "a,b\n1,2\n"

@@ -30,7 +30,7 @@ pub struct Args {
 }
 
 /// A model file of either kind.
-enum Model {
+pub(crate) enum Model {
     /// `hxai fit`.
     Tool(Box<hxai_hybrid::records::RecordModel>),
     /// `hxai hybrid fit`.
@@ -39,7 +39,7 @@ enum Model {
 
 /// Reads a model file of `hxai fit` or `hxai hybrid fit` (told apart by the process model's
 /// `target` and `hybrid` keys).
-fn load(path: &Path) -> Result<Model> {
+pub(crate) fn load(path: &Path) -> Result<Model> {
     let text = hxai_data::read_text(path)
         .with_context(|| format!("cannot read the model {}", path.display()))?;
     let is_process = serde_json::from_str::<serde_json::Value>(&text)

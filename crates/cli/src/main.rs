@@ -19,6 +19,7 @@ mod one_record;
 mod predict;
 mod progress;
 mod records;
+mod report;
 mod safety;
 mod simulate;
 mod sr;
@@ -118,6 +119,9 @@ enum Command {
     /// Pictures (SVG) of a fitted model's correction: its response to each feature, predicted
     /// vs true with prediction intervals, and the Pareto front it was chosen from.
     Explain(explain::Args),
+    /// One self-contained HTML page of a table hybrid (model, scores, alternatives,
+    /// figures, warnings, how to refit).
+    Report(report::Args),
     /// Symbolic regression on any CSV table.
     Sr(sr::Args),
     /// Table 3 baselines and the symbolic model on a train/test table pair.
@@ -255,6 +259,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Stream(a) => stream::run(a, g),
         Command::Evaluate(a) => evaluate::run(a, g),
         Command::Explain(a) => explain::run(a, g),
+        Command::Report(a) => report::run(a, g),
         Command::Sr(a) => sr::run(a, g),
         Command::Compare(a) => compare::run(a, g),
         Command::Hybrid(a) => hybrid::run(a, g),

@@ -7,6 +7,7 @@
 #![deny(missing_docs)]
 
 pub mod explain;
+pub mod report;
 
 use plotters::prelude::*;
 

@@ -1458,3 +1458,100 @@ fn correction_constants_per_batch() -> TestResult {
     assert!(!none.exists());
     Ok(())
 }
+
+/// `hxai report` (issue 50): one self-contained HTML page with the hybrid as MathML in
+/// `#hybrid-equation`, every figure an inline `<svg>` with an accessible name, the sections
+/// in the order a reader asks (model, scores, how sure, where it holds, how to reproduce),
+/// the comparison's table when given; no address of any resource, no script; the inputs
+/// are never written over; a model of `hxai fit`'s kind is refused in words.
+#[test]
+fn report_is_one_self_contained_page() -> TestResult {
+    let (dir, csv) = scratch_table("report", 120)?;
+    let model = dir.join("m.json");
+    let mut fit = fit_args(s(&csv), s(&model));
+    fit.extend(["--exclude", "batch"]);
+    ok(&hxai(&fit)?, "fit");
+    let mut cmp = hybrid_args("compare", s(&csv), LAW);
+    cmp.extend([
+        "--calibrate",
+        "k",
+        "--exclude",
+        "batch",
+        "--folds",
+        "3",
+        "--json",
+    ]);
+    cmp.extend_from_slice(&QUICK);
+    let o = hxai(&cmp)?;
+    ok(&o, "compare");
+    let compare = dir.join("compare.json");
+    std::fs::write(&compare, &o.stdout)?;
+    let before = std::fs::read(&model)?;
+
+    let page = dir.join("report.html");
+    let o = hxai(&[
+        "report",
+        "--model",
+        s(&model),
+        "--data",
+        s(&csv),
+        "--compare",
+        s(&compare),
+        "--out",
+        s(&page),
+    ])?;
+    ok(&o, "report");
+    assert_eq!(std::fs::read(&model)?, before, "the model is never written");
+    let html = std::fs::read_to_string(&page)?;
+    assert!(html.starts_with("<!DOCTYPE html>"));
+    let eq = html
+        .find("id=\"hybrid-equation\"")
+        .ok_or("no #hybrid-equation")?;
+    assert!(
+        html[..eq].ends_with("<math display=\"block\" "),
+        "the id is on the <math>"
+    );
+    for bad in ["http:", "https:", "<script", "<link", "@import", "url("] {
+        assert!(!html.contains(bad), "{bad} in the page");
+    }
+    let svgs = html.matches("<svg").count();
+    assert!(svgs >= 2, "{svgs} figures");
+    assert_eq!(html.matches("role=\"img\" aria-label=").count(), svgs);
+    let order: Vec<usize> = [
+        "id=\"model\"",
+        "id=\"scores\"",
+        "id=\"sure\"",
+        "id=\"holds\"",
+        "id=\"reproduce\"",
+    ]
+    .iter()
+    .map(|id| html.find(id).unwrap_or(usize::MAX))
+    .collect();
+    assert!(order.windows(2).all(|w| w[0] < w[1]), "{order:?}");
+    assert!(html.contains("times the best black box"));
+    assert!(html.contains("<th scope=\"col\">test RMSE</th>"));
+    assert!(html.contains("hxai hybrid fit --data"));
+    assert!(html.contains("@media print"));
+
+    // an input as the output is refused; nothing written over it
+    let o = hxai(&["report", "--model", s(&model), "--out", s(&model)])?;
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(std::fs::read(&model)?, before);
+    // a comparison file that is not one
+    let o = hxai(&[
+        "report",
+        "--model",
+        s(&model),
+        "--compare",
+        s(&model),
+        "--out",
+        s(&dir.join("x.html")),
+    ])?;
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        common::stderr(&o).contains("hxai hybrid compare --json"),
+        "{}",
+        common::stderr(&o)
+    );
+    Ok(())
+}

@@ -5,9 +5,11 @@
 //! value-preserving simplification (with the recognition of pi/2 multiples and small
 //! fractions), `print.rs` the text, sympy and LaTeX forms and the name rules.
 
+mod mathml;
 mod print;
 mod simplify;
 
+pub use mathml::xml_escape;
 pub use print::{SYMPY_RESERVED, fmt_number, sanitize, sympy_symbol};
 pub(crate) use simplify::{MAX_HALF_PI_MULTIPLE, named_constants};
 

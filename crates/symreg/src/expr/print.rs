@@ -5,7 +5,7 @@ use super::simplify::{half_pi_multiple, named_constant, small_fraction};
 use crate::ops::Op;
 
 impl Expr {
-    fn prec(&self) -> u8 {
+    pub(super) fn prec(&self) -> u8 {
         match self {
             Expr::Num(v) if *v < 0.0 => 2,
             // pi is an atom; 3*pi/2 is a product
@@ -23,14 +23,14 @@ impl Expr {
 
     /// Whether the printed form starts with a minus sign, so it needs parentheses as the
     /// right operand of a binary operator (`a*(-b)`, `a - (-3)`).
-    fn leads_with_minus(&self) -> bool {
+    pub(super) fn leads_with_minus(&self) -> bool {
         matches!(self, Expr::Neg(_)) || matches!(self, Expr::Num(v) if *v < 0.0)
     }
 
     /// The expression with its leading minus sign taken off (`-0.5*x` gives `0.5*x`), or
     /// `None` if its printed form does not start with one. The printers use it to write
     /// `a - 0.5*x` for `a + (-0.5*x)`, and `a + 0.5*x` for `a - (-0.5*x)`.
-    fn without_minus(&self) -> Option<Expr> {
+    pub(super) fn without_minus(&self) -> Option<Expr> {
         match self {
             Expr::Num(v) if *v < 0.0 => Some(Expr::Num(-v)),
             Expr::Neg(a) => Some((**a).clone()),
@@ -215,7 +215,7 @@ impl Expr {
 /// The sign and right operand a sum or difference `a op b` prints with, and the precedence
 /// the operand needs: a right term that leads with a minus turns the sign (`a - 0.5*x` for
 /// `a + (-0.5*x)`); a subtracted sum needs parentheses, an added one does not.
-fn signed_right(op: Op, b: &Expr) -> (&'static str, std::borrow::Cow<'_, Expr>, u8) {
+pub(super) fn signed_right(op: Op, b: &Expr) -> (&'static str, std::borrow::Cow<'_, Expr>, u8) {
     use std::borrow::Cow;
     match (b.without_minus(), op == Op::Add) {
         (Some(p), true) => ("-", Cow::Owned(p), 2),
