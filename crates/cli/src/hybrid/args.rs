@@ -27,6 +27,10 @@ pub(crate) enum Sub {
     /// Physics, calibrated physics, symbolic regression, physics + forest and the hybrid on
     /// the same splits, with k-fold CV and paired t-tests.
     Compare(CompareArgs),
+    /// The settings of the next runs: where the alternatives the data cannot tell apart
+    /// disagree most (`--goal discriminate`), or where the intervals are widest
+    /// (`--goal coverage`), never outside the space given.
+    Design(super::design::DesignArgs),
 }
 
 /// `--correction` values.

@@ -17,6 +17,7 @@ use print::{print_comparison, print_interval, print_model};
 use std::path::Path;
 
 pub(crate) mod args;
+mod design;
 mod print;
 
 pub use args::Args;
@@ -28,6 +29,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         Sub::Predict(a) => predict(a),
         Sub::Evaluate(a) => evaluate(a),
         Sub::Compare(a) => compare(a),
+        Sub::Design(a) => design::run(a),
     }
 }
 

@@ -1555,3 +1555,105 @@ fn report_is_one_self_contained_page() -> TestResult {
     );
     Ok(())
 }
+
+/// `hxai hybrid design` (issue 49, first part): N runs inside the space (ranges, or a CSV of
+/// feasible settings whose rows are the only candidates), written with `predicted`,
+/// `spread` and `reason`; `--json` lists the runs and each equation's predictions; a space
+/// without a column the model reads, a bad range and `--n 0` are refused with nothing
+/// written.
+#[test]
+fn design_proposes_runs_inside_the_space() -> TestResult {
+    let (dir, csv) = scratch_table("design", 80)?;
+    let model = dir.join("m.json");
+    let mut fit = fit_args(s(&csv), s(&model));
+    fit.extend(["--exclude", "batch,d"]);
+    ok(&hxai(&fit)?, "fit");
+    let next = dir.join("next.csv");
+    let o = hxai(&[
+        "hybrid",
+        "design",
+        "--model",
+        s(&model),
+        "--space",
+        "f=0.05:0.4,r=0.4:1.6:0.4,v=50:400",
+        "--n",
+        "4",
+        "--goal",
+        "coverage",
+        "--out",
+        s(&next),
+        "--json",
+    ])?;
+    ok(&o, "design");
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout)?;
+    assert_eq!(doc["goal"], "coverage");
+    assert_eq!(doc["runs"].as_array().map(Vec::len), Some(4));
+    let text = std::fs::read_to_string(&next)?;
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("f,r,v,predicted,spread,reason"));
+    for l in lines.by_ref().take(4) {
+        let c: Vec<f64> = l
+            .split(',')
+            .take(3)
+            .map(|x| x.parse().unwrap_or(f64::NAN))
+            .collect();
+        assert!((0.05..=0.4).contains(&c[0]), "{l}");
+        assert!(
+            [0.4, 0.8, 1.2, 1.6].iter().any(|r| (r - c[1]).abs() < 1e-9),
+            "{l}"
+        );
+        assert!((50.0..=400.0).contains(&c[2]), "{l}");
+    }
+    // a CSV of feasible settings: only its rows
+    let feasible = dir.join("feasible.csv");
+    std::fs::write(&feasible, "f,r,v\n0.1,0.8,100\n0.2,0.8,200\n0.3,1.2,300\n")?;
+    let next2 = dir.join("next2.csv");
+    ok(
+        &hxai(&[
+            "hybrid",
+            "design",
+            "--model",
+            s(&model),
+            "--space",
+            s(&feasible),
+            "--n",
+            "2",
+            "--out",
+            s(&next2),
+        ])?,
+        "design from a CSV",
+    );
+    let rows: Vec<String> = std::fs::read_to_string(&next2)?
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').take(3).collect::<Vec<_>>().join(","))
+        .collect();
+    let allowed = ["0.1,0.8,100.0", "0.2,0.8,200.0", "0.3,1.2,300.0"];
+    assert!(
+        rows.iter().all(|r| allowed.contains(&r.as_str())),
+        "{rows:?}"
+    );
+    // refused, nothing written
+    let none = dir.join("none.csv");
+    for (space, n) in [
+        ("f=0.05:0.4,r=0.4:1.6", "2"),
+        ("f=0.4:0.05,r=1:2,v=1:2", "2"),
+        ("f=0.05:0.4,r=0.4:1.6,v=50:400", "0"),
+    ] {
+        let o = hxai(&[
+            "hybrid",
+            "design",
+            "--model",
+            s(&model),
+            "--space",
+            space,
+            "--n",
+            n,
+            "--out",
+            s(&none),
+        ])?;
+        assert_eq!(o.status.code(), Some(1), "{space} {n}");
+        assert!(!none.exists());
+    }
+    Ok(())
+}

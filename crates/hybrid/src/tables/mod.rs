@@ -47,6 +47,7 @@ mod columns;
 mod compare;
 mod conformal;
 pub mod correction_per;
+pub mod design;
 mod fit;
 mod model;
 pub mod per_class;

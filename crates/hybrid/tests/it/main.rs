@@ -8,6 +8,7 @@ mod common;
 
 mod conformal;
 mod correction_per;
+mod design;
 mod end_to_end;
 mod json_shape;
 mod per_class;

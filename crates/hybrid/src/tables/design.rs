@@ -1,0 +1,402 @@
+//! What to measure next (`hxai hybrid design`, issue 49, first part): the settings of the
+//! next N runs, chosen inside the space the user can run, to settle what the data cannot.
+//!
+//! Candidates are the rows of a CSV of feasible settings, or 4,000 seeded random points of
+//! the ranges given (`col=lo:hi`, with `:step` snapping a column to its levels, `col=a|b|c`
+//! for a list of values), so a proposal never leaves the space. Two goals:
+//!
+//! - `discriminate` (the default when the model file has alternatives the data cannot tell
+//!   apart from the selected correction): the hybrid is evaluated with the selected
+//!   correction and with each alternative; a run is worth what the equations disagree there
+//!   (`spread`, the largest prediction minus the smallest), so the first pick is the
+//!   candidate of largest spread, and each further pick the one of largest spread times
+//!   `d / (d + 0.1)`, `d` its distance (inputs scaled to the space's ranges) to the runs
+//!   already picked: greedy sequential choice with earlier picks fixed, in the spirit of
+//!   T-optimality (Atkinson and Fedorov 1975) without its weighting by each equation's
+//!   prediction uncertainty (not built yet).
+//! - `coverage`: where the model is least sure and the runs are sparse: the first pick is the
+//!   candidate of widest prediction interval (the model's own method, conformal where it
+//!   stores the calibration), then each further pick the candidate farthest from the runs
+//!   picked (space-filling, maximin), times `0.5 + 0.5 w / w_max` so that among far
+//!   candidates the wider intervals win. A model without intervals uses the distance alone.
+//!
+//! Not built yet: the `precision` goal (D-optimal for the constants), the text levels of a
+//! per-class model, and the weighting of `discriminate` by the equations' uncertainty.
+
+use super::TableModel;
+use super::model::columns_of;
+use super::model::combine_values;
+use crate::HybridError;
+use hxai_symreg::Table;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Candidates drawn from ranges.
+pub const RANDOM_CANDIDATES: usize = 4000;
+
+/// The distance (inputs scaled to the space's ranges) at which a pick's worth is halved.
+const CLOSE: f64 = 0.1;
+
+/// How to choose.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DesignGoal {
+    /// Separate the selected correction from its alternatives.
+    Discriminate,
+    /// Widest intervals, sparsest runs.
+    Coverage,
+}
+
+impl DesignGoal {
+    /// `discriminate` or `coverage`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Discriminate => "discriminate",
+            Self::Coverage => "coverage",
+        }
+    }
+}
+
+/// One column of a space given as ranges.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SpaceColumn {
+    /// `lo:hi`, or `lo:hi:step` (values `lo + k*step` up to `hi`).
+    Range {
+        /// Lowest value.
+        lo: f64,
+        /// Highest value.
+        hi: f64,
+        /// Step of the levels, if any.
+        step: Option<f64>,
+    },
+    /// `a|b|c`: these values only.
+    Levels(Vec<f64>),
+}
+
+/// Parses `col=lo:hi[:step],col=a|b` into `(column, SpaceColumn)` pairs.
+///
+/// # Errors
+/// [`HybridError::InvalidConfig`] naming the part that is not `NAME=LO:HI[:STEP]` or
+/// `NAME=A|B`, a range with `lo >= hi` or a step that is not positive, a level that is not a
+/// number (text levels are not built yet), or a column given twice.
+pub fn parse_space(spec: &str) -> Result<Vec<(String, SpaceColumn)>, HybridError> {
+    let bad = |part: &str, why: &str| {
+        HybridError::InvalidConfig(format!(
+            "--space: {part:?} {why}; write NAME=LO:HI, NAME=LO:HI:STEP or NAME=A|B|C, \
+             comma-separated (or give a CSV of feasible settings)"
+        ))
+    };
+    let mut out: Vec<(String, SpaceColumn)> = Vec::new();
+    for part in spec.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+        let (name, value) = part
+            .split_once('=')
+            .ok_or_else(|| bad(part, "has no `=`"))?;
+        let name = name.trim().trim_matches('`').to_string();
+        if name.is_empty() {
+            return Err(bad(part, "has no column name"));
+        }
+        if out.iter().any(|(n, _)| *n == name) {
+            return Err(bad(part, "names a column twice"));
+        }
+        let num = |s: &str| {
+            s.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| bad(part, &format!("has {:?}, not a number", s.trim())))
+        };
+        let col = if value.contains('|') {
+            let levels = value.split('|').map(num).collect::<Result<Vec<_>, _>>()?;
+            SpaceColumn::Levels(levels)
+        } else {
+            let f: Vec<&str> = value.split(':').collect();
+            let (lo, hi, step) = match f.as_slice() {
+                [lo, hi] => (num(lo)?, num(hi)?, None),
+                [lo, hi, st] => (num(lo)?, num(hi)?, Some(num(st)?)),
+                _ => return Err(bad(part, "is neither a range nor a list of levels")),
+            };
+            if lo >= hi {
+                return Err(bad(part, "has its low end at or above its high end"));
+            }
+            if step.is_some_and(|s| s <= 0.0) {
+                return Err(bad(part, "has a step that is not positive"));
+            }
+            SpaceColumn::Range { lo, hi, step }
+        };
+        out.push((name, col));
+    }
+    if out.is_empty() {
+        return Err(bad(spec, "names no column"));
+    }
+    Ok(out)
+}
+
+/// [`RANDOM_CANDIDATES`] seeded random points of `space` (each column uniform over its
+/// range, snapped to its step, or one of its levels).
+///
+/// # Errors
+/// A table that cannot be built (never, for a parsed space).
+pub fn candidates(space: &[(String, SpaceColumn)], seed: u64) -> Result<Table, HybridError> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(RANDOM_CANDIDATES); space.len()];
+    for _ in 0..RANDOM_CANDIDATES {
+        for (j, (_, c)) in space.iter().enumerate() {
+            let v = match c {
+                SpaceColumn::Range { lo, hi, step: None } => rng.gen_range(*lo..=*hi),
+                SpaceColumn::Range {
+                    lo,
+                    hi,
+                    step: Some(s),
+                } => {
+                    let k = ((hi - lo) / s + 1e-9).floor() as u64;
+                    lo + s * rng.gen_range(0..=k) as f64
+                }
+                SpaceColumn::Levels(l) => l[rng.gen_range(0..l.len())],
+            };
+            cols[j].push(v);
+        }
+    }
+    Ok(Table::new(
+        space.iter().map(|(n, _)| n.clone()).collect(),
+        cols,
+    )?)
+}
+
+/// The runs proposed, best first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Proposal {
+    /// The goal used (`discriminate` falls back to `coverage` without alternatives).
+    pub goal: DesignGoal,
+    /// Candidate rows picked, in order.
+    pub rows: Vec<usize>,
+    /// The selected hybrid's prediction at each pick.
+    pub predicted: Vec<f64>,
+    /// Largest minus smallest prediction of the candidate equations at each pick (0 when the
+    /// model has no alternatives).
+    pub spread: Vec<f64>,
+    /// Why each row was picked.
+    pub reason: Vec<String>,
+    /// The candidate equations (the selected correction first, then each alternative) and
+    /// their predictions at each pick.
+    pub equations: Vec<(String, Vec<f64>)>,
+    /// Candidates considered.
+    pub n_candidates: usize,
+}
+
+/// Picks `n` rows of `candidates` (every input column of `model`) for `goal`.
+///
+/// # Errors
+/// [`HybridError::MissingColumn`] for an input column the candidates lack;
+/// [`HybridError::InvalidConfig`] for `n` 0 or above the candidates, or a model whose
+/// physics or correction cannot be evaluated there.
+pub fn design(
+    model: &TableModel,
+    candidates: &Table,
+    n: usize,
+    goal: DesignGoal,
+) -> Result<Proposal, HybridError> {
+    let m = candidates.n_rows();
+    if n == 0 || n > m {
+        return Err(HybridError::InvalidConfig(format!(
+            "--n {n}: choose between 1 and the {m} candidate settings"
+        )));
+    }
+    let selected = model.predict(candidates)?;
+    let phys = &selected.physics;
+    let mut equations = vec![(
+        model.correction.forms.equation.clone(),
+        selected.hybrid.clone(),
+    )];
+    let alternatives = model
+        .correction
+        .selection
+        .as_ref()
+        .map(|s| s.alternatives.clone())
+        .unwrap_or_default();
+    for a in &alternatives {
+        let Ok(c) = hxai_symreg::infix::compile_text(&a.sympy, &Default::default()) else {
+            continue;
+        };
+        let Ok(cols) = columns_of(candidates, &c.inputs, "input of an alternative") else {
+            continue;
+        };
+        let delta = c.eval_columns(&cols, m);
+        let h: Vec<f64> = phys
+            .iter()
+            .zip(&delta)
+            .map(|(p, d)| combine_values(model.correction.kind, *p, *d))
+            .collect();
+        if h.iter().all(|v| v.is_finite()) {
+            equations.push((a.equation.clone(), h));
+        }
+    }
+    let spread: Vec<f64> = (0..m)
+        .map(|i| {
+            let (lo, hi) = equations
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |a, e| {
+                    (a.0.min(e.1[i]), a.1.max(e.1[i]))
+                });
+            hi - lo
+        })
+        .collect();
+    let goal = if goal == DesignGoal::Discriminate && equations.len() < 2 {
+        DesignGoal::Coverage
+    } else {
+        goal
+    };
+    let width: Option<Vec<f64>> = match goal {
+        DesignGoal::Coverage => model
+            .intervals(candidates, crate::DEFAULT_INTERVAL)
+            .ok()
+            .map(|iv| iv.iter().map(|(lo, hi)| hi - lo).collect()),
+        DesignGoal::Discriminate => None,
+    };
+    let worth: Vec<f64> = match (goal, &width) {
+        (DesignGoal::Discriminate, _) => spread.clone(),
+        (DesignGoal::Coverage, Some(w)) => w.clone(),
+        (DesignGoal::Coverage, None) => vec![1.0; m],
+    };
+    let worth_max = worth
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(0.0_f64, f64::max)
+        .max(f64::MIN_POSITIVE);
+    // inputs scaled to the candidates' ranges
+    let scaled: Vec<Vec<f64>> = candidates
+        .columns()
+        .iter()
+        .map(|c| {
+            let (lo, hi) = c.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, v| {
+                (a.0.min(*v), a.1.max(*v))
+            });
+            let w = if hi > lo { hi - lo } else { 1.0 };
+            c.iter().map(|v| (v - lo) / w).collect()
+        })
+        .collect();
+    let dist = |a: usize, b: usize| -> f64 {
+        scaled
+            .iter()
+            .map(|c| (c[a] - c[b]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let mut nearest = vec![f64::INFINITY; m];
+    let mut rows = Vec::with_capacity(n);
+    let mut reason = Vec::with_capacity(n);
+    for k in 0..n {
+        let score = |i: usize| {
+            if rows.contains(&i) || !worth[i].is_finite() {
+                return f64::NEG_INFINITY;
+            }
+            let d = nearest[i];
+            match goal {
+                DesignGoal::Discriminate => {
+                    worth[i] * if d.is_finite() { d / (d + CLOSE) } else { 1.0 }
+                }
+                // the widest interval first, then space-filling: the farthest from the runs
+                // picked, wider intervals preferred among the far
+                DesignGoal::Coverage if d.is_finite() => d * (0.5 + 0.5 * worth[i] / worth_max),
+                DesignGoal::Coverage => worth[i],
+            }
+        };
+        // the first best candidate (ties to the lowest index: deterministic)
+        let mut best = 0;
+        let mut best_score = f64::NEG_INFINITY;
+        for i in 0..m {
+            let s = score(i);
+            if s > best_score {
+                best = i;
+                best_score = s;
+            }
+        }
+        let why = match goal {
+            DesignGoal::Discriminate => format!(
+                "the {} equations differ by {} here{}",
+                equations.len(),
+                crate::error::num(spread[best]),
+                if k > 0 {
+                    format!(
+                        ", {} (scaled) from the runs picked before",
+                        crate::error::num(nearest[best])
+                    )
+                } else {
+                    String::new()
+                }
+            ),
+            DesignGoal::Coverage => match &width {
+                Some(w) if k == 0 => format!(
+                    "the widest prediction interval of the space ({} wide)",
+                    crate::error::num(w[best])
+                ),
+                Some(w) => format!(
+                    "{} (scaled) from the runs picked before, prediction interval {} wide",
+                    crate::error::num(nearest[best]),
+                    crate::error::num(w[best])
+                ),
+                None if k == 0 => "the first run (the model has no intervals)".into(),
+                None => format!(
+                    "{} (scaled) from the runs picked before (the model has no intervals)",
+                    crate::error::num(nearest[best])
+                ),
+            },
+        };
+        rows.push(best);
+        reason.push(why);
+        for (i, d) in nearest.iter_mut().enumerate() {
+            *d = d.min(dist(i, best));
+        }
+    }
+    Ok(Proposal {
+        goal,
+        predicted: rows.iter().map(|&i| selected.hybrid[i]).collect(),
+        spread: rows.iter().map(|&i| spread[i]).collect(),
+        equations: equations
+            .into_iter()
+            .map(|(e, v)| (e, rows.iter().map(|&i| v[i]).collect()))
+            .collect(),
+        rows,
+        reason,
+        n_candidates: m,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spaces_parse_and_bad_ones_are_named() -> Result<(), HybridError> {
+        let s = parse_space("f=0.05:0.3, v=80:300:20, tool=1|2")?;
+        assert_eq!(s.len(), 3);
+        assert_eq!(
+            s[1].1,
+            SpaceColumn::Range {
+                lo: 80.0,
+                hi: 300.0,
+                step: Some(20.0)
+            }
+        );
+        for bad in ["f", "f=3:1", "f=1:2:0", "tool=A|B", "f=1:2,f=2:3", ""] {
+            assert!(parse_space(bad).is_err(), "{bad}");
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn candidates_stay_inside_the_space() -> Result<(), HybridError> {
+        let s = parse_space("f=0.05:0.3,v=80:300:20,t=1|2")?;
+        let c = candidates(&s, 7)?;
+        assert_eq!(c.n_rows(), RANDOM_CANDIDATES);
+        let col = |n: &str| c.column(n).map(<[f64]>::to_vec).unwrap_or_default();
+        assert!(col("f").iter().all(|v| (0.05..=0.3).contains(v)));
+        assert!(
+            col("v")
+                .iter()
+                .all(|v| ((v - 80.0) / 20.0).fract().abs() < 1e-9 && *v <= 300.0)
+        );
+        assert!(col("t").iter().all(|v| *v == 1.0 || *v == 2.0));
+        assert_eq!(candidates(&s, 7)?, c, "seeded");
+        Ok(())
+    }
+}
