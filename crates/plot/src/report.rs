@@ -560,32 +560,16 @@ pub fn table_report(m: &TableModel, inputs: &ReportInputs<'_>) -> String {
     s.push_str(&sure_section(m, inputs.pictures));
     s.push_str(&holds_section(m, inputs.data));
     let data = inputs.data.map_or("TABLE.csv", |(n, _)| n);
-    let _ = write!(
+    let _ = writeln!(
         s,
         "<section id=\"reproduce\"><h2>How to reproduce</h2><p>Refit (the search settings \
          not stored in the model file at their defaults):</p><pre>{}</pre><p>Written by hxai \
-         {} from a model file of schema version {}.</p></section></body></html>\n",
+         {} from a model file of schema version {}.</p></section></body></html>",
         esc(&refit_command(m, data)),
         esc(inputs.version),
         m.schema_version
     );
     s
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn namespaces_are_taken_off_inline_svg() {
-        let svg = r#"<svg width="10" xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" height="5"><rect/></svg>"#;
-        assert_eq!(
-            strip_namespaces(svg),
-            r#"<svg width="10" height="5"><rect/></svg>"#
-        );
-        assert!(!figure(svg, "a <b>").contains("http"));
-        assert!(figure(svg, "a <b>").contains("aria-label=\"a &lt;b&gt;\""));
-    }
 }
 
 /// A compact card of `m` for a notebook (`_repr_html_` of the Python estimator): the hybrid
@@ -633,4 +617,20 @@ pub fn table_card(m: &TableModel) -> String {
     }
     s.push_str(".</p></div>");
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn namespaces_are_taken_off_inline_svg() {
+        let svg = r#"<svg width="10" xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" height="5"><rect/></svg>"#;
+        assert_eq!(
+            strip_namespaces(svg),
+            r#"<svg width="10" height="5"><rect/></svg>"#
+        );
+        assert!(!figure(svg, "a <b>").contains("http"));
+        assert!(figure(svg, "a <b>").contains("aria-label=\"a &lt;b&gt;\""));
+    }
 }
