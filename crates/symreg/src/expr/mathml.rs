@@ -127,8 +127,23 @@ impl Expr {
                 }
                 Op::Mul => {
                     let (l, r) = (wrap(a, 2), wrap_right(b, 2));
-                    // juxtaposed numbers would read as one: 2 · 3
-                    let times = if r.starts_with("<mn>") {
+                    // juxtaposed numbers would read as one (2 · 3), and a number or a name
+                    // against a word runs together (0.013 · speed): a visible dot there
+                    let lead = |x: &str| {
+                        let mut x = x;
+                        while let Some(rest) = ["<msup>", "<msub>", "<mrow>"]
+                            .iter()
+                            .find_map(|t| x.strip_prefix(t))
+                        {
+                            x = rest;
+                        }
+                        x.to_string()
+                    };
+                    let (rl, ll) = (lead(&r), lead(&l));
+                    let times = if rl.starts_with("<mn>")
+                        || rl.starts_with("<mi mathvariant")
+                        || ll.starts_with("<mi mathvariant")
+                    {
                         "&#xB7;"
                     } else {
                         "&#x2062;"
@@ -190,6 +205,11 @@ mod tests {
         assert_eq!(
             d.to_mathml(4),
             "<mrow><mi>a</mi><mo>&#x2212;</mo><mrow><mn>2</mn><mo>&#x2062;</mo><mi>b</mi></mrow></mrow>"
+        );
+        let speed = Expr::Bin(Op::Mul, Box::new(Expr::Num(0.5)), var("speed"));
+        assert_eq!(
+            speed.to_mathml(4),
+            "<mrow><mn>0.5</mn><mo>&#xB7;</mo><mi mathvariant=\"normal\">speed</mi></mrow>"
         );
         assert_eq!(
             Expr::Var("v<c".into()).to_mathml(4),
