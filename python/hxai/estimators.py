@@ -591,6 +591,28 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             )
         return self
 
+    def _repr_html_(self):
+        """A compact card in a notebook: the equation as MathML with its text, its
+        complexity and constants with standard errors (unfitted: the parameters)."""
+        if not hasattr(self, "model_json_"):
+            return None
+        import html
+
+        rows = "".join(
+            f"<tr><th scope='row'>{html.escape(str(r['name']))}</th><td>{r['value']}</td>"
+            f"<td>{'' if pd.isna(r['std_error']) else format(r['std_error'], '.4g')}</td></tr>"
+            for _, r in self.params_.iterrows()
+        )
+        target = html.escape(getattr(self, "target_name_", None) or "y")
+        return (
+            "<div class='hxai-card'><math display='block'><mrow><mi mathvariant='normal'>"
+            f"{target}</mi><mo>=</mo>{_hxai.sr_mathml(self.model_json_)}</mrow></math>"
+            f"<pre>{html.escape(self.equation_)}</pre><p>complexity {self.complexity_}, "
+            f"{self.evaluations_} models evaluated</p>"
+            "<table><thead><tr><th scope='col'>constant</th><th scope='col'>value</th>"
+            f"<th scope='col'>standard error</th></tr></thead><tbody>{rows}</tbody></table></div>"
+        )
+
     def predict_interval(self, X, level=0.95, method=None):
         """Prediction intervals at ``level`` on the rows of ``X``: an array of shape
         ``(n, 2)``, lower and upper bound. ``method`` is ``"conformal"`` (CV+ over

@@ -198,3 +198,12 @@ pub(crate) fn sr_predict<'py>(
     let pred = py.detach(move || model.predict(&data)).map_err(err)?;
     Ok(to_bytes(py, &pred))
 }
+
+/// `sr_mathml(model_json)`: the equation of a symbolic model as presentation MathML (the
+/// inner content of a `<math>` element; 4 significant digits), for `_repr_html_`.
+#[pyfunction]
+pub(crate) fn sr_mathml(model_json: &str) -> PyResult<String> {
+    let model = hxai_symreg::Model::from_json(model_json)
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    Ok(model.expr().to_mathml(4))
+}

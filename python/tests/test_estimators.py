@@ -516,3 +516,16 @@ def test_report_and_notebook_card(tmp_path):
     with pytest.raises(ValueError, match="not written over"):
         est.report(data)
     assert data.read_text() == "a,b\n1,2\n"
+
+
+def test_symbolic_regressor_card():
+    """``SymbolicRegressor._repr_html_`` (issue 50): the fitted equation as MathML, its text
+    and its constants in a table; nothing before the fit."""
+    rng = np.random.default_rng(2)
+    X = pd.DataFrame({"a": rng.uniform(1, 3, 60)})
+    y = 3.0 * X["a"] ** 2
+    est = SymbolicRegressor(**FAST)
+    assert est._repr_html_() is None
+    est.fit(X, y)
+    card = est._repr_html_()
+    assert "<math" in card and "<mi>a</mi>" in card and "<table>" in card
