@@ -944,6 +944,34 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             raise
         return path
 
+    def suggest_experiments(self, space, n, goal="discriminate", seed=42):
+        """The settings of the next ``n`` runs, as ``hxai hybrid design`` (issue 49): ``space``
+        is ranges as text (``"f=0.05:0.3,r=0.4:1.2:0.4"``, ``:step`` for levels, ``a|b`` for a
+        list) or a DataFrame of feasible settings (its rows are the only candidates); it
+        must give every column the model reads. ``goal`` is ``"discriminate"`` (where the
+        selected correction and its alternatives disagree most; ``coverage`` when there is
+        none) or ``"coverage"`` (widest interval first, then the farthest from the runs
+        picked). Returns a DataFrame: the settings, ``predicted``, ``spread``, ``reason``."""
+        check_is_fitted(self, "model_json_")
+        if getattr(self, "level_columns_", None):
+            raise ValueError("suggest_experiments over text levels is not built yet")
+        if isinstance(space, str):
+            text = _hxai.table_design(self.model_json_, space, None, int(n), goal, int(seed))
+        else:
+            frame = pd.DataFrame(space)
+            cols = [str(c) for c in frame.columns]
+            X = np.asarray(frame, dtype=np.float64)
+            text = _hxai.table_design(
+                self.model_json_, None, (cols, columns_of(X)), int(n), goal, int(seed)
+            )
+        doc = json.loads(text)
+        out = pd.DataFrame(doc["settings"], columns=doc["columns"])
+        out["predicted"] = doc["predicted"]
+        out["spread"] = doc["spread"]
+        out["reason"] = doc["reason"]
+        out.attrs["goal"] = doc["goal"]
+        return out
+
     def predict_parts(self, X):
         """A DataFrame with the columns physics, correction and hybrid."""
         p, c, h = self._parts(X)

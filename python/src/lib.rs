@@ -19,7 +19,7 @@
 //!   the CLI prints after `Error:`); no function panics on user input.
 //!
 //! Entry points: `sr_fit`, `sr_predict`, `sr_intervals`, `sr_mathml`, `table_fit`, `table_predict`,
-//! `table_intervals`, `table_report`, `table_card`, `tool_predict`,
+//! `table_intervals`, `table_report`, `table_card`, `table_design`, `tool_predict`,
 //! `butter`, `sosfilt`, `sosfiltfilt`, `welch`, `fit_sine`, `displacement`,
 //! `features_extract`, `simulate_tool`, `simulate_case`, `defaults`, and the class
 //! `StreamEstimator` (the causal estimator of `hxai_hybrid::records::stream`, which keeps state
@@ -45,7 +45,7 @@ use settings::defaults;
 use signal::{butter, displacement, features_extract, fit_sine, sosfilt, sosfiltfilt, welch};
 use sim::{simulate_case, simulate_tool};
 use symbolic::{sr_fit, sr_intervals, sr_mathml, sr_predict};
-use table::{table_card, table_fit, table_intervals, table_predict, table_report};
+use table::{table_card, table_design, table_fit, table_intervals, table_predict, table_report};
 use tool::{StreamEstimator, tool_predict};
 
 /// The module `hxai._hxai`.
@@ -61,6 +61,7 @@ fn _hxai(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sr_mathml, m)?)?;
     m.add_function(wrap_pyfunction!(table_report, m)?)?;
     m.add_function(wrap_pyfunction!(table_card, m)?)?;
+    m.add_function(wrap_pyfunction!(table_design, m)?)?;
     m.add_function(wrap_pyfunction!(tool_predict, m)?)?;
     m.add_function(wrap_pyfunction!(butter, m)?)?;
     m.add_function(wrap_pyfunction!(sosfilt, m)?)?;

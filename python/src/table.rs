@@ -284,3 +284,52 @@ pub(crate) fn table_card(model_json: &str) -> PyResult<String> {
     let model = TableModel::from_json(model_json).map_err(err)?;
     Ok(hxai_plot::report::table_card(&model))
 }
+
+/// Feasible settings from Python: column names and their columns.
+type Settings<'py> = (Vec<String>, Vec<Bound<'py, PyBytes>>);
+
+/// `table_design(model_json, space, settings, n, goal, seed)` -> JSON text of the proposed
+/// runs: `space` is the ranges text, or `None` with the feasible settings given as
+/// `settings` = `(names, columns)`.
+#[pyfunction]
+pub(crate) fn table_design(
+    py: Python<'_>,
+    model_json: &str,
+    space: Option<&str>,
+    settings: Option<Settings<'_>>,
+    n: usize,
+    goal: &str,
+    seed: u64,
+) -> PyResult<String> {
+    use hxai_hybrid::tables::design::{DesignGoal, candidates, design, parse_space};
+    let model = TableModel::from_json(model_json).map_err(err)?;
+    let goal = match goal {
+        "discriminate" => DesignGoal::Discriminate,
+        "coverage" => DesignGoal::Coverage,
+        other => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "goal `{other}`: use discriminate or coverage (precision is not built yet)"
+            )));
+        }
+    };
+    let table = match (space, settings) {
+        (Some(s), _) => candidates(&parse_space(s).map_err(err)?, seed).map_err(err)?,
+        (None, Some((n, c))) => table_of(n, &c)?,
+        (None, None) => {
+            return Err(pyo3::exceptions::PyValueError::new_err(
+                "space: give ranges as text ('col=lo:hi,...') or a DataFrame of feasible settings",
+            ));
+        }
+    };
+    let p = py.detach(|| design(&model, &table, n, goal)).map_err(err)?;
+    let doc = serde_json::json!({
+        "goal": p.goal.name(),
+        "columns": table.names(),
+        "settings": p.rows.iter().map(|&i| table.columns().iter().map(|c| c[i]).collect::<Vec<f64>>()).collect::<Vec<_>>(),
+        "predicted": p.predicted,
+        "spread": p.spread,
+        "reason": p.reason,
+        "n_candidates": p.n_candidates,
+    });
+    Ok(doc.to_string())
+}

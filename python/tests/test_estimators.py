@@ -529,3 +529,23 @@ def test_symbolic_regressor_card():
     est.fit(X, y)
     card = est._repr_html_()
     assert "<math" in card and "<mi>a</mi>" in card and "<table>" in card
+
+
+def test_suggest_experiments_stays_in_the_space():
+    """``HybridRegressor.suggest_experiments`` (issue 49): runs inside ranges, or among the
+    rows of a DataFrame of feasible settings; the same as ``hxai hybrid design``'s library."""
+    rng = np.random.default_rng(4)
+    X = pd.DataFrame({"a": rng.uniform(1, 3, 60), "b": rng.uniform(0, 1, 60)})
+    y = pd.Series(2.0 * X["a"] + 0.5 * X["b"], name="y")
+    est = HybridRegressor("k*a", calibrate=["k"], **FAST).fit(X, y)
+    runs = est.suggest_experiments("a=0:5,b=0:1:0.5", 3, goal="coverage")
+    assert list(runs.columns) == ["a", "b", "predicted", "spread", "reason"]
+    assert len(runs) == 3 and runs["a"].between(0, 5).all()
+    assert set(runs["b"]).issubset({0.0, 0.5, 1.0})
+    feasible = pd.DataFrame({"a": [1.0, 2.0, 4.0], "b": [0.0, 0.5, 1.0]})
+    runs = est.suggest_experiments(feasible, 2)
+    assert all(((feasible == row[["a", "b"]]).all(axis=1)).any() for _, row in runs.iterrows())
+    with pytest.raises(ValueError, match="precision is not built"):
+        est.suggest_experiments("a=0:5,b=0:1", 2, goal="precision")
+    with pytest.raises(ValueError, match="`b`|b"):
+        est.suggest_experiments("a=0:5", 2)
