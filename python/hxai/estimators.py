@@ -554,15 +554,12 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         units, target_units = _units(self.units, self.target_units, names)
         doc = json.loads(
             _hxai.sr_fit(
-                names,
-                columns_of(X),
-                to_bytes(y, "y"),
+                (names, columns_of(X), to_bytes(y, "y")),
                 settings,
                 _n_jobs(self),
                 folds,
                 runs,
-                units,
-                target_units,
+                (units, target_units),
             )
         )
         best = doc["best"]
@@ -627,11 +624,8 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         names = _names(self, X.shape[1])
         X = _missing_predict(self, X, names)
         lo, hi, used = _hxai.sr_intervals(
-            self.model_json_,
-            self.uncertainty_json_,
-            self.conformal_json_,
-            names,
-            columns_of(X),
+            (self.model_json_, self.uncertainty_json_, self.conformal_json_),
+            (names, columns_of(X)),
             _level(level),
             method,
         )

@@ -21,7 +21,13 @@ struct FitDocument {
     conformal_error: Option<String>,
 }
 
-/// `sr_fit(names, columns, y, search_json, n_jobs=None, conformal_folds=5)`: symbolic
+/// The table `sr_fit` searches: column names, their columns and the target's bytes.
+type FitData<'py> = (Vec<String>, Vec<Bound<'py, PyBytes>>, Bound<'py, PyBytes>);
+
+/// Units of the columns and of the target (`hxai sr --units`), each optional.
+type UnitsArg = (Option<Vec<(String, String)>>, Option<String>);
+
+/// `sr_fit((names, columns, y), search_json, n_jobs=None, conformal_folds=5)`: symbolic
 /// regression of `y` on the columns with the search settings `search_json` (a JSON object
 /// over `SearchConfig`'s defaults), on the threads of `n_jobs` ([`par_of`]). Returns
 /// JSON `{best, pareto: [...], selection, evaluations, duplicate_structures, seconds,
@@ -35,21 +41,22 @@ struct FitDocument {
 /// rerun on that many bootstrap resamples, [`hxai_symreg::stability()`]) and the selection's
 /// shares over them. `units` (pairs of column and unit) with `target_unit` searches on the
 /// dimensionless groups ([`hxai_symreg::units`]) and adds `dimensional_groups`.
+///
+/// Python passes `data` as `(names, columns, y)` and `units` as `(units, target_unit)`.
 #[pyfunction]
-#[pyo3(signature = (names, columns, y, search_json, n_jobs=None, conformal_folds=DEFAULT_CONFORMAL_FOLDS, stability_runs=0, units=None, target_unit=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (data, search_json, n_jobs=None, conformal_folds=DEFAULT_CONFORMAL_FOLDS, stability_runs=0, units=(None, None)))]
 pub(crate) fn sr_fit(
     py: Python<'_>,
-    names: Vec<String>,
-    columns: Vec<Bound<'_, PyBytes>>,
-    y: &[u8],
+    data: FitData<'_>,
     search_json: &str,
     n_jobs: Option<i64>,
     conformal_folds: usize,
     stability_runs: usize,
-    units: Option<Vec<(String, String)>>,
-    target_unit: Option<String>,
+    units: UnitsArg,
 ) -> PyResult<String> {
+    let (names, columns, y) = data;
+    let (units, target_unit) = units;
+    let y = y.as_bytes();
     if conformal_folds == 1 {
         return Err(PyValueError::new_err(
             "conformal_folds 1: CV+ needs at least 2 folds (or 0 to fit without conformal intervals)",
@@ -120,23 +127,27 @@ pub(crate) fn sr_fit(
     serde_json::to_string(&doc).map_err(err)
 }
 
-/// `sr_intervals(model_json, uncertainty_json, conformal_json, names, columns, level,
+/// `sr_intervals((model_json, uncertainty_json, conformal_json), (names, columns), level,
 /// method=None)` -> `(lo, hi, method)`: prediction intervals at `level` of a symbolic model
 /// on a table, by `method` (`conformal`, `split` or `delta`; default conformal when
 /// `conformal_json` is not empty, else delta), from the records `sr_fit` returned.
 #[pyfunction]
-#[pyo3(signature = (model_json, uncertainty_json, conformal_json, names, columns, level, method=None))]
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[pyo3(signature = (records, table, level, method=None))]
+#[allow(clippy::type_complexity)]
 pub(crate) fn sr_intervals<'py>(
     py: Python<'py>,
-    model_json: &str,
-    uncertainty_json: &str,
-    conformal_json: &str,
-    names: Vec<String>,
-    columns: Vec<Bound<'py, PyBytes>>,
+    records: (String, String, String),
+    table: (Vec<String>, Vec<Bound<'py, PyBytes>>),
     level: f64,
     method: Option<&str>,
 ) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>, String)> {
+    let (model_json, uncertainty_json, conformal_json) = records;
+    let (model_json, uncertainty_json, conformal_json) = (
+        model_json.as_str(),
+        uncertainty_json.as_str(),
+        conformal_json.as_str(),
+    );
+    let (names, columns) = table;
     if !(level > 0.0 && level < 1.0) {
         return Err(PyValueError::new_err(format!(
             "level {level}: give a probability between 0 and 1, such as 0.95"

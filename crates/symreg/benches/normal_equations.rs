@@ -37,7 +37,17 @@ fn bench(c: &mut Criterion) {
                     let free: Vec<usize> = (0..params.len()).collect();
                     let m = free.len();
                     let (mut jtj, mut jtr) = (vec![0.0; m * m], vec![0.0; m]);
-                    s += ev.normal_equations(p, params, &free, &refs, &y, &mut jtj, &mut jtr);
+                    s += ev.normal_equations(
+                        hxai_symreg::eval::Inputs {
+                            prog: p,
+                            params,
+                            cols: &refs,
+                        },
+                        &free,
+                        &y,
+                        &mut jtj,
+                        &mut jtr,
+                    );
                     s += jtj[m * m - 1];
                 }
                 s

@@ -390,18 +390,14 @@ impl Evaluator {
     /// Accumulates the Gauss-Newton normal equations `J^T J` (lower triangle, row-major,
     /// `free.len()` squared) and `J^T r` for the parameters listed in `free`, with
     /// residual `r = prediction - y`. Returns the mean squared error (`INFINITY` if not finite).
-    #[allow(clippy::too_many_arguments)]
     pub fn normal_equations(
         &mut self,
-        prog: &Program,
-        params: &[f64],
+        inp: Inputs<'_>,
         free: &[usize],
-        cols: &[&[f64]],
         y: &[f64],
         jtj: &mut [f64],
         jtr: &mut [f64],
     ) -> f64 {
-        let inp = Inputs { prog, params, cols };
         let ne = NormalEquations {
             inp,
             free,

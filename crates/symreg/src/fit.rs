@@ -88,7 +88,7 @@ impl Unknowns<'_> {
         let Inputs { prog, params, cols } = inp;
         let groups = match self {
             Unknowns::Free(free) => {
-                return ev.normal_equations(prog, params, free, cols, y, jtj, jtr);
+                return ev.normal_equations(Inputs { prog, params, cols }, free, y, jtj, jtr);
             }
             Unknowns::Tied(groups) => groups,
         };
@@ -101,7 +101,13 @@ impl Unknowns<'_> {
         let mf = flat.len();
         let mut leaf_jtj = vec![0.0; mf * mf];
         let mut leaf_jtr = vec![0.0; mf];
-        let mse = ev.normal_equations(prog, params, &flat, cols, y, &mut leaf_jtj, &mut leaf_jtr);
+        let mse = ev.normal_equations(
+            Inputs { prog, params, cols },
+            &flat,
+            y,
+            &mut leaf_jtj,
+            &mut leaf_jtr,
+        );
         let m = groups.len();
         jtj.fill(0.0);
         jtr.fill(0.0);

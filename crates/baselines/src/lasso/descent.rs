@@ -119,19 +119,24 @@ impl CdState for Gram<'_> {
     }
 }
 
-/// Gap-safe screening: keeps in `active` the coordinates the gap cannot rule out and zeroes
-/// the others (on the first call, also those with a zero column).
-#[allow(clippy::too_many_arguments)]
+/// The coordinates gap-safe screening keeps (`active`, in order) and those it has ruled out.
+struct Screening {
+    active: Vec<usize>,
+    excluded: Vec<bool>,
+}
+
+/// Gap-safe screening: keeps in `sc.active` the coordinates the gap cannot rule out and
+/// zeroes the others (on the first call, also those with a zero column).
 fn screen<S: CdState>(
     s: &mut S,
     w: &mut [f64],
-    active: &mut Vec<usize>,
-    excluded: &mut [bool],
+    sc: &mut Screening,
     alpha: f64,
     (gap, dual_norm): (f64, f64),
     xta: &[f64],
     first: bool,
 ) {
+    let Screening { active, excluded } = sc;
     let radius = (2.0 * if S::GAP_ABS { gap.abs() } else { gap }).sqrt() / alpha;
     active.clear();
     for j in 0..w.len() {
@@ -177,15 +182,17 @@ fn descend<S: CdState>(
     if gap.0 <= gap_tol && (!S::GAP_ABS || gap.0 >= 0.0) {
         return true;
     }
-    let mut active: Vec<usize> = (0..p).collect();
-    let mut excluded = vec![false; p];
+    let mut sc = Screening {
+        active: (0..p).collect(),
+        excluded: vec![false; p],
+    };
     if screening {
-        screen(s, w, &mut active, &mut excluded, alpha, gap, &xta, true);
+        screen(s, w, &mut sc, alpha, gap, &xta, true);
     }
     for n_iter in 0..max_iter {
         let mut w_max = 0.0f64;
         let mut d_w_max = 0.0f64;
-        for &j in &active {
+        for &j in &sc.active {
             let norm2 = s.norm2(j);
             if norm2 == 0.0 {
                 continue;
@@ -209,7 +216,7 @@ fn descend<S: CdState>(
                 return true;
             }
             if screening {
-                screen(s, w, &mut active, &mut excluded, alpha, gap, &xta, false);
+                screen(s, w, &mut sc, alpha, gap, &xta, false);
             }
         }
     }

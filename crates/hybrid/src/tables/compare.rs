@@ -263,8 +263,10 @@ fn predictions_on(
         cfg,
         split,
         &gather(y, &split.train),
-        (tasks.0 + 1, tasks.1),
-        label,
+        super::fit::Task {
+            of: (tasks.0 + 1, tasks.1),
+            label,
+        },
         progress,
     )?;
     let test_table = table.select_rows(&split.test)?;

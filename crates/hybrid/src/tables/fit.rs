@@ -110,20 +110,27 @@ pub fn fit_split(
     fit_inner(SplitJob::single(table, cfg, split, "given"), progress)
 }
 
+/// A search as the progress reports name it: task `of.0` of `of.1`, called `label`.
+pub(crate) struct Task {
+    /// `(this task, tasks in all)`.
+    pub(crate) of: (usize, usize),
+    /// What the task is (`correction (2/11)`, `symbolic (3/11)`).
+    pub(crate) label: String,
+}
+
 /// Symbolic regression of `y` (one value per training row of `split`) on the training rows
-/// of the feature columns, reported as task `task.0` of `task.1` named `label`: those rows'
-/// feature table and the search's result.
-#[allow(clippy::too_many_arguments)]
+/// of the feature columns, reported as `task`: those rows' feature table and the search's
+/// result.
 pub(crate) fn search_training_rows(
     table: &Table,
     res: &Resolved,
     cfg: &TableConfig,
     split: &Split,
     y: &[f64],
-    task: (usize, usize),
-    label: String,
+    task: Task,
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<(Table, hxai_symreg::SearchResult), HybridError> {
+    let Task { of: task, label } = task;
     let ft = table
         .select_columns(&res.features)?
         .select_rows(&split.train)?;
@@ -193,8 +200,15 @@ pub(crate) fn fit_inner(
     };
     let searched = match cfg.form {
         Form::Free => {
-            let (ft, found) =
-                search_training_rows(table, &res, cfg, split, &delta, task, label, progress)?;
+            let (ft, found) = search_training_rows(
+                table,
+                &res,
+                cfg,
+                split,
+                &delta,
+                Task { of: task, label },
+                progress,
+            )?;
             Searched {
                 selection: hxai_symreg::SelectionReport::of(&found, &cfg.search_config()),
                 model: found.best,

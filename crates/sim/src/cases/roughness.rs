@@ -171,7 +171,6 @@ pub const COLUMNS: [&str; 9] = [
 pub const PHYSICS: &str = "1000*feed_mm^2/(32*nose_radius_mm)";
 
 /// The hidden truth of one row, before measurement scatter (µm). `h_min` and `wear` are in mm.
-#[allow(clippy::too_many_arguments)]
 fn true_ra_um(c: &RoughnessConfig, f: f64, r: f64, vc: f64, t: f64, ap: f64, h_min: f64) -> f64 {
     let kinematic = 1000.0 * f * f / (32.0 * r);
     // Brammertz: Rt gains h_min/2 (1 + r h_min / f^2); Ra = Rt / 4, in µm.

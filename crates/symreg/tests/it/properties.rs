@@ -135,10 +135,10 @@ proptest! {
         let (mut jtj_a, mut jtr_a) = (vec![0.0; m * m], vec![0.0; m]);
         let (mut jtj_b, mut jtr_b) = (vec![0.0; m * m], vec![0.0; m]);
         let mse_a = Evaluator::new(&prog)
-            .normal_equations(&prog, &params, &free, &refs, &y, &mut jtj_a, &mut jtr_a);
+            .normal_equations(hxai_symreg::eval::Inputs { prog: &prog, params: &params, cols: &refs }, &free, &y, &mut jtj_a, &mut jtr_a);
         let mse_b = Evaluator::new(&prog)
             .portable()
-            .normal_equations(&prog, &params, &free, &refs, &y, &mut jtj_b, &mut jtr_b);
+            .normal_equations(hxai_symreg::eval::Inputs { prog: &prog, params: &params, cols: &refs }, &free, &y, &mut jtj_b, &mut jtr_b);
         prop_assert_eq!(mse_a.to_bits(), mse_b.to_bits());
         let same = |x: &f64, y: &f64| x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan());
         for (x, y) in jtj_a.iter().zip(&jtj_b).chain(jtr_a.iter().zip(&jtr_b)) {
@@ -222,7 +222,17 @@ fn gradient_matches_finite_differences() {
     let free: Vec<usize> = (0..m).collect();
     let mut jtj = vec![0.0; m * m];
     let mut jtr = vec![0.0; m];
-    ev.normal_equations(&prog, &params, &free, &refs, &y, &mut jtj, &mut jtr);
+    ev.normal_equations(
+        hxai_symreg::eval::Inputs {
+            prog: &prog,
+            params: &params,
+            cols: &refs,
+        },
+        &free,
+        &y,
+        &mut jtj,
+        &mut jtr,
+    );
     // d(mse)/dp = 2/n * J^T r
     for p in 0..m {
         let h = 1e-6;
