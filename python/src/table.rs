@@ -251,15 +251,7 @@ pub(crate) fn table_report(
             let mut table = table_of(n, &c)?;
             with_levels(&model, &mut table, levels)?;
             let rows = table.n_rows();
-            let label = format!(
-                "δ ({} correction of {})",
-                model.correction.kind.name(),
-                model.target
-            );
-            let e = model
-                .explain(Some(&table), hxai_hybrid::DEFAULT_INTERVAL, None)
-                .map_err(err)?;
-            let p = hxai_plot::explain::pictures(&e, &label, "")
+            let p = hxai_plot::report::correction_pictures(&model, &table)
                 .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
             (Some(p), Some(rows))
         }

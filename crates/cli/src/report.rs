@@ -66,18 +66,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             let mut view = crate::hybrid::read_for(path, &model, true)?;
             crate::hybrid::add_levels(&model, &mut view)?;
             let rows = view.table.n_rows();
-            let label = format!(
-                "δ ({} correction of {})",
-                model.correction.kind.name(),
-                model.target
-            );
-            let pictures = model
-                .explain(Some(&view.table), hxai_hybrid::DEFAULT_INTERVAL, None)
-                .map_err(anyhow::Error::from)
-                .and_then(|e| {
-                    hxai_plot::explain::pictures(&e, &label, "").map_err(anyhow::Error::from)
-                });
-            match pictures {
+            match hxai_plot::report::correction_pictures(&model, &view.table) {
                 Ok(p) => (Some(p), Some(rows)),
                 Err(e) => {
                     notes.push(format!("no figures: {e}"));

@@ -542,6 +542,25 @@ pub fn refit_command(m: &TableModel, data: &str) -> String {
     c
 }
 
+/// The correction's pictures (response, predicted vs true, Pareto front) of `m` drawn on
+/// `table` (its input columns and target) at the default interval level and method: the
+/// figures of the page, for `hxai report` and Python's `report` alike.
+///
+/// # Errors
+/// The explanation's (a column missing from `table`) or the drawing's.
+pub fn correction_pictures(
+    m: &TableModel,
+    table: &hxai_symreg::Table,
+) -> Result<Pictures, Box<dyn std::error::Error + Send + Sync>> {
+    let label = format!(
+        "δ ({} correction of {})",
+        m.correction.kind.name(),
+        m.target
+    );
+    let e = m.explain(Some(table), hxai_hybrid::DEFAULT_INTERVAL, None)?;
+    Ok(crate::explain::pictures(&e, &label, "")?)
+}
+
 /// The whole page for the table hybrid `m`.
 pub fn table_report(m: &TableModel, inputs: &ReportInputs<'_>) -> String {
     let mut s = String::from(

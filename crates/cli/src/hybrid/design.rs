@@ -51,10 +51,7 @@ pub(crate) fn run(a: DesignArgs) -> Result<()> {
         inputs.push(crate::safety::input(&space_path, "the space (--space)"));
     }
     crate::safety::check_output(&a.out, &inputs)?;
-    let text = hxai_data::read_text(&a.model)
-        .with_context(|| format!("cannot read the model {}", a.model.display()))?;
-    let model = hxai_hybrid::tables::TableModel::from_json(&text)
-        .with_context(|| format!("cannot load the model {}", a.model.display()))?;
+    let model = super::load_model(&a.model)?;
     anyhow::ensure!(
         model.per_class.is_none() && model.correction_per.is_none(),
         "{}: the model has constants per level of a text column; designing runs over text \

@@ -367,7 +367,7 @@ fn fit(a: FitArgs) -> Result<()> {
     Ok(())
 }
 
-fn load_model(path: &Path) -> Result<TableModel> {
+pub(super) fn load_model(path: &Path) -> Result<TableModel> {
     let text = hxai_data::read_text(path)
         .with_context(|| format!("cannot read the model {}", path.display()))?;
     TableModel::from_json(&text)

@@ -737,18 +737,7 @@ fn interval_methods_are_chosen_and_reported() -> TestResult {
 
 /// `text` with the cells at (data row, column index) emptied.
 fn with_gaps(text: &str, gaps: &[(usize, usize)]) -> String {
-    text.lines()
-        .enumerate()
-        .map(|(i, l)| {
-            let mut cells: Vec<String> = l.split(',').map(str::to_owned).collect();
-            for &(row, col) in gaps {
-                if i == row {
-                    cells[col] = String::new();
-                }
-            }
-            cells.join(",") + "\n"
-        })
-        .collect()
+    with_codes(text, gaps, "")
 }
 
 // Empty cells by the user's choice (issue 48): refused by default with the count and the two

@@ -39,7 +39,7 @@ pub struct CorrectionPer {
 impl CorrectionPer {
     /// The indicator column of `level` (`COL=level`, as [`super::PerClassInfo::indicator`]).
     pub fn indicator(&self, level: &str) -> String {
-        format!("{}={level}", self.column)
+        super::per_class::indicator_name(&self.column, level)
     }
 
     /// The level of each row of `table`, as an index into `levels`, from the indicator
@@ -184,44 +184,21 @@ pub fn expand(
     column: &str,
     cells: &[String],
 ) -> Result<CorrectionPer, HybridError> {
-    if cells.len() != table.n_rows() {
-        return Err(HybridError::InvalidConfig(format!(
-            "--correction-per: column `{column}` has {} cells for {} rows",
-            cells.len(),
-            table.n_rows()
-        )));
-    }
-    if let Some(i) = cells.iter().position(|c| c.trim().is_empty()) {
-        return Err(HybridError::InvalidConfig(format!(
-            "--correction-per {column}: row {} has an empty level name; fill it or drop the row",
-            i + 1
-        )));
-    }
-    let mut levels: Vec<String> = cells.iter().map(|c| c.trim().to_string()).collect();
-    levels.sort();
-    levels.dedup();
-    if levels.len() < 2 {
-        return Err(HybridError::InvalidConfig(format!(
-            "--correction-per {column}: the column has one level ({:?}), so per-level \
-             constants are the shared ones; leave the option out",
-            levels.first().map(String::as_str).unwrap_or("")
-        )));
-    }
+    let cells: Vec<String> = cells.iter().map(|c| c.trim().to_string()).collect();
+    let levels = super::per_class::levels_for_fit(
+        "--correction-per",
+        column,
+        &cells,
+        table.n_rows(),
+        "constants are the shared ones; leave the option out",
+    )?;
+    super::per_class::push_missing_indicators(column, &levels, table, &cells)?;
     let setting = CorrectionPer {
         column: column.to_string(),
         levels,
     };
     for level in &setting.levels {
         let name = setting.indicator(level);
-        if table.column(&name).is_none() {
-            let values = cells
-                .iter()
-                .map(|c| if c.trim() == level { 1.0 } else { 0.0 })
-                .collect();
-            table
-                .push_column(name.clone(), values)
-                .map_err(|e| HybridError::InvalidConfig(e.to_string()))?;
-        }
         if !cfg.exclude.contains(&name) {
             cfg.exclude.push(name.clone());
         }
@@ -251,41 +228,8 @@ pub fn add_indicators(
     table: &mut Table,
     cells: &[String],
 ) -> Result<(), HybridError> {
-    if cells.len() != table.n_rows() {
-        return Err(HybridError::InvalidConfig(format!(
-            "column `{}` has {} cells for {} rows",
-            info.column,
-            cells.len(),
-            table.n_rows()
-        )));
-    }
-    for (i, c) in cells.iter().enumerate() {
-        if !info.levels.iter().any(|l| l == c.trim()) {
-            return Err(HybridError::InvalidConfig(format!(
-                "row {} has `{}` = {:?}, a level the model was not fitted on (it knows {}): \
-                 its correction constants are unknown there",
-                i + 1,
-                info.column,
-                c.trim(),
-                info.levels.join(", ")
-            )));
-        }
-    }
-    let setting = info.setting();
-    for level in &info.levels {
-        let name = setting.indicator(level);
-        if table.column(&name).is_some() {
-            continue;
-        }
-        let values = cells
-            .iter()
-            .map(|c| if c.trim() == level { 1.0 } else { 0.0 })
-            .collect();
-        table
-            .push_column(name, values)
-            .map_err(|e| HybridError::InvalidConfig(e.to_string()))?;
-    }
-    Ok(())
+    let cells: Vec<String> = cells.iter().map(|c| c.trim().to_string()).collect();
+    super::per_class::add_level_indicators(&info.column, &info.levels, "correction", table, &cells)
 }
 
 /// Each level's constants of `model`'s correction, refitted to `delta` (the correction's

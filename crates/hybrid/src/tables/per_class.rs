@@ -35,7 +35,7 @@ pub struct PerClassInfo {
 impl PerClassInfo {
     /// The indicator column of `level`.
     pub fn indicator(&self, level: &str) -> String {
-        format!("{}={level}", self.column)
+        indicator_name(&self.column, level)
     }
 
     /// The parameter `p` at `level` (`p[level]`).
@@ -47,6 +47,113 @@ impl PerClassInfo {
     pub fn indicators(&self) -> Vec<String> {
         self.levels.iter().map(|l| self.indicator(l)).collect()
     }
+}
+
+/// The indicator column of `level` of `column` (`COL=level`: 1 on the level's rows, 0
+/// elsewhere), for the physics' per-level parameters and the correction's alike.
+pub(crate) fn indicator_name(column: &str, level: &str) -> String {
+    format!("{column}={level}")
+}
+
+/// `level`'s indicator values over `cells`.
+fn indicator_values(cells: &[String], level: &str) -> Vec<f64> {
+    cells
+        .iter()
+        .map(|c| if c == level { 1.0 } else { 0.0 })
+        .collect()
+}
+
+/// The sorted levels of `cells` (one per row of a table of `n_rows`) for a fit with
+/// per-level constants given by `flag`; refused with one line naming it: cells of another
+/// length, an empty level name (naming the row), a single level (then `one_level`).
+pub(crate) fn levels_for_fit(
+    flag: &str,
+    column: &str,
+    cells: &[String],
+    n_rows: usize,
+    one_level: &str,
+) -> Result<Vec<String>, HybridError> {
+    if cells.len() != n_rows {
+        return Err(HybridError::InvalidConfig(format!(
+            "{flag}: column `{column}` has {} cells for {n_rows} rows",
+            cells.len()
+        )));
+    }
+    if let Some(i) = cells.iter().position(|c| c.trim().is_empty()) {
+        return Err(HybridError::InvalidConfig(format!(
+            "{flag} {column}: row {} has an empty level name; fill it or drop the row",
+            i + 1
+        )));
+    }
+    let mut levels: Vec<String> = cells.to_vec();
+    levels.sort();
+    levels.dedup();
+    if levels.len() < 2 {
+        return Err(HybridError::InvalidConfig(format!(
+            "{flag} {column}: the column has one level ({:?}), so per-level {one_level}",
+            levels.first().map(String::as_str).unwrap_or("")
+        )));
+    }
+    Ok(levels)
+}
+
+/// For prediction with a model whose `what` (`physics`, `correction`) has constants per
+/// level of `column`: refuses a cell that is empty or not one of `levels` (naming the row),
+/// then appends to `table` the indicator columns it lacks.
+///
+/// # Errors
+/// [`HybridError::InvalidConfig`] as described, or cells of another length.
+pub(crate) fn add_level_indicators(
+    column: &str,
+    levels: &[String],
+    what: &str,
+    table: &mut Table,
+    cells: &[String],
+) -> Result<(), HybridError> {
+    if cells.len() != table.n_rows() {
+        return Err(HybridError::InvalidConfig(format!(
+            "column `{column}` has {} cells for {} rows",
+            cells.len(),
+            table.n_rows()
+        )));
+    }
+    for (i, c) in cells.iter().enumerate() {
+        if c.trim().is_empty() {
+            return Err(HybridError::InvalidConfig(format!(
+                "row {} has an empty `{column}`: the model's {what} has constants per level of \
+                 that column ({}), so every row needs one",
+                i + 1,
+                levels.join(", ")
+            )));
+        }
+        if !levels.contains(c) {
+            return Err(HybridError::InvalidConfig(format!(
+                "row {} has `{column}` = {c:?}, a level the model was not fitted on (it knows \
+                 {}): its {what} constants are unknown there",
+                i + 1,
+                levels.join(", ")
+            )));
+        }
+    }
+    push_missing_indicators(column, levels, table, cells)
+}
+
+/// Appends to `table` the indicator columns of `levels` of `column` it lacks.
+pub(crate) fn push_missing_indicators(
+    column: &str,
+    levels: &[String],
+    table: &mut Table,
+    cells: &[String],
+) -> Result<(), HybridError> {
+    for level in levels {
+        let name = indicator_name(column, level);
+        if table.column(&name).is_none() {
+            table
+                .push_column(name, indicator_values(cells, level))
+                .map_err(|e| HybridError::InvalidConfig(e.to_string()))?;
+        }
+    }
+    Ok(())
 }
 
 /// Parses `COL=P1,P2` (the value of `--calibrate-per`) into the column and its parameters.
@@ -98,29 +205,13 @@ pub fn expand(
     cells: &[String],
     params: &[String],
 ) -> Result<PerClassInfo, HybridError> {
-    if cells.len() != table.n_rows() {
-        return Err(HybridError::InvalidConfig(format!(
-            "--calibrate-per: column `{column}` has {} cells for {} rows",
-            cells.len(),
-            table.n_rows()
-        )));
-    }
-    if let Some(i) = cells.iter().position(|c| c.trim().is_empty()) {
-        return Err(HybridError::InvalidConfig(format!(
-            "--calibrate-per {column}: row {} has an empty level name; fill it or drop the row",
-            i + 1
-        )));
-    }
-    let mut levels: Vec<String> = cells.to_vec();
-    levels.sort();
-    levels.dedup();
-    if levels.len() < 2 {
-        return Err(HybridError::InvalidConfig(format!(
-            "--calibrate-per {column}: the column has one level ({:?}), so per-level \
-             parameters are the shared ones; use --calibrate",
-            levels.first().map(String::as_str).unwrap_or("")
-        )));
-    }
+    let levels = levels_for_fit(
+        "--calibrate-per",
+        column,
+        cells,
+        table.n_rows(),
+        "parameters are the shared ones; use --calibrate",
+    )?;
     let parsed =
         hxai_symreg::infix::parse(&cfg.physics).map_err(|source| HybridError::Equation {
             equation: cfg.physics.clone(),
@@ -160,12 +251,8 @@ pub fn expand(
                  of the indicator of level {level:?}; rename that column"
             )));
         }
-        let values = cells
-            .iter()
-            .map(|c| if c == level { 1.0 } else { 0.0 })
-            .collect();
         table
-            .push_column(name, values)
+            .push_column(name, indicator_values(cells, level))
             .map_err(|e| HybridError::InvalidConfig(e.to_string()))?;
     }
     cfg.physics = rewrite(&cfg.physics, &info);
@@ -197,48 +284,7 @@ pub fn add_indicators(
     table: &mut Table,
     cells: &[String],
 ) -> Result<(), HybridError> {
-    if cells.len() != table.n_rows() {
-        return Err(HybridError::InvalidConfig(format!(
-            "column `{}` has {} cells for {} rows",
-            info.column,
-            cells.len(),
-            table.n_rows()
-        )));
-    }
-    for (i, c) in cells.iter().enumerate() {
-        if c.trim().is_empty() {
-            return Err(HybridError::InvalidConfig(format!(
-                "row {} has an empty `{}`: the model's physics has constants per level of \
-                 that column ({}), so every row needs one",
-                i + 1,
-                info.column,
-                info.levels.join(", ")
-            )));
-        }
-        if !info.levels.contains(c) {
-            return Err(HybridError::InvalidConfig(format!(
-                "row {} has `{}` = {c:?}, a level the model was not fitted on (it knows {}): \
-                 its per-level constants are unknown there",
-                i + 1,
-                info.column,
-                info.levels.join(", ")
-            )));
-        }
-    }
-    for level in &info.levels {
-        let name = info.indicator(level);
-        if table.column(&name).is_some() {
-            continue;
-        }
-        let values = cells
-            .iter()
-            .map(|c| if c == level { 1.0 } else { 0.0 })
-            .collect();
-        table
-            .push_column(name, values)
-            .map_err(|e| HybridError::InvalidConfig(e.to_string()))?;
-    }
-    Ok(())
+    add_level_indicators(&info.column, &info.levels, "physics", table, cells)
 }
 
 /// The physics with every per-class parameter `P` (a bare name or backquoted) replaced by
