@@ -66,6 +66,7 @@ _SEARCH_KEYS = (
     "named_constants",
     "separability",
     "power_laws",
+    "error_model",
     "nesting",
     "consensus_runs",
     "skip_equivalent",
@@ -112,6 +113,12 @@ def _search_json(est):
     if start not in _RANDOM_STARTS:
         raise ValueError(f"random_start `{s['random_start']}`: use always or on_failure")
     s["random_start"] = _RANDOM_STARTS[start]
+    em = str(s["error_model"]).lower()
+    if em not in ("auto", "additive", "multiplicative"):
+        raise ValueError(
+            f"error_model `{s['error_model']}`: use auto, additive or multiplicative"
+        )
+    s["error_model"] = em
     oc = s["operator_complexity"]
     if oc is None:
         oc = {}
@@ -485,6 +492,13 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     ``exp(a*log(x))``) and ``sin``/``cos`` only of a sum of inputs; ``"none"`` was the
     default before issue 47 (docs/benchmarks.md, "Laws in small real tables").
 
+    ``error_model="auto"`` (``hxai sr --error-model``) lets the criterion read the scatter
+    of a positive target as additive (one size on every row) or multiplicative (in
+    proportion to the value), whichever is likelier for the best model under each; then a
+    power law over decades (brain against body mass) is judged on every row instead of its
+    largest few. The constants are least-squares fits either way. ``"additive"`` was the
+    rule before; ``"multiplicative"`` forces it (a target that is not positive is refused).
+
     ``n_jobs`` is the number of threads of the search: ``None`` (the default) uses every
     core (the engine's shared thread pool, sized by ``RAYON_NUM_THREADS`` if set), ``-1``
     every core in a pool of its own, a positive int that many threads. It is chosen per
@@ -520,6 +534,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         named_constants=True,
         separability=True,
         power_laws=True,
+        error_model="auto",
         nesting="strict",
         consensus_runs=0,
         skip_equivalent=True,
@@ -719,6 +734,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         named_constants=False,
         separability=False,
         power_laws=False,
+        error_model="additive",
         nesting="readable",
         consensus_runs=0,
         skip_equivalent=True,

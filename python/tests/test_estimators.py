@@ -84,6 +84,10 @@ def test_defaults_are_the_engines():
             if k == "power_laws" and isinstance(est, SymbolicRegressor):
                 # `hxai sr`'s default (on unless --no-power-laws); a correction leaves it off
                 want = True
+            if k == "error_model" and isinstance(est, SymbolicRegressor):
+                # `hxai sr`'s default (`--error-model auto`, checked against its help
+                # below); the engine's and a correction's is additive
+                want = "auto"
             if k == "named_constants" and isinstance(est, HybridRegressor):
                 # a correction does not snap to named irrationals (SearchConfig::paper())
                 want = table[k]
@@ -219,10 +223,17 @@ def test_cli_defaults_match_the_estimator():
     default = text[text.index("[default: ") + 10:text.index("]")]
     assert default == params["criterion"], default
     assert "--no-power-laws" in out and params["power_laws"] is True
+    text = out[out.index("--error-model <"):]
+    default = text[text.index("[default: ") + 10:text.index("]")]
+    assert default == params["error_model"], default
 
 
 def test_bad_input_messages(quadratic):
     X, y = quadratic
+    with pytest.raises(ValueError, match="error_model `relative`: use auto, additive"):
+        SymbolicRegressor(**FAST, error_model="relative").fit(X, y)
+    with pytest.raises(ValueError, match="needs a positive target"):
+        SymbolicRegressor(**FAST, error_model="multiplicative").fit(X, y - y.max())
     bad = X.copy()
     bad.iloc[3, 0] = np.nan
     with pytest.raises(ValueError, match=r"column `a` has 1 empty cell\(s\) \(NaN\).*missing='drop'"):

@@ -156,6 +156,12 @@ pub struct Args {
     /// Folds of `--criterion cv`.
     #[arg(long, default_value_t = 5)]
     pub cv_folds: usize,
+    /// How `mdl`, `bic` and `aic` read the scatter of the target: `auto` (the default)
+    /// compares an additive error with a multiplicative one (in proportion to the value,
+    /// for a positive target) by their likelihoods and uses the likelier; the constants are
+    /// least-squares fits either way.
+    #[arg(long, value_enum, default_value_t = crate::strategy::ErrorModelArg::Auto)]
+    pub error_model: crate::strategy::ErrorModelArg,
     /// Multiplier lambda of the criterion's charge per fitted parameter.
     #[arg(long, default_value_t = 1.0)]
     pub complexity_penalty: f64,
@@ -346,6 +352,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         simplify: !args.no_simplify,
         separability: !args.no_separability,
         power_laws: !args.no_power_laws,
+        error_model: args.error_model.into(),
         nesting: hxai_symreg::Nesting::strict(),
         ..SearchConfig::default()
     };

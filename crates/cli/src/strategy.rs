@@ -56,6 +56,29 @@ impl From<CriterionArg> for Criterion {
     }
 }
 
+/// `--error-model` values: how the criterion reads the scatter of a positive target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ErrorModelArg {
+    /// Whichever of the two below gives the lower criterion (additive unless the target is
+    /// positive on every row).
+    Auto,
+    /// Scatter of one size on every row (least squares).
+    Additive,
+    /// Scatter in proportion to the value (a normal error of `ln y`): a target that spans
+    /// decades is judged on every row, not on its largest few.
+    Multiplicative,
+}
+
+impl From<ErrorModelArg> for hxai_symreg::ErrorModel {
+    fn from(e: ErrorModelArg) -> Self {
+        match e {
+            ErrorModelArg::Auto => Self::Auto,
+            ErrorModelArg::Additive => Self::Additive,
+            ErrorModelArg::Multiplicative => Self::Multiplicative,
+        }
+    }
+}
+
 /// `--random-start` values: whether a new candidate is also fitted from a random start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum RandomStartArg {

@@ -83,8 +83,8 @@ pub use report::{
     SelectionReport,
 };
 pub use search::{
-    Criterion, DEFAULT_OPERATORS, FEW_ROWS, LAW_OPERATORS, PAPER_OPERATORS, Progress, RandomStart,
-    SearchConfig, SearchResult, Strategy, fit_structure, search,
+    Criterion, DEFAULT_OPERATORS, ErrorModel, FEW_ROWS, LAW_OPERATORS, PAPER_OPERATORS, Progress,
+    RandomStart, SearchConfig, SearchResult, Strategy, fit_structure, search,
 };
 pub use stability::{Stability, stability};
 pub use uncertainty::{ParamEstimate, Uncertainty};

@@ -121,6 +121,15 @@ fn bad_input_gives_a_clear_error() -> TestResult {
         (
             vec![
                 "--target".into(),
+                "unused".into(),
+                "--error-model".into(),
+                "multiplicative".into(),
+            ],
+            "needs a positive target, but row 0 is 0",
+        ),
+        (
+            vec![
+                "--target".into(),
                 "y".into(),
                 "--operators".into(),
                 "add,frobnicate".into(),

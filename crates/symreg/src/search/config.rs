@@ -120,6 +120,33 @@ pub enum Criterion {
     Mdl,
 }
 
+/// How the criterion of [`Criterion::Bic`], [`Criterion::Aic`] and [`Criterion::Mdl`]
+/// reads the scatter of a positive target: as an error of fixed size (additive, the
+/// least-squares likelihood) or in proportion to the value (multiplicative: a normal error
+/// of `ln y`, so a power law fitted to a target spanning decades is judged on every row,
+/// not on its largest few). The constants are least-squares fits on the target's scale
+/// either way; only the pick among the fitted models changes.
+///
+/// The two likelihoods are compared as Box and Cox (1964) compare transforms: the
+/// multiplicative error's `-2 ln L` on the scale of `y` is `n ln(g^2 MSE_log)`, `g` the
+/// target's geometric mean and `MSE_log` the mean squared difference of `ln y` and
+/// `ln y_hat` (the Jacobian of `ln`), so it enters the criterion as the loss
+/// `g^2 MSE_log` in place of the MSE.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ErrorModel {
+    /// The least-squares likelihood (every model's and hybrid correction's default).
+    #[default]
+    Additive,
+    /// The multiplicative likelihood; a target that is not positive on every row is
+    /// refused.
+    Multiplicative,
+    /// Whichever of the two gives the lower criterion for the best model under it, where
+    /// the target is positive on every row (additive otherwise): `hxai sr`'s and
+    /// `SymbolicRegressor`'s default.
+    Auto,
+}
+
 /// Where the constants of a new candidate's fit start during the search.
 ///
 /// Every new candidate is first fitted from its canonical start (inputs scaled to unit
@@ -216,6 +243,9 @@ pub struct SearchConfig {
     /// `search::power`). False by default (hybrid corrections have their own `--form
     /// factors`); `hxai sr` and `SymbolicRegressor` turn it on.
     pub power_laws: bool,
+    /// How the criterion reads the target's scatter ([`ErrorModel`]): additive by default,
+    /// [`ErrorModel::Auto`] in `hxai sr` and `SymbolicRegressor`.
+    pub error_model: ErrorModel,
     /// Which operator may appear inside which ([`Nesting`]): none constrained by default,
     /// [`Nesting::readable()`] for hybrid corrections ([`SearchConfig::paper`]),
     /// [`Nesting::strict()`] in `hxai sr` and `SymbolicRegressor`.
@@ -286,6 +316,7 @@ impl Default for SearchConfig {
             named_constants: true,
             separability: false,
             power_laws: false,
+            error_model: ErrorModel::Additive,
             nesting: Nesting::none(),
             consensus_runs: 0,
             skip_equivalent: true,

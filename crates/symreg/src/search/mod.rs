@@ -42,8 +42,8 @@ mod symmetry;
 mod transform;
 
 pub use config::{
-    Criterion, DEFAULT_OPERATORS, FEW_ROWS, LAW_OPERATORS, PAPER_OPERATORS, RandomStart,
-    SearchConfig, Strategy,
+    Criterion, DEFAULT_OPERATORS, ErrorModel, FEW_ROWS, LAW_OPERATORS, PAPER_OPERATORS,
+    RandomStart, SearchConfig, Strategy,
 };
 pub(crate) use run::plain_search;
 pub use run::{Progress, search};

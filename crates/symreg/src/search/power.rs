@@ -16,12 +16,14 @@
 //! for the logarithm, `div` or `inverse` for the pole and the saturation. The power `x^p`
 //! itself is the primitive this setting turns on.
 use super::archive::Fitted;
+use super::config::ErrorModel;
 use super::fitting::Problem;
 use super::separable::refitted;
 use crate::Table;
 use crate::factors::{FactorConfig, Link, Shape, Shapes, fit_factors};
 use crate::nesting::NestingRules;
 use crate::ops::Op;
+use crate::program::{Node, Program};
 
 /// Most folds of the factor form's cross-validation (fewer on small tables: two rows per
 /// fold at least).
@@ -120,7 +122,52 @@ pub(super) fn candidates(problem: &Problem, ops: &[Op], nesting: &NestingRules) 
         }
         out.extend(refitted(problem, fit.model.program.clone(), params));
     }
+    // under a multiplicative (or auto) error model, a positive target's product is also
+    // chosen on `ln y`, where every row weighs alike whatever its size, and then refitted
+    // by least squares like the others
+    let positive = rows.iter().all(|&i| problem.fit_y[i] > 0.0);
+    if problem.cfg.error_model != ErrorModel::Additive && positive && ops.contains(&Op::Mul) {
+        let log_y: Vec<f64> = rows.iter().map(|&i| problem.fit_y[i].ln()).collect();
+        if let Ok(fit) = fit_factors(&table, &log_y, Link::Log, &cfg)
+            && !fit.factors.is_empty()
+            && let Some((program, params)) = unlogged(&fit.model.program, &fit.model.params)
+            && nesting.allows(&program)
+        {
+            out.extend(refitted(problem, program, params));
+        }
+    }
     out
+}
+
+/// The product `C prod_j f_j` of a [`Link::Log`] factor program `log(C * f_1 * ... * f_k)`
+/// (its leading constant `C`, the first product, then the factors, each joined by a
+/// product, under the final `log`), as a program of `y` itself: the factors' product with
+/// `C` as the output scale. `None` for any other form.
+fn unlogged(program: &Program, params: &[f64]) -> Option<(Program, Vec<f64>)> {
+    let nodes = &program.nodes;
+    let n = nodes.len();
+    if n < 4 || nodes[n - 1] != Node::Op(Op::Log) || nodes[0] != Node::Const {
+        return None;
+    }
+    // the product joining `C` to the first factor: the first `Mul` whose left subtree is
+    // the leading constant alone
+    let children = program.children();
+    let join = (1..n - 1).find(|&i| nodes[i] == Node::Op(Op::Mul) && children[i][0] == 0)?;
+    let kept: Vec<Node> = nodes[1..n - 1]
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i + 1 != join)
+        .map(|(_, node)| *node)
+        .collect();
+    // the constants: `C` becomes the output scale, the offset is 0, the factors' follow
+    let c = *params.get(2)?;
+    let mut out = vec![c, 0.0];
+    out.extend_from_slice(params.get(3..)?);
+    let program = Program {
+        nodes: kept,
+        affine: false,
+    };
+    (program.n_params() == out.len()).then_some((program, out))
 }
 
 #[cfg(test)]
@@ -128,6 +175,44 @@ mod tests {
     use super::*;
     use crate::SearchConfig;
     use crate::search::fitting::variance;
+
+    #[test]
+    fn a_log_product_is_read_back_as_the_product_itself() {
+        // y = 2 a^0.5 exp(0.3 b), fitted as log(C prod f) to ln y: the product of the
+        // unlogged program is exp of the log program's output on every row
+        let a: Vec<f64> = (0..40).map(|i| 1.0 + (i * 7 % 40) as f64).collect();
+        let b: Vec<f64> = (0..40).map(|i| (i * 11 % 40) as f64 / 10.0).collect();
+        let ln_y: Vec<f64> = a
+            .iter()
+            .zip(&b)
+            .map(|(a, b)| (2.0 * a.sqrt() * (0.3 * b).exp()).ln())
+            .collect();
+        let data = Table::new(vec!["a".into(), "b".into()], vec![a, b]).expect("table");
+        let fit = fit_factors(&data, &ln_y, Link::Log, &FactorConfig::default()).expect("fit");
+        assert_eq!(fit.factors.len(), 2);
+        let (program, params) =
+            unlogged(&fit.model.program, &fit.model.params).expect("a log product");
+        assert_ne!(program.nodes.last(), Some(&Node::Op(Op::Log)));
+        let product = crate::Model::new(data.names().to_vec(), program, params)
+            .expect("model")
+            .predict(&data)
+            .expect("predict");
+        let logged = fit.model.predict(&data).expect("predict");
+        for (p, l) in product.iter().zip(&logged) {
+            assert!((p.ln() - l).abs() < 1e-12, "{p} vs exp({l})");
+        }
+        // another form is not a log product
+        assert!(
+            unlogged(
+                &Program {
+                    nodes: vec![Node::Var(0)],
+                    affine: false
+                },
+                &[1.0, 0.0]
+            )
+            .is_none()
+        );
+    }
 
     #[test]
     fn a_product_of_powers_is_offered_with_its_exponents() {

@@ -1,7 +1,7 @@
 //! The main loop: each epoch the strategy proposes, new structures are fitted in parallel,
 //! the archive keeps the best per complexity, the strategy learns, progress is reported.
 use super::archive::{Archive, Candidate, Fitted};
-use super::config::SearchConfig;
+use super::config::{ErrorModel, SearchConfig};
 use super::fitting::{Problem, check_target, derive_seed, search_target_variance};
 use super::generate::Tables;
 use super::mutual_information::input_priors;
@@ -104,6 +104,15 @@ fn search_at_depth(
     let ops = cfg.check()?;
     let nesting = cfg.nesting.rules()?;
     check_target(data, target)?;
+    if cfg.error_model == ErrorModel::Multiplicative
+        && let Some(row) = target.iter().position(|&v| v <= 0.0)
+    {
+        return Err(SrError::InvalidConfig(format!(
+            "the multiplicative error model needs a positive target, but row {row} is {}: \
+             use the additive (or auto) error model",
+            hxai_table::format_number(target[row])
+        )));
+    }
     let y_var = search_target_variance(target)?;
     // One generator draws the fitting rows, then every proposal and update, in that order.
     let mut master = ChaCha8Rng::seed_from_u64(cfg.seed);

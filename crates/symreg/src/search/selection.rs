@@ -2,7 +2,7 @@
 //! constants snapped, the Pareto front of the refitted models, and the one model the
 //! criterion picks.
 use super::archive::{Archive, Fitted};
-use super::config::Criterion;
+use super::config::{Criterion, ErrorModel};
 use super::cv::{cross_validate, one_standard_error_pick, within_one_standard_error};
 use super::export::to_model;
 use super::fitting::Problem;
@@ -140,6 +140,12 @@ pub(crate) fn finish(
             m.score += charge * m.complexity as f64;
         }
     }
+    if matches!(
+        problem.cfg.criterion,
+        Criterion::Bic | Criterion::Aic | Criterion::Mdl
+    ) {
+        score_by_error_model(problem, &mut models, pool);
+    }
     let pareto = pareto_front(&models);
     let best = match problem.cfg.criterion {
         Criterion::ParetoScore => pareto_score_pick(&pareto),
@@ -160,6 +166,58 @@ pub(crate) fn finish(
         simplified,
         seconds: t0.elapsed().as_secs_f64(),
     })
+}
+
+/// Rescores `models` under the multiplicative error model where
+/// [`SearchConfig::error_model`](crate::SearchConfig::error_model) asks for it: always under
+/// [`ErrorModel::Multiplicative`], and under [`ErrorModel::Auto`] when the target is
+/// positive on every row and the best multiplicative score is lower than the best additive
+/// one (a tie, such as two exact fits at the loss floor, stays additive). Each model's loss
+/// in the criterion becomes `g^2 MSE_log` ([`ErrorModel`]); the charges are kept.
+fn score_by_error_model(problem: &Problem, models: &mut [Model], pool: &Pool) {
+    let y = &problem.y;
+    let wanted = problem.cfg.error_model;
+    if wanted == ErrorModel::Additive || y.iter().any(|&v| v <= 0.0) {
+        return;
+    }
+    let n = y.len();
+    let log_y: Vec<f64> = y.iter().map(|v| v.ln()).collect();
+    let log_g = log_y.iter().sum::<f64>() / n as f64;
+    let rescored: Vec<f64> = pool.install(|| {
+        models
+            .par_iter()
+            .map(|m| {
+                let mut pred = Vec::new();
+                Evaluator::new(&m.program).predict(
+                    &m.program,
+                    &m.params,
+                    &problem.cols,
+                    n,
+                    &mut pred,
+                );
+                let mse_log = if pred.iter().all(|&p| p > 0.0 && p.is_finite()) {
+                    pred.iter()
+                        .zip(&log_y)
+                        .map(|(p, ly)| (p.ln() - ly).powi(2))
+                        .sum::<f64>()
+                        / n as f64
+                } else {
+                    f64::INFINITY
+                };
+                let equivalent = mse_log * (2.0 * log_g).exp();
+                // the charges of the model's score, kept: its score less its loss term
+                m.score - problem.score(m.train_mse, 0, n) + problem.score(equivalent, 0, n)
+            })
+            .collect()
+    });
+    let lowest = |s: &mut dyn Iterator<Item = f64>| s.fold(f64::INFINITY, f64::min);
+    let additive = lowest(&mut models.iter().map(|m| m.score));
+    let multiplicative = lowest(&mut rescored.iter().copied());
+    if wanted == ErrorModel::Multiplicative || multiplicative < additive {
+        for (m, s) in models.iter_mut().zip(rescored) {
+            m.score = s;
+        }
+    }
 }
 
 /// Keeps the first of `models` (sorted by complexity, then loss) of each canonical

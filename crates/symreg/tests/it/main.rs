@@ -7,6 +7,7 @@ mod common;
 mod canonical;
 mod consensus;
 mod cv_selection;
+mod error_model;
 mod eval_programs;
 mod nesting;
 mod properties;
