@@ -455,6 +455,12 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
             );
         }
         println!("{} models in {:.2} s", res.evaluations, res.seconds);
+        if res.error_model == hxai_symreg::ErrorModel::Multiplicative {
+            println!(
+                "selected with a multiplicative error (scatter in proportion to the target, \
+                 likelier here than a fixed one; --error-model additive reads it as fixed)"
+            );
+        }
         if let Some(groups) = &report.dimensional_groups {
             println!("searched on the dimensionless groups:");
             for line in groups {

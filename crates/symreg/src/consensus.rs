@@ -231,5 +231,6 @@ pub(crate) fn search_with(
         duplicate_structures,
         simplified,
         seconds: t0.elapsed().as_secs_f64(),
+        error_model: full.error_model,
     })
 }

@@ -273,6 +273,10 @@ pub struct SelectionReport {
     /// Up to three models whose cross-validated loss is within one standard error of the
     /// lowest ("the data cannot tell these apart"), simplest first.
     pub alternatives: Vec<Alternative>,
+    /// How the criterion read the target's scatter: `additive` or `multiplicative`
+    /// ([`crate::ErrorModel`], `--error-model`). `additive` in files written before it.
+    #[serde(default)]
+    pub error_model: crate::ErrorModel,
 }
 
 impl SelectionReport {
@@ -313,6 +317,7 @@ impl SelectionReport {
             share: consensus.map(|c| c.share),
             runs: consensus.map(|c| c.runs),
             alternatives,
+            error_model: result.error_model,
         }
     }
 

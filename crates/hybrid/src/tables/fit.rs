@@ -341,6 +341,7 @@ fn search_factors(
         share: None,
         runs: None,
         alternatives,
+        error_model: hxai_symreg::ErrorModel::Additive,
     };
     let mut pareto = vec![fit.model.clone()];
     pareto.extend(fit.alternatives.iter().cloned());

@@ -2,6 +2,7 @@
 //! rows (its constants refitted per fold), the one-standard-error rule that picks among
 //! them, and the models within one standard error of the best ("the data cannot tell these
 //! apart").
+use super::config::ErrorModel;
 use super::fitting::Problem;
 use super::selection::{REFIT_LM_ITERATIONS, REFIT_LM_TOLERANCE, simplest};
 use crate::eval::Evaluator;
@@ -26,14 +27,16 @@ pub(super) fn cross_validate(
     problem: &Problem,
     models: &[Model],
     data: &Table,
+    error_model: ErrorModel,
     pool: &Pool,
 ) -> Result<Vec<(f64, f64)>, SrError> {
     let cfg = problem.cfg;
     let (fold_of, k) = cv_folds(&problem.cols, &problem.y, cfg.cv_folds, cfg.seed);
+    let log_loss = error_model == ErrorModel::Multiplicative;
     pool.install(|| {
         models
             .par_iter()
-            .map(|m| cv_loss(m, data, &problem.y, &fold_of, k))
+            .map(|m| cv_loss(m, data, &problem.y, (&fold_of, k), log_loss))
             .collect::<Result<_, _>>()
     })
 }
@@ -109,13 +112,15 @@ pub(super) fn within_one_standard_error(
     out
 }
 
-/// Mean and standard error of one model's held-out MSE over the folds.
+/// Mean and standard error of one model's held-out MSE over the folds (`(fold of each
+/// row, folds)`); with `log_loss`, of the squared error of `ln y` (a multiplicative error,
+/// [`ErrorModel::Multiplicative`]; infinite where a prediction is not positive).
 fn cv_loss(
     m: &Model,
     data: &Table,
     y: &[f64],
-    fold_of: &[usize],
-    k: usize,
+    (fold_of, k): (&[usize], usize),
+    log_loss: bool,
 ) -> Result<(f64, f64), SrError> {
     let cols: Vec<&[f64]> = m
         .feature_names
@@ -151,10 +156,25 @@ fn cv_loss(
             &LmSettings::new(REFIT_LM_ITERATIONS, REFIT_LM_TOLERANCE),
             &mut ev,
         );
-        let loss = if fit.is_finite() {
-            ev.mse(prog, &params, &test_refs, &test_y)
-        } else {
+        let loss = if !fit.is_finite() {
             f64::INFINITY
+        } else if log_loss {
+            let mut pred = Vec::new();
+            ev.predict(prog, &params, &test_refs, test_y.len(), &mut pred);
+            let sum: f64 = pred
+                .iter()
+                .zip(&test_y)
+                .map(|(p, t)| {
+                    if *p > 0.0 {
+                        (p.ln() - t.ln()).powi(2)
+                    } else {
+                        f64::INFINITY
+                    }
+                })
+                .sum();
+            sum / test_y.len().max(1) as f64
+        } else {
+            ev.mse(prog, &params, &test_refs, &test_y)
         };
         losses.push(if loss.is_finite() {
             loss

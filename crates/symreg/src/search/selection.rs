@@ -83,6 +83,11 @@ pub struct SearchResult {
     pub simplified: u64,
     /// Wall time in seconds.
     pub seconds: f64,
+    /// The error model the criterion read the scatter with
+    /// ([`SearchConfig::error_model`](crate::SearchConfig::error_model), resolved: never
+    /// `auto`). Additive in files written before it.
+    #[serde(default)]
+    pub error_model: ErrorModel,
 }
 
 /// Refits the archive's front and best model, and the `extra` candidates (a
@@ -128,23 +133,26 @@ pub(crate) fn finish(
             .then(a.train_mse.total_cmp(&b.train_mse))
     });
     distinct_structures(&mut models, pool);
-    let cv = cross_validate(problem, &models, data, pool)?;
-    if problem.cfg.criterion == Criterion::CrossValidation {
-        for (m, (mean, _)) in models.iter_mut().zip(&cv) {
-            m.score = *mean;
-        }
-    }
     if problem.cfg.criterion == Criterion::Mdl {
         let charge = problem.structure_charge();
         for m in &mut models {
             m.score += charge * m.complexity as f64;
         }
     }
-    if matches!(
+    let error_model = if matches!(
         problem.cfg.criterion,
         Criterion::Bic | Criterion::Aic | Criterion::Mdl
     ) {
-        score_by_error_model(problem, &mut models, pool);
+        score_by_error_model(problem, &mut models, pool)
+    } else {
+        ErrorModel::Additive
+    };
+    // the alternatives' held-out losses read the scatter as the criterion did
+    let cv = cross_validate(problem, &models, data, error_model, pool)?;
+    if problem.cfg.criterion == Criterion::CrossValidation {
+        for (m, (mean, _)) in models.iter_mut().zip(&cv) {
+            m.score = *mean;
+        }
     }
     let pareto = pareto_front(&models);
     let best = match problem.cfg.criterion {
@@ -165,6 +173,7 @@ pub(crate) fn finish(
         duplicate_structures,
         simplified,
         seconds: t0.elapsed().as_secs_f64(),
+        error_model,
     })
 }
 
@@ -173,12 +182,13 @@ pub(crate) fn finish(
 /// [`ErrorModel::Multiplicative`], and under [`ErrorModel::Auto`] when the target is
 /// positive on every row and the best multiplicative score is lower than the best additive
 /// one (a tie, such as two exact fits at the loss floor, stays additive). Each model's loss
-/// in the criterion becomes `g^2 MSE_log` ([`ErrorModel`]); the charges are kept.
-fn score_by_error_model(problem: &Problem, models: &mut [Model], pool: &Pool) {
+/// in the criterion becomes `g^2 MSE_log` ([`ErrorModel`]); the charges are kept. Returns
+/// the error model used.
+fn score_by_error_model(problem: &Problem, models: &mut [Model], pool: &Pool) -> ErrorModel {
     let y = &problem.y;
     let wanted = problem.cfg.error_model;
     if wanted == ErrorModel::Additive || y.iter().any(|&v| v <= 0.0) {
-        return;
+        return ErrorModel::Additive;
     }
     let n = y.len();
     let log_y: Vec<f64> = y.iter().map(|v| v.ln()).collect();
@@ -217,6 +227,9 @@ fn score_by_error_model(problem: &Problem, models: &mut [Model], pool: &Pool) {
         for (m, s) in models.iter_mut().zip(rescored) {
             m.score = s;
         }
+        ErrorModel::Multiplicative
+    } else {
+        ErrorModel::Additive
     }
 }
 

@@ -506,6 +506,7 @@ pub fn search(
             duplicate_structures: 0,
             simplified: 0,
             seconds: t0.elapsed().as_secs_f64(),
+            error_model: crate::ErrorModel::Additive,
         }
     };
     let back = |m: &Model| -> Result<Model, SrError> {

@@ -380,6 +380,7 @@ fn factor_search(
         share: None,
         runs: None,
         alternatives: Vec::new(),
+        error_model: hxai_symreg::ErrorModel::Additive,
     };
     let result = hxai_symreg::SearchResult {
         best: fit.model.clone(),
@@ -390,6 +391,7 @@ fn factor_search(
         duplicate_structures: 0,
         simplified: 0,
         seconds: start.elapsed().as_secs_f64(),
+        error_model: hxai_symreg::ErrorModel::Additive,
     };
     Ok((result, selection, Some(fit.factors)))
 }
