@@ -298,9 +298,10 @@ pub(crate) fn table_design(
     let goal = match goal {
         "discriminate" => DesignGoal::Discriminate,
         "coverage" => DesignGoal::Coverage,
+        "precision" => DesignGoal::Precision,
         other => {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "goal `{other}`: use discriminate or coverage (precision is not built yet)"
+                "goal `{other}`: use discriminate, coverage or precision"
             )));
         }
     };

@@ -542,6 +542,21 @@ def test_symbolic_regressor_card():
     assert "<math" in card and "<mi>a</mi>" in card and "<table>" in card
 
 
+def test_precision_runs_go_where_the_constants_matter_most():
+    """``goal="precision"`` (issue 49): D-optimal for the hybrid's constants. With the physics
+    ``k*a`` (and a correction linear in its constants), the prediction variance from the
+    constants is a convex quadratic in ``a``, so each run lands at an end of ``a``'s range
+    (the D-optimal design for a line), never inside it."""
+    rng = np.random.default_rng(5)
+    X = pd.DataFrame({"a": rng.uniform(1, 3, 80), "b": rng.uniform(0, 1, 80)})
+    y = pd.Series(2.0 * X["a"] + 0.5 * X["b"] + rng.normal(0, 0.05, 80), name="y")
+    est = HybridRegressor("k*a", calibrate=["k"], **FAST).fit(X, y)
+    runs = est.suggest_experiments("a=0:5,b=0:1", 4, goal="precision")
+    assert len(runs) == 4
+    assert ((runs["a"] <= 0.25) | (runs["a"] >= 4.75)).all(), runs
+    assert runs["reason"].str.contains("constants' uncertainty").all()
+
+
 def test_suggest_experiments_stays_in_the_space():
     """``HybridRegressor.suggest_experiments`` (issue 49): runs inside ranges, or among the
     rows of a DataFrame of feasible settings; the same as ``hxai hybrid design``'s library."""
@@ -556,7 +571,7 @@ def test_suggest_experiments_stays_in_the_space():
     feasible = pd.DataFrame({"a": [1.0, 2.0, 4.0], "b": [0.0, 0.5, 1.0]})
     runs = est.suggest_experiments(feasible, 2)
     assert all(((feasible == row[["a", "b"]]).all(axis=1)).any() for _, row in runs.iterrows())
-    with pytest.raises(ValueError, match="precision is not built"):
-        est.suggest_experiments("a=0:5,b=0:1", 2, goal="precision")
+    with pytest.raises(ValueError, match="goal `best`: use discriminate, coverage or precision"):
+        est.suggest_experiments("a=0:5,b=0:1", 2, goal="best")
     with pytest.raises(ValueError, match="`b`|b"):
         est.suggest_experiments("a=0:5", 2)

@@ -12,6 +12,10 @@ pub(crate) enum GoalArg {
     Discriminate,
     /// Where the prediction interval is widest and the runs are sparse.
     Coverage,
+    /// D-optimal for the hybrid's constants (physics parameters and correction constants
+    /// together, from the model file's covariance): the runs that narrow their intervals
+    /// most.
+    Precision,
 }
 
 /// Arguments of `hxai hybrid design`.
@@ -67,6 +71,7 @@ pub(crate) fn run(a: DesignArgs) -> Result<()> {
     let goal = match a.goal {
         GoalArg::Discriminate => DesignGoal::Discriminate,
         GoalArg::Coverage => DesignGoal::Coverage,
+        GoalArg::Precision => DesignGoal::Precision,
     };
     let p = design(&model, &table, a.n, goal).with_context(|| {
         format!(

@@ -44,6 +44,10 @@ pub enum DesignGoal {
     Discriminate,
     /// Widest intervals, sparsest runs.
     Coverage,
+    /// D-optimal for the hybrid's constants (physics parameters and correction constants
+    /// together): the runs that shrink their joint confidence region most, each chosen
+    /// with the earlier picks counted as done.
+    Precision,
 }
 
 impl DesignGoal {
@@ -52,6 +56,7 @@ impl DesignGoal {
         match self {
             Self::Discriminate => "discriminate",
             Self::Coverage => "coverage",
+            Self::Precision => "precision",
         }
     }
 }
@@ -239,6 +244,9 @@ pub fn design(
             hi - lo
         })
         .collect();
+    if goal == DesignGoal::Precision {
+        return precision(model, candidates, n, (selected.hybrid, spread, equations));
+    }
     let goal = if goal == DesignGoal::Discriminate && equations.len() < 2 {
         DesignGoal::Coverage
     } else {
@@ -249,10 +257,10 @@ pub fn design(
             .intervals(candidates, crate::DEFAULT_INTERVAL)
             .ok()
             .map(|iv| iv.iter().map(|(lo, hi)| hi - lo).collect()),
-        DesignGoal::Discriminate => None,
+        DesignGoal::Discriminate | DesignGoal::Precision => None,
     };
     let worth: Vec<f64> = match (goal, &width) {
-        (DesignGoal::Discriminate, _) => spread.clone(),
+        (DesignGoal::Discriminate | DesignGoal::Precision, _) => spread.clone(),
         (DesignGoal::Coverage, Some(w)) => w.clone(),
         (DesignGoal::Coverage, None) => vec![1.0; m],
     };
@@ -291,7 +299,7 @@ pub fn design(
             }
             let d = nearest[i];
             match goal {
-                DesignGoal::Discriminate => {
+                DesignGoal::Discriminate | DesignGoal::Precision => {
                     worth[i] * if d.is_finite() { d / (d + CLOSE) } else { 1.0 }
                 }
                 // the widest interval first, then space-filling: the farthest from the runs
@@ -311,7 +319,7 @@ pub fn design(
             }
         }
         let why = match goal {
-            DesignGoal::Discriminate => format!(
+            DesignGoal::Discriminate | DesignGoal::Precision => format!(
                 "the {} equations differ by {} here{}",
                 equations.len(),
                 crate::error::num(spread[best]),
@@ -350,6 +358,137 @@ pub fn design(
     Ok(Proposal {
         goal,
         predicted: rows.iter().map(|&i| selected.hybrid[i]).collect(),
+        spread: rows.iter().map(|&i| spread[i]).collect(),
+        equations: equations
+            .into_iter()
+            .map(|(e, v)| (e, rows.iter().map(|&i| v[i]).collect()))
+            .collect(),
+        rows,
+        reason,
+        n_candidates: m,
+    })
+}
+
+/// The candidate equations' values at every candidate: the selected hybrid's, the spread
+/// of all, and each equation with its values.
+type Predictions = (Vec<f64>, Vec<f64>, Vec<(String, Vec<f64>)>);
+
+/// [`design`] for [`DesignGoal::Precision`]: the greedy sequential D-optimal design
+/// (Fedorov's exchange without the exchange: each pick with the earlier ones fixed). With
+/// `C` the constants' covariance `s^2 (J^T J)^-1` of the model file and `g` the gradient of
+/// the hybrid's prediction with respect to its constants at a candidate (central
+/// differences on the hybrid equation), a run there multiplies `det(J^T J)` by
+/// `1 + g^T C g / s^2` (the matrix determinant lemma), so the pick is the largest prediction
+/// variance `g^T C g`; `C` is then updated as if the run were done (Sherman-Morrison:
+/// `C - C g g^T C / (s^2 + g^T C g)`).
+fn precision(
+    model: &TableModel,
+    candidates: &Table,
+    n: usize,
+    (hybrid, spread, equations): Predictions,
+) -> Result<Proposal, HybridError> {
+    let m = candidates.n_rows();
+    let u = model
+        .hybrid
+        .uncertainty
+        .as_ref()
+        .filter(|u| !u.covariance.is_empty() && u.residual_variance > 0.0)
+        .ok_or_else(|| {
+            HybridError::InvalidConfig(
+                "--goal precision needs the covariance of the hybrid's constants, which this \
+                 model file does not have (its `hybrid.uncertainty` gives the reason); use \
+                 --goal coverage or discriminate"
+                    .into(),
+            )
+        })?;
+    let constants: std::collections::BTreeMap<String, f64> = u
+        .params
+        .iter()
+        .map(|(name, p)| (name.clone(), p.value))
+        .collect();
+    let compiled = hxai_symreg::infix::compile_text(&u.template, &constants).map_err(|e| {
+        HybridError::InvalidConfig(format!("the hybrid equation does not compile: {e}"))
+    })?;
+    let cols = columns_of(candidates, &compiled.inputs, "input of the hybrid equation")?;
+    // the gradient of the prediction with respect to each constant, on every candidate
+    let k = u.params.len();
+    let mut grad: Vec<Vec<f64>> = Vec::with_capacity(k);
+    for (name, p) in &u.params {
+        let slots = compiled.slots.get(name).cloned().unwrap_or_default();
+        let h = 1e-6 * p.value.abs().max(1e-3);
+        let at = |v: f64| {
+            let mut c = compiled.clone();
+            for &s in &slots {
+                c.params[s] = v;
+            }
+            c.eval_columns(&cols, m)
+        };
+        let (hi, lo) = (at(p.value + h), at(p.value - h));
+        grad.push(
+            hi.iter()
+                .zip(&lo)
+                .map(|(a, b)| (a - b) / (2.0 * h))
+                .collect(),
+        );
+    }
+    let mut cov = u.covariance.clone();
+    if cov.len() != k || cov.iter().any(|r| r.len() != k) {
+        return Err(HybridError::InvalidConfig(format!(
+            "the model file's covariance is not {k} x {k}, one row per constant"
+        )));
+    }
+    let s2 = u.residual_variance;
+    let g_at = |i: usize| -> Vec<f64> { grad.iter().map(|g| g[i]).collect() };
+    let variance = |cov: &[Vec<f64>], g: &[f64]| -> f64 {
+        cov.iter()
+            .zip(g)
+            .map(|(row, gi)| gi * row.iter().zip(g).map(|(c, gj)| c * gj).sum::<f64>())
+            .sum()
+    };
+    let mut rows: Vec<usize> = Vec::with_capacity(n);
+    let mut reason = Vec::with_capacity(n);
+    let mut gain = 0.0;
+    for _ in 0..n {
+        let mut best = None;
+        let mut best_v = f64::NEG_INFINITY;
+        for i in 0..m {
+            if rows.contains(&i) {
+                continue;
+            }
+            let v = variance(&cov, &g_at(i));
+            if v.is_finite() && v > best_v {
+                best = Some(i);
+                best_v = v;
+            }
+        }
+        let Some(i) = best else {
+            return Err(HybridError::InvalidConfig(
+                "the hybrid's gradient is not finite at any candidate left".into(),
+            ));
+        };
+        let g = g_at(i);
+        let cg: Vec<f64> = cov
+            .iter()
+            .map(|row| row.iter().zip(&g).map(|(c, gj)| c * gj).sum())
+            .collect();
+        for (a, row) in cov.iter_mut().enumerate() {
+            for (b, c) in row.iter_mut().enumerate() {
+                *c -= cg[a] * cg[b] / (s2 + best_v);
+            }
+        }
+        gain += (1.0 + best_v / s2).ln();
+        reason.push(format!(
+            "the constants' uncertainty moves the prediction most here (sd {}, {:.0} % of the \
+             scatter's), the runs picked before counted as done; det(J^T J) x {:.3} so far",
+            crate::error::num(best_v.max(0.0).sqrt()),
+            100.0 * (best_v.max(0.0) / s2).sqrt(),
+            gain.exp()
+        ));
+        rows.push(i);
+    }
+    Ok(Proposal {
+        goal: DesignGoal::Precision,
+        predicted: rows.iter().map(|&i| hybrid[i]).collect(),
         spread: rows.iter().map(|&i| spread[i]).collect(),
         equations: equations
             .into_iter()
