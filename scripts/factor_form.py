@@ -91,7 +91,7 @@ def main():
     ap.add_argument("--reuse-free", default="",
                     help="a folder of an earlier run: read the free form's models from it "
                          "instead of refitting them (the free form's code did not change); "
-                         "its seconds are then not measured")
+                         "its seconds are then not measured; a case missing there is refitted")
     a = ap.parse_args()
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -123,7 +123,8 @@ def main():
             base += ["--exclude", ",".join(excl)]
         res = {}
         for form in ["free", "factors"]:
-            if form == "free" and a.reuse_free:
+            if (form == "free" and a.reuse_free
+                    and (Path(a.reuse_free) / f"{name}-free-x.json").exists()):
                 old = Path(a.reuse_free)
                 m = json.loads((old / f"{name}-free.json").read_text())
                 x = json.loads((old / f"{name}-free-x.json").read_text())

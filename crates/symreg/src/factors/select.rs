@@ -5,6 +5,10 @@ use super::structure::{Folds, Structure, mean, paired};
 use super::{FactorConfig, Link, PathStep};
 use rayon::prelude::*;
 
+/// The one-sided level of one standard error, `P(Z > 1)`: the level at which the
+/// one-standard-error rule calls a gain real ([`Problem::entry_se`]).
+const ONE_SE_LEVEL: f64 = 0.158_655_253_931_457;
+
 /// A structure fitted on all rows with the held-out error of each row.
 #[derive(Clone)]
 pub(crate) struct Scored {
@@ -73,6 +77,26 @@ impl<'a> Problem<'a> {
     fn within(&self, a: &Scored, b: &Scored, k: f64) -> bool {
         let (d, se) = paired(&a.cv, &b.cv);
         d <= (k * se).max(self.floor)
+    }
+
+    /// The paired standard errors a factor must lower the held-out error by to enter the
+    /// forward path, when it was the best of `m` candidate columns: the one-standard-error
+    /// rule's one-sided level (`P(Z > 1)`, 0.159) shared among the `m` columns (Bonferroni),
+    /// as a Student quantile on the rows' degrees of freedom, times
+    /// [`FactorConfig::se_rule`]. With one candidate it is the rule's own `se_rule`; with
+    /// more, the best of several columns that carry nothing (each gaining some fraction of
+    /// a standard error by chance) no longer enters half the time: measured on the tool-life
+    /// table's bootstrap resamples before this rule, a distractor column was kept in half
+    /// of them (docs/benchmarks.md, "The factor form").
+    fn entry_se(&self, m: usize) -> f64 {
+        let dof = (self.y.len().max(3) - 1) as f64;
+        let one = hxai_eval::t_upper_quantile(ONE_SE_LEVEL, dof);
+        let shared = hxai_eval::t_upper_quantile(ONE_SE_LEVEL / m.max(1) as f64, dof);
+        if one.is_finite() && shared.is_finite() && one > 0.0 {
+            self.cfg.se_rule * shared / one
+        } else {
+            self.cfg.se_rule
+        }
     }
 
     fn score(&self, mut s: Structure) -> Option<Scored> {
@@ -162,7 +186,9 @@ impl<'a> Problem<'a> {
             else {
                 break;
             };
-            if next.cv_mean() >= base.cv_mean() - self.floor {
+            if next.cv_mean() >= base.cv_mean() - self.floor
+                || self.within(base, &next, self.entry_se(cands.len()))
+            {
                 break;
             }
             used.push(cands[k]);
