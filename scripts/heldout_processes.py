@@ -37,50 +37,94 @@ ROWS = 400
 SEED = 7
 
 
+def wear_settings(rng, n=ROWS):
+    return dict(
+        load_N=rng.uniform(10, 100, n),           # normal load, N
+        distance_m=rng.uniform(100, 2000, n),     # sliding distance, m
+        hardness_HV=rng.uniform(150, 600, n),     # hardness, HV
+        speed_m_s=rng.uniform(0.1, 2.0, n),       # sliding speed, m/s
+        temp_C=rng.uniform(20, 200, n),           # counterface temperature, C
+        humidity_pct=rng.uniform(20, 80, n),      # humidity, % (distractor)
+        batch_u=rng.uniform(0, 1, n))             # a batch label (distractor)
+
+
+def wear_measure(c, rng):
+    """The measured wear volume at settings `c` (the truth times its scatter)."""
+    n = len(c["load_N"])
+    K = 5e-4 * c["speed_m_s"] ** 0.4 * np.exp(-c["temp_C"] / 150)
+    return K * c["load_N"] * c["distance_m"] / c["hardness_HV"] * np.exp(
+        0.12 * rng.standard_normal(n))
+
+
+def creep_settings(rng, n=ROWS):
+    return dict(
+        stress_MPa=rng.uniform(50, 200, n),       # stress, MPa
+        temp_K=rng.uniform(800, 1000, n),         # temperature, K
+        grain_um=rng.uniform(20, 120, n),         # grain size, um
+        position_u=rng.uniform(0, 1, n))          # specimen position (distractor)
+
+
+def creep_measure(c, rng):
+    n = len(c["stress_MPa"])
+    R = 8.314
+    rate = (1e-2 * c["stress_MPa"] ** 4.6 * np.exp(-300e3 / (R * c["temp_K"]))
+            * (c["grain_um"] / 50) ** -0.5)
+    return rate * np.exp(0.2 * rng.standard_normal(n))
+
+
+def runout_settings(rng, n=ROWS):
+    return dict(
+        feed_mm=rng.uniform(0.05, 0.3, n),                 # feed, mm/rev
+        nose_radius_mm=rng.choice([0.4, 0.8, 1.2], n),     # nose radius, mm
+        angle_deg=rng.uniform(0, 360, n),   # spindle angle at the start of the cut, degrees
+        speed_m_min=rng.uniform(80, 250, n))               # cutting speed (distractor)
+
+
+def runout_measure(c, rng):
+    n = len(c["feed_mm"])
+    kin = 1000 * c["feed_mm"] ** 2 / (8 * c["nose_radius_mm"])  # kinematic peak-to-valley, um
+    err = kin + 1.5 + 1.2 * np.sin(np.radians(c["angle_deg"]) + 0.6)
+    return err + 0.15 * rng.standard_normal(n)
+
+
+# Each process: its settings' sampler, its measurement (truth and scatter) at given
+# settings, the target's name, the hybrid's physics and its ranges for `hxai hybrid design`.
+SPECS = {
+    "wear": (wear_settings, wear_measure, dict(
+        target="wear_mm3", physics="K*load_N*distance_m/hardness_HV", calibrate="K",
+        init="K=3e-4", correction="multiplicative",
+        space="load_N=10:100,distance_m=100:2000,hardness_HV=150:600,speed_m_s=0.1:2,"
+              "temp_C=20:200,humidity_pct=20:80,batch_u=0:1")),
+    "creep": (creep_settings, creep_measure, dict(
+        target="rate_per_s", physics="A*stress_MPa^4*exp(-Q/(8.314*temp_K))",
+        calibrate="A,Q", init="A=0.1,Q=280000", correction="log",
+        space="stress_MPa=50:200,temp_K=800:1000,grain_um=20:120,position_u=0:1")),
+    "runout": (runout_settings, runout_measure, dict(
+        target="roundness_um", physics="k*1000*feed_mm^2/(8*nose_radius_mm)",
+        calibrate="k", init="k=1", correction="additive",
+        space="feed_mm=0.05:0.3,nose_radius_mm=0.4:1.2:0.4,angle_deg=0:360,"
+              "speed_m_min=80:250")),
+}
+
+
+def make(name, rng, n=ROWS):
+    """A table of `n` runs of process `name`: its columns and the hybrid's spec."""
+    settings, measure, spec = SPECS[name]
+    cols = settings(rng, n)
+    cols[spec["target"]] = measure(cols, rng)
+    return cols, {k: v for k, v in spec.items() if k != "space"}
+
+
 def wear(rng):
-    n = ROWS
-    F = rng.uniform(10, 100, n)            # normal load, N
-    s = rng.uniform(100, 2000, n)          # sliding distance, m
-    H = rng.uniform(150, 600, n)           # hardness, HV
-    v = rng.uniform(0.1, 2.0, n)           # sliding speed, m/s
-    T = rng.uniform(20, 200, n)            # counterface temperature, C
-    rh = rng.uniform(20, 80, n)            # humidity, % (distractor)
-    batch = rng.uniform(0, 1, n)           # a batch label (distractor)
-    K = 5e-4 * v ** 0.4 * np.exp(-T / 150)
-    V = K * F * s / H * np.exp(0.12 * rng.standard_normal(n))
-    cols = dict(load_N=F, distance_m=s, hardness_HV=H, speed_m_s=v, temp_C=T,
-                humidity_pct=rh, batch_u=batch, wear_mm3=V)
-    return cols, dict(target="wear_mm3", physics="K*load_N*distance_m/hardness_HV",
-                      calibrate="K", init="K=3e-4", correction="multiplicative")
+    return make("wear", rng)
 
 
 def creep(rng):
-    n = ROWS
-    sigma = rng.uniform(50, 200, n)        # stress, MPa
-    T = rng.uniform(800, 1000, n)          # temperature, K
-    d = rng.uniform(20, 120, n)            # grain size, um
-    h = rng.uniform(0, 1, n)               # specimen position (distractor)
-    R = 8.314
-    rate = 1e-2 * sigma ** 4.6 * np.exp(-300e3 / (R * T)) * (d / 50) ** -0.5
-    rate = rate * np.exp(0.2 * rng.standard_normal(n))
-    cols = dict(stress_MPa=sigma, temp_K=T, grain_um=d, position_u=h, rate_per_s=rate)
-    return cols, dict(target="rate_per_s",
-                      physics="A*stress_MPa^4*exp(-Q/(8.314*temp_K))",
-                      calibrate="A,Q", init="A=0.1,Q=280000", correction="log")
+    return make("creep", rng)
 
 
 def runout(rng):
-    n = ROWS
-    f = rng.uniform(0.05, 0.3, n)          # feed, mm/rev
-    r = rng.choice([0.4, 0.8, 1.2], n)     # nose radius, mm
-    phi = rng.uniform(0, 360, n)           # spindle angle at the start of the cut, degrees
-    vc = rng.uniform(80, 250, n)           # cutting speed (distractor)
-    kin = 1000 * f ** 2 / (8 * r)          # kinematic peak-to-valley, um
-    err = kin + 1.5 + 1.2 * np.sin(np.radians(phi) + 0.6)
-    err = err + 0.15 * rng.standard_normal(n)
-    cols = dict(feed_mm=f, nose_radius_mm=r, angle_deg=phi, speed_m_min=vc, roundness_um=err)
-    return cols, dict(target="roundness_um", physics="k*1000*feed_mm^2/(8*nose_radius_mm)",
-                      calibrate="k", init="k=1", correction="additive")
+    return make("runout", rng)
 
 
 PROCESSES = [("wear", wear), ("creep", creep), ("runout", runout)]

@@ -273,9 +273,10 @@ pub struct SelectionReport {
     /// Up to three models whose cross-validated loss is within one standard error of the
     /// lowest ("the data cannot tell these apart"), simplest first.
     pub alternatives: Vec<Alternative>,
-    /// How the criterion read the target's scatter: `additive` or `multiplicative`
-    /// ([`crate::ErrorModel`], `--error-model`). `additive` in files written before it.
-    #[serde(default)]
+    /// How the criterion read the target's scatter ([`crate::ErrorModel`],
+    /// `--error-model`): written only when `multiplicative`; absent means additive (and
+    /// files written before it read as additive, and are written back unchanged).
+    #[serde(default, skip_serializing_if = "crate::ErrorModel::is_additive")]
     pub error_model: crate::ErrorModel,
 }
 

@@ -37,6 +37,59 @@ pub(super) fn err(position: usize, message: String) -> SrError {
 }
 
 /// Splits the text into tokens with their 1-based character positions.
+/// The name inside `Symbol('...')`, read from `chars[at..]` (just after the opening quote)
+/// with the escapes [`crate::expr::sympy_symbol`] writes (`\\`, `\'`, `\uXXXX`,
+/// `\UXXXXXXXX`), and the index after the closing `)`.
+fn symbol_literal(chars: &[char], at: usize, pos: usize) -> Result<(String, usize), SrError> {
+    let mut name = String::new();
+    let mut i = at;
+    loop {
+        match chars.get(i) {
+            None => return Err(err(pos, "the Symbol('...') name is not closed".into())),
+            Some('\'') => break,
+            Some('\\') => {
+                let hex = |n: usize| -> Result<char, SrError> {
+                    let digits: String =
+                        chars.get(i + 2..i + 2 + n).unwrap_or(&[]).iter().collect();
+                    u32::from_str_radix(&digits, 16)
+                        .ok()
+                        .filter(|_| digits.len() == n)
+                        .and_then(char::from_u32)
+                        .ok_or_else(|| {
+                            err(pos, format!("bad escape `\\{digits}` in Symbol('...')"))
+                        })
+                };
+                match chars.get(i + 1) {
+                    Some(&c @ ('\\' | '\'')) => {
+                        name.push(c);
+                        i += 2;
+                    }
+                    Some('u') => {
+                        name.push(hex(4)?);
+                        i += 6;
+                    }
+                    Some('U') => {
+                        name.push(hex(8)?);
+                        i += 10;
+                    }
+                    _ => return Err(err(pos, "bad escape in Symbol('...')".into())),
+                }
+            }
+            Some(&c) => {
+                name.push(c);
+                i += 1;
+            }
+        }
+    }
+    if chars.get(i + 1) != Some(&')') {
+        return Err(err(pos, "Symbol('...') must end with `')`".into()));
+    }
+    if name.is_empty() {
+        return Err(err(pos, "empty Symbol('') name".into()));
+    }
+    Ok((name, i + 2))
+}
+
 pub(super) fn lex(text: &str) -> Result<Vec<(Tok, usize)>, SrError> {
     let chars: Vec<char> = text.chars().collect();
     let mut out = Vec::new();
@@ -99,7 +152,16 @@ pub(super) fn lex(text: &str) -> Result<Vec<(Tok, usize)>, SrError> {
             while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
                 i += 1;
             }
-            out.push((Tok::Name(chars[start..i].iter().collect()), pos));
+            let word: String = chars[start..i].iter().collect();
+            if word == "Symbol" && chars.get(i) == Some(&'(') && chars.get(i + 1) == Some(&'\'') {
+                // sympy's `Symbol('name')`, as [`crate::expr::sympy_symbol`] writes a name
+                // sympy would read as something else
+                let (name, next) = symbol_literal(&chars, i + 2, pos)?;
+                out.push((Tok::Name(name), pos));
+                i = next;
+                continue;
+            }
+            out.push((Tok::Name(word), pos));
             continue;
         }
         if c == '`' {

@@ -103,6 +103,39 @@ mod tests {
         assert_eq!(at("+a*(b+c)", &x), 48.0);
     }
 
+    /// `Symbol('...')` reads back every name `sympy_symbol` writes that way (sympy's own
+    /// names, spaces, quotes, backslashes, non-ASCII), and malformed ones are refused.
+    #[test]
+    fn sympy_symbols_read_back() {
+        for name in [
+            "Q",
+            "E",
+            "a b",
+            "it's",
+            "back\\slash",
+            "\u{3bc}m",
+            "\u{1d70e}",
+        ] {
+            let text = format!("2*{}", crate::expr::sympy_symbol(name));
+            let c = compile_text(&text, &BTreeMap::new()).unwrap();
+            assert_eq!(c.inputs, [name.to_string()], "{text}");
+            assert_eq!(c.eval_row(&[3.0]), 6.0);
+        }
+        // a named constant given as Symbol('Q') is a constant, not an input
+        let k = BTreeMap::from([("Q".to_string(), 4.0)]);
+        let c = compile_text("Symbol('Q')*x", &k).unwrap();
+        assert_eq!(c.inputs, ["x".to_string()]);
+        for bad in ["Symbol('Q'", "Symbol('Q", "Symbol('')", "Symbol('\\u00')"] {
+            assert!(
+                matches!(
+                    compile_text(bad, &BTreeMap::new()),
+                    Err(SrError::Parse { .. })
+                ),
+                "{bad}"
+            );
+        }
+    }
+
     /// Functions and `pi` evaluate like std's (1e-15 relative: vmath kernels).
     #[test]
     fn functions_and_pi() {

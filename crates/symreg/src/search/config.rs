@@ -147,6 +147,13 @@ pub enum ErrorModel {
     Auto,
 }
 
+impl ErrorModel {
+    /// Whether this is [`ErrorModel::Additive`] (files leave the default out).
+    pub fn is_additive(&self) -> bool {
+        *self == Self::Additive
+    }
+}
+
 /// Where the constants of a new candidate's fit start during the search.
 ///
 /// Every new candidate is first fitted from its canonical start (inputs scaled to unit

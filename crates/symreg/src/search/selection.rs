@@ -85,8 +85,8 @@ pub struct SearchResult {
     pub seconds: f64,
     /// The error model the criterion read the scatter with
     /// ([`SearchConfig::error_model`](crate::SearchConfig::error_model), resolved: never
-    /// `auto`). Additive in files written before it.
-    #[serde(default)]
+    /// `auto`). Written only when multiplicative; additive in files without it.
+    #[serde(default, skip_serializing_if = "ErrorModel::is_additive")]
     pub error_model: ErrorModel,
 }
 
