@@ -429,6 +429,16 @@ class _SearchParams:
         tags.input_tags.allow_nan = str(getattr(self, "missing", "refuse")).lower() != "refuse"
         return tags
 
+    def _repr_mimebundle_(self, **kwargs):
+        # Jupyter asks for the mime bundle before `_repr_html_`, and scikit-learn's puts its
+        # estimator diagram there: a fitted estimator shows its card instead (unfitted, the
+        # diagram of its settings).
+        bundle = super()._repr_mimebundle_(**kwargs)
+        card = self._repr_html_()
+        if card is not None:
+            bundle["text/html"] = card
+        return bundle
+
 
 class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     """Symbolic regression (``hxai sr``) as a scikit-learn regressor.
