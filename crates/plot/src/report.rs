@@ -12,6 +12,12 @@
 //! 4. where it holds: the training ranges, the warnings, the data read;
 //! 5. how to reproduce: the command that refits the model, and the version.
 //!
+//! The tool page has the same sections: the hybrid `x_hat(t) = (A_phys + delta) sin(2 pi f
+//! t + phi_phys)`, the signal chain's settings in place of calibrated physics, and, drawn on
+//! the records of a data folder ([`tool_inputs`]), physics against hybrid on the test
+//! records with the paired t-test and the intervals' coverage, and the training ranges of
+//! the correction's features.
+//!
 //! Self-contained: inline CSS, figures as inline `<svg>` (each in a `role="img"` element
 //! with an `aria-label`), equations as presentation MathML (which every current browser
 //! renders without a script) with the plain text beside them to copy; no `http:` or
@@ -30,7 +36,7 @@ use hxai_hybrid::tables::TableModel;
 use hxai_symreg::expr::xml_escape as esc;
 use std::fmt::Write as _;
 
-/// What the page shows beside the model.
+/// What the table hybrid's page shows beside the model.
 #[derive(Debug, Default)]
 pub struct ReportInputs<'a> {
     /// The pictures of the correction (`hxai explain`'s: response, predicted vs true,
