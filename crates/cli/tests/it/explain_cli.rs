@@ -486,6 +486,8 @@ fn report_of_the_tool_model_is_one_self_contained_page() -> TestResult {
 
     // bad input: one line, nothing written
     let refused = dir.join("refused.html");
+    let evaluation = dir.join("evaluation.json");
+    std::fs::write(&evaluation, serde_json::to_string(&ev)?)?;
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (
             vec!["--model", s(&model), "--data", s(&samples)],
@@ -494,6 +496,10 @@ fn report_of_the_tool_model_is_one_self_contained_page() -> TestResult {
         (
             vec!["--model", s(&samples), "--data", s(&data)],
             "cannot load the model",
+        ),
+        (
+            vec!["--model", s(&evaluation), "--data", s(&data)],
+            "no model file, neither of `hxai hybrid fit`",
         ),
     ];
     for (args, said) in cases {
