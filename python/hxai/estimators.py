@@ -17,6 +17,7 @@ from sklearn.utils.validation import check_is_fitted, validate_data
 
 from . import _hxai
 from ._arrays import columns_of, from_bytes, to_bytes
+from ._page import write_page
 
 # The engine's default operators (SearchConfig::default()), read from the compiled engine so
 # that they cannot drift from it. The constructors' other defaults are written out, for
@@ -434,6 +435,16 @@ class _SearchParams:
         tags = super().__sklearn_tags__()
         tags.input_tags.allow_nan = str(getattr(self, "missing", "refuse")).lower() != "refuse"
         return tags
+
+    def _repr_mimebundle_(self, **kwargs):
+        # Jupyter asks for the mime bundle before `_repr_html_`, and scikit-learn's puts its
+        # estimator diagram there: a fitted estimator shows its card instead (unfitted, the
+        # diagram of its settings).
+        bundle = super()._repr_mimebundle_(**kwargs)
+        card = self._repr_html_()
+        if card is not None:
+            bundle["text/html"] = card
+        return bundle
 
 
 class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
@@ -921,9 +932,6 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         temporary file and a rename, never over an existing file that is not HTML): with
         ``X`` and ``y``, the correction's figures drawn on those rows; ``compare``, the JSON
         text (or dict) of ``hxai hybrid compare --json``. Returns the path."""
-        import os
-        import tempfile
-
         check_is_fitted(self, "model_json_")
         names = columns = levels = None
         if X is not None:
@@ -938,21 +946,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             columns = columns_of(X) + [to_bytes(yv, "y")]
         if isinstance(compare, dict):
             compare = json.dumps(compare)
-        html = _hxai.table_report(self.model_json_, names, columns, levels, compare)
-        path = os.fspath(path)
-        if os.path.exists(path) and not path.lower().endswith((".html", ".htm")):
-            raise ValueError(f"{path}: exists and is not an .html file; not written over")
-        folder = os.path.dirname(os.path.abspath(path))
-        fd, tmp = tempfile.mkstemp(prefix=".hxai-report-", suffix=".tmp", dir=folder)
-        try:
-            with os.fdopen(fd, "w", encoding="utf-8") as f:
-                f.write(html)
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
-        return path
+        return write_page(
+            path, _hxai.table_report(self.model_json_, names, columns, levels, compare)
+        )
 
     def suggest_experiments(self, space, n, goal="discriminate", seed=42):
         """The settings of the next ``n`` runs, as ``hxai hybrid design`` (issue 49): ``space``

@@ -9,12 +9,14 @@ on each partition of a partitioned Parquet archive (docs/python.md).
 """
 
 import json
+import os
 
 import numpy as np
 import pandas as pd
 
 from . import _hxai
 from ._arrays import from_bytes, to_bytes
+from ._page import write_page
 
 #: Columns of :func:`predict_records`' result before the model's feature columns.
 WINDOW_COLUMNS = (
@@ -68,6 +70,29 @@ class ToolModel:
             "windows": pd.DataFrame(rows, columns=self.columns()),
             "warnings": list(warnings),
         }
+
+    def _repr_html_(self):
+        """A compact card in a notebook: the hybrid as MathML with its text, the
+        correction's constants with their 95 % intervals and its scores at the fit."""
+        return _hxai.tool_card(self.model_json)
+
+    def report(self, path, data=None, compare=None):
+        """Writes the HTML page of ``hxai report`` for this model to ``path`` (through a
+        temporary file and a rename, never over an existing file that is not HTML) and
+        returns the path. ``data``, to draw the scores, figures and training ranges on: the
+        data folder (``manifest.csv`` and the records, each with ``probe_um``), or a
+        DataFrame with one row per sample and the columns ``record``, ``time_s``,
+        ``accel_ms2``, ``probe_um`` and ``frequency_hz`` (``fs_hz`` optional, else read from
+        ``time_s``). ``compare``: the JSON text (or dict) of ``hxai compare --json``."""
+        records, name = None, None
+        if data is not None:
+            if isinstance(data, pd.DataFrame):
+                records, name = _records_of_frame(data), "the DataFrame given"
+            else:
+                records, name = _records_of_folder(os.fspath(data)), os.fspath(data)
+        if isinstance(compare, dict):
+            compare = json.dumps(compare)
+        return write_page(path, _hxai.tool_report(self.model_json, records, compare, name))
 
     def columns(self):
         """Columns of :func:`predict_records`' result."""
@@ -123,3 +148,73 @@ def predict_records(
         out.append(res["windows"])
     result = pd.concat(out, ignore_index=True) if len(out) > 1 else out[0]
     return result.astype(model.meta().dtypes.to_dict())
+
+
+def _fs_of(time, rid):
+    """The sampling rate of a record from its time stamps."""
+    if len(time) < 2:
+        raise ValueError(f"record `{rid}`: fewer than two samples")
+    return 1.0 / float(np.median(np.diff(time)))
+
+
+def _record(rid, frame, frequency, fs=None):
+    """One record for ``tool_report``: ``(id, fs, frequency, accel, probe)``."""
+    missing = [c for c in ("time_s", "accel_ms2", "probe_um") if c not in frame.columns]
+    if missing:
+        raise ValueError(
+            f"record `{rid}`: no column {', '.join(f'`{c}`' for c in missing)}; the report "
+            "needs the acceleration and the probe truth"
+        )
+    frame = frame.sort_values("time_s", kind="stable")
+    time = frame["time_s"].to_numpy(dtype=np.float64)
+    fs = _fs_of(time, rid) if fs is None else float(fs)
+    return (
+        str(rid),
+        fs,
+        float(frequency),
+        to_bytes(frame["accel_ms2"].to_numpy(dtype=np.float64), "accel"),
+        to_bytes(frame["probe_um"].to_numpy(dtype=np.float64), "probe"),
+    )
+
+
+def _records_of_frame(df):
+    """The records of a DataFrame in :func:`predict_records`' shape, with ``probe_um``."""
+    missing = [c for c in ("record", "frequency_hz") if c not in df.columns]
+    if missing:
+        raise ValueError(
+            f"no column {', '.join(f'`{c}`' for c in missing)}: the columns are "
+            + ", ".join(str(c) for c in df.columns)
+        )
+    ids = df["record"].astype(str)
+    out = []
+    for rid in sorted(ids.unique()):
+        rec = df[(ids == rid).to_numpy()]
+        freq = np.unique(rec["frequency_hz"].to_numpy(dtype=np.float64))
+        if len(freq) != 1:
+            raise ValueError(f"record `{rid}`: `frequency_hz` must be constant within a record")
+        fs = None
+        if "fs_hz" in rec.columns:
+            fs = float(rec["fs_hz"].iloc[0])
+        out.append(_record(rid, rec, freq[0], fs))
+    return out
+
+
+def _records_of_folder(folder):
+    """Every record of a data folder (``manifest.csv``: ``record``, ``file``,
+    ``frequency_hz``; record files CSV or Parquet)."""
+    manifest = os.path.join(folder, "manifest.csv")
+    if not os.path.isfile(manifest):
+        raise ValueError(f"{folder}: no manifest.csv; give a data folder or a DataFrame")
+    entries = pd.read_csv(manifest)
+    missing = [c for c in ("record", "file", "frequency_hz") if c not in entries.columns]
+    if missing:
+        raise ValueError(f"{manifest}: no column {', '.join(f'`{c}`' for c in missing)}")
+    out = []
+    for _, e in entries.iterrows():
+        path = os.path.join(folder, str(e["file"]))
+        if path.lower().endswith(".parquet"):
+            frame = pd.read_parquet(path)
+        else:
+            frame = pd.read_csv(path)
+        out.append(_record(e["record"], frame, e["frequency_hz"]))
+    return out

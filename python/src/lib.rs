@@ -20,13 +20,13 @@
 //!
 //! Entry points: `sr_fit`, `sr_predict`, `sr_intervals`, `sr_mathml`, `table_fit`, `table_predict`,
 //! `table_intervals`, `table_report`, `table_card`, `table_design`, `tool_predict`,
-//! `butter`, `sosfilt`, `sosfiltfilt`, `welch`, `fit_sine`, `displacement`,
+//! `tool_report`, `tool_card`, `butter`, `sosfilt`, `sosfiltfilt`, `welch`, `fit_sine`, `displacement`,
 //! `features_extract`, `simulate_tool`, `simulate_case`, `defaults`, and the class
 //! `StreamEstimator` (the causal estimator of `hxai_hybrid::records::stream`, which keeps state
 //! between calls).
 //!
 //! Modules, one job each; this file only assembles them into `hxai._hxai`: `symbolic`
-//! (`sr_*`), `table` (`table_*`), `tool` (`tool_predict`, `StreamEstimator`), `signal`
+//! (`sr_*`), `table` (`table_*`), `tool` (`tool_*`, `StreamEstimator`), `signal`
 //! (the signal functions and `features_extract`), `sim` (`simulate_*`), `settings`
 //! (`defaults` and the overrides applied over them) and `convert` (bytes, tables, `n_jobs`,
 //! errors).
@@ -46,7 +46,7 @@ use signal::{butter, displacement, features_extract, fit_sine, sosfilt, sosfiltf
 use sim::{simulate_case, simulate_tool};
 use symbolic::{sr_fit, sr_intervals, sr_mathml, sr_predict};
 use table::{table_card, table_design, table_fit, table_intervals, table_predict, table_report};
-use tool::{StreamEstimator, tool_predict};
+use tool::{StreamEstimator, tool_card, tool_predict, tool_report};
 
 /// The module `hxai._hxai`.
 #[pymodule]
@@ -63,6 +63,8 @@ fn _hxai(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(table_card, m)?)?;
     m.add_function(wrap_pyfunction!(table_design, m)?)?;
     m.add_function(wrap_pyfunction!(tool_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(tool_report, m)?)?;
+    m.add_function(wrap_pyfunction!(tool_card, m)?)?;
     m.add_function(wrap_pyfunction!(butter, m)?)?;
     m.add_function(wrap_pyfunction!(sosfilt, m)?)?;
     m.add_function(wrap_pyfunction!(sosfiltfilt, m)?)?;

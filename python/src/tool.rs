@@ -1,6 +1,6 @@
 //! The tool case's model written by `hxai fit`, applied per record (`tool_predict`, as
-//! `hxai predict` runs it) and sample by sample (the class `StreamEstimator`, as
-//! `hxai stream` runs it).
+//! `hxai predict` runs it), sample by sample (the class `StreamEstimator`, as
+//! `hxai stream` runs it), and shown (`tool_report`, `tool_card`, as `hxai report`).
 
 use crate::convert::{err, floats, to_bytes};
 use hxai_hybrid::records::stream::Estimator;
@@ -53,6 +53,74 @@ pub(crate) fn tool_predict<'py>(
         serde_json::to_string(&windows).map_err(err)?,
         warnings,
     ))
+}
+
+/// One record from Python for `tool_report`: `(id, fs_hz, frequency_hz, accel, probe)`, the
+/// signals as `float64` bytes.
+type PyRecord<'py> = (String, f64, f64, Bound<'py, PyBytes>, Bound<'py, PyBytes>);
+
+/// `tool_report(model_json, records=None, compare_json=None, data_name=None)` -> the HTML
+/// page of `hxai report` for a model of `hxai fit`; with records (each with its probe
+/// truth), the scores, figures and ranges drawn on them, as `hxai report --data FOLDER`.
+#[pyfunction]
+#[pyo3(signature = (model_json, records=None, compare_json=None, data_name=None))]
+pub(crate) fn tool_report(
+    py: Python<'_>,
+    model_json: &str,
+    records: Option<Vec<PyRecord<'_>>>,
+    compare_json: Option<&str>,
+    data_name: Option<String>,
+) -> PyResult<String> {
+    let model = RecordModel::from_json(model_json).map_err(err)?;
+    let compare: Option<serde_json::Value> = compare_json
+        .map(|t| crate::convert::parse_json(t, "comparison"))
+        .transpose()?;
+    let signals = records
+        .map(|rs| {
+            rs.into_iter()
+                .map(|(id, fs, f, a, p)| {
+                    let accel = floats(a.as_bytes(), "accel")?;
+                    let probe = floats(p.as_bytes(), "probe")?;
+                    Ok((id, fs, f, accel, probe))
+                })
+                .collect::<PyResult<Vec<_>>>()
+        })
+        .transpose()?;
+    let name = data_name.unwrap_or_else(|| "the records given".to_string());
+    let version = env!("CARGO_PKG_VERSION");
+    py.detach(|| {
+        let Some(signals) = &signals else {
+            let inputs = hxai_plot::report::tool_inputs(&model, None, compare.as_ref(), version)?;
+            return Ok(hxai_plot::report::tool_report(&model, &inputs));
+        };
+        let records: Vec<RecordInput<'_>> = signals
+            .iter()
+            .map(|(id, fs, f, a, p)| RecordInput {
+                id,
+                fs_hz: *fs,
+                frequency_hz: *f,
+                signal: a,
+                truth: Some(p),
+            })
+            .collect();
+        let data = hxai_plot::report::ToolData {
+            name: &name,
+            records: &records,
+            warnings: Vec::new(),
+        };
+        let inputs =
+            hxai_plot::report::tool_inputs(&model, Some(&data), compare.as_ref(), version)?;
+        Ok(hxai_plot::report::tool_report(&model, &inputs))
+    })
+    .map_err(|e: hxai_hybrid::HybridError| err(e))
+}
+
+/// `tool_card(model_json)` -> the compact HTML card of a model of `hxai fit` (`ToolModel`'s
+/// `_repr_html_`).
+#[pyfunction]
+pub(crate) fn tool_card(model_json: &str) -> PyResult<String> {
+    let model = RecordModel::from_json(model_json).map_err(err)?;
+    Ok(hxai_plot::report::tool_card(&model))
 }
 
 /// `StreamEstimator(model_json, frequency_hz, fs_hz, interval=None)`: the tool position in

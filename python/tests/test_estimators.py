@@ -515,6 +515,8 @@ def test_report_and_notebook_card(tmp_path):
     est.fit(X, y)
     card = est._repr_html_()
     assert "<math" in card and "k = " in card
+    # what Jupyter shows: the mime bundle (scikit-learn's holds its diagram) has the card
+    assert est._repr_mimebundle_()["text/html"] == card
     page = tmp_path / "r.html"
     assert est.report(page, X, y) == str(page)
     html = page.read_text(encoding="utf-8")

@@ -38,13 +38,25 @@ pub(crate) enum Model {
 }
 
 /// Reads a model file of `hxai fit` or `hxai hybrid fit` (told apart by the process model's
-/// `target` and `hybrid` keys).
+/// `target` and `hybrid` keys and the tool model's `features` and `window`); a JSON
+/// document with neither pair is refused as no model, naming both.
 pub(crate) fn load(path: &Path) -> Result<Model> {
     let text = hxai_data::read_text(path)
         .with_context(|| format!("cannot read the model {}", path.display()))?;
-    let is_process = serde_json::from_str::<serde_json::Value>(&text)
-        .ok()
-        .is_some_and(|v| v.get("target").is_some() && v.get("hybrid").is_some());
+    let value = serde_json::from_str::<serde_json::Value>(&text).ok();
+    let has = |a: &str, b: &str| {
+        value
+            .as_ref()
+            .is_some_and(|v| v.get(a).is_some() && v.get(b).is_some())
+    };
+    let is_process = has("target", "hybrid");
+    anyhow::ensure!(
+        value.is_none() || is_process || has("features", "window"),
+        "cannot load the model {}: it is JSON but no model file, neither of `hxai hybrid \
+         fit` (keys `target`, `hybrid`) nor of `hxai fit` (keys `features`, `window`); give \
+         the file their --out wrote",
+        path.display()
+    );
     let loaded = if is_process {
         hxai_hybrid::tables::TableModel::from_json(&text).map(|m| Model::Process(Box::new(m)))
     } else {

@@ -413,3 +413,157 @@ fn explain_draws_a_table_hybrid_too() -> TestResult {
     );
     Ok(())
 }
+
+/// `hxai report` of the recordings' tool model (issue 50): drawn on its data folder, one
+/// self-contained page with the hybrid as MathML in `#hybrid-equation`, the sections in
+/// the table report's order, the figures inline with accessible names, the evaluation on
+/// the test records, the `hxai fit` command that refits it; bad input (a table as the
+/// folder, records without the probe, the model as the output, a file that is no model)
+/// is one line on stderr with nothing written.
+#[test]
+fn report_of_the_tool_model_is_one_self_contained_page() -> TestResult {
+    let (dir, model, samples) = fitted("report")?;
+    let data = dir.join("data");
+    let page = dir.join("tool.html");
+    let before = std::fs::read(&model)?;
+    let o = hxai(&[
+        "report",
+        "--model",
+        s(&model),
+        "--data",
+        s(&data),
+        "--out",
+        s(&page),
+    ])?;
+    common::ok(&o, "report of the tool model");
+    assert_eq!(std::fs::read(&model)?, before, "the model is never written");
+    let html = std::fs::read_to_string(&page)?;
+    assert_eq!(
+        common::assert_self_contained_page(&html),
+        3,
+        "response, parity and front"
+    );
+    let m = model_json(&model)?;
+    // the correction's equation and the test records' evaluation, as the model and
+    // `hxai evaluate` give them
+    let equation = m["correction"]["equation"].as_str().ok_or("no equation")?;
+    assert!(html.contains(&format!("x_hat(t) = (A_phys + ({equation}))")));
+    let ev = hxai_ok(
+        &[
+            "evaluate",
+            "--model",
+            s(&model),
+            "--data",
+            s(&data),
+            "--json",
+        ],
+        "evaluate",
+    )?;
+    let ev: serde_json::Value = serde_json::from_slice(&ev.stdout)?;
+    let n = ev["n_windows"].as_u64().ok_or("no n_windows")?;
+    assert!(
+        html.contains(&format!(
+            "the test records: {} records, {n} windows",
+            ev["n_records"]
+        )),
+        "the evaluation's counts"
+    );
+    assert!(html.contains("Paired t-test"));
+    assert!(html.contains("Training ranges of the correction"));
+    assert!(html.contains("hxai fit --data"));
+    assert!(html.contains(" --seed 5 "));
+    common::assert_no_temporary_files(&dir);
+
+    // without the data: the model's own numbers, no figure
+    let bare = dir.join("bare.html");
+    hxai_ok(
+        &["report", "--model", s(&model), "--out", s(&bare)],
+        "report without data",
+    )?;
+    let bare_html = std::fs::read_to_string(&bare)?;
+    assert!(!bare_html.contains("<svg"));
+    assert!(bare_html.contains("give the data folder"));
+
+    // bad input: one line, nothing written
+    let refused = dir.join("refused.html");
+    let evaluation = dir.join("evaluation.json");
+    std::fs::write(&evaluation, serde_json::to_string(&ev)?)?;
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["--model", s(&model), "--data", s(&samples)],
+            "is not a folder",
+        ),
+        (
+            vec!["--model", s(&samples), "--data", s(&data)],
+            "cannot load the model",
+        ),
+        (
+            vec!["--model", s(&evaluation), "--data", s(&data)],
+            "no model file, neither of `hxai hybrid fit`",
+        ),
+    ];
+    for (args, said) in cases {
+        let mut all = vec!["report"];
+        all.extend(args);
+        all.extend(["--out", s(&refused)]);
+        let o = hxai(&all)?;
+        assert_eq!(o.status.code(), Some(1), "{all:?}");
+        let err = common::stderr(&o);
+        assert!(err.contains(said), "{all:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(!refused.exists());
+    }
+    let o = hxai(&["report", "--model", s(&model), "--out", s(&model)])?;
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(std::fs::read(&model)?, before);
+    // records without their probe truth
+    let bare_data = dir.join("no-probe");
+    let grid = ["--format", "csv", "--fs-hz", "2000", "--amplitudes", "4"];
+    common::simulate_small(&bare_data, "1.5", &grid, "simulate failed")?;
+    for entry in std::fs::read_dir(&bare_data)? {
+        let path = entry?.path();
+        if path.file_name().is_some_and(|n| n != "manifest.csv") {
+            let text = std::fs::read_to_string(&path)?;
+            std::fs::write(&path, drop_column(&text, "probe_um"))?;
+        }
+    }
+    let o = hxai(&[
+        "report",
+        "--model",
+        s(&model),
+        "--data",
+        s(&bare_data),
+        "--out",
+        s(&refused),
+    ])?;
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        common::stderr(&o).contains("probe_um"),
+        "{}",
+        common::stderr(&o)
+    );
+    assert!(!refused.exists());
+    Ok(())
+}
+
+/// CSV `text` without the column `name`.
+fn drop_column(text: &str, name: &str) -> String {
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let skip = head.iter().position(|h| *h == name);
+    let keep = |line: &str| -> String {
+        line.split(',')
+            .enumerate()
+            .filter(|(i, _)| Some(*i) != skip)
+            .map(|(_, c)| c)
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    let mut out = keep(&head.join(","));
+    for l in lines {
+        out.push('\n');
+        out.push_str(&keep(l));
+    }
+    out.push('\n');
+    out
+}

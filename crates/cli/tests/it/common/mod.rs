@@ -134,3 +134,29 @@ pub fn assert_no_temporary_files(dir: &Path) {
         .unwrap_or_default();
     assert!(left.iter().all(|n| !n.contains(".tmp")), "{left:?}");
 }
+
+/// Checks what every page of `hxai report` is (issue 50): an HTML5 document with the hybrid
+/// as MathML in `<math id="hybrid-equation">`, no address of any resource and no script,
+/// the sections in the order a reader asks (model, scores, how sure, where it holds, how to
+/// reproduce), every figure an inline `<svg>` in an element with an accessible name, and a
+/// print stylesheet. Returns the number of figures.
+pub fn assert_self_contained_page(html: &str) -> usize {
+    assert!(html.starts_with("<!DOCTYPE html>"));
+    let eq = html.find("id=\"hybrid-equation\"");
+    assert!(
+        eq.is_some_and(|i| html[..i].ends_with("<math display=\"block\" ")),
+        "no <math id=\"hybrid-equation\">"
+    );
+    for bad in ["http:", "https:", "<script", "<link", "@import", "url("] {
+        assert!(!html.contains(bad), "{bad} in the page");
+    }
+    let order: Vec<usize> = ["model", "scores", "sure", "holds", "reproduce"]
+        .iter()
+        .map(|id| html.find(&format!("id=\"{id}\"")).unwrap_or(usize::MAX))
+        .collect();
+    assert!(order.windows(2).all(|w| w[0] < w[1]), "{order:?}");
+    assert!(html.contains("@media print"));
+    let svgs = html.matches("<svg").count();
+    assert_eq!(html.matches("role=\"img\" aria-label=").count(), svgs);
+    svgs
+}

@@ -150,3 +150,43 @@ impl SamplesTable {
         Ok((numbers, delta, is_test))
     }
 }
+
+impl super::RecordModel {
+    /// The samples table of `records` (each with its truth) labelled by this model's split:
+    /// a window is `train` when the fit used it (its record among the training records,
+    /// and, with a window split, the window not among the test windows), `test` otherwise
+    /// (a record the fit never saw is `test`). What a report draws the correction on.
+    ///
+    /// # Errors
+    /// [`HybridError::NoTruth`] for a record without truth,
+    /// [`HybridError::FrequencyOutOfBand`] and the composer's errors.
+    pub fn samples_of(
+        &self,
+        records: &[crate::records::RecordInput<'_>],
+    ) -> Result<SamplesTable, HybridError> {
+        let hybrid = self.hybrid();
+        let mut samples = Vec::new();
+        for r in records {
+            if r.truth.is_none() {
+                return Err(HybridError::NoTruth {
+                    record: r.id.to_owned(),
+                });
+            }
+            super::check_band(&self.physics, r)?;
+            samples.extend(hybrid.samples(r)?.windows);
+        }
+        let test_windows = self.split.test_windows.as_deref().unwrap_or(&[]);
+        let is_test: Vec<bool> = samples
+            .iter()
+            .map(|s| {
+                let trained = self.split.train.contains(&s.record)
+                    && !(self.split.kind == super::SplitKind::Window
+                        && test_windows
+                            .iter()
+                            .any(|w| w.record == s.record && w.window == s.window));
+                !trained
+            })
+            .collect();
+        samples_table(&samples, &is_test, &self.features.names)
+    }
+}
