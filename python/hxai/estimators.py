@@ -957,8 +957,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         must give every column the model reads. ``goal`` is ``"discriminate"`` (where the
         selected correction and its alternatives disagree most; ``coverage`` when there is
         none), ``"coverage"`` (widest interval first, then the farthest from the runs
-        picked) or ``"precision"`` (D-optimal for the hybrid's constants: the runs that
-        narrow their intervals most, from the model's covariance). Returns a DataFrame: the settings, ``predicted``, ``spread``, ``reason``."""
+        picked) or ``"precision"`` (Ds-optimal for the physics parameters, the correction's
+        constants as nuisance parameters: the runs that narrow their joint interval most,
+        from the model's covariance). Returns a DataFrame: the settings, ``predicted``, ``spread``, ``reason``."""
         check_is_fitted(self, "model_json_")
         if getattr(self, "level_columns_", None):
             raise ValueError("suggest_experiments over text levels is not built yet")

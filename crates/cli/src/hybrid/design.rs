@@ -12,9 +12,9 @@ pub(crate) enum GoalArg {
     Discriminate,
     /// Where the prediction interval is widest and the runs are sparse.
     Coverage,
-    /// D-optimal for the hybrid's constants (physics parameters and correction constants
-    /// together, from the model file's covariance): the runs that narrow their intervals
-    /// most.
+    /// Ds-optimal for the physics parameters, the correction's constants as nuisance
+    /// parameters (from the model file's covariance): the runs that narrow the parameters'
+    /// joint interval most.
     Precision,
 }
 

@@ -44,9 +44,9 @@ pub enum DesignGoal {
     Discriminate,
     /// Widest intervals, sparsest runs.
     Coverage,
-    /// D-optimal for the hybrid's constants (physics parameters and correction constants
-    /// together): the runs that shrink their joint confidence region most, each chosen
-    /// with the earlier picks counted as done.
+    /// Ds-optimal for the calibrated physics parameters, the correction's constants as
+    /// nuisance parameters: the runs that shrink the parameters' joint confidence region
+    /// most, each chosen with the earlier picks counted as done.
     Precision,
 }
 
@@ -369,18 +369,65 @@ pub fn design(
     })
 }
 
+/// The inverse of a small symmetric positive definite matrix by Gauss-Jordan elimination
+/// with partial pivoting; `None` where it is singular (a pivot below `1e-300` or `1e-12`
+/// of the largest diagonal entry).
+fn invert(a: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
+    let k = a.len();
+    let scale = a
+        .iter()
+        .enumerate()
+        .map(|(i, r)| r[i].abs())
+        .fold(0.0_f64, f64::max);
+    let mut m: Vec<Vec<f64>> = a
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let mut row = r.clone();
+            row.extend((0..k).map(|j| if i == j { 1.0 } else { 0.0 }));
+            row
+        })
+        .collect();
+    for col in 0..k {
+        let p = (col..k).max_by(|&x, &y| m[x][col].abs().total_cmp(&m[y][col].abs()))?;
+        if m[p][col].abs() <= (1e-12 * scale).max(1e-300) {
+            return None;
+        }
+        m.swap(col, p);
+        let d = m[col][col];
+        for v in &mut m[col] {
+            *v /= d;
+        }
+        for r in 0..k {
+            if r != col {
+                let f = m[r][col];
+                if f != 0.0 {
+                    let pivot = m[col].clone();
+                    for (v, pv) in m[r].iter_mut().zip(pivot) {
+                        *v -= f * pv;
+                    }
+                }
+            }
+        }
+    }
+    Some(m.into_iter().map(|r| r[k..].to_vec()).collect())
+}
+
 /// The candidate equations' values at every candidate: the selected hybrid's, the spread
 /// of all, and each equation with its values.
 type Predictions = (Vec<f64>, Vec<f64>, Vec<(String, Vec<f64>)>);
 
-/// [`design`] for [`DesignGoal::Precision`]: the greedy sequential D-optimal design
-/// (Fedorov's exchange without the exchange: each pick with the earlier ones fixed). With
-/// `C` the constants' covariance `s^2 (J^T J)^-1` of the model file and `g` the gradient of
-/// the hybrid's prediction with respect to its constants at a candidate (central
-/// differences on the hybrid equation), a run there multiplies `det(J^T J)` by
-/// `1 + g^T C g / s^2` (the matrix determinant lemma), so the pick is the largest prediction
-/// variance `g^T C g`; `C` is then updated as if the run were done (Sherman-Morrison:
-/// `C - C g g^T C / (s^2 + g^T C g)`).
+/// [`design`] for [`DesignGoal::Precision`]: the greedy sequential Ds-optimal design for the
+/// calibrated physics parameters, the correction's constants as nuisance parameters (each
+/// pick with the earlier ones fixed). With `C` the constants' covariance `s^2 (J^T J)^-1`
+/// of the model file and `g` the gradient of the hybrid's prediction with respect to its
+/// constants at a candidate (central differences on the hybrid equation), a run there
+/// multiplies the determinant of the physics block `C_ss` by `1 - u^T C_ss^-1 u / (s^2 +
+/// g^T C g)`, `u` the physics part of `C g`; the pick is the candidate that shrinks it most,
+/// and `C` is then updated as if the run were done (Sherman-Morrison: `C - C g g^T C / (s^2
+/// + g^T C g)`). Where nothing is calibrated, or the physics block is singular, the pick is
+/// the D-optimal one for every constant (the largest `g^T C g`). Measured against the
+/// D-optimal design for every constant in docs/benchmarks.md ("What to measure next").
 fn precision(
     model: &TableModel,
     candidates: &Table,
@@ -445,20 +492,50 @@ fn precision(
             .map(|(row, gi)| gi * row.iter().zip(g).map(|(c, gj)| c * gj).sum::<f64>())
             .sum()
     };
+    // the calibrated physics parameters: their block of the covariance is what the runs
+    // should shrink (Ds-optimality); the correction's constants are nuisance parameters
+    let physics: Vec<usize> = u
+        .params
+        .iter()
+        .enumerate()
+        .filter(|(_, (name, _))| model.physics.calibrated.contains(name))
+        .map(|(j, _)| j)
+        .collect();
     let mut rows: Vec<usize> = Vec::with_capacity(n);
     let mut reason = Vec::with_capacity(n);
-    let mut gain = 0.0;
+    let mut gain = 0.0_f64;
     for _ in 0..n {
+        let block: Vec<Vec<f64>> = physics
+            .iter()
+            .map(|&a| physics.iter().map(|&b| cov[a][b]).collect())
+            .collect();
+        let block_inv = invert(&block);
         let mut best = None;
         let mut best_v = f64::NEG_INFINITY;
+        let mut best_score = f64::NEG_INFINITY;
         for i in 0..m {
             if rows.contains(&i) {
                 continue;
             }
-            let v = variance(&cov, &g_at(i));
-            if v.is_finite() && v > best_v {
+            let g = g_at(i);
+            let v = variance(&cov, &g);
+            // Ds: the share by which the run shrinks the physics block's determinant,
+            // `u' C_ss^-1 u / (s^2 + v)` with `u` the physics part of `C g`; D (every
+            // constant) where nothing is calibrated or the block is singular
+            let score = match &block_inv {
+                Some(inv) if !physics.is_empty() => {
+                    let us: Vec<f64> = physics
+                        .iter()
+                        .map(|&a| cov[a].iter().zip(&g).map(|(c, gj)| c * gj).sum())
+                        .collect();
+                    variance(inv, &us) / (s2 + v)
+                }
+                _ => v,
+            };
+            if v.is_finite() && score.is_finite() && score > best_score {
                 best = Some(i);
                 best_v = v;
+                best_score = score;
             }
         }
         let Some(i) = best else {
@@ -476,13 +553,26 @@ fn precision(
                 *c -= cg[a] * cg[b] / (s2 + best_v);
             }
         }
-        gain += (1.0 + best_v / s2).ln();
+        let ds = !physics.is_empty() && block_inv.is_some();
+        // the factor the region's determinant is multiplied by
+        let shrink = if ds {
+            1.0 - best_score.clamp(0.0, 1.0 - f64::EPSILON)
+        } else {
+            1.0 / (1.0 + best_v.max(0.0) / s2)
+        };
+        gain -= shrink.ln();
+        let what = if ds {
+            "physics parameters'"
+        } else {
+            "all constants'"
+        };
         reason.push(format!(
-            "the constants' uncertainty moves the prediction most here (sd {}, {:.0} % of the \
-             scatter's), the runs picked before counted as done; det(J^T J) x {:.3} so far",
+            "the run that shrinks the {what} joint confidence region most (the constants' \
+             uncertainty moves the prediction by sd {} here, {:.0} % of the scatter's), the \
+             runs picked before counted as done; that region's volume x {:.3} so far",
             crate::error::num(best_v.max(0.0).sqrt()),
             100.0 * (best_v.max(0.0) / s2).sqrt(),
-            gain.exp()
+            (-0.5 * gain).exp()
         ));
         rows.push(i);
     }

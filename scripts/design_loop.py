@@ -1,0 +1,133 @@
+"""Runs chosen by `hxai hybrid design --goal precision` against random runs (issue 49).
+
+For each held-out process of `scripts/heldout_processes.py` (wear, creep, runout: their
+truths are Python functions of the settings, so a run can be "measured" at any setting)
+and each seed:
+
+1. draw `--start` runs uniformly over the process's space and measure them;
+2. fit the hybrid on them (`hxai hybrid fit --test-fraction 0.02`: one or two rows held out, the least the fit accepts);
+3. add `--add` runs two ways, each measured with fresh scatter and refitted:
+   - `precision`: the settings `hxai hybrid design --goal precision` proposes over the
+     space (ranges: 4,000 seeded candidates);
+   - `random`: the same number drawn uniformly over the same space;
+4. record each physics parameter's 95 % interval width (the model file's
+   `physics.params[P].ci95`).
+
+It prints, per process and parameter, the median over seeds of the width after the designed
+runs divided by the width after the random runs (issue 49's goal: at most 0.7), and the
+share of seeds where the designed runs gave the narrower interval.
+
+    python3 scripts/design_loop.py --hxai target/release/hxai --out DIR [--seeds 10]
+
+Needs numpy. Writes only under DIR. Not run here: the discriminate arm with `--stability`
+refits and the Latin hypercube arm of issue 49 (see docs/benchmarks.md).
+"""
+import argparse
+import csv
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import heldout_processes as hp  # noqa: E402
+
+
+def run(cmd):
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        raise SystemExit(f"failed: {' '.join(cmd)}\n{p.stderr.strip()}")
+    return p.stdout
+
+
+def ranges(space):
+    """`col=lo:hi[:step]` of a space as {col: (lo, hi, step or None)}."""
+    out = {}
+    for part in space.split(","):
+        name, rng = part.split("=")
+        v = [float(x) for x in rng.split(":")]
+        out[name] = (v[0], v[1], v[2] if len(v) > 2 else None)
+    return out
+
+
+def uniform(space, n, rng):
+    cols = {}
+    for name, (lo, hi, step) in ranges(space).items():
+        if step is None:
+            cols[name] = rng.uniform(lo, hi, n)
+        else:
+            levels = np.arange(lo, hi + step / 2, step)
+            cols[name] = rng.choice(levels, n)
+    return cols
+
+
+def fit(a, spec, table, model):
+    run([a.hxai, "hybrid", "fit", "--data", str(table), "--target", spec["target"],
+         "--physics", spec["physics"], "--calibrate", spec["calibrate"], "--init", spec["init"],
+         "--correction", spec["correction"], "--test-fraction", "0.02", "--seed", "42",
+         "--threads", str(a.threads), "--out", str(model)])
+    m = json.loads(Path(model).read_text())
+    return {p: (v["ci95"][1] - v["ci95"][0]) if v.get("ci95") else float("nan")
+            for p, v in m["physics"]["params"].items()}
+
+
+def joined(a, b):
+    return {k: np.concatenate([a[k], b[k]]) for k in a}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--hxai", required=True)
+    ap.add_argument("--out", default="target/design-loop")
+    ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--start", type=int, default=60)
+    ap.add_argument("--add", type=int, default=10)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--only", default="")
+    a = ap.parse_args()
+    out = Path(a.out)
+    out.mkdir(parents=True, exist_ok=True)
+    print("| process | parameter | width after 60 | after +10 designed | after +10 random | "
+          "designed / random (median) | designed narrower |")
+    print("|---|---|---:|---:|---:|---:|---:|")
+    for name, (_, measure, spec) in hp.SPECS.items():
+        if a.only and name not in a.only.split(","):
+            continue
+        widths = {"start": [], "precision": [], "random": []}
+        for seed in range(a.seeds):
+            rng = np.random.default_rng(1000 + seed)
+            base = uniform(spec["space"], a.start, rng)
+            base[spec["target"]] = measure(base, rng)
+            t0 = out / f"{name}-{seed}-start.csv"
+            hp.write_csv(t0, base)
+            m0 = out / f"{name}-{seed}-start.json"
+            widths["start"].append(fit(a, spec, t0, m0))
+            nxt = out / f"{name}-{seed}-next.csv"
+            run([a.hxai, "hybrid", "design", "--model", str(m0), "--space", spec["space"],
+                 "--n", str(a.add), "--goal", "precision", "--seed", str(seed),
+                 "--out", str(nxt)])
+            names = [c for c in base if c != spec["target"]]
+            with open(nxt, newline="") as fh:
+                rows = list(csv.DictReader(fh))
+            designed = {c: np.array([float(r[c]) for r in rows]) for c in names}
+            designed[spec["target"]] = measure(designed, rng)
+            randoms = uniform(spec["space"], a.add, rng)
+            randoms[spec["target"]] = measure(randoms, rng)
+            for arm, extra in (("precision", designed), ("random", randoms)):
+                t = out / f"{name}-{seed}-{arm}.csv"
+                hp.write_csv(t, joined(base, extra))
+                widths[arm].append(fit(a, spec, t, out / f"{name}-{seed}-{arm}.json"))
+        for p in widths["start"][0]:
+            w0 = np.array([w[p] for w in widths["start"]])
+            wd = np.array([w[p] for w in widths["precision"]])
+            wr = np.array([w[p] for w in widths["random"]])
+            print(f"| {name} | {p} | {np.median(w0):.4g} | {np.median(wd):.4g} | "
+                  f"{np.median(wr):.4g} | {np.median(wd / wr):.2f} | "
+                  f"{np.mean(wd < wr):.0%} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
