@@ -424,8 +424,8 @@ type Predictions = (Vec<f64>, Vec<f64>, Vec<(String, Vec<f64>)>);
 /// constants at a candidate (central differences on the hybrid equation), a run there
 /// multiplies the determinant of the physics block `C_ss` by `1 - u^T C_ss^-1 u / (s^2 +
 /// g^T C g)`, `u` the physics part of `C g`; the pick is the candidate that shrinks it most,
-/// and `C` is then updated as if the run were done (Sherman-Morrison: `C - C g g^T C / (s^2
-/// + g^T C g)`). Where nothing is calibrated, or the physics block is singular, the pick is
+/// and `C` is then updated as if the run were done (Sherman-Morrison: `C - C g g^T C /
+/// (s^2 + g^T C g)`). Where nothing is calibrated, or the physics block is singular, the pick is
 /// the D-optimal one for every constant (the largest `g^T C g`). Measured against the
 /// D-optimal design for every constant in docs/benchmarks.md ("What to measure next").
 fn precision(
