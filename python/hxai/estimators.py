@@ -955,8 +955,8 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         is ranges as text (``"f=0.05:0.3,r=0.4:1.2:0.4"``, ``:step`` for levels, ``a|b`` for a
         list) or a DataFrame of feasible settings (its rows are the only candidates); it
         must give every column the model reads. ``goal`` is ``"discriminate"`` (where the
-        selected correction and its alternatives disagree most; ``coverage`` when there is
-        none), ``"coverage"`` (widest interval first, then the farthest from the runs
+        selected correction and its alternatives disagree most; ``precision`` when there is
+        none, ``coverage`` without a covariance either), ``"coverage"`` (widest interval first, then the farthest from the runs
         picked) or ``"precision"`` (Ds-optimal for the physics parameters, the correction's
         constants as nuisance parameters: the runs that narrow their joint interval most,
         from the model's covariance). Returns a DataFrame: the settings, ``predicted``, ``spread``, ``reason``."""

@@ -8,7 +8,8 @@ use std::path::PathBuf;
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
 pub(crate) enum GoalArg {
     /// Separate the selected correction from the alternatives the data cannot tell apart
-    /// (the default; `coverage` when the model file has none).
+    /// (the default; `precision` when the model file has none, `coverage` when it has no
+    /// covariance either).
     Discriminate,
     /// Where the prediction interval is widest and the runs are sparse.
     Coverage,
@@ -80,10 +81,11 @@ pub(crate) fn run(a: DesignArgs) -> Result<()> {
         )
     })?;
     if goal == DesignGoal::Discriminate && p.goal != goal {
-        crate::safety::warn(&[
+        crate::safety::warn(&[&format!(
             "--goal discriminate: the model file has no alternative the data could not tell \
-             apart from its correction, so the runs are chosen for coverage",
-        ]);
+             apart from its correction, so the runs are chosen for {}",
+            p.goal.name()
+        )]);
     }
     let mut t = hxai_data::MixedTable::default();
     for (name, col) in table.names().iter().zip(table.columns()) {

@@ -1573,21 +1573,37 @@ fn design_proposes_runs_inside_the_space() -> TestResult {
     let feasible = dir.join("feasible.csv");
     std::fs::write(&feasible, "f,r,v\n0.1,0.8,100\n0.2,0.8,200\n0.3,1.2,300\n")?;
     let next2 = dir.join("next2.csv");
-    ok(
-        &hxai(&[
-            "hybrid",
-            "design",
-            "--model",
-            s(&model),
-            "--space",
-            s(&feasible),
-            "--n",
-            "2",
-            "--out",
-            s(&next2),
-        ])?,
-        "design from a CSV",
-    );
+    let o = hxai(&[
+        "hybrid",
+        "design",
+        "--model",
+        s(&model),
+        "--space",
+        s(&feasible),
+        "--n",
+        "2",
+        "--out",
+        s(&next2),
+        "--json",
+    ])?;
+    ok(&o, "design from a CSV");
+    // the default goal, discriminate, needs alternatives; without them it is precision
+    // (the model has a covariance), with a note
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model)?)?;
+    let alternatives = m["correction"]["selection"]["alternatives"]
+        .as_array()
+        .map_or(0, Vec::len);
+    let used: serde_json::Value = serde_json::from_slice(&o.stdout)?;
+    if alternatives == 0 {
+        assert_eq!(used["goal"], "precision", "{used}");
+        assert!(
+            common::stderr(&o).contains("chosen for precision"),
+            "{}",
+            common::stderr(&o)
+        );
+    } else {
+        assert_eq!(used["goal"], "discriminate", "{used}");
+    }
     let rows: Vec<String> = std::fs::read_to_string(&next2)?
         .lines()
         .skip(1)

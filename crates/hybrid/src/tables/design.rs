@@ -169,7 +169,8 @@ pub fn candidates(space: &[(String, SpaceColumn)], seed: u64) -> Result<Table, H
 /// The runs proposed, best first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Proposal {
-    /// The goal used (`discriminate` falls back to `coverage` without alternatives).
+    /// The goal used (`discriminate` falls back to `precision` without alternatives, and
+    /// to `coverage` when the model file has no covariance either).
     pub goal: DesignGoal,
     /// Candidate rows picked, in order.
     pub rows: Vec<usize>,
@@ -244,14 +245,19 @@ pub fn design(
             hi - lo
         })
         .collect();
+    let has_covariance = model
+        .hybrid
+        .uncertainty
+        .as_ref()
+        .is_some_and(|u| !u.covariance.is_empty() && u.residual_variance > 0.0);
+    let goal = match goal {
+        DesignGoal::Discriminate if equations.len() < 2 && has_covariance => DesignGoal::Precision,
+        DesignGoal::Discriminate if equations.len() < 2 => DesignGoal::Coverage,
+        g => g,
+    };
     if goal == DesignGoal::Precision {
         return precision(model, candidates, n, (selected.hybrid, spread, equations));
     }
-    let goal = if goal == DesignGoal::Discriminate && equations.len() < 2 {
-        DesignGoal::Coverage
-    } else {
-        goal
-    };
     let width: Option<Vec<f64>> = match goal {
         DesignGoal::Coverage => model
             .intervals(candidates, crate::DEFAULT_INTERVAL)
