@@ -129,6 +129,10 @@ pub struct Explanation {
     pub parity: Option<Parity>,
     /// The Pareto front (absent when the model file does not store it).
     pub front: Option<Front>,
+    /// A factor correction's response band per column over its stability runs (the model
+    /// file's `stability.bands`, issue 46): the 5-95 % spread and the median of each
+    /// factor's normalised response on a grid of its column. Empty otherwise.
+    pub factors: Vec<(String, hxai_symreg::factors::FactorBand)>,
 }
 
 /// Median of finite values (mean of the middle two for an even count); `None` when empty.
@@ -352,6 +356,7 @@ pub fn explain(
             members: members.to_vec(),
             selected: (model.complexity(), model.train_mse),
         }),
+        factors: Vec::new(),
     })
 }
 

@@ -11,6 +11,10 @@ pub const PARITY_FILE: &str = "predicted_vs_true.svg";
 /// File of the Pareto front.
 pub const PARETO_FILE: &str = "pareto.svg";
 
+/// File name of the factor correction's response bands (one panel per factor; drawn only
+/// when the model's stability runs stored them).
+pub const FACTORS_FILE: &str = "factors.svg";
+
 /// Axis label of the tool case's correction.
 pub const DELTA_AXIS: &str = "δ = A_true - A_phys (µm)";
 
@@ -86,7 +90,40 @@ fn response_panels(e: &Explanation, target: &str) -> Vec<Panel> {
         .collect()
 }
 
-/// Draws the pictures of `e`: [`RESPONSE_FILE`], [`PARITY_FILE`] and [`PARETO_FILE`], each
+/// One panel per factor of a factor correction: its response band over the stability
+/// runs (5-95 %) and the median response, on a grid of its column.
+fn factor_panels(e: &Explanation) -> Vec<Panel> {
+    e.factors
+        .iter()
+        .map(|(column, b)| {
+            let band: Vec<(f64, f64, f64)> = b
+                .grid
+                .iter()
+                .zip(b.lo.iter().zip(&b.hi))
+                .map(|(&x, (&l, &h))| (x, l, h))
+                .collect();
+            Panel {
+                title: format!("factor of {column} ({} runs kept it)", b.runs),
+                x_label: column.clone(),
+                y_label: "factor (normalised response)".into(),
+                series: vec![
+                    Series::band("5-95 % over the stability runs", &band),
+                    Series::line(
+                        "median over the runs",
+                        b.grid
+                            .iter()
+                            .copied()
+                            .zip(b.median.iter().copied())
+                            .collect(),
+                    ),
+                ],
+            }
+        })
+        .collect()
+}
+
+/// Draws the pictures of `e`: [`RESPONSE_FILE`], [`PARITY_FILE`] and [`PARETO_FILE`], and
+/// [`FACTORS_FILE`] for a factor correction whose stability runs stored bands, each
 /// named with `prefix` before it (empty for `hxai explain`). `target` labels the
 /// correction's axis (with its unit, e.g. `δ (µm)`).
 ///
@@ -163,6 +200,14 @@ pub fn pictures(e: &Explanation, target: &str, prefix: &str) -> Result<Pictures,
             files.push((name(PARETO_FILE), draw(&name(PARETO_FILE), &[panel], 1)?));
         }
     }
+    if !e.factors.is_empty() {
+        let panels = factor_panels(e);
+        let cols = panels.len().min(3);
+        files.push((
+            name(FACTORS_FILE),
+            draw(&name(FACTORS_FILE), &panels, cols)?,
+        ));
+    }
     Ok(Pictures { files, skipped })
 }
 
@@ -199,6 +244,7 @@ mod tests {
                 }],
                 selected: (3, 0.01),
             }),
+            factors: Vec::new(),
         }
     }
 
@@ -226,6 +272,32 @@ mod tests {
         assert!(p.files[0].1.contains("<polygon"));
         assert!(p.files[1].1.contains("true δ (µm)"));
         assert!(p.files[2].1.contains("selected (complexity 3)"));
+        Ok(())
+    }
+
+    #[test]
+    fn a_factor_correction_draws_one_band_per_factor() -> Result<(), FigureError> {
+        let band = hxai_symreg::factors::FactorBand {
+            runs: 18,
+            grid: vec![1.0, 2.0, 3.0],
+            lo: vec![0.8, 0.9, 1.0],
+            median: vec![0.9, 1.0, 1.1],
+            hi: vec![1.0, 1.1, 1.2],
+        };
+        let e = Explanation {
+            factors: vec![("feed".into(), band.clone()), ("speed".into(), band)],
+            ..explanation()
+        };
+        let p = pictures(&e, "y", "")?;
+        let last = p.files.last();
+        assert_eq!(last.map(|f| f.0.as_str()), Some(FACTORS_FILE));
+        let svg = last.map(|f| f.1.as_str()).unwrap_or_default();
+        assert!(svg.contains("factor of feed (18 runs kept it)"), "{svg}");
+        assert!(svg.contains("factor of speed"));
+        assert!(svg.contains("<polygon"));
+        // without bands there is no such picture
+        let p = pictures(&explanation(), "y", "")?;
+        assert!(p.files.iter().all(|(n, _)| n != FACTORS_FILE));
         Ok(())
     }
 

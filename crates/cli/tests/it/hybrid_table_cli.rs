@@ -381,6 +381,24 @@ fn the_factor_form_writes_its_factors() -> TestResult {
         "{st}"
     );
     assert!(st["bands"].is_object(), "{st}");
+    // `hxai explain` draws each band: one panel per factor column of `stability.bands`
+    let pics = dir.join("pics");
+    ok(
+        &hxai(&[
+            "explain",
+            "--model",
+            s(&model),
+            "--data",
+            s(&data),
+            "--out",
+            s(&pics),
+        ])?,
+        "explain a factor model",
+    );
+    let svg = std::fs::read_to_string(pics.join("factors.svg"))?;
+    for column in st["bands"].as_object().ok_or("bands")?.keys() {
+        assert!(svg.contains(&format!("factor of {column} (")), "{column}");
+    }
     // the free form's model says so too
     let free = dir.join("free.json");
     ok(&hxai(&fit_args(s(&data), s(&free)))?, "fit");

@@ -169,12 +169,27 @@ impl TableModel {
     /// split's rows, with prediction intervals of the correction at `level` by `method`
     /// (default: the file's,
     /// [`TableModel::default_interval_method`]; none when the file stores no way to make
-    /// them); the Pareto front when the file stores it.
+    /// them); the Pareto front when the file stores it; a factor correction's response
+    /// bands when its stability runs stored them.
     ///
     /// # Errors
     /// [`HybridError::InvalidConfig`] when `table` has fewer rows than the split names, and
     /// those of [`TableModel::predict`] and [`crate::explain::explain`].
     pub fn explain(
+        &self,
+        table: Option<&Table>,
+        level: f64,
+        method: Option<IntervalMethod>,
+    ) -> Result<crate::explain::Explanation, HybridError> {
+        let mut e = self.explain_correction(table, level, method)?;
+        if let Some(bands) = self.stability.as_ref().and_then(|s| s.bands.as_ref()) {
+            e.factors = bands.iter().map(|(c, b)| (c.clone(), b.clone())).collect();
+        }
+        Ok(e)
+    }
+
+    /// [`TableModel::explain`] without the factor bands.
+    fn explain_correction(
         &self,
         table: Option<&Table>,
         level: f64,
