@@ -344,8 +344,6 @@ fn bad_input_gives_one_line_naming_it() -> TestResult {
     Ok(())
 }
 
-/// `--operators` limits what the correction's search builds: no model it reports (the
-/// selected one and the whole Pareto front) uses an operator outside the list.
 /// `--form factors`: the model file holds `form` and its `factors` (each with its column and
 /// a complexity of at most 5), the printed output one line per factor, `--stability` the
 /// per-factor shares and bands; `--form` refuses other
@@ -430,6 +428,8 @@ fn the_factor_form_writes_its_factors() -> TestResult {
     Ok(())
 }
 
+/// `--operators` limits what the correction's search builds: no model it reports (the
+/// selected one and the whole Pareto front) uses an operator outside the list.
 #[test]
 fn the_correction_uses_only_the_operators_given() -> TestResult {
     let (dir, data) = scratch_table("operators", 80)?;

@@ -361,9 +361,25 @@ pub fn design(
             *d = d.min(dist(i, best));
         }
     }
-    Ok(Proposal {
+    Ok(proposal(
         goal,
-        predicted: rows.iter().map(|&i| selected.hybrid[i]).collect(),
+        (rows, reason),
+        (selected.hybrid, spread, equations),
+        m,
+    ))
+}
+
+/// The [`Proposal`] of the picks `rows` (with their `reason`s) among `m` candidates: the
+/// predictions at the picks.
+fn proposal(
+    goal: DesignGoal,
+    (rows, reason): (Vec<usize>, Vec<String>),
+    (hybrid, spread, equations): Predictions,
+    m: usize,
+) -> Proposal {
+    Proposal {
+        goal,
+        predicted: rows.iter().map(|&i| hybrid[i]).collect(),
         spread: rows.iter().map(|&i| spread[i]).collect(),
         equations: equations
             .into_iter()
@@ -372,51 +388,26 @@ pub fn design(
         rows,
         reason,
         n_candidates: m,
-    })
+    }
 }
 
-/// The inverse of a small symmetric positive definite matrix by Gauss-Jordan elimination
-/// with partial pivoting; `None` where it is singular (a pivot below `1e-300` or `1e-12`
-/// of the largest diagonal entry).
+/// The inverse of the small symmetric matrix `a` by the crate's Cholesky solve
+/// ([`hxai_symreg::fit::cholesky_solve`], one unit column at a time); `None` where it is not
+/// positive definite.
 fn invert(a: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
     let k = a.len();
-    let scale = a
-        .iter()
-        .enumerate()
-        .map(|(i, r)| r[i].abs())
-        .fold(0.0_f64, f64::max);
-    let mut m: Vec<Vec<f64>> = a
-        .iter()
-        .enumerate()
-        .map(|(i, r)| {
-            let mut row = r.clone();
-            row.extend((0..k).map(|j| if i == j { 1.0 } else { 0.0 }));
-            row
-        })
-        .collect();
-    for col in 0..k {
-        let p = (col..k).max_by(|&x, &y| m[x][col].abs().total_cmp(&m[y][col].abs()))?;
-        if m[p][col].abs() <= (1e-12 * scale).max(1e-300) {
+    let flat: Vec<f64> = a.iter().flatten().copied().collect();
+    let mut inv = vec![vec![0.0; k]; k];
+    for j in 0..k {
+        let mut col: Vec<f64> = (0..k).map(|i| if i == j { 1.0 } else { 0.0 }).collect();
+        if !hxai_symreg::fit::cholesky_solve(&mut flat.clone(), &mut col, k) {
             return None;
         }
-        m.swap(col, p);
-        let d = m[col][col];
-        for v in &mut m[col] {
-            *v /= d;
-        }
-        for r in 0..k {
-            if r != col {
-                let f = m[r][col];
-                if f != 0.0 {
-                    let pivot = m[col].clone();
-                    for (v, pv) in m[r].iter_mut().zip(pivot) {
-                        *v -= f * pv;
-                    }
-                }
-            }
+        for (row, v) in inv.iter_mut().zip(col) {
+            row[j] = v;
         }
     }
-    Some(m.into_iter().map(|r| r[k..].to_vec()).collect())
+    Some(inv)
 }
 
 /// The candidate equations' values at every candidate: the selected hybrid's, the spread
@@ -438,7 +429,7 @@ fn precision(
     model: &TableModel,
     candidates: &Table,
     n: usize,
-    (hybrid, spread, equations): Predictions,
+    predictions: Predictions,
 ) -> Result<Proposal, HybridError> {
     let m = candidates.n_rows();
     let u = model
@@ -491,13 +482,16 @@ fn precision(
         )));
     }
     let s2 = u.residual_variance;
-    let g_at = |i: usize| -> Vec<f64> { grad.iter().map(|g| g[i]).collect() };
-    let variance = |cov: &[Vec<f64>], g: &[f64]| -> f64 {
+    // each candidate's gradient, gathered once
+    let grads: Vec<Vec<f64>> = (0..m)
+        .map(|i| grad.iter().map(|g| g[i]).collect())
+        .collect();
+    let times = |cov: &[Vec<f64>], g: &[f64]| -> Vec<f64> {
         cov.iter()
-            .zip(g)
-            .map(|(row, gi)| gi * row.iter().zip(g).map(|(c, gj)| c * gj).sum::<f64>())
-            .sum()
+            .map(|row| row.iter().zip(g).map(|(c, gj)| c * gj).sum())
+            .collect()
     };
+    let dot = |a: &[f64], b: &[f64]| -> f64 { a.iter().zip(b).map(|(x, y)| x * y).sum() };
     // the calibrated physics parameters: their block of the covariance is what the runs
     // should shrink (Ds-optimality); the correction's constants are nuisance parameters
     let physics: Vec<usize> = u
@@ -519,22 +513,19 @@ fn precision(
         let mut best = None;
         let mut best_v = f64::NEG_INFINITY;
         let mut best_score = f64::NEG_INFINITY;
-        for i in 0..m {
+        for (i, g) in grads.iter().enumerate() {
             if rows.contains(&i) {
                 continue;
             }
-            let g = g_at(i);
-            let v = variance(&cov, &g);
+            let cg = times(&cov, g);
+            let v = dot(g, &cg);
             // Ds: the share by which the run shrinks the physics block's determinant,
             // `u' C_ss^-1 u / (s^2 + v)` with `u` the physics part of `C g`; D (every
             // constant) where nothing is calibrated or the block is singular
             let score = match &block_inv {
                 Some(inv) if !physics.is_empty() => {
-                    let us: Vec<f64> = physics
-                        .iter()
-                        .map(|&a| cov[a].iter().zip(&g).map(|(c, gj)| c * gj).sum())
-                        .collect();
-                    variance(inv, &us) / (s2 + v)
+                    let us: Vec<f64> = physics.iter().map(|&a| cg[a]).collect();
+                    dot(&us, &times(inv, &us)) / (s2 + v)
                 }
                 _ => v,
             };
@@ -549,11 +540,7 @@ fn precision(
                 "the hybrid's gradient is not finite at any candidate left".into(),
             ));
         };
-        let g = g_at(i);
-        let cg: Vec<f64> = cov
-            .iter()
-            .map(|row| row.iter().zip(&g).map(|(c, gj)| c * gj).sum())
-            .collect();
+        let cg = times(&cov, &grads[i]);
         for (a, row) in cov.iter_mut().enumerate() {
             for (b, c) in row.iter_mut().enumerate() {
                 *c -= cg[a] * cg[b] / (s2 + best_v);
@@ -582,18 +569,12 @@ fn precision(
         ));
         rows.push(i);
     }
-    Ok(Proposal {
-        goal: DesignGoal::Precision,
-        predicted: rows.iter().map(|&i| hybrid[i]).collect(),
-        spread: rows.iter().map(|&i| spread[i]).collect(),
-        equations: equations
-            .into_iter()
-            .map(|(e, v)| (e, rows.iter().map(|&i| v[i]).collect()))
-            .collect(),
-        rows,
-        reason,
-        n_candidates: m,
-    })
+    Ok(proposal(
+        DesignGoal::Precision,
+        (rows, reason),
+        predictions,
+        m,
+    ))
 }
 
 #[cfg(test)]
