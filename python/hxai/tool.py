@@ -151,10 +151,14 @@ def predict_records(
 
 
 def _fs_of(time, rid):
-    """The sampling rate of a record from its time stamps."""
+    """The sampling rate of a record from its time stamps, as the command line reads a
+    record file: ``(n - 1) / (t_last - t_first)`` (so both draw the same page)."""
     if len(time) < 2:
         raise ValueError(f"record `{rid}`: fewer than two samples")
-    return 1.0 / float(np.median(np.diff(time)))
+    span = float(time[-1] - time[0])
+    if not span > 0:
+        raise ValueError(f"record `{rid}`: `time_s` does not increase")
+    return (len(time) - 1) / span
 
 
 def _record(rid, frame, frequency, fs=None):

@@ -92,3 +92,21 @@ def test_the_check_fails_on_a_broken_page(tmp_path):
     assert any("resource failed" in p for p in problems), problems
     SHOTS.mkdir(parents=True, exist_ok=True)
     assert inked(png, layout["figures"][0]["box"], "broken-figure") == 0.0
+
+
+RESULT_PAGES = sorted((ROOT / "docs" / "results").glob("report_*.html"))
+
+
+def test_results_pages_are_there():
+    """`cargo xtask reproduce` writes the tool model's page and one per table case."""
+    names = {p.name for p in RESULT_PAGES}
+    assert {"report_tool.html", "report_roughness.html", "report_cutting_force.html",
+            "report_tool_life.html"} <= names, names
+
+
+@pytest.mark.parametrize("page", RESULT_PAGES, ids=lambda p: p.stem)
+def test_results_page_renders(page):
+    """Each page of the results folder (written by `cargo xtask reproduce`) passes the same
+    checks as the pages above."""
+    layout = check_page(page, f"results-{page.stem}")
+    assert len(layout["figures"]) == 3

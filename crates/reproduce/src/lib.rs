@@ -31,6 +31,7 @@
 pub mod beyond;
 pub mod figures;
 pub mod intervals;
+mod pages;
 pub mod paper;
 pub mod pipeline;
 mod plots;
@@ -211,7 +212,14 @@ pub fn run(
             "README.md".to_string(),
             report::markdown(&computed.results)
                 + &beyond::markdown(&beyond)
-                + &intervals::markdown(&computed.results.intervals, &beyond),
+                + &intervals::markdown(&computed.results.intervals, &beyond)
+                + &pages::markdown(
+                    &beyond
+                        .cases
+                        .iter()
+                        .map(|c| c.name.as_str())
+                        .collect::<Vec<_>>(),
+                ),
         ),
         (
             "results.json".to_string(),
@@ -220,6 +228,7 @@ pub fn run(
         ("samples.csv".to_string(), report::samples_csv(&computed)?),
     ];
     files.extend(plots::all(&computed)?);
+    files.push(pages::tool(&computed)?);
     files.extend(beyond_figures);
     progress(Progress::done("report", 1));
     Ok(Reproduction {

@@ -170,6 +170,14 @@ pub fn compute(
                 });
             };
             let c = compare(&spec.table, &pc, folds, &mut on_search)?;
+            if !extrapolate {
+                files.push(crate::pages::table(
+                    spec.name,
+                    &format!("{}.csv", spec.name),
+                    &c,
+                    &spec.table,
+                )?);
+            }
             let rows = rows_of(&c.hybrid, spec)?;
             panels.push(parity(
                 &rows,
