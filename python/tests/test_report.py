@@ -174,6 +174,9 @@ def test_every_number_reads_back_by_element_id(table_case, tool_case):
         for k in ("r2_mean", "r2_sd", "rmse_mean"):
             expected.append((("cv", m["name"], k), m[k]))
     expected.append((("compare", "hybrid_over_best_black_box"), compare["hybrid_over_best_black_box"]))
+    widening = model["conformal"]["widening"]
+    for c, lo, hi in zip(widening["columns"], widening["lo"], widening["hi"]):
+        expected += [(("range", c, "lo"), lo), (("range", c, "hi"), hi)]
     assert _check(values, expected) >= 30
     assert len(compare["models"]) == 6 and len(compare["cv"]) >= 2
 

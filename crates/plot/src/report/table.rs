@@ -195,7 +195,13 @@ fn holds_section(m: &TableModel, data: Option<(&str, usize)>) -> String {
             .columns
             .iter()
             .zip(w.lo.iter().zip(&w.hi))
-            .map(|(c, (lo, hi))| vec![format!("<code>{}</code>", esc(c)), num(*lo), num(*hi)])
+            .map(|(c, (lo, hi))| {
+                vec![
+                    format!("<code>{}</code>", esc(c)),
+                    val(&["range", c, "lo"], *lo),
+                    val(&["range", c, "hi"], *hi),
+                ]
+            })
             .collect();
         s.push_str(&table(
             "Training ranges of the inputs",

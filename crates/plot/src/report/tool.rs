@@ -348,7 +348,13 @@ fn tool_holds_section(m: &RecordModel, inputs: &ToolInputs<'_>) -> String {
     if let Some(samples) = &inputs.samples {
         let rows: Vec<Vec<String>> = training_ranges(m, samples)
             .iter()
-            .map(|(c, lo, hi)| vec![format!("<code>{}</code>", esc(c)), num(*lo), num(*hi)])
+            .map(|(c, lo, hi)| {
+                vec![
+                    format!("<code>{}</code>", esc(c)),
+                    val(&["range", c, "lo"], *lo),
+                    val(&["range", c, "hi"], *hi),
+                ]
+            })
             .collect();
         if !rows.is_empty() {
             s.push_str(&table(
