@@ -133,6 +133,13 @@ pub struct Explanation {
     /// file's `stability.bands`, issue 46): the 5-95 % spread and the median of each
     /// factor's normalised response on a grid of its column. Empty otherwise.
     pub factors: Vec<(String, hxai_symreg::factors::FactorBand)>,
+    /// A factor correction's partial residuals per one-column factor, drawn on the data
+    /// given: `(x, r)` for each training row, `r` the factor's normalised value there
+    /// carrying the row's whole residual (a product's factor over its mean on the training
+    /// rows times the row's observed over fitted ratio; a sum's term minus its mean plus
+    /// the row's residual), what EBM's and feyn's shape plots draw beside the curve. Empty
+    /// without data or factors.
+    pub partial_residuals: Vec<(String, Vec<(f64, f64)>)>,
 }
 
 /// Median of finite values (mean of the middle two for an even count); `None` when empty.
@@ -357,6 +364,7 @@ pub fn explain(
             selected: (model.complexity(), model.train_mse),
         }),
         factors: Vec::new(),
+        partial_residuals: Vec::new(),
     })
 }
 

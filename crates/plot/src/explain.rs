@@ -91,11 +91,17 @@ fn response_panels(e: &Explanation, target: &str) -> Vec<Panel> {
 }
 
 /// One panel per factor of a factor correction: its response band over the stability
-/// runs (5-95 %) and the median response, on a grid of its column.
+/// runs (5-95 %) and the median response, on a grid of its column, with the training
+/// rows' partial residuals where the data was given.
 fn factor_panels(e: &Explanation) -> Vec<Panel> {
     e.factors
         .iter()
         .map(|(column, b)| {
+            let partial = e
+                .partial_residuals
+                .iter()
+                .find(|(c, _)| c == column)
+                .map(|(_, p)| p.clone());
             let band: Vec<(f64, f64, f64)> = b
                 .grid
                 .iter()
@@ -106,17 +112,21 @@ fn factor_panels(e: &Explanation) -> Vec<Panel> {
                 title: format!("factor of {column} ({} runs kept it)", b.runs),
                 x_label: column.clone(),
                 y_label: "factor (normalised response)".into(),
-                series: vec![
-                    Series::band("5-95 % over the stability runs", &band),
-                    Series::line(
+                series: [
+                    Some(Series::band("5-95 % over the stability runs", &band)),
+                    partial.map(|p| Series::points("partial residuals (training rows)", p)),
+                    Some(Series::line(
                         "median over the runs",
                         b.grid
                             .iter()
                             .copied()
                             .zip(b.median.iter().copied())
                             .collect(),
-                    ),
-                ],
+                    )),
+                ]
+                .into_iter()
+                .flatten()
+                .collect(),
             }
         })
         .collect()
@@ -245,6 +255,7 @@ mod tests {
                 selected: (3, 0.01),
             }),
             factors: Vec::new(),
+            partial_residuals: Vec::new(),
         }
     }
 
@@ -286,6 +297,7 @@ mod tests {
         };
         let e = Explanation {
             factors: vec![("feed".into(), band.clone()), ("speed".into(), band)],
+            partial_residuals: vec![("feed".into(), vec![(1.5, 0.95), (2.5, 1.2)])],
             ..explanation()
         };
         let p = pictures(&e, "y", "")?;
@@ -295,6 +307,8 @@ mod tests {
         assert!(svg.contains("factor of feed (18 runs kept it)"), "{svg}");
         assert!(svg.contains("factor of speed"));
         assert!(svg.contains("<polygon"));
+        // the partial residuals of feed, in its panel only
+        assert_eq!(svg.matches("partial residuals (training rows)").count(), 1);
         // without bands there is no such picture
         let p = pictures(&explanation(), "y", "")?;
         assert!(p.files.iter().all(|(n, _)| n != FACTORS_FILE));

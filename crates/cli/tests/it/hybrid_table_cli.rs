@@ -394,9 +394,23 @@ fn the_factor_form_writes_its_factors() -> TestResult {
         "explain a factor model",
     );
     let svg = std::fs::read_to_string(pics.join("factors.svg"))?;
-    for column in st["bands"].as_object().ok_or("bands")?.keys() {
+    let bands = st["bands"].as_object().ok_or("bands")?;
+    for column in bands.keys() {
         assert!(svg.contains(&format!("factor of {column} (")), "{column}");
     }
+    // with the training rows' partial residuals in the panel of each factor the model
+    // kept (drawn on --data; a band's column only some runs kept has none)
+    let kept = m["correction"]["factors"]
+        .as_array()
+        .ok_or("factors")?
+        .iter()
+        .filter(|f| f["column"].as_str().is_some_and(|c| bands.contains_key(c)))
+        .count();
+    assert!(kept > 0);
+    assert_eq!(
+        svg.matches("partial residuals (training rows)").count(),
+        kept
+    );
     // the free form's model says so too
     let free = dir.join("free.json");
     ok(&hxai(&fit_args(s(&data), s(&free)))?, "fit");

@@ -1,10 +1,10 @@
 //! Every way of modelling the target on the same splits (`hxai hybrid compare`).
+use super::fit::{Calibrated, SplitJob, calibrate_split, fit_calibrated, search_training_rows};
 use super::model::{columns_of, combine_values};
+use super::physics::{deltas, gather, physics_values};
 use super::resolve::Resolved;
-use super::{
-    SplitJob, TableConfig, TableModel, TableProgress, calibrate_physics, check_rows, deltas,
-    fit_inner, gather, physics_values, resolve, search_training_rows, split_rows,
-};
+use super::split::split_rows;
+use super::{TableConfig, TableModel, TableProgress};
 use crate::HybridError;
 use hxai_baselines::{GradientBoosting, Par, RandomForest, Regressor};
 use hxai_eval::{Metrics, Split, TTest};
@@ -183,24 +183,22 @@ fn black_box_predictions(
     Ok((forest, boosted))
 }
 
-/// The black boxes of `hxai hybrid compare` (physics + forest, boosting) on `split`, scored
-/// against the fitted `model`'s test RMSE; `None` with fewer than two test rows, or where a
-/// black box has no error (the ratio would not be a number).
+/// The black boxes of `hxai hybrid compare` (physics + forest, boosting) on `job`'s split,
+/// from its calibrated physics `cal` (the fit's), scored against the fitted `model`'s test
+/// RMSE; `None` with fewer than two test rows, or where a black box has no error (the ratio
+/// would not be a number).
 pub(crate) fn black_box_scores(
-    table: &Table,
-    cfg: &TableConfig,
-    split: &Split,
+    job: SplitJob,
+    cal: &Calibrated,
     model: &TableModel,
 ) -> Result<Option<crate::tables::BlackBoxScores>, HybridError> {
+    let (table, cfg, split) = (job.table, job.cfg, job.split);
     let Some(test) = model.scores.test.as_ref().filter(|_| split.test.len() >= 2) else {
         return Ok(None);
     };
-    let res = resolve(table, cfg)?;
     let y = table.require(&cfg.target)?;
     let yt = gather(y, &split.test);
-    let (phys, _) = calibrate_physics(table, cfg, &res, &split.train)?;
-    let physics = physics_values(table, &res, &phys)?;
-    let (forest, boosted) = black_box_predictions(table, cfg, &res, split, &physics)?;
+    let (forest, boosted) = black_box_predictions(table, cfg, &cal.res, split, &cal.physics)?;
     let physics_forest = hxai_eval::rmse(&yt, &forest)?;
     let boosting = hxai_eval::rmse(&yt, &boosted)?;
     let best_black_box = if boosting < physics_forest {
@@ -232,34 +230,31 @@ fn predictions_on(
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<SplitPredictions, HybridError> {
     let (table, cfg, split, tasks) = (job.table, job.cfg, job.split, job.task);
-    check_rows(table, split)?;
     if split.test.is_empty() {
         return Err(HybridError::NoData("the split has no test rows".into()));
     }
-    let res = resolve(table, cfg)?;
+    // resolved and calibrated once: the physics calibrated alone (the hybrid's own physics
+    // differs under --joint), the forest on its delta and the hybrid's fit all start here
+    let cal = calibrate_split(job)?;
+    let (res, physics) = (&cal.res, &cal.physics);
     let y = table.require(&cfg.target)?;
     let mut names = vec!["physics"];
     let mut preds = vec![gather(
-        &physics_values(table, &res, &res.compiled)?,
+        &physics_values(table, res, &res.compiled)?,
         &split.test,
     )];
-
-    // physics calibrated alone (the hybrid's own physics differs under --joint), and a
-    // forest on its delta
-    let (phys, _) = calibrate_physics(table, cfg, &res, &split.train)?;
-    let physics = physics_values(table, &res, &phys)?;
     if !res.calibrate.is_empty() {
         names.push("physics_calibrated");
-        preds.push(gather(&physics, &split.test));
+        preds.push(gather(physics, &split.test));
     }
 
-    let model = fit_inner(job, progress)?;
+    let model = fit_calibrated(job, cal.clone(), progress)?;
     let hp = model.predict(table)?;
 
     let label = format!("symbolic ({}/{})", tasks.0 + 1, tasks.1);
     let (_, sym) = search_training_rows(
         table,
-        &res,
+        res,
         cfg,
         split,
         &gather(y, &split.train),
@@ -273,7 +268,7 @@ fn predictions_on(
     names.push("symbolic");
     preds.push(sym.best.predict(&test_table)?);
 
-    let (forest, boosted) = black_box_predictions(table, cfg, &res, split, &physics)?;
+    let (forest, boosted) = black_box_predictions(table, cfg, res, split, physics)?;
     names.push("physics_forest");
     preds.push(forest);
     names.push("boosting");

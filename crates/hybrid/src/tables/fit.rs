@@ -92,8 +92,10 @@ pub fn fit(
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
     let (split, kind) = split_rows(table, cfg)?;
-    let mut model = fit_inner(SplitJob::single(table, cfg, &split, &kind), progress)?;
-    model.scores.black_boxes = super::compare::black_box_scores(table, cfg, &split, &model)?;
+    let job = SplitJob::single(table, cfg, &split, &kind);
+    let cal = calibrate_split(job)?;
+    let mut model = fit_calibrated(job, cal.clone(), progress)?;
+    model.scores.black_boxes = super::compare::black_box_scores(job, &cal, &model)?;
     Ok(model)
 }
 
@@ -172,14 +174,27 @@ impl<'a> SplitJob<'a> {
     }
 }
 
-/// Fits one split: calibrates the physics on the training rows, searches the correction of
-/// its `delta`, refits both jointly when asked, and writes the model with its scores and,
-/// with `conformal_folds`, its conformal calibration.
-pub(crate) fn fit_inner(
-    job: SplitJob,
-    progress: &mut dyn FnMut(&TableProgress),
-) -> Result<TableModel, HybridError> {
-    let (table, cfg, split, task) = (job.table, job.cfg, job.split, job.task);
+/// What every model of one split starts from, computed once per split
+/// ([`calibrate_split`]): the physics resolved against the table, calibrated on the
+/// training rows (with the standard errors of its parameters), and its values on every row.
+#[derive(Clone, Debug)]
+pub(crate) struct Calibrated {
+    pub(crate) res: Resolved,
+    pub(crate) phys: Compiled,
+    pub(crate) ses: BTreeMap<String, Option<f64>>,
+    /// The calibrated physics on every row of the table.
+    pub(crate) physics: Vec<f64>,
+}
+
+/// Checks `job`'s settings and rows, resolves the physics against the table and calibrates
+/// it on the training rows: what the fit ([`fit_calibrated`]), the black boxes beside it
+/// and the comparison's other models share.
+///
+/// # Errors
+/// `--joint` with `--correction-per`, rows out of range, and those of the physics'
+/// resolution and calibration.
+pub(crate) fn calibrate_split(job: SplitJob) -> Result<Calibrated, HybridError> {
+    let (table, cfg, split) = (job.table, job.cfg, job.split);
     if cfg.joint && cfg.correction_per.is_some() {
         return Err(HybridError::InvalidConfig(
             "--joint with --correction-per is not built: the joint refit fits one set of \
@@ -189,9 +204,40 @@ pub(crate) fn fit_inner(
     }
     check_rows(table, split)?;
     let res = resolve(table, cfg)?;
-    let (mut phys, mut ses) = calibrate_physics(table, cfg, &res, &split.train)?;
-    let y_all = table.require(&cfg.target)?;
+    let (phys, ses) = calibrate_physics(table, cfg, &res, &split.train)?;
     let physics = physics_values(table, &res, &phys)?;
+    Ok(Calibrated {
+        res,
+        phys,
+        ses,
+        physics,
+    })
+}
+
+/// Fits one split: calibrates the physics on the training rows, searches the correction of
+/// its `delta`, refits both jointly when asked, and writes the model with its scores and,
+/// with `conformal_folds`, its conformal calibration.
+pub(crate) fn fit_inner(
+    job: SplitJob,
+    progress: &mut dyn FnMut(&TableProgress),
+) -> Result<TableModel, HybridError> {
+    fit_calibrated(job, calibrate_split(job)?, progress)
+}
+
+/// [`fit_inner`] from the split's calibrated physics `cal` ([`calibrate_split`]).
+pub(crate) fn fit_calibrated(
+    job: SplitJob,
+    cal: Calibrated,
+    progress: &mut dyn FnMut(&TableProgress),
+) -> Result<TableModel, HybridError> {
+    let (table, cfg, split, task) = (job.table, job.cfg, job.split, job.task);
+    let Calibrated {
+        res,
+        mut phys,
+        mut ses,
+        physics,
+    } = cal;
+    let y_all = table.require(&cfg.target)?;
     let delta = deltas(cfg.correction, y_all, &physics, &split.train)?;
     let label = if task.1 > 1 {
         format!("correction ({}/{})", task.0, task.1)

@@ -68,12 +68,9 @@ pub use model::{
 pub use per_class::PerClassInfo;
 pub use split::split_rows;
 
-use fit::{SplitJob, fit_inner, search_training_rows};
 use hxai_symreg::SearchConfig;
-use physics::{calibrate_physics, deltas, gather, physics_values};
-use resolve::resolve;
+use physics::deltas;
 use serde::{Deserialize, Serialize};
-use split::check_rows;
 use std::collections::BTreeMap;
 
 /// How the correction enters the hybrid.

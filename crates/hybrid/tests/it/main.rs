@@ -10,6 +10,7 @@ mod conformal;
 mod correction_per;
 mod design;
 mod end_to_end;
+mod factor_pictures;
 mod json_shape;
 mod per_class;
 mod process;

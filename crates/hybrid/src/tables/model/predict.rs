@@ -185,7 +185,78 @@ impl TableModel {
         if let Some(bands) = self.stability.as_ref().and_then(|s| s.bands.as_ref()) {
             e.factors = bands.iter().map(|(c, b)| (c.clone(), b.clone())).collect();
         }
+        if let Some(table) = table {
+            e.partial_residuals = self.partial_residuals(table)?;
+        }
         Ok(e)
+    }
+
+    /// Each one-column factor's partial residuals on the training rows of `table` (the
+    /// table of the fit): see [`crate::explain::Explanation::partial_residuals`]. Empty for
+    /// a correction that is not in the factor form; rows where the residual is not a
+    /// number (a fitted product at or below zero) are left out.
+    ///
+    /// # Errors
+    /// A factor's equation that does not compile, or a column missing from `table`.
+    pub fn partial_residuals(
+        &self,
+        table: &Table,
+    ) -> Result<Vec<(String, Vec<(f64, f64)>)>, HybridError> {
+        let Some(factors) = &self.correction.factors else {
+            return Ok(Vec::new());
+        };
+        let rows = &self.split.train;
+        let y = table.require(&self.target)?;
+        let prediction = self.predict(table)?;
+        let delta = crate::tables::deltas(self.correction.kind, y, &prediction.physics, rows)?;
+        let fitted: Vec<f64> = rows.iter().map(|&i| prediction.correction[i]).collect();
+        let link = self.correction.kind.link();
+        // the row's whole residual, on the scale the factors combine on
+        let residual: Vec<f64> = delta
+            .iter()
+            .zip(&fitted)
+            .map(|(&d, &f)| match link {
+                hxai_symreg::factors::Link::Additive => d - f,
+                hxai_symreg::factors::Link::Multiplicative => (1.0 + d) / (1.0 + f),
+                hxai_symreg::factors::Link::Log => (d - f).exp(),
+            })
+            .collect();
+        let mut out = Vec::new();
+        for f in factors {
+            let Some(column) = &f.column else { continue };
+            let g =
+                hxai_symreg::infix::compile_text(&f.equation, &std::collections::BTreeMap::new())
+                    .map_err(|e| {
+                    HybridError::InvalidConfig(format!(
+                        "the factor `{}` of {column} does not compile: {e}",
+                        f.equation
+                    ))
+                })?;
+            let x = table.require(column)?;
+            let xs: Vec<f64> = rows.iter().map(|&i| x[i]).collect();
+            let cols: Vec<&[f64]> = g.inputs.iter().map(|_| xs.as_slice()).collect();
+            let values = g.eval_columns(&cols, xs.len());
+            let finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+            if finite.is_empty() {
+                continue;
+            }
+            let mean = finite.iter().sum::<f64>() / finite.len() as f64;
+            let points: Vec<(f64, f64)> = xs
+                .iter()
+                .zip(&values)
+                .zip(&residual)
+                .map(|((&x, &v), &r)| {
+                    let r = match link {
+                        hxai_symreg::factors::Link::Additive => v - mean + r,
+                        _ => v / mean * r,
+                    };
+                    (x, r)
+                })
+                .filter(|(x, r)| x.is_finite() && r.is_finite())
+                .collect();
+            out.push((column.clone(), points));
+        }
+        Ok(out)
     }
 
     /// [`TableModel::explain`] without the factor bands.
