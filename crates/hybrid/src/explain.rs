@@ -139,8 +139,12 @@ pub struct Explanation {
     /// rows times the row's observed over fitted ratio; a sum's term minus its mean plus
     /// the row's residual), what EBM's and feyn's shape plots draw beside the curve. Empty
     /// without data or factors.
-    pub partial_residuals: Vec<(String, Vec<(f64, f64)>)>,
+    pub partial_residuals: PartialResiduals,
 }
+
+/// Per one-column factor, its column and the `(x, r)` points of its partial residuals
+/// ([`Explanation::partial_residuals`]).
+pub type PartialResiduals = Vec<(String, Vec<(f64, f64)>)>;
 
 /// Median of finite values (mean of the middle two for an even count); `None` when empty.
 pub fn median(values: impl IntoIterator<Item = f64>) -> Option<f64> {

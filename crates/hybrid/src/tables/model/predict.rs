@@ -201,7 +201,7 @@ impl TableModel {
     pub fn partial_residuals(
         &self,
         table: &Table,
-    ) -> Result<Vec<(String, Vec<(f64, f64)>)>, HybridError> {
+    ) -> Result<crate::explain::PartialResiduals, HybridError> {
         let Some(factors) = &self.correction.factors else {
             return Ok(Vec::new());
         };
