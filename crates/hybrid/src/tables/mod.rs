@@ -42,6 +42,7 @@
 //! assert_eq!(back, model);
 //! # Ok::<(), hxai_hybrid::HybridError>(())
 //! ```
+mod assemble;
 mod calibrate;
 mod columns;
 mod compare;

@@ -1,0 +1,176 @@
+//! Every bad input of a table fit gives one line naming the culprit: unknown names,
+//! unusable physics values (named by row), and names that only look like constants.
+
+use super::*;
+
+/// `pi` inside a longer name (`pipe`, `api`) is that name, not the constant: such columns
+/// are not refused.
+fn uses_pi_word_boundaries() -> bool {
+    let pipe: Vec<f64> = (0..40).map(|i| 1.0 + i as f64 * 0.1).collect();
+    let api: Vec<f64> = (0..40).map(|i| ((i * 7) % 11) as f64).collect();
+    let y: Vec<f64> = pipe
+        .iter()
+        .zip(&api)
+        .map(|(p, a)| 2.0 * p + 0.1 * a)
+        .collect();
+    let t = Table::new(
+        vec!["pipe".into(), "api".into(), "y".into()],
+        vec![pipe, api, y],
+    )
+    .unwrap();
+    let mut c = quick(TableConfig::new("y", "k*pipe"));
+    c.calibrate = vec!["k".into()];
+    match fit(&t, &c, &mut |_| {}) {
+        Ok(_) => true,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+fn err(cfg: &TableConfig, t: &Table) -> String {
+    let e = fit(t, cfg, &mut |_| {}).unwrap_err();
+    let s = e.to_string();
+    assert!(!s.contains('\n'), "one line: {s}");
+    s
+}
+
+/// Every bad input of issue 13 gives a one-line error naming the culprit.
+#[test]
+fn bad_input_is_named() {
+    let t = roughness(60, 0.0, 6);
+    // a name that is neither a column nor a parameter
+    let mut c = cfg_roughness();
+    c.physics = "k*f^2/(32*rr)".into();
+    let s = err(&c, &t);
+    assert!(s.contains("`rr`") && s.contains("character 11"), "{s}");
+    // a parameter that is also a column
+    let mut c = cfg_roughness();
+    c.calibrate = vec!["k".into(), "r".into()];
+    let s = err(&c, &t);
+    assert!(s.contains("`r`") && s.contains("column"), "{s}");
+    let mut c = cfg_roughness();
+    c.set = BTreeMap::from([("v".into(), 1.0)]);
+    assert!(err(&c, &t).contains("`v`"));
+    // a calibrated parameter that does not appear
+    let mut c = cfg_roughness();
+    c.calibrate.push("n".into());
+    let s = err(&c, &t);
+    assert!(s.contains("`n`") && s.contains("does not appear"), "{s}");
+    // a syntax error
+    let mut c = cfg_roughness();
+    c.physics = "k*f^2/(32*r".into();
+    let s = err(&c, &t);
+    assert!(s.contains("character 12") && s.contains("`)`"), "{s}");
+    // an empty feature set
+    let mut c = cfg_roughness();
+    c.exclude = vec!["f".into(), "r".into(), "v".into(), "d".into()];
+    let s = err(&c, &t);
+    assert!(s.contains("no feature column"), "{s}");
+    assert!(matches!(
+        fit(&t, &c, &mut |_| {}),
+        Err(HybridError::NoFeatures(_))
+    ));
+    // the target inside the physics
+    let mut c = cfg_roughness();
+    c.physics = "k*f^2/(32*r) + 0*Ra".into();
+    let s = err(&c, &t);
+    assert!(
+        s.contains("target") && s.contains("`Ra`") && s.contains("character 18"),
+        "{s}"
+    );
+    // the target as the group column
+    let mut c = cfg_roughness();
+    c.group = Some("Ra".into());
+    let s = err(&c, &t);
+    assert!(s.contains("group column `Ra` is the target"), "{s}");
+    // a column named `pi`: the physics would read the constant, the printed hybrid would be
+    // ambiguous; refused in the physics and as a feature, accepted when left out
+    let named_pi = Table::new(
+        t.names()
+            .iter()
+            .map(|n| if n == "d" { "pi".into() } else { n.clone() })
+            .collect(),
+        t.names()
+            .iter()
+            .map(|n| t.require(n).unwrap().to_vec())
+            .collect(),
+    )
+    .unwrap();
+    let mut c = cfg_roughness();
+    c.physics = "k*f^2/(32*r) + 0*pi".into();
+    c.exclude = vec!["pi".into()];
+    let s = err(&c, &named_pi);
+    assert!(
+        s.contains("`pi`") && s.contains("as the physics does here"),
+        "{s}"
+    );
+    let s = err(&cfg_roughness(), &named_pi);
+    assert!(s.contains("`pi`") && s.contains("--exclude pi"), "{s}");
+    let mut c = cfg_roughness();
+    c.exclude = vec!["pi".into()];
+    assert!(fit(&named_pi, &c, &mut |_| {}).is_ok());
+    assert!(uses_pi_word_boundaries());
+    // one test row: no test scores (a warning says why), and neither evaluate nor compare
+    // scores it
+    let mut c = cfg_roughness();
+    c.test_fraction = 0.01;
+    let m = fit(&t, &c, &mut |_| {}).unwrap();
+    assert_eq!(m.split.test.len(), 1);
+    assert!(m.scores.test.is_none());
+    assert!(
+        m.warnings.iter().any(|w| w.contains("1 row")),
+        "{:?}",
+        m.warnings
+    );
+    let one = t.select_rows(&m.split.test).unwrap();
+    let e = m.evaluate(&one).unwrap_err().to_string();
+    assert!(e.contains("at least 2"), "{e}");
+    let e = compare(&t, &c, 0, &mut |_| {}).unwrap_err().to_string();
+    assert!(
+        e.contains("at least") && e.contains("--test-fraction"),
+        "{e}"
+    );
+    // one fold: nothing to train on (0 skips the cross-validation)
+    let e = compare(&t, &cfg_roughness(), 1, &mut |_| {}).unwrap_err();
+    assert!(e.to_string().contains("at least 2 folds"), "{e}");
+    // a missing target, an unknown feature
+    let mut c = cfg_roughness();
+    c.target = "Rz".into();
+    assert!(err(&c, &t).contains("`Rz`"));
+    let mut c = cfg_roughness();
+    c.features = Some(vec!["q".into()]);
+    assert!(err(&c, &t).contains("`q`"));
+    // an unknown function
+    let mut c = cfg_roughness();
+    c.physics = "k*sqr(f)".into();
+    let s = err(&c, &t);
+    assert!(s.contains("`sqr`") && s.contains("character 3"), "{s}");
+}
+
+/// The physics must be usable at every row: zero (multiplicative) or non-finite values are
+/// refused with the row named.
+#[test]
+fn unusable_physics_names_the_row() {
+    let mut t = roughness(50, 0.0, 7);
+    let mut z = vec![1.0; 50];
+    z[17] = 0.0;
+    t.push_column("z".into(), z).unwrap();
+    let mut c = cfg_roughness();
+    c.physics = "k*z*f^2/(32*r)".into();
+    c.exclude = vec!["z".into()];
+    c.correction = CorrectionForm::Multiplicative;
+    let split = hxai_eval::Split {
+        train: (0..50).collect(),
+        test: vec![],
+    };
+    let e = fit_split(&t, &c, &split, &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    // Index 17 is row 18 counted from 1, as the file shows it (issue 27: one convention).
+    assert!(e.contains("row 18 ") && e.contains("multiplicative"), "{e}");
+    c.physics = "k*log(z)".into();
+    c.correction = CorrectionForm::Additive;
+    let e = fit_split(&t, &c, &split, &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("row 18 ") && e.contains("finite"), "{e}");
+}
