@@ -146,29 +146,20 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let mut search = SearchConfig {
         seed: args.seed,
         strategy: args.strategy.into(),
-        criterion: args.criterion.into(),
-        cv_folds: args.cv_folds,
         ..SearchConfig::paper()
     };
-    if let Some(e) = args.epochs {
-        search.epochs = e;
+    crate::strategy::SearchFlags {
+        epochs: args.epochs,
+        max_complexity: args.max_complexity,
+        criterion: Some(args.criterion.into()),
+        cv_folds: Some(args.cv_folds),
+        operators: args.operators.as_deref(),
+        nesting: args.nesting.as_deref(),
+        consensus: args.consensus,
+        operator_complexity: &args.operator_complexity,
+        complexity_per_input: args.complexity_per_input,
     }
-    if let Some(c) = args.max_complexity {
-        search.max_complexity = c;
-    }
-    search.operator_complexity = crate::strategy::operator_complexity(&args.operator_complexity)?;
-    if let Some(c) = args.complexity_per_input {
-        search.complexity_per_input = c;
-    }
-    if let Some(ops) = &args.operators {
-        search.operators = ops.iter().map(|o| o.trim().to_string()).collect();
-    }
-    if let Some(n) = &args.nesting {
-        search.nesting = hxai_symreg::Nesting::parse(n)?;
-    }
-    if let Some(b) = args.consensus {
-        search.consensus_runs = b;
-    }
+    .apply(&mut search)?;
     search.check()?;
     let cfg = RecordConfig {
         window: WindowConfig {

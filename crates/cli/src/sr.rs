@@ -335,8 +335,6 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     let y = data.remove_column(&args.target)?;
     let mut cfg = SearchConfig {
         seed: args.seed,
-        max_complexity: args.max_complexity,
-        epochs: args.epochs,
         time_limit_s: args.time_limit_s,
         max_evaluations: args.max_evaluations,
         candidates_per_epoch: args.candidates_per_epoch,
@@ -344,8 +342,6 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         lm_iterations: args.lm_iterations,
         random_start: args.random_start.into(),
         strategy: args.strategy.into(),
-        criterion: args.criterion.into(),
-        cv_folds: args.cv_folds,
         complexity_penalty: args.complexity_penalty,
         skip_equivalent: !args.refit_equivalent,
         max_key_nodes: args.max_key_nodes.0,
@@ -356,15 +352,18 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         nesting: hxai_symreg::Nesting::strict(),
         ..SearchConfig::default()
     };
-    if let Some(ops) = args.operators {
-        cfg.operators = ops;
+    crate::strategy::SearchFlags {
+        epochs: Some(args.epochs),
+        max_complexity: Some(args.max_complexity),
+        criterion: Some(args.criterion.into()),
+        cv_folds: Some(args.cv_folds),
+        operators: args.operators.as_deref(),
+        nesting: args.nesting.as_deref(),
+        consensus: Some(args.consensus),
+        operator_complexity: &args.operator_complexity,
+        complexity_per_input: Some(args.complexity_per_input),
     }
-    cfg.operator_complexity = crate::strategy::operator_complexity(&args.operator_complexity)?;
-    cfg.complexity_per_input = args.complexity_per_input;
-    if let Some(n) = &args.nesting {
-        cfg.nesting = hxai_symreg::Nesting::parse(n)?;
-    }
-    cfg.consensus_runs = args.consensus;
+    .apply(&mut cfg)?;
     let reduction = if args.units.is_empty() {
         None
     } else {

@@ -1,6 +1,70 @@
 //! The search flags shared by `hxai sr`, `hxai fit` and `hxai hybrid fit`: `--strategy` and
-//! `--criterion`; and `hxai sr`'s `--random-start`.
-use hxai_symreg::{Criterion, RandomStart, Strategy};
+//! `--criterion`; `hxai sr`'s `--random-start`; and [`SearchFlags`], the settings every
+//! command that searches applies to its search configuration in one place.
+use hxai_symreg::{Criterion, RandomStart, SearchConfig, Strategy};
+
+/// The search settings the commands that search share (`hxai sr`, `hxai fit`, `hxai hybrid
+/// fit | compare`), each `None` (or empty) where the command's own default stands:
+/// [`SearchFlags::apply`] writes them into a command's search configuration, so every
+/// command reads the same flag the same way.
+#[derive(Debug, Default)]
+pub(crate) struct SearchFlags<'a> {
+    /// `--epochs`.
+    pub(crate) epochs: Option<usize>,
+    /// `--max-complexity`.
+    pub(crate) max_complexity: Option<usize>,
+    /// `--criterion`.
+    pub(crate) criterion: Option<Criterion>,
+    /// `--cv-folds`.
+    pub(crate) cv_folds: Option<usize>,
+    /// `--operators` (each name trimmed).
+    pub(crate) operators: Option<&'a [String]>,
+    /// `--nesting`.
+    pub(crate) nesting: Option<&'a str>,
+    /// `--consensus`.
+    pub(crate) consensus: Option<usize>,
+    /// `--operator-complexity` entries `NAME=INTEGER`.
+    pub(crate) operator_complexity: &'a [String],
+    /// `--complexity-per-input`.
+    pub(crate) complexity_per_input: Option<usize>,
+}
+
+impl SearchFlags<'_> {
+    /// Writes the flags given into `cfg`.
+    ///
+    /// # Errors
+    /// A `--nesting` or `--operator-complexity` that does not parse.
+    pub(crate) fn apply(&self, cfg: &mut SearchConfig) -> anyhow::Result<()> {
+        if let Some(e) = self.epochs {
+            cfg.epochs = e;
+        }
+        if let Some(c) = self.max_complexity {
+            cfg.max_complexity = c;
+        }
+        if let Some(c) = self.criterion {
+            cfg.criterion = c;
+        }
+        if let Some(k) = self.cv_folds {
+            cfg.cv_folds = k;
+        }
+        if let Some(ops) = self.operators {
+            cfg.operators = ops.iter().map(|o| o.trim().to_string()).collect();
+        }
+        if let Some(n) = self.nesting {
+            cfg.nesting = hxai_symreg::Nesting::parse(n)?;
+        }
+        if let Some(b) = self.consensus {
+            cfg.consensus_runs = b;
+        }
+        if !self.operator_complexity.is_empty() {
+            cfg.operator_complexity = operator_complexity(self.operator_complexity)?;
+        }
+        if let Some(c) = self.complexity_per_input {
+            cfg.complexity_per_input = c;
+        }
+        Ok(())
+    }
+}
 
 /// `--strategy` values: which symbolic-regression search runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

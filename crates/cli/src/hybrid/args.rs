@@ -322,21 +322,17 @@ impl Common {
         cfg.seed = c.seed;
         cfg.joint = c.joint;
         cfg.conformal_folds = c.conformal_folds;
-        cfg.search.epochs = c.epochs;
-        cfg.search.max_complexity = c.max_complexity;
-        if let Some(crit) = c.criterion {
-            cfg.search.criterion = crit.into();
+        crate::strategy::SearchFlags {
+            epochs: Some(c.epochs),
+            max_complexity: Some(c.max_complexity),
+            criterion: c.criterion.map(Into::into),
+            cv_folds: Some(c.cv_folds),
+            operators: c.operators.as_deref(),
+            nesting: c.nesting.as_deref(),
+            consensus: c.consensus,
+            ..Default::default()
         }
-        cfg.search.cv_folds = c.cv_folds;
-        if let Some(ops) = &c.operators {
-            cfg.search.operators = ops.iter().map(|o| o.trim().to_string()).collect();
-        }
-        if let Some(n) = &c.nesting {
-            cfg.search.nesting = hxai_symreg::Nesting::parse(n)?;
-        }
-        if let Some(b) = c.consensus {
-            cfg.search.consensus_runs = b;
-        }
+        .apply(&mut cfg.search)?;
         Ok(cfg)
     }
 }
