@@ -11,12 +11,23 @@ use hxai_symreg::Table;
 use hxai_symreg::report::Alternative;
 
 fn model() -> hxai_hybrid::tables::TableModel {
+    model_with(0.0, "0.5*z + 0.3*(x - 2)**2")
+}
+
+/// The hybrid of `y = 2x + 0.5z (+ noise of amplitude `noise`)` on `x` in 1..3 with the
+/// one alternative `alternative` (a correction in `x` and `z`).
+fn model_with(noise: f64, alternative: &str) -> hxai_hybrid::tables::TableModel {
     let n = 60;
     let x: Vec<f64> = (0..n)
         .map(|i| 1.0 + 2.0 * i as f64 / (n - 1) as f64)
         .collect();
     let z: Vec<f64> = (0..n).map(|i| ((i * 7) % 11) as f64 / 10.0).collect();
-    let y: Vec<f64> = x.iter().zip(&z).map(|(x, z)| 2.0 * x + 0.5 * z).collect();
+    let y: Vec<f64> = x
+        .iter()
+        .zip(&z)
+        .enumerate()
+        .map(|(i, (x, z))| 2.0 * x + 0.5 * z + noise * (((i * 13) % 17) as f64 / 8.0 - 1.0))
+        .collect();
     let t = Table::new(vec!["x".into(), "z".into(), "y".into()], vec![x, z, y]).expect("table");
     let mut cfg = TableConfig::new("y", "k*x");
     cfg.calibrate = vec!["k".into()];
@@ -30,8 +41,8 @@ fn model() -> hxai_hybrid::tables::TableModel {
     // the search's own runners-up out: one alternative whose disagreement is known
     sel.alternatives.clear();
     sel.alternatives.push(Alternative {
-        equation: "0.5*z + 0.3*(x - 2)**2".into(),
-        sympy: "0.5*z + 0.3*(x - 2)**2".into(),
+        equation: alternative.into(),
+        sympy: alternative.into(),
         complexity: 7,
         structure: "c*z + c*(x + c)**2".into(),
         share: None,
@@ -82,4 +93,53 @@ fn runs_go_where_the_equations_disagree_and_stay_in_the_space() {
         .map(|e| e.to_string())
         .unwrap_or_default();
     assert!(e.contains('z'), "{e}");
+}
+
+/// Box and Hill's weighting (with the model's covariance): where the two equations differ
+/// by the same amount everywhere (an alternative that is the selected correction plus a
+/// constant), the run worth most is where an outcome is least uncertain, so the first run
+/// is the candidate whose delta-method prediction interval is narrowest (within 1 %),
+/// read through the model's own intervals, not the design's arithmetic. Without the
+/// weighting every candidate would tie and the first one would be taken.
+#[test]
+fn discriminating_runs_are_weighted_by_the_uncertainty_of_an_outcome() {
+    let m = model_with(0.05, "PLUS");
+    let equation = m.correction.forms.equation.clone();
+    let mut m = m;
+    let alt = format!("{} + 0.3", m.correction.forms.sympy);
+    let a = &mut m
+        .correction
+        .selection
+        .as_mut()
+        .expect("selection")
+        .alternatives[0];
+    a.equation = alt.clone();
+    a.sympy = alt;
+    assert!(
+        m.hybrid
+            .uncertainty
+            .as_ref()
+            .is_some_and(|u| !u.covariance.is_empty() && u.residual_variance > 0.0),
+        "the noisy fit has a covariance ({equation})"
+    );
+    let space = parse_space("x=0:6,z=0:1").expect("space");
+    let c = candidates(&space, 5).expect("candidates");
+    let p = design(&m, &c, 3, DesignGoal::Discriminate).expect("design");
+    assert_eq!(p.goal, DesignGoal::Discriminate);
+    assert!(p.reason[0].contains("Box and Hill"), "{}", p.reason[0]);
+    // the spread is the constant 0.3 wherever the correction is finite
+    assert!((p.spread[0] - 0.3).abs() < 1e-9, "{}", p.spread[0]);
+    let widths: Vec<f64> = m
+        .intervals_with(&c, 0.95, hxai_eval::IntervalMethod::Delta)
+        .expect("intervals")
+        .iter()
+        .map(|(lo, hi)| hi - lo)
+        .collect();
+    let narrowest = widths.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(
+        widths[p.rows[0]] <= 1.01 * narrowest,
+        "first run's interval {} against the narrowest {narrowest}",
+        widths[p.rows[0]]
+    );
+    assert_ne!(p.rows[0], 0, "not the first candidate by a tie");
 }

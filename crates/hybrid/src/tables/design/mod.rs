@@ -12,8 +12,12 @@
 //!   candidate of largest spread, and each further pick the one of largest spread times
 //!   `d / (d + 0.1)`, `d` its distance (inputs scaled to the space's ranges) to the runs
 //!   already picked: greedy sequential choice with earlier picks fixed, in the spirit of
-//!   T-optimality (Atkinson and Fedorov 1975) without its weighting by each equation's
-//!   prediction uncertainty (not built yet).
+//!   T-optimality (Atkinson and Fedorov 1975). Where the model file has the covariance of
+//!   the hybrid's constants, the spread is weighted as in Box and Hill's (1967) criterion:
+//!   a candidate is worth the equations' squared disagreement summed over pairs, divided
+//!   by the variance of a run's outcome there (the residual variance plus the selected
+//!   hybrid's `g^T C g`; every equation is given the selected one's prediction variance,
+//!   since the file stores no covariance of the alternatives).
 //! - `coverage`: where the model is least sure and the runs are sparse: the first pick is the
 //!   candidate of widest prediction interval (the model's own method, conformal where it
 //!   stores the calibration), then each further pick the candidate farthest from the runs
@@ -24,8 +28,8 @@
 //!   constants nuisance parameters), from the model file's covariance.
 //!
 //! The space (ranges or a CSV of settings) and its candidates are `space`'s. Not built
-//! yet: the text levels of a per-class model, and the weighting of `discriminate` by the
-//! equations' uncertainty.
+//! yet: the text levels of a per-class model, and each alternative's own prediction
+//! variance in the weighting.
 
 mod space;
 
@@ -163,7 +167,32 @@ pub fn design(
             .map(|iv| iv.iter().map(|(lo, hi)| hi - lo).collect()),
         DesignGoal::Discriminate | DesignGoal::Precision => None,
     };
+    // Box and Hill's (1967) weighting, each equation's prediction variance taken as the
+    // selected hybrid's: a run is worth the equations' squared disagreement there over the
+    // variance of a run's outcome (the scatter plus the constants' own uncertainty), so a
+    // disagreement the model could not see through its uncertainty counts less. Without
+    // the model's covariance (or where its template does not evaluate), the spread alone.
+    let run_variance: Option<Vec<f64>> = match (goal, model.hybrid.uncertainty.as_ref()) {
+        (DesignGoal::Discriminate, Some(u)) if has_covariance => gradients(u, candidates)
+            .ok()
+            .map(|g| (0..m).map(|i| g.s2 + g.variance(i).max(0.0)).collect()),
+        _ => None,
+    };
     let worth: Vec<f64> = match (goal, &width) {
+        (DesignGoal::Discriminate, _) if run_variance.is_some() => {
+            let v = run_variance.as_deref().unwrap_or_default();
+            (0..m)
+                .map(|i| {
+                    let mut pairs = 0.0;
+                    for (a, ea) in equations.iter().enumerate() {
+                        for eb in &equations[a + 1..] {
+                            pairs += (ea.1[i] - eb.1[i]).powi(2);
+                        }
+                    }
+                    pairs / v[i]
+                })
+                .collect()
+        }
         (DesignGoal::Discriminate | DesignGoal::Precision, _) => spread.clone(),
         (DesignGoal::Coverage, Some(w)) => w.clone(),
         (DesignGoal::Coverage, None) => vec![1.0; m],
@@ -224,9 +253,17 @@ pub fn design(
         }
         let why = match goal {
             DesignGoal::Discriminate | DesignGoal::Precision => format!(
-                "the {} equations differ by {} here{}",
+                "the {} equations differ by {} here{}{}",
                 equations.len(),
                 crate::error::num(spread[best]),
+                match &run_variance {
+                    Some(v) => format!(
+                        ", {} sd of a run's outcome there (Box and Hill's weighting: the \
+                         scatter and the constants' uncertainty)",
+                        crate::error::num(spread[best] / v[best].sqrt())
+                    ),
+                    None => String::new(),
+                },
                 if k > 0 {
                     format!(
                         ", {} (scaled) from the runs picked before",
@@ -312,6 +349,82 @@ fn invert(a: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
 /// of all, and each equation with its values.
 type Predictions = (Vec<f64>, Vec<f64>, Vec<(String, Vec<f64>)>);
 
+/// The hybrid's sensitivity to its constants at every candidate: what the precision goal
+/// and the discriminate goal's weighting read from the model file's uncertainty.
+struct Gradients {
+    /// Each candidate's gradient of the prediction with respect to the constants.
+    grads: Vec<Vec<f64>>,
+    /// The constants' covariance.
+    cov: Vec<Vec<f64>>,
+    /// The residual variance.
+    s2: f64,
+}
+
+impl Gradients {
+    /// The variance of the hybrid's prediction at candidate `i` from its constants'
+    /// uncertainty, `g^T C g`.
+    fn variance(&self, i: usize) -> f64 {
+        let g = &self.grads[i];
+        self.cov
+            .iter()
+            .zip(g)
+            .map(|(row, gi)| gi * row.iter().zip(g).map(|(c, gj)| c * gj).sum::<f64>())
+            .sum()
+    }
+}
+
+/// [`Gradients`] of the hybrid template of `u` (the model file's `hybrid.uncertainty`) on
+/// `candidates`: central differences of the hybrid equation in each constant.
+///
+/// # Errors
+/// A template that does not compile, a column the candidates lack, a covariance of the
+/// wrong shape.
+fn gradients(u: &hxai_symreg::Uncertainty, candidates: &Table) -> Result<Gradients, HybridError> {
+    let m = candidates.n_rows();
+    let constants: std::collections::BTreeMap<String, f64> = u
+        .params
+        .iter()
+        .map(|(name, p)| (name.clone(), p.value))
+        .collect();
+    let compiled = hxai_symreg::infix::compile_text(&u.template, &constants).map_err(|e| {
+        HybridError::InvalidConfig(format!("the hybrid equation does not compile: {e}"))
+    })?;
+    let cols = columns_of(candidates, &compiled.inputs, "input of the hybrid equation")?;
+    // the gradient of the prediction with respect to each constant, on every candidate
+    let k = u.params.len();
+    let mut grad: Vec<Vec<f64>> = Vec::with_capacity(k);
+    for (name, p) in &u.params {
+        let slots = compiled.slots.get(name).cloned().unwrap_or_default();
+        let h = 1e-6 * p.value.abs().max(1e-3);
+        let at = |v: f64| {
+            let mut c = compiled.clone();
+            for &s in &slots {
+                c.params[s] = v;
+            }
+            c.eval_columns(&cols, m)
+        };
+        let (hi, lo) = (at(p.value + h), at(p.value - h));
+        grad.push(
+            hi.iter()
+                .zip(&lo)
+                .map(|(a, b)| (a - b) / (2.0 * h))
+                .collect(),
+        );
+    }
+    let cov = u.covariance.clone();
+    if cov.len() != k || cov.iter().any(|r| r.len() != k) {
+        return Err(HybridError::InvalidConfig(format!(
+            "the model file's covariance is not {k} x {k}, one row per constant"
+        )));
+    }
+    let s2 = u.residual_variance;
+    // each candidate's gradient, gathered once
+    let grads: Vec<Vec<f64>> = (0..m)
+        .map(|i| grad.iter().map(|g| g[i]).collect())
+        .collect();
+    Ok(Gradients { grads, cov, s2 })
+}
+
 /// [`design`] for [`DesignGoal::Precision`]: the greedy sequential Ds-optimal design for the
 /// calibrated physics parameters, the correction's constants as nuisance parameters (each
 /// pick with the earlier ones fixed). With `C` the constants' covariance `s^2 (J^T J)^-1`
@@ -343,47 +456,7 @@ fn precision(
                     .into(),
             )
         })?;
-    let constants: std::collections::BTreeMap<String, f64> = u
-        .params
-        .iter()
-        .map(|(name, p)| (name.clone(), p.value))
-        .collect();
-    let compiled = hxai_symreg::infix::compile_text(&u.template, &constants).map_err(|e| {
-        HybridError::InvalidConfig(format!("the hybrid equation does not compile: {e}"))
-    })?;
-    let cols = columns_of(candidates, &compiled.inputs, "input of the hybrid equation")?;
-    // the gradient of the prediction with respect to each constant, on every candidate
-    let k = u.params.len();
-    let mut grad: Vec<Vec<f64>> = Vec::with_capacity(k);
-    for (name, p) in &u.params {
-        let slots = compiled.slots.get(name).cloned().unwrap_or_default();
-        let h = 1e-6 * p.value.abs().max(1e-3);
-        let at = |v: f64| {
-            let mut c = compiled.clone();
-            for &s in &slots {
-                c.params[s] = v;
-            }
-            c.eval_columns(&cols, m)
-        };
-        let (hi, lo) = (at(p.value + h), at(p.value - h));
-        grad.push(
-            hi.iter()
-                .zip(&lo)
-                .map(|(a, b)| (a - b) / (2.0 * h))
-                .collect(),
-        );
-    }
-    let mut cov = u.covariance.clone();
-    if cov.len() != k || cov.iter().any(|r| r.len() != k) {
-        return Err(HybridError::InvalidConfig(format!(
-            "the model file's covariance is not {k} x {k}, one row per constant"
-        )));
-    }
-    let s2 = u.residual_variance;
-    // each candidate's gradient, gathered once
-    let grads: Vec<Vec<f64>> = (0..m)
-        .map(|i| grad.iter().map(|g| g[i]).collect())
-        .collect();
+    let Gradients { grads, mut cov, s2 } = gradients(u, candidates)?;
     let times = |cov: &[Vec<f64>], g: &[f64]| -> Vec<f64> {
         cov.iter()
             .map(|row| row.iter().zip(g).map(|(c, gj)| c * gj).sum())
@@ -473,44 +546,4 @@ fn precision(
         predictions,
         m,
     ))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn spaces_parse_and_bad_ones_are_named() -> Result<(), HybridError> {
-        let s = parse_space("f=0.05:0.3, v=80:300:20, tool=1|2")?;
-        assert_eq!(s.len(), 3);
-        assert_eq!(
-            s[1].1,
-            SpaceColumn::Range {
-                lo: 80.0,
-                hi: 300.0,
-                step: Some(20.0)
-            }
-        );
-        for bad in ["f", "f=3:1", "f=1:2:0", "tool=A|B", "f=1:2,f=2:3", ""] {
-            assert!(parse_space(bad).is_err(), "{bad}");
-        }
-        Ok(())
-    }
-
-    #[test]
-    fn candidates_stay_inside_the_space() -> Result<(), HybridError> {
-        let s = parse_space("f=0.05:0.3,v=80:300:20,t=1|2")?;
-        let c = candidates(&s, 7)?;
-        assert_eq!(c.n_rows(), RANDOM_CANDIDATES);
-        let col = |n: &str| c.column(n).map(<[f64]>::to_vec).unwrap_or_default();
-        assert!(col("f").iter().all(|v| (0.05..=0.3).contains(v)));
-        assert!(
-            col("v")
-                .iter()
-                .all(|v| ((v - 80.0) / 20.0).fract().abs() < 1e-9 && *v <= 300.0)
-        );
-        assert!(col("t").iter().all(|v| *v == 1.0 || *v == 2.0));
-        assert_eq!(candidates(&s, 7)?, c, "seeded");
-        Ok(())
-    }
 }

@@ -113,3 +113,43 @@ pub fn candidates(space: &[(String, SpaceColumn)], seed: u64) -> Result<Table, H
         cols,
     )?)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spaces_parse_and_bad_ones_are_named() -> Result<(), HybridError> {
+        let s = parse_space("f=0.05:0.3, v=80:300:20, tool=1|2")?;
+        assert_eq!(s.len(), 3);
+        assert_eq!(
+            s[1].1,
+            SpaceColumn::Range {
+                lo: 80.0,
+                hi: 300.0,
+                step: Some(20.0)
+            }
+        );
+        for bad in ["f", "f=3:1", "f=1:2:0", "tool=A|B", "f=1:2,f=2:3", ""] {
+            assert!(parse_space(bad).is_err(), "{bad}");
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn candidates_stay_inside_the_space() -> Result<(), HybridError> {
+        let s = parse_space("f=0.05:0.3,v=80:300:20,t=1|2")?;
+        let c = candidates(&s, 7)?;
+        assert_eq!(c.n_rows(), RANDOM_CANDIDATES);
+        let col = |n: &str| c.column(n).map(<[f64]>::to_vec).unwrap_or_default();
+        assert!(col("f").iter().all(|v| (0.05..=0.3).contains(v)));
+        assert!(
+            col("v")
+                .iter()
+                .all(|v| ((v - 80.0) / 20.0).fract().abs() < 1e-9 && *v <= 300.0)
+        );
+        assert!(col("t").iter().all(|v| *v == 1.0 || *v == 2.0));
+        assert_eq!(candidates(&s, 7)?, c, "seeded");
+        Ok(())
+    }
+}
