@@ -1,4 +1,4 @@
-"""Runs chosen by `hxai hybrid design --goal precision` against random runs (issue 49).
+"""Runs chosen by `hxai hybrid design` against random runs (issue 49).
 
 For each held-out process of `scripts/heldout_processes.py` (wear, creep, runout: their
 truths are Python functions of the settings, so a run can be "measured" at any setting)
@@ -17,14 +17,23 @@ It prints, per process and parameter, the median over seeds of the width after t
 runs divided by the width after the random runs (issue 49's goal: at most 0.7), and the
 share of seeds where the designed runs gave the narrower interval.
 
-    python3 scripts/design_loop.py --hxai target/release/hxai --out DIR [--seeds 10]
+With `--goal discriminate` every fit runs `--stability N` (default 20) and the measure is
+the share of resamples whose correction uses exactly the truth's columns (the process's
+`effects`; a structure's columns are the column names in its canonical template): after
+the start, after `--add` runs chosen by `hxai hybrid design --goal discriminate`, and after
+`--add` and 3 x `--add` random runs (issue 49's goal: the designed runs reach the share of
+3 x `--add` random ones with at most 1.5 x `--add`).
 
-Needs numpy. Writes only under DIR. Not run here: the discriminate arm with `--stability`
-refits and the Latin hypercube arm of issue 49 (see docs/benchmarks.md).
+    python3 scripts/design_loop.py --hxai target/release/hxai --out DIR [--seeds 10]
+        [--goal precision|discriminate] [--stability 20]
+
+Needs numpy. Writes only under DIR. Not run here: the Latin hypercube arm and the coverage
+goal of issue 49 (see docs/benchmarks.md).
 """
 import argparse
 import csv
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -73,6 +82,63 @@ def fit(a, spec, table, model):
             for p, v in m["physics"]["params"].items()}
 
 
+def true_set_share(a, spec, table, model):
+    """Fits with `--stability` and returns the share of resamples whose correction's
+    structure uses exactly the truth's columns."""
+    run([a.hxai, "hybrid", "fit", "--data", str(table), "--target", spec["target"],
+         "--physics", spec["physics"], "--calibrate", spec["calibrate"], "--init", spec["init"],
+         "--correction", spec["correction"], "--test-fraction", "0.02", "--seed", "42",
+         "--stability", str(a.stability), "--threads", str(a.threads), "--out", str(model)])
+    m = json.loads(Path(model).read_text())
+    columns = [c for c in spec["space_columns"]]
+    truth = set(spec["effects"].split(","))
+    share = 0.0
+    for st in m["stability"]["structures"]:
+        used = {c for c in columns if re.search(rf"\b{re.escape(c)}\b", st["template"])}
+        if used == truth:
+            share += st["share"]
+    return share, bool((m["correction"].get("selection") or {}).get("alternatives"))
+
+
+def discriminate(a, out, name, measure, spec):
+    spec = dict(spec, space_columns=list(ranges(spec["space"])))
+    shares = {"start": [], "designed": [], "random": [], "random3": []}
+    alternatives = 0
+    for seed in range(a.seeds):
+        rng = np.random.default_rng(2000 + seed)
+        base = uniform(spec["space"], a.start, rng)
+        base[spec["target"]] = measure(base, rng)
+        t0 = out / f"{name}-{seed}-start.csv"
+        hp.write_csv(t0, base)
+        m0 = out / f"{name}-{seed}-start.json"
+        share, alt = true_set_share(a, spec, t0, m0)
+        shares["start"].append(share)
+        alternatives += alt
+        nxt = out / f"{name}-{seed}-next.csv"
+        run([a.hxai, "hybrid", "design", "--model", str(m0), "--space", spec["space"],
+             "--n", str(a.add), "--goal", "discriminate", "--seed", str(seed),
+             "--out", str(nxt)])
+        names = [c for c in base if c != spec["target"]]
+        with open(nxt, newline="") as fh:
+            rows = list(csv.DictReader(fh))
+        designed = {c: np.array([float(r[c]) for r in rows]) for c in names}
+        designed[spec["target"]] = measure(designed, rng)
+        randoms = uniform(spec["space"], 3 * a.add, rng)
+        randoms[spec["target"]] = measure(randoms, rng)
+        first = {k: v[:a.add] for k, v in randoms.items()}
+        for arm, extra in (("designed", designed), ("random", first), ("random3", randoms)):
+            t = out / f"{name}-{seed}-{arm}.csv"
+            hp.write_csv(t, joined(base, extra))
+            shares[arm].append(true_set_share(a, spec, t, out / f"{name}-{seed}-{arm}.json")[0])
+        print(f"  {name} seed {seed}: " + ", ".join(f"{k} {v[-1]:.2f}" for k, v in shares.items()),
+              file=sys.stderr, flush=True)
+    mean = {k: float(np.mean(v)) for k, v in shares.items()}
+    print(f"| {name} | `{spec['effects']}` | {mean['start']:.2f} | {mean['designed']:.2f} | "
+          f"{mean['random']:.2f} | {mean['random3']:.2f} | "
+          f"{np.mean(np.array(shares['designed']) >= np.array(shares['random3'])):.0%} | "
+          f"{alternatives} of {a.seeds} |", flush=True)
+
+
 def joined(a, b):
     return {k: np.concatenate([a[k], b[k]]) for k in a}
 
@@ -87,9 +153,21 @@ def main():
     ap.add_argument("--add", type=int, default=10)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--only", default="")
+    ap.add_argument("--goal", choices=["precision", "discriminate"], default="precision")
+    ap.add_argument("--stability", type=int, default=20)
     a = ap.parse_args()
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
+    if a.goal == "discriminate":
+        print(f"| process | true columns | share after {a.start} | +{a.add} designed | "
+              f"+{a.add} random | +{3 * a.add} random | designed >= +{3 * a.add} random | "
+              "start model with alternatives |")
+        print("|---|---|---:|---:|---:|---:|---:|---:|")
+        for name, (_, measure, spec) in hp.SPECS.items():
+            if a.only and name not in a.only.split(","):
+                continue
+            discriminate(a, out, name, measure, spec)
+        return
     print("| process | parameter | width after 60 | after +10 designed | after +10 random | "
           "designed / random (median) | designed narrower |")
     print("|---|---|---:|---:|---:|---:|---:|")

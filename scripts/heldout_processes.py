@@ -88,20 +88,22 @@ def runout_measure(c, rng):
 
 
 # Each process: its settings' sampler, its measurement (truth and scatter) at given
-# settings, the target's name, the hybrid's physics and its ranges for `hxai hybrid design`.
+# settings, the target's name, the hybrid's physics, its ranges for `hxai hybrid design`
+# and the columns whose effects the truth adds to the physics (the correction's true
+# column set, as the docstring above describes each truth).
 SPECS = {
     "wear": (wear_settings, wear_measure, dict(
         target="wear_mm3", physics="K*load_N*distance_m/hardness_HV", calibrate="K",
-        init="K=3e-4", correction="multiplicative",
+        init="K=3e-4", correction="multiplicative", effects="speed_m_s,temp_C",
         space="load_N=10:100,distance_m=100:2000,hardness_HV=150:600,speed_m_s=0.1:2,"
               "temp_C=20:200,humidity_pct=20:80,batch_u=0:1")),
     "creep": (creep_settings, creep_measure, dict(
         target="rate_per_s", physics="A*stress_MPa^4*exp(-Q/(8.314*temp_K))",
-        calibrate="A,Q", init="A=0.1,Q=280000", correction="log",
+        calibrate="A,Q", init="A=0.1,Q=280000", correction="log", effects="stress_MPa,grain_um",
         space="stress_MPa=50:200,temp_K=800:1000,grain_um=20:120,position_u=0:1")),
     "runout": (runout_settings, runout_measure, dict(
         target="roundness_um", physics="k*1000*feed_mm^2/(8*nose_radius_mm)",
-        calibrate="k", init="k=1", correction="additive",
+        calibrate="k", init="k=1", correction="additive", effects="angle_deg",
         space="feed_mm=0.05:0.3,nose_radius_mm=0.4:1.2:0.4,angle_deg=0:360,"
               "speed_m_min=80:250")),
 }
