@@ -89,6 +89,7 @@ pub fn fit(
     cfg: &TableConfig,
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
+    cfg.check()?;
     let (split, kind) = split_rows(table, cfg)?;
     let job = SplitJob::single(table, cfg, &split, &kind);
     let cal = calibrate_split(job)?;
@@ -107,6 +108,7 @@ pub fn fit_split(
     split: &Split,
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
+    cfg.check()?;
     fit_inner(SplitJob::single(table, cfg, split, "given"), progress)
 }
 
@@ -184,22 +186,15 @@ pub(crate) struct Calibrated {
     pub(crate) physics: Vec<f64>,
 }
 
-/// Checks `job`'s settings and rows, resolves the physics against the table and calibrates
+/// Checks `job`'s rows, resolves the physics against the table and calibrates
 /// it on the training rows: what the fit ([`fit_calibrated`]), the black boxes beside it
 /// and the comparison's other models share.
 ///
 /// # Errors
-/// `--joint` with `--correction-per`, rows out of range, and those of the physics'
-/// resolution and calibration.
+/// Rows out of range, and those of the physics' resolution and calibration (the settings
+/// were checked by [`TableConfig::check`]).
 pub(crate) fn calibrate_split(job: SplitJob) -> Result<Calibrated, HybridError> {
     let (table, cfg, split) = (job.table, job.cfg, job.split);
-    if cfg.joint && cfg.correction_per.is_some() {
-        return Err(HybridError::InvalidConfig(
-            "--joint with --correction-per is not built: the joint refit fits one set of \
-             correction constants; use one of them"
-                .into(),
-        ));
-    }
     check_rows(table, split)?;
     let res = resolve(table, cfg)?;
     let (phys, ses) = calibrate_physics(table, cfg, &res, &split.train)?;

@@ -237,6 +237,35 @@ impl TableConfig {
         }
     }
 
+    /// Checks the settings that need no table, once, before any work: the search's
+    /// configuration (operators, nesting, budgets), `--joint` with `--correction-per` (not
+    /// built), and a single conformal fold (CV+ needs 2, or 0 for none). What the table
+    /// decides (columns, names, the split's sides) is checked against it by the fit.
+    /// [`fit`], [`fit_split`] and [`compare`] call it first, so a bad setting is refused
+    /// before a search has run rather than after it.
+    ///
+    /// # Errors
+    /// [`crate::HybridError::InvalidConfig`] naming the setting, or the search's own
+    /// [`hxai_symreg::SrError`].
+    pub fn check(&self) -> Result<(), crate::HybridError> {
+        if self.joint && self.correction_per.is_some() {
+            return Err(crate::HybridError::InvalidConfig(
+                "--joint with --correction-per is not built: the joint refit fits one set of \
+                 correction constants; use one of them"
+                    .into(),
+            ));
+        }
+        if self.conformal_folds == 1 {
+            return Err(crate::HybridError::InvalidConfig(
+                "1 conformal fold(s): CV+ needs at least 2 (or 0 to fit without conformal \
+                 intervals)"
+                    .into(),
+            ));
+        }
+        self.search_config().check()?;
+        Ok(())
+    }
+
     fn factor_config(&self) -> hxai_symreg::factors::FactorConfig {
         hxai_symreg::factors::FactorConfig {
             seed: self.seed,

@@ -174,3 +174,39 @@ fn unusable_physics_names_the_row() {
         .to_string();
     assert!(e.contains("row 18 ") && e.contains("finite"), "{e}");
 }
+
+/// Settings that need no table are refused by `TableConfig::check` before any search has
+/// run (a single conformal fold used to be refused only after the whole fit): no progress
+/// is reported, for `fit` and `compare` alike.
+#[test]
+fn settings_are_checked_before_any_work() {
+    let t = roughness(60, 0.0, 6);
+    let mut bad = vec![];
+    let mut c = cfg_roughness();
+    c.conformal_folds = 1;
+    bad.push((c, "conformal fold"));
+    let mut c = cfg_roughness();
+    c.joint = true;
+    c.correction_per = Some(hxai_hybrid::tables::CorrectionPer {
+        column: "d".into(),
+        levels: vec!["a".into(), "b".into()],
+    });
+    bad.push((c, "--joint with --correction-per"));
+    let mut c = cfg_roughness();
+    c.search.operators = vec!["add".into(), "frobnicate".into()];
+    bad.push((c, "frobnicate"));
+    for (cfg, needle) in bad {
+        assert!(cfg.check().is_err(), "{needle}");
+        let mut reported = 0;
+        let e = fit(&t, &cfg, &mut |_| reported += 1)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(needle), "{needle}: {e}");
+        let e = compare(&t, &cfg, 2, &mut |_| reported += 1)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(needle), "{needle}: {e}");
+        assert_eq!(reported, 0, "{needle}: a search ran before the refusal");
+    }
+    assert!(cfg_roughness().check().is_ok());
+}
