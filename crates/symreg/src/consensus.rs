@@ -25,8 +25,9 @@
 //! among what is kept. A structure that only one draw of the rows supports cannot win
 //! however well it fits that draw; the price is accuracy where the true correction is more
 //! complex than anything the resamples agree on. It costs B + 1 searches.
+use crate::canonical::structure_of;
 use crate::search::{SearchConfig, SearchResult, fit_structure_from, plain_search};
-use crate::stability::{StructureShare, bootstrap_rows, structure_of};
+use crate::stability::{StructureShare, bootstrap_rows};
 use crate::{Model, Progress, SrError, Table};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;

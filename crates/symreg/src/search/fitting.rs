@@ -5,6 +5,7 @@ use super::config::{Criterion, FEW_ROWS, MIN_ROWS, RandomStart, SearchConfig};
 use crate::eval::Evaluator;
 use crate::fit::{InputScales, LmSettings, Unknowns, initial_params, levenberg_marquardt};
 use crate::ops::OpCosts;
+use crate::program::Program;
 use crate::{SrError, Table};
 use rand::SeedableRng;
 use rand::seq::index::sample;
@@ -280,6 +281,56 @@ pub(crate) fn search_target_variance(target: &[f64]) -> Result<f64, SrError> {
         return Err(SrError::ConstantTarget(target[0]));
     }
     Ok(y_var)
+}
+
+/// Relative tolerance of a refit of given constants on the fitting rows ([`refitted`]: the
+/// joins of a decomposition, the polynomials and factor models offered to selection; the
+/// reported models are refitted again on all rows by selection).
+const JOIN_LM_TOLERANCE: f64 = 1e-8;
+
+/// `program` with every constant refitted together on the fitting rows, from `params`,
+/// scored as a candidate of the search; `None` when it has at least as many parameters as
+/// there are fitting rows, or no finite loss (the search rejects such candidates too).
+pub(crate) fn refitted(
+    problem: &Problem,
+    program: Program,
+    mut params: Vec<f64>,
+) -> Option<Fitted> {
+    let cfg = problem.cfg;
+    if params.len() >= problem.fit_y.len() {
+        return None;
+    }
+    let fit_cols = problem.fit_cols();
+    let mut ev = Evaluator::new(&program);
+    let free: Vec<usize> = (0..params.len()).collect();
+    let start = params.clone();
+    let mut mse = levenberg_marquardt(
+        &program,
+        &mut params,
+        Unknowns::Free(&free),
+        &fit_cols,
+        &problem.fit_y,
+        &LmSettings::new(cfg.lm_iterations, JOIN_LM_TOLERANCE),
+        &mut ev,
+    );
+    if !mse.is_finite() {
+        params = start;
+        mse = ev.mse(&program, &params, &fit_cols, &problem.fit_y);
+    }
+    if !mse.is_finite() {
+        return None;
+    }
+    let complexity = program.complexity_with(cfg.complexity_measure, &problem.op_costs);
+    let n_params = params.len();
+    Some(Fitted {
+        score: problem.score(mse, n_params, problem.fit_y.len()),
+        program,
+        params,
+        mse,
+        complexity,
+        source: u8::MAX,
+        tag: 0,
+    })
 }
 
 #[cfg(test)]

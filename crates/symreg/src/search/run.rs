@@ -2,13 +2,12 @@
 //! the archive keeps the best per complexity, the strategy learns, progress is reported.
 use super::archive::{Archive, Candidate, Fitted};
 use super::config::{ErrorModel, SearchConfig};
+use super::decompose::{Spent, decompositions, polynomials};
 use super::fitting::{Problem, check_target, derive_seed, search_target_variance};
-use super::generate::Tables;
 use super::mutual_information::input_priors;
-use super::selection::{SearchResult, finish};
-use super::separable;
-use super::strategy::{self, ROUNDS_PER_EPOCH, Step};
-use super::{power, transform};
+use super::power;
+use super::propose::{self, ROUNDS_PER_EPOCH, Step, Tables};
+use super::select::{Counts, Finalists, SearchResult, select};
 use crate::canonical::{self, Effort};
 use crate::nesting::NestingRules;
 use crate::program::Program;
@@ -83,7 +82,7 @@ pub(crate) fn plain_search(
     search_at_depth(data, target, cfg, progress, 0)
 }
 
-/// A sub-search of a decomposition ([`super::separable`]) at `depth`, without progress.
+/// A sub-search of a decomposition ([`decompositions`]) at `depth`, without progress.
 pub(crate) fn search_at(
     data: &Table,
     target: &[f64],
@@ -119,7 +118,7 @@ fn search_at_depth(
     let problem = Problem::sampled(data, target, y_var, cfg, &mut master);
     let in_w = input_priors(&problem.fit_cols(), &problem.fit_y);
     let tables = Tables::for_search(ops.clone(), in_w, cfg, problem.op_costs.clone());
-    let mut strategy = strategy::build(cfg.strategy, cfg.candidates_per_epoch, &tables);
+    let mut strategy = propose::build(cfg.strategy, cfg.candidates_per_epoch, &tables);
     let mut state = LoopState {
         archive: Archive::with_runners_up(cfg.runners_up),
         ..LoopState::default()
@@ -164,30 +163,30 @@ fn search_at_depth(
     }
     // the most accurate model as an oracle for separability: a sum or product of smaller
     // problems, searched apart and joined, is one more candidate for selection
+    let spent = Spent::new(state.evaluations, t0);
     let mut decomposition =
-        separable::candidates(&problem, data, &state.archive, state.evaluations, t0, depth)?;
+        decompositions(&problem, data, &state.archive, spent, depth, &search_at)?;
     // and, on a problem of a few inputs, a polynomial of a transformed target
     if cfg.separability {
-        decomposition
-            .candidates
-            .extend(transform::candidates(&problem, &ops));
+        decomposition.candidates.extend(polynomials(&problem, &ops));
     }
     // and closed-form factor models: products and sums of powers and other one-column
     // shapes (the power primitive), on the top-level problem only
     if cfg.power_laws && depth == 0 {
         decomposition
             .candidates
-            .extend(power::candidates(&problem, &ops, &nesting));
+            .extend(power::factor_models(&problem, &ops, &nesting));
     }
     state.evaluations += decomposition.evaluations;
-    finish(
-        &problem,
-        data,
-        (&state.archive, &decomposition.candidates),
-        (state.evaluations, state.duplicate_structures),
-        t0,
-        &pool,
-    )
+    let finalists = Finalists {
+        archive: &state.archive,
+        extra: &decomposition.candidates,
+    };
+    let counts = Counts {
+        evaluations: state.evaluations,
+        duplicate_structures: state.duplicate_structures,
+    };
+    select(&problem, data, finalists, counts, t0, &pool)
 }
 
 /// Whether the run has used up its `time_limit_s`.

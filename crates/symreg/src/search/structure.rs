@@ -2,7 +2,7 @@
 use super::archive::{Archive, Candidate};
 use super::config::SearchConfig;
 use super::fitting::{Problem, check_target, variance};
-use super::selection::finish;
+use super::select::{Counts, Finalists, select};
 use crate::model::Model;
 use crate::program::Program;
 use crate::{SrError, Table};
@@ -98,11 +98,19 @@ fn fit_from(
     let f = problem.fit(&cand, cfg.seed);
     let mut archive = Archive::default();
     archive.offer(&f);
-    finish(
+    let finalists = Finalists {
+        archive: &archive,
+        extra: &[],
+    };
+    let counts = Counts {
+        evaluations: 1,
+        duplicate_structures: 0,
+    };
+    select(
         &problem,
         data,
-        (&archive, &[]),
-        (1, 0),
+        finalists,
+        counts,
         Instant::now(),
         &cfg.par.pool(),
     )
