@@ -1,7 +1,7 @@
 //! Fitting one candidate: the data a search fits on ([`Problem`]), the criterion that scores
 //! a fit, the seeds of the random starts, and the checks on the target.
 use super::archive::{Candidate, Fitted};
-use super::config::{Criterion, FEW_ROWS, MIN_ROWS, RandomStart, SearchConfig};
+use super::config::{Criterion, FEW_ROWS, MIN_ROWS, RandomStart, ValidSearch};
 use crate::eval::Evaluator;
 use crate::fit::{InputScales, LmSettings, Unknowns, initial_params, levenberg_marquardt};
 use crate::ops::OpCosts;
@@ -48,8 +48,8 @@ pub(crate) struct Problem<'a> {
     pub scales: InputScales,
     /// The complexity of each operator (from the settings).
     pub op_costs: OpCosts,
-    /// The settings.
-    pub cfg: &'a SearchConfig,
+    /// The settings, checked.
+    pub cfg: &'a ValidSearch,
 }
 
 impl<'a> Problem<'a> {
@@ -59,7 +59,7 @@ impl<'a> Problem<'a> {
         data: &'a Table,
         target: &[f64],
         y_var: f64,
-        cfg: &'a SearchConfig,
+        cfg: &'a ValidSearch,
         rng: &mut ChaCha8Rng,
     ) -> Self {
         let n = target.len();
@@ -85,7 +85,7 @@ impl<'a> Problem<'a> {
             fit_cols,
             fit_y,
             y_var: if fit_var > 0.0 { fit_var } else { y_var },
-            op_costs: cfg.op_costs().unwrap_or_default(),
+            op_costs: cfg.op_costs().clone(),
             cfg,
         }
     }
@@ -95,7 +95,7 @@ impl<'a> Problem<'a> {
         data: &'a Table,
         target: &[f64],
         y_var: f64,
-        cfg: &'a SearchConfig,
+        cfg: &'a ValidSearch,
     ) -> Self {
         let cols: Vec<&[f64]> = data.columns().iter().map(|c| c.as_slice()).collect();
         Problem {
@@ -105,7 +105,7 @@ impl<'a> Problem<'a> {
             cols,
             y: target.to_vec(),
             y_var,
-            op_costs: cfg.op_costs().unwrap_or_default(),
+            op_costs: cfg.op_costs().clone(),
             cfg,
         }
     }
@@ -339,6 +339,7 @@ mod tests {
     use super::*;
     use crate::Op;
     use crate::program::{Node, Program};
+    use crate::search::config::SearchConfig;
 
     fn log_candidate() -> Candidate {
         let program = Program {
@@ -355,7 +356,8 @@ mod tests {
             random_start: start,
             ..SearchConfig::default()
         };
-        let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, 1.0, &valid);
         problem.fit(&log_candidate(), seed)
     }
 
@@ -367,7 +369,8 @@ mod tests {
         let y: Vec<f64> = x.iter().map(|v| 2.0 * (v + 0.5).ln() + 1.0).collect();
         let data = Table::new(vec!["x".into()], vec![x.clone()]).unwrap();
         let cfg = SearchConfig::default();
-        let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, 1.0, &valid);
         let cols = problem.fit_cols();
         let cand = log_candidate();
         let mut ev = Evaluator::new(&cand.program);

@@ -41,11 +41,10 @@ mod structure;
 
 pub use config::{
     Criterion, DEFAULT_OPERATORS, ErrorModel, FEW_ROWS, LAW_OPERATORS, PAPER_OPERATORS,
-    RandomStart, SearchConfig, Strategy,
+    RandomStart, SearchConfig, Strategy, ValidSearch,
 };
 #[doc(hidden)]
 pub use propose::generate;
-pub(crate) use run::plain_search;
 pub use run::{Progress, search};
 pub use select::{SearchResult, plainness};
 pub use structure::fit_structure;

@@ -225,7 +225,8 @@ mod tests {
             .collect();
         let data = Table::new(vec!["a".into(), "b".into()], vec![a, b]).expect("table");
         let cfg = SearchConfig::default();
-        let problem = Problem::all_rows(&data, &y, variance(&y), &cfg);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, variance(&y), &valid);
         let ops: Vec<Op> = Op::ALL.to_vec();
         let free = crate::Nesting::none().rules().expect("rules");
         let c = factor_models(&problem, &ops, &free);

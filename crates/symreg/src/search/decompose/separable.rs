@@ -22,7 +22,7 @@ use crate::ops::Op;
 use crate::program::{Node, Program};
 use crate::search::SearchResult;
 use crate::search::archive::{Archive, Fitted};
-use crate::search::config::SearchConfig;
+use crate::search::config::ValidSearch;
 use crate::search::fitting::{Problem, derive_seed, refitted};
 use crate::{Model, SrError, Table};
 use std::time::Instant;
@@ -59,7 +59,7 @@ pub(crate) struct Decomposition {
 /// A sub-search of a decomposition: the rows, the target, the settings and the depth of the
 /// sub-problem (the loop's own search, without progress).
 pub(crate) type SubSearch<'a> =
-    dyn Fn(&Table, &[f64], &SearchConfig, u8) -> Result<SearchResult, SrError> + 'a;
+    dyn Fn(&Table, &[f64], &ValidSearch, u8) -> Result<SearchResult, SrError> + 'a;
 
 /// What the search has spent when it asks for decompositions: the models it fitted and
 /// when it started (the sub-searches share what is left of its budget and time).
@@ -111,13 +111,11 @@ impl Context<'_, '_> {
             None => self.data.select_columns(names)?,
         };
         let share = share as f64;
-        let sub_cfg = SearchConfig {
-            seed: derive_seed(cfg.seed, u64::from(self.depth) + 1, index as u64),
-            max_evaluations: self.budget.map(|b| (b as f64 / share) as u64),
-            time_limit_s: self.time_left.map(|t| t / share),
-            consensus_runs: 0,
-            ..cfg.clone()
-        };
+        let sub_cfg = cfg.sub_search(
+            derive_seed(cfg.seed, u64::from(self.depth) + 1, index as u64),
+            self.budget.map(|b| (b as f64 / share) as u64),
+            self.time_left.map(|t| t / share),
+        )?;
         let started = Instant::now();
         let res = match (self.sub_search)(&sub_data, target, &sub_cfg, self.depth + 1) {
             Ok(r) => r,
@@ -183,7 +181,7 @@ pub(crate) fn decompositions(
     if time_left.is_some_and(|t| t <= 0.0) {
         return none;
     }
-    let ops = cfg.check()?;
+    let ops = cfg.operators();
     // test points: evenly spaced fitting rows, every input as in the data
     let n_fit = problem.fit_y.len();
     let k = TEST_POINTS.min(n_fit);
@@ -202,7 +200,7 @@ pub(crate) fn decompositions(
         time_left,
         depth,
         points: &points,
-        ops: &ops,
+        ops,
         sub_search,
     };
     let mut out = if let Some((join, parts)) = split(&mut oracle, &points, &vars, tolerance) {
@@ -213,8 +211,7 @@ pub(crate) fn decompositions(
         return none;
     };
     // the parts keep to the nesting rules; their join or write-back is checked as a whole
-    let rules = cfg.nesting.rules()?;
-    out.candidates.retain(|f| rules.allows(&f.program));
+    out.candidates.retain(|f| cfg.nesting().allows(&f.program));
     Ok(out)
 }
 
@@ -393,13 +390,14 @@ fn reduce(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::search::config::SearchConfig;
     use crate::search::fitting::variance;
 
     /// The loop's sub-search, as the loop passes it.
     fn sub_search(
         data: &Table,
         target: &[f64],
-        cfg: &SearchConfig,
+        cfg: &ValidSearch,
         depth: u8,
     ) -> Result<SearchResult, SrError> {
         crate::search::run::search_at(data, target, cfg, depth)
@@ -458,7 +456,8 @@ mod tests {
             })
             .collect();
         let cfg = small();
-        let problem = Problem::all_rows(&data, &y, variance(&y), &cfg);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, variance(&y), &valid);
         let nodes = vec![
             Node::Var(0),
             Node::Op(Op::Sin),
@@ -492,7 +491,8 @@ mod tests {
             separability: false,
             ..cfg.clone()
         };
-        let p_off = Problem::all_rows(&data, &y, variance(&y), &off);
+        let valid = off.check().expect("valid");
+        let p_off = Problem::all_rows(&data, &y, variance(&y), &valid);
         let none = decompositions(
             &p_off,
             &data,
@@ -525,7 +525,8 @@ mod tests {
             })
             .collect();
         let cfg = small();
-        let problem = Problem::all_rows(&data, &y, variance(&y), &cfg);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, variance(&y), &valid);
         let nodes = vec![
             Node::Var(0),
             Node::Const,
@@ -572,7 +573,8 @@ mod tests {
             })
             .collect();
         let cfg = small();
-        let problem = Problem::all_rows(&data, &y, variance(&y), &cfg);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, variance(&y), &valid);
         let nodes = vec![
             Node::Var(0),
             Node::Var(1),

@@ -273,7 +273,8 @@ mod tests {
         for (cols, y, exact) in cases {
             let names = (0..cols.len()).map(|k| format!("x{k}")).collect();
             let data = Table::new(names, cols).expect("table");
-            let problem = Problem::all_rows(&data, &y, variance(&y), &cfg);
+            let valid = cfg.check().expect("valid");
+            let problem = Problem::all_rows(&data, &y, variance(&y), &valid);
             let c = polynomials(&problem, &ops);
             assert!(!c.is_empty());
             let best = c
@@ -309,7 +310,8 @@ mod tests {
         let z: Vec<f64> = (0..50).map(|i| 1.0 + f64::from(i) / 10.0).collect();
         let y: Vec<f64> = z.iter().map(|v| 2.0 * v * v + 1.0).collect();
         let data = Table::new(vec!["z".into()], vec![z.clone()]).expect("table");
-        let problem = Problem::all_rows(&data, &y, variance(&y), &cfg);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, variance(&y), &valid);
         let c = polynomials(&problem, &laws);
         assert_eq!(c.len(), 2);
         for f in &c {
@@ -329,7 +331,8 @@ mod tests {
             vec![z.clone(), z.clone(), z.clone(), z.clone()],
         )
         .expect("table");
-        let p4 = Problem::all_rows(&four, &y, variance(&y), &cfg);
+        let valid = cfg.check().expect("valid");
+        let p4 = Problem::all_rows(&four, &y, variance(&y), &valid);
         assert!(polynomials(&p4, &laws).is_empty());
         // three inputs on eight rows: the quadratic's eleven parameters outnumber the rows,
         // and a fit that interpolates them is not offered
@@ -343,7 +346,8 @@ mod tests {
             ],
         )
         .expect("table");
-        let p3 = Problem::all_rows(&three, &y[..8], variance(&y[..8]), &cfg);
+        let valid = cfg.check().expect("valid");
+        let p3 = Problem::all_rows(&three, &y[..8], variance(&y[..8]), &valid);
         assert!(polynomials(&p3, &laws).is_empty());
     }
 }

@@ -7,7 +7,6 @@ use crate::canonical::canonical_program;
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::model::{Model, SnapRule, fold_data_constants, prune_snapped, snap_params};
-use crate::ops::parse_operators;
 use crate::program::{Node, Program};
 use crate::search::archive::Fitted;
 use crate::search::fitting::Problem;
@@ -149,12 +148,11 @@ fn simpler_form(
         return None;
     }
     let (form, values) = canonical_program(prog, params, names)?;
-    let ops = parse_operators(&cfg.operators).ok()?;
     let known = form.nodes.iter().all(|n| match n {
-        Node::Op(op) => ops.contains(op),
+        Node::Op(op) => cfg.operators().contains(op),
         _ => true,
     });
-    if !known || !cfg.nesting.rules().ok()?.allows(&form) {
+    if !known || !cfg.nesting().allows(&form) {
         return None;
     }
     let measure = |p: &Program| p.complexity_with(cfg.complexity_measure, &problem.op_costs);

@@ -313,7 +313,8 @@ mod tests {
         let y: Vec<f64> = x0.iter().map(|v| 3.0 * v + 2.0).collect();
         let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
         let cfg = SearchConfig::default();
-        let problem = Problem::all_rows(&data, &y, crate::search::fitting::variance(&y), &cfg);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, crate::search::fitting::variance(&y), &valid);
         let mut archive = Archive::default();
         for nodes in [
             vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)],
@@ -356,7 +357,8 @@ mod tests {
             .collect();
         let data = Table::new(vec!["x0".into(), "x1".into()], vec![x0, x1]).unwrap();
         let cfg = SearchConfig::default();
-        let problem = Problem::all_rows(&data, &y, crate::search::fitting::variance(&y), &cfg);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, crate::search::fitting::variance(&y), &valid);
         let model = |nodes: Vec<Node>| refine(&problem, &fit_of(&problem, nodes), &data).0;
         let a = model(vec![Node::Var(0), Node::Var(1), Node::Op(Op::Add)]);
         let b = model(vec![Node::Var(1), Node::Var(0), Node::Op(Op::Add)]);
