@@ -1,19 +1,14 @@
 //! Separability: the decomposition the oracle ([`super::oracle`]) shows, searched in parts
 //! (AI Feynman's insight, Udrescu and Tegmark 2020; issue 24 item 2).
 //!
-//! When the search ends with a model that fits closely but is not the law, that model still
-//! answers questions about the law. [`decompositions`] asks it which inputs only add or
-//! multiply ([`super::oracle::groups`]). With two or more groups, each group becomes a
-//! smaller problem: the oracle with the other inputs held at their medians is its target,
-//! searched on its own columns (and, once more, decomposed in turn). The sub-models are
-//! joined back (sum or product, with the constants that make the join exact,
-//! [`super::join`]) and handed to selection as one more candidate: refitted on all rows,
-//! snapped and judged by the criterion like every model of the search, so it replaces the
-//! oracle only when the data prefers it. When nothing splits, a symmetry of a pair of inputs
-//! ([`super::symmetry`]) reduces the problem by one input instead.
-//!
-//! The sub-searches are the search itself, passed in by the loop as a closure
-//! ([`SubSearch`]): this layer proposes problems and never calls the loop by name.
+//! [`decompositions`] asks the search's most accurate model which inputs only add or
+//! multiply ([`super::oracle::groups`]). Each group becomes a smaller problem: the oracle
+//! with the other inputs at their medians is its target, searched on its own columns (and
+//! once more decomposed). The sub-models are joined back ([`super::join`]) and offered to
+//! selection as one candidate, refitted, snapped and judged like every model, so it replaces
+//! the oracle only when the data prefers it. When nothing splits, a symmetric pair
+//! ([`super::symmetry`]) is replaced by one input. The sub-searches are the loop's own,
+//! passed in as a closure ([`SubSearch`]): this layer never calls the loop by name.
 use super::join::{Join, join_programs};
 use super::oracle::{Oracle, groups, median};
 use super::symmetry;
