@@ -2,7 +2,6 @@
 //! folded into one constant ([`fold_data_constants`]) and the terms a snapped weight killed
 //! pruned ([`prune_snapped`]).
 use crate::eval::Evaluator;
-use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::ops::Op;
 use crate::program::{Node, Program};
 

@@ -5,8 +5,6 @@ mod snap;
 
 use crate::eval::Evaluator;
 use crate::expr::Expr;
-use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
-use crate::ops::Op;
 use crate::program::{ComplexityMeasure, Node, Program};
 use crate::{SrError, Table};
 pub(crate) use fold::{fold_data_constants, prune_snapped};
@@ -252,9 +250,4 @@ mod limits {
             .and_then(|m| m.validate())
             .expect("a program of 199 nodes is fine");
     }
-}
-
-#[cfg(test)]
-mod snapping {
-    use super::{Snap, snap_candidates};
 }

@@ -3,12 +3,11 @@
 //! invariance are in `canonical_properties`).
 #![allow(clippy::unwrap_used)]
 use hxai_symreg::canonical::{
-    Effort, canonical_expr, canonical_program, canonicalize, degrees_of_freedom,
-    structure_expr_with, structure_key, structure_key_expr, structure_with,
+    Effort, canonical_expr, degrees_of_freedom, structure_expr_with, structure_key,
+    structure_key_expr, structure_with,
 };
 use hxai_symreg::expr::Expr;
 use hxai_symreg::{Node, Op, Program, infix};
-use proptest::prelude::*;
 
 pub(crate) fn p(s: &str) -> Expr {
     infix::parse(s).unwrap().expr

@@ -4,11 +4,10 @@
 #![allow(clippy::unwrap_used)]
 use super::canonical::{close_at_points, names, p, prog};
 use hxai_symreg::canonical::{
-    Effort, canonical_expr, canonical_program, canonicalize, degrees_of_freedom,
-    structure_expr_with, structure_key, structure_key_expr, structure_with,
+    Effort, canonical_expr, canonical_program, canonicalize, structure_expr_with,
 };
 use hxai_symreg::expr::Expr;
-use hxai_symreg::{Node, Op, Program, infix};
+use hxai_symreg::{Node, Op, Program};
 use proptest::prelude::*;
 
 /// Random expressions over x, y, z with every search operator, negation and numbers in
