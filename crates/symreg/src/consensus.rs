@@ -2,7 +2,8 @@
 //!
 //! One search picks one structure, and on noisy data a resample of the rows often picks
 //! another that fits as well: the choice among the near-best is a draw. Consensus selection
-//! ([`SearchConfig::consensus_runs`] = B > 0) turns the draw into a vote:
+//! ([`SearchConfig::consensus_runs`](crate::SearchConfig::consensus_runs) = B > 0) turns the
+//! draw into a vote:
 //! 1. the search runs once on all rows (its Pareto front and its near-best models are
 //!    reported as usual);
 //! 2. it runs again on B bootstrap resamples of the rows (run `r` draws its rows from a

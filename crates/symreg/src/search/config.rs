@@ -236,7 +236,7 @@ pub struct SearchConfig {
     pub named_constants: bool,
     /// Test the most accurate model for separability (`f = g(xA) + h(xB)` or
     /// `f = g(xA) h(xB)`, by mixed differences) and, where it holds, search the parts
-    /// apart and offer their join to selection (`search::separable`). False by default:
+    /// apart and offer their join to selection (`search::decompose`). False by default:
     /// on the AI Feynman 100 it recovered one more law at noise 0 and none at 1 % for
     /// about 40 % more CPU time (docs/benchmarks.md, "Separability").
     pub separability: bool,

@@ -19,7 +19,7 @@ const LOSS_FLOOR: f64 = 1e-12;
 
 /// Levenberg-Marquardt stops when one step improves the loss by less than this relative
 /// amount. During the search a fit only has to rank its structure, so it stops early; the
-/// reported models are refitted to [`super::selection`]'s tighter tolerance.
+/// reported models are refitted to [`super::select`]'s tighter tolerance.
 const SEARCH_LM_TOLERANCE: f64 = 1e-6;
 
 /// A target whose variance is below this times `max(|mean|, 1)` is treated as constant:

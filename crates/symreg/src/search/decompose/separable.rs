@@ -200,7 +200,7 @@ pub(crate) fn decompositions(
     };
     let mut out = if let Some((join, parts)) = split(&mut oracle, &points, &vars, tolerance) {
         decompose(&mut ctx, &mut oracle, join, &parts)?
-    } else if let Some(found) = symmetry::find(&mut oracle, &points, &vars, tolerance, &ops) {
+    } else if let Some(found) = symmetry::find(&mut oracle, &points, &vars, tolerance, ops) {
         reduce(&mut ctx, &vars, found)?
     } else {
         return none;

@@ -3,7 +3,7 @@
 //! - `generate`: random programs within the complexity cap, mutation and crossover, drawn
 //!   from the operators' and inputs' weights ([`Tables`]);
 //! - `field`: the learned probability field path sampling draws structures from;
-//! - `strategy`: the internal seam ([`SearchStrategy`]), what a strategy sees each round
+//! - `strategy`: the internal seam (`SearchStrategy`), what a strategy sees each round
 //!   ([`Step`]) and the rounds of an epoch;
 //! - `qlattice`: path sampling from the field, with QLattice-style cells of lineages;
 //! - `genetic`: island genetic programming with age-regularised evolution;
