@@ -29,6 +29,8 @@
 //! `m.rs` or `m/`, whichever form the module has on disk: the name survives turning a file
 //! into a folder and back. A named folder covers the files inside it, because their map is
 //! the folder's `mod.rs` header (`search/mod.rs` maps the search, for example).
+//! And it fails on the rules of [`crate::code_shape`] (no circle, no file over 600 lines).
+use crate::code_shape::problems as shape;
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 
@@ -47,23 +49,19 @@ pub fn run(args: &[String]) -> Result<()> {
         bail!("check-docs takes no arguments (got `{a}`)");
     }
     let root = crate::root();
-    let dangling = check(&root)?;
-    let unmapped = check_code_map(&root)?;
-    if dangling.is_empty() && unmapped.is_empty() {
+    let found = [check(&root)?, check_code_map(&root)?, shape(&root)?];
+    if found.iter().all(Vec::is_empty) {
         println!(
-            "check-docs: every path named in README.md and docs/ exists, and every module \
-             is in the code map of {CODE_MAP}"
+            "check-docs: every path in README.md and docs/ exists, every module is in the \
+             code map of {CODE_MAP}, no circle of use, no hand-written file too long"
         );
         return Ok(());
     }
-    for p in dangling.iter().chain(&unmapped) {
+    for p in found.iter().flatten() {
         eprintln!("{p}");
     }
-    bail!(
-        "{} dangling path(s) and {} module(s) missing from the code map",
-        dangling.len(),
-        unmapped.len()
-    )
+    let [d, u, s] = found.each_ref().map(Vec::len);
+    bail!("{d} dangling path(s), {u} unmapped module(s), {s} circle(s) or long file(s)")
 }
 
 /// The modules that the code map does not name, one line each

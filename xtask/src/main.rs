@@ -6,8 +6,9 @@
 //! - `cargo xtask bench-sr [...]`: symbolic regression side by side with peer engines, and
 //!   `--suite real-laws`: `hxai sr` against the laws of real tables (issue 47).
 //! - `cargo xtask check-docs`: fails when `README.md` or `docs/` name a path that does not
-//!   exist, or when a module is missing from the code map of `docs/architecture.md` (CI runs
-//!   it).
+//!   exist, when a module is missing from the code map of `docs/architecture.md`, when a
+//!   folder's files use each other in a circle or a hand-written file is over 600 lines (CI
+//!   runs it).
 //! - `cargo xtask refs`: regenerates the reference vectors under `testdata/` with the pinned
 //!   Python tools of `scripts/requirements.txt` (in a venv under `target/`; not run by CI).
 #![allow(clippy::print_stdout, clippy::print_stderr)]
@@ -17,8 +18,10 @@ use std::path::{Path, PathBuf};
 
 mod bench_sr;
 mod check_docs;
+mod code_shape;
 mod refs;
 mod reproduce;
+mod rust_paths;
 mod venv;
 
 const USAGE: &str = "usage: cargo xtask <command>
@@ -34,7 +37,8 @@ commands:
       --suite real-laws: hxai sr on the real tables of testdata/real/ against their laws
   check-docs
       fail when README.md or docs/ name a repository path that does not exist,
-      or when a module is missing from the code map of docs/architecture.md
+      or when a module is missing from the code map of docs/architecture.md;
+      fail on a circle of use among a folder's files or a file over 600 lines
   refs [--python PY]
       regenerate testdata/ reference vectors with the versions pinned in
       scripts/requirements.txt (venv in target/refs-venv; needs network for pip)";

@@ -2,7 +2,8 @@
 //!
 //! One search picks one structure, and on noisy data a resample of the rows often picks
 //! another that fits as well: the choice among the near-best is a draw. Consensus selection
-//! ([`SearchConfig::consensus_runs`] = B > 0) turns the draw into a vote:
+//! ([`SearchConfig::consensus_runs`](crate::SearchConfig::consensus_runs) = B > 0) turns the
+//! draw into a vote:
 //! 1. the search runs once on all rows (its Pareto front and its near-best models are
 //!    reported as usual);
 //! 2. it runs again on B bootstrap resamples of the rows (run `r` draws its rows from a
@@ -25,8 +26,9 @@
 //! among what is kept. A structure that only one draw of the rows supports cannot win
 //! however well it fits that draw; the price is accuracy where the true correction is more
 //! complex than anything the resamples agree on. It costs B + 1 searches.
-use crate::search::{SearchConfig, SearchResult, fit_structure_from, plain_search};
-use crate::stability::{StructureShare, bootstrap_rows, structure_of};
+use crate::canonical::structure_of;
+use crate::search::{SearchResult, ValidSearch, fit_structure_from};
+use crate::stability::{StructureShare, bootstrap_rows};
 use crate::{Model, Progress, SrError, Table};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -61,40 +63,26 @@ struct Nominee {
     model: Model,
 }
 
-/// The consensus search of the module docs (`cfg.consensus_runs` > 0). `progress` sees
-/// the epochs of the B + 1 searches as one count.
-pub(crate) fn search(
-    data: &Table,
-    target: &[f64],
-    cfg: &SearchConfig,
-    progress: &mut dyn FnMut(&Progress),
-) -> Result<SearchResult, SrError> {
-    search_with(data, target, cfg, progress, &|d, y, c, p| {
-        plain_search(d, y, c, p)
-    })
-}
-
 /// One search of a consensus: the rows, the target, the settings (`consensus_runs` 0) and
 /// the progress of that search.
-pub(crate) type OneSearch<'a> = dyn Fn(&Table, &[f64], &SearchConfig, &mut dyn FnMut(&Progress)) -> Result<SearchResult, SrError>
+pub(crate) type OneSearch<'a> = dyn Fn(&Table, &[f64], &ValidSearch, &mut dyn FnMut(&Progress)) -> Result<SearchResult, SrError>
     + 'a;
 
-/// [`search`] with each of the B + 1 searches run by `one_search`, whose models are models
-/// of `data`'s columns (with units: the group model composed back, so that the votes and
-/// the refit are on the composed structures).
+/// The consensus search of the module docs (`cfg.consensus_runs` > 0) on the configuration
+/// checked once; `progress` sees the epochs of the B + 1 searches as one count. Each search
+/// is run by `one_search` (passed in by the search, so this module does not call it by
+/// name), whose models are models of `data`'s columns (with units: the group model
+/// composed back, so that the votes and the refit are on the composed structures).
 pub(crate) fn search_with(
     data: &Table,
     target: &[f64],
-    cfg: &SearchConfig,
+    cfg: &ValidSearch,
     progress: &mut dyn FnMut(&Progress),
     one_search: &OneSearch,
 ) -> Result<SearchResult, SrError> {
     let t0 = Instant::now();
     let runs = cfg.consensus_runs;
-    let one = SearchConfig {
-        consensus_runs: 0,
-        ..cfg.clone()
-    };
+    let one = cfg.one_run(cfg.seed);
     let total = cfg.epochs * (runs + 1);
     let mut report = |done: usize, p: &Progress| {
         progress(&Progress {
@@ -113,10 +101,7 @@ pub(crate) fn search_with(
         let (rows, _) = bootstrap_rows(cfg.seed, r, n);
         let train = data.select_rows(&rows)?;
         let y: Vec<f64> = rows.iter().map(|&i| target[i]).collect();
-        let run_cfg = SearchConfig {
-            seed: cfg.seed.wrapping_add(r as u64 + 1),
-            ..one.clone()
-        };
+        let run_cfg = one.one_run(cfg.seed.wrapping_add(r as u64 + 1));
         let res = one_search(&train, &y, &run_cfg, &mut |p| report(r + 1, p))?;
         evaluations += res.evaluations;
         duplicate_structures += res.duplicate_structures;

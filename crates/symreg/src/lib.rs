@@ -84,7 +84,7 @@ pub use report::{
 };
 pub use search::{
     Criterion, DEFAULT_OPERATORS, ErrorModel, FEW_ROWS, LAW_OPERATORS, PAPER_OPERATORS, Progress,
-    RandomStart, SearchConfig, SearchResult, Strategy, fit_structure, search,
+    RandomStart, SearchConfig, SearchResult, Strategy, ValidSearch, fit_structure, search,
 };
 pub use stability::{Stability, stability};
 pub use uncertainty::{ParamEstimate, Uncertainty};

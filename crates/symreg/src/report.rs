@@ -2,8 +2,9 @@
 //! ignored, [`crate::stability::structure_of`]), how it was selected, the share of
 //! resamples that gave it back when that was measured, and the alternatives the data cannot
 //! tell apart from it.
+use crate::canonical::structure_of;
 use crate::search::{Criterion, SearchConfig, SearchResult};
-use crate::stability::{Stability, structure_of};
+use crate::stability::Stability;
 use serde::{Deserialize, Serialize};
 
 /// A model's readable forms, the keys every report of a model starts with (model files'

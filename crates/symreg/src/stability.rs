@@ -121,12 +121,9 @@ pub(crate) fn r2_spread(r2s: &[f64]) -> Option<R2Spread> {
     })
 }
 
-/// The structure of a model with its constants ignored (see the module docs): its
-/// program's [`crate::canonical::structure_key`], sympy-readable text with every constant
-/// written `c`.
-pub fn structure_of(model: &Model) -> String {
-    crate::canonical::structure_key(&model.program, &model.feature_names)
-}
+/// The structure of a model with its constants ignored (see the module docs); defined in
+/// [`crate::canonical`], where selection reads it too, and named here where users look.
+pub use crate::canonical::structure_of;
 
 /// Reruns the search on `runs` bootstrap resamples of the rows of `data` (see the module
 /// docs). `progress` is called with `(runs done, runs)` as runs finish (from worker threads,

@@ -3,7 +3,7 @@
 //! e-graph was built in.
 
 use super::is_literal;
-use super::language::{Bits, Graph, Math};
+use super::language::{Bits, Graph, Math, order_key};
 use egg::{Id, Language};
 use std::cmp::Ordering;
 
@@ -26,16 +26,6 @@ pub(super) enum Tok {
 /// The token of a number (see [`Tok::Num`]).
 pub(super) fn num_tok(v: f64) -> Tok {
     Tok::Num(order_key(v.abs()), u8::from(v.is_sign_negative()))
-}
-
-/// `f64::total_cmp` as an unsigned key.
-pub(super) fn order_key(v: f64) -> u64 {
-    let b = v.to_bits();
-    if b >> 63 == 1 { !b } else { b | (1 << 63) }
-}
-
-pub(super) fn from_order_key(k: u64) -> f64 {
-    f64::from_bits(if k >> 63 == 1 { k & !(1 << 63) } else { !k })
 }
 
 /// Operators' tags (their order among themselves) and arities.
@@ -175,6 +165,7 @@ pub(super) fn extract(g: &Graph, root: Id, key: bool, fewest: bool) -> Vec<Tok> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::canonical::language::from_order_key;
 
     #[test]
     fn order_keys_follow_total_order() {

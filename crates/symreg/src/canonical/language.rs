@@ -3,13 +3,23 @@
 //! and `Builder`, which adds an expression's core form (the shorthands written out) to an
 //! e-graph.
 
-use super::extract::{from_order_key, order_key};
 use crate::expr::Expr;
 use crate::ops::Op;
 use egg::{Analysis, DidMerge, EGraph, Id, Language, define_language};
 use std::cmp::Ordering;
 use std::fmt;
 use std::str::FromStr;
+
+/// `f64::total_cmp` as an unsigned key.
+pub(super) fn order_key(v: f64) -> u64 {
+    let b = v.to_bits();
+    if b >> 63 == 1 { !b } else { b | (1 << 63) }
+}
+
+/// The number of an [`order_key`].
+pub(super) fn from_order_key(k: u64) -> f64 {
+    f64::from_bits(if k >> 63 == 1 { k & !(1 << 63) } else { !k })
+}
 
 /// The bits of an `f64`, the numbers of the e-graph (ordered by bits: the e-graph only needs
 /// some total order; reading back orders by value).

@@ -271,6 +271,14 @@ pub fn structure_key(program: &Program, names: &[String]) -> String {
         .to_text(None, true)
 }
 
+/// The structure of a model with its constants ignored: its program's [`structure_key`]
+/// over its feature names, sympy-readable text with every constant written `c`. How
+/// selection, [`crate::stability()`], [`crate::consensus`] and the model files tell
+/// structures apart.
+pub fn structure_of(model: &crate::Model) -> String {
+    structure_key(&model.program, &model.feature_names)
+}
+
 /// [`structure_key`] with a chosen [`Effort`]; the form has every parameter as the input
 /// `c`.
 pub fn structure_with(program: &Program, names: &[String], effort: Effort) -> Canonical {

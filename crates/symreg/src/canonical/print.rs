@@ -2,8 +2,9 @@
 //! (signs, divisors, negated terms and numbers placed as the module docs say); in a
 //! structure key every parameter is the input `c`.
 
-use super::extract::{TAGS, Tok, from_order_key, num_tok};
+use super::extract::{TAGS, Tok, num_tok};
 use super::is_literal;
+use super::language::from_order_key;
 use crate::expr::Expr;
 use crate::ops::Op;
 

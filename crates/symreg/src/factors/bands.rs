@@ -9,7 +9,8 @@
 use super::shape::Shape;
 use super::structure::Structure;
 use super::{FactorConfig, Link, fit_structure};
-use crate::stability::{Stability, bootstrap_rows, r2_spread, shares, structure_of};
+use crate::canonical::structure_of;
+use crate::stability::{Stability, bootstrap_rows, r2_spread, shares};
 use crate::{Par, SrError, Table};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

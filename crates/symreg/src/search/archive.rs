@@ -1,8 +1,6 @@
 //! What flows through the loop: proposed [`Candidate`]s, their [`Fitted`] results, and the
 //! [`Archive`] of the best fit at each complexity that every strategy reads.
-use super::generate::Tables;
 use crate::program::Program;
-use rand_chacha::ChaCha8Rng;
 
 /// A proposed model structure, optionally with parameters to start from.
 #[derive(Clone, Debug)]
@@ -27,11 +25,6 @@ impl Candidate {
             source: 0,
             tag,
         }
-    }
-
-    /// A fresh random program of `tables`, tagged `tag`.
-    pub(crate) fn random(tables: &Tables, rng: &mut ChaCha8Rng, tag: u32) -> Self {
-        Self::new(tables.random_program(rng), None, tag)
     }
 }
 

@@ -1,6 +1,7 @@
 //! Search settings: which strategy, which selection criterion, and every knob with its
 //! default and its check.
-use crate::nesting::Nesting;
+use crate::consensus::MAX_CONSENSUS_RUNS;
+use crate::nesting::{Nesting, NestingRules};
 use crate::ops::{Op, OpCosts, parse_operators};
 use crate::program::ComplexityMeasure;
 use crate::{Par, SrError};
@@ -235,7 +236,7 @@ pub struct SearchConfig {
     pub named_constants: bool,
     /// Test the most accurate model for separability (`f = g(xA) + h(xB)` or
     /// `f = g(xA) h(xB)`, by mixed differences) and, where it holds, search the parts
-    /// apart and offer their join to selection (`search::separable`). False by default:
+    /// apart and offer their join to selection (`search::decompose`). False by default:
     /// on the AI Feynman 100 it recovered one more law at noise 0 and none at 1 % for
     /// about 40 % more CPU time (docs/benchmarks.md, "Separability").
     pub separability: bool,
@@ -389,14 +390,16 @@ impl SearchConfig {
         OpCosts::parse(&self.operator_complexity)
     }
 
-    /// Checks the settings and parses the operators.
+    /// Checks the settings once and keeps what the check derives: the operators, their
+    /// costs, the nesting rules and the complexity cap, which the search, its sub-searches
+    /// and the consensus runs take ([`ValidSearch`], as linfa's `check() -> Valid`).
     ///
     /// # Errors
     /// [`SrError::UnknownOperator`] or [`SrError::InvalidConfig`].
-    pub fn check(&self) -> Result<Vec<Op>, SrError> {
+    pub fn check(&self) -> Result<ValidSearch, SrError> {
         let ops = parse_operators(&self.operators)?;
-        self.op_costs()?;
-        self.nesting.rules()?;
+        let op_costs = self.op_costs()?;
+        let nesting = self.nesting.rules()?;
         if self.max_complexity == 0 || self.max_complexity > MAX_COMPLEXITY_LIMIT {
             return Err(SrError::InvalidConfig(format!(
                 "max_complexity is {}: choose 1 to {MAX_COMPLEXITY_LIMIT}",
@@ -419,18 +422,11 @@ impl SearchConfig {
                 self.cv_folds
             )));
         }
-        if let Some(t) = self.time_limit_s
-            && !(t.is_finite() && t > 0.0)
-        {
-            return Err(SrError::InvalidConfig(
-                "time_limit_s must be a positive number of seconds".into(),
-            ));
-        }
-        if self.consensus_runs > crate::consensus::MAX_CONSENSUS_RUNS {
+        self.check_time_limit()?;
+        if self.consensus_runs > MAX_CONSENSUS_RUNS {
             return Err(SrError::InvalidConfig(format!(
-                "consensus_runs is {}: choose 0 (one search) to {}",
+                "consensus_runs is {}: choose 0 (one search) to {MAX_CONSENSUS_RUNS}",
                 self.consensus_runs,
-                crate::consensus::MAX_CONSENSUS_RUNS
             )));
         }
         if self.runners_up > MAX_RUNNERS_UP {
@@ -439,11 +435,7 @@ impl SearchConfig {
                 self.runners_up
             )));
         }
-        if self.max_evaluations == Some(0) {
-            return Err(SrError::InvalidConfig(
-                "max_evaluations is 0: allow at least one model to be fitted".into(),
-            ));
-        }
+        self.check_max_evaluations()?;
         if self.candidates_per_epoch == 0 {
             return Err(SrError::InvalidConfig(
                 "candidates_per_epoch is 0: propose at least one model per epoch".into(),
@@ -460,6 +452,109 @@ impl SearchConfig {
                 "lm_iterations is 0: allow at least one iteration of the constants' fit".into(),
             ));
         }
-        Ok(ops)
+        Ok(ValidSearch {
+            cfg: self.clone(),
+            ops,
+            op_costs,
+            nesting,
+        })
+    }
+
+    fn check_time_limit(&self) -> Result<(), SrError> {
+        if let Some(t) = self.time_limit_s
+            && !(t.is_finite() && t > 0.0)
+        {
+            return Err(SrError::InvalidConfig(
+                "time_limit_s must be a positive number of seconds".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    fn check_max_evaluations(&self) -> Result<(), SrError> {
+        if self.max_evaluations == Some(0) {
+            return Err(SrError::InvalidConfig(
+                "max_evaluations is 0: allow at least one model to be fitted".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A [`SearchConfig`] that passed [`SearchConfig::check`], with what the check derived: the
+/// operators, their costs, the nesting rules; and the complexity cap. Reads as the
+/// configuration it was made from (it dereferences to it), so the settings have one name.
+/// Only [`SearchConfig::check`] makes one, and the search's own copies (a sub-search's
+/// share of the budget, a consensus run's seed) change only the settings that need no other
+/// check, or check again those that do.
+#[derive(Clone, Debug)]
+pub struct ValidSearch {
+    cfg: SearchConfig,
+    ops: Vec<Op>,
+    op_costs: OpCosts,
+    nesting: NestingRules,
+}
+
+impl ValidSearch {
+    /// The configuration checked.
+    pub fn config(&self) -> &SearchConfig {
+        &self.cfg
+    }
+
+    /// The operators, parsed from [`SearchConfig::operators`].
+    pub fn operators(&self) -> &[Op] {
+        &self.ops
+    }
+
+    /// Each operator's complexity ([`SearchConfig::operator_complexity`]).
+    pub fn op_costs(&self) -> &OpCosts {
+        &self.op_costs
+    }
+
+    /// The nesting rules ([`SearchConfig::nesting`]).
+    pub fn nesting(&self) -> &NestingRules {
+        &self.nesting
+    }
+
+    /// The complexity cap of a search over `n_inputs` inputs
+    /// ([`SearchConfig::complexity_cap`]).
+    pub fn complexity_cap(&self, n_inputs: usize) -> usize {
+        self.cfg.complexity_cap(n_inputs)
+    }
+
+    /// This configuration with another seed and without consensus: one run of a consensus
+    /// (every other setting as checked).
+    pub(crate) fn one_run(&self, seed: u64) -> Self {
+        let mut out = self.clone();
+        out.cfg.seed = seed;
+        out.cfg.consensus_runs = 0;
+        out
+    }
+
+    /// A sub-search's configuration: another seed, its share of the budget and time, no
+    /// consensus; the budget and time checked again, as a new configuration would be.
+    ///
+    /// # Errors
+    /// [`SrError::InvalidConfig`] for a time limit that is not positive or a budget of 0.
+    pub(crate) fn sub_search(
+        &self,
+        seed: u64,
+        max_evaluations: Option<u64>,
+        time_limit_s: Option<f64>,
+    ) -> Result<Self, SrError> {
+        let mut out = self.one_run(seed);
+        out.cfg.max_evaluations = max_evaluations;
+        out.cfg.time_limit_s = time_limit_s;
+        out.cfg.check_time_limit()?;
+        out.cfg.check_max_evaluations()?;
+        Ok(out)
+    }
+}
+
+impl std::ops::Deref for ValidSearch {
+    type Target = SearchConfig;
+
+    fn deref(&self) -> &SearchConfig {
+        &self.cfg
     }
 }

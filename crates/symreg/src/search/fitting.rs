@@ -1,10 +1,11 @@
 //! Fitting one candidate: the data a search fits on ([`Problem`]), the criterion that scores
 //! a fit, the seeds of the random starts, and the checks on the target.
 use super::archive::{Candidate, Fitted};
-use super::config::{Criterion, FEW_ROWS, MIN_ROWS, RandomStart, SearchConfig};
+use super::config::{Criterion, FEW_ROWS, MIN_ROWS, RandomStart, ValidSearch};
 use crate::eval::Evaluator;
 use crate::fit::{InputScales, LmSettings, Unknowns, initial_params, levenberg_marquardt};
 use crate::ops::OpCosts;
+use crate::program::Program;
 use crate::{SrError, Table};
 use rand::SeedableRng;
 use rand::seq::index::sample;
@@ -18,7 +19,7 @@ const LOSS_FLOOR: f64 = 1e-12;
 
 /// Levenberg-Marquardt stops when one step improves the loss by less than this relative
 /// amount. During the search a fit only has to rank its structure, so it stops early; the
-/// reported models are refitted to [`super::selection`]'s tighter tolerance.
+/// reported models are refitted to [`super::select`]'s tighter tolerance.
 const SEARCH_LM_TOLERANCE: f64 = 1e-6;
 
 /// A target whose variance is below this times `max(|mean|, 1)` is treated as constant:
@@ -47,8 +48,8 @@ pub(crate) struct Problem<'a> {
     pub scales: InputScales,
     /// The complexity of each operator (from the settings).
     pub op_costs: OpCosts,
-    /// The settings.
-    pub cfg: &'a SearchConfig,
+    /// The settings, checked.
+    pub cfg: &'a ValidSearch,
 }
 
 impl<'a> Problem<'a> {
@@ -58,7 +59,7 @@ impl<'a> Problem<'a> {
         data: &'a Table,
         target: &[f64],
         y_var: f64,
-        cfg: &'a SearchConfig,
+        cfg: &'a ValidSearch,
         rng: &mut ChaCha8Rng,
     ) -> Self {
         let n = target.len();
@@ -84,7 +85,7 @@ impl<'a> Problem<'a> {
             fit_cols,
             fit_y,
             y_var: if fit_var > 0.0 { fit_var } else { y_var },
-            op_costs: cfg.op_costs().unwrap_or_default(),
+            op_costs: cfg.op_costs().clone(),
             cfg,
         }
     }
@@ -94,7 +95,7 @@ impl<'a> Problem<'a> {
         data: &'a Table,
         target: &[f64],
         y_var: f64,
-        cfg: &'a SearchConfig,
+        cfg: &'a ValidSearch,
     ) -> Self {
         let cols: Vec<&[f64]> = data.columns().iter().map(|c| c.as_slice()).collect();
         Problem {
@@ -104,7 +105,7 @@ impl<'a> Problem<'a> {
             cols,
             y: target.to_vec(),
             y_var,
-            op_costs: cfg.op_costs().unwrap_or_default(),
+            op_costs: cfg.op_costs().clone(),
             cfg,
         }
     }
@@ -282,12 +283,63 @@ pub(crate) fn search_target_variance(target: &[f64]) -> Result<f64, SrError> {
     Ok(y_var)
 }
 
+/// Relative tolerance of a refit of given constants on the fitting rows ([`refitted`]: the
+/// joins of a decomposition, the polynomials and factor models offered to selection; the
+/// reported models are refitted again on all rows by selection).
+const JOIN_LM_TOLERANCE: f64 = 1e-8;
+
+/// `program` with every constant refitted together on the fitting rows, from `params`,
+/// scored as a candidate of the search; `None` when it has at least as many parameters as
+/// there are fitting rows, or no finite loss (the search rejects such candidates too).
+pub(crate) fn refitted(
+    problem: &Problem,
+    program: Program,
+    mut params: Vec<f64>,
+) -> Option<Fitted> {
+    let cfg = problem.cfg;
+    if params.len() >= problem.fit_y.len() {
+        return None;
+    }
+    let fit_cols = problem.fit_cols();
+    let mut ev = Evaluator::new(&program);
+    let free: Vec<usize> = (0..params.len()).collect();
+    let start = params.clone();
+    let mut mse = levenberg_marquardt(
+        &program,
+        &mut params,
+        Unknowns::Free(&free),
+        &fit_cols,
+        &problem.fit_y,
+        &LmSettings::new(cfg.lm_iterations, JOIN_LM_TOLERANCE),
+        &mut ev,
+    );
+    if !mse.is_finite() {
+        params = start;
+        mse = ev.mse(&program, &params, &fit_cols, &problem.fit_y);
+    }
+    if !mse.is_finite() {
+        return None;
+    }
+    let complexity = program.complexity_with(cfg.complexity_measure, &problem.op_costs);
+    let n_params = params.len();
+    Some(Fitted {
+        score: problem.score(mse, n_params, problem.fit_y.len()),
+        program,
+        params,
+        mse,
+        complexity,
+        source: u8::MAX,
+        tag: 0,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
     use crate::Op;
     use crate::program::{Node, Program};
+    use crate::search::config::SearchConfig;
 
     fn log_candidate() -> Candidate {
         let program = Program {
@@ -304,7 +356,8 @@ mod tests {
             random_start: start,
             ..SearchConfig::default()
         };
-        let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, 1.0, &valid);
         problem.fit(&log_candidate(), seed)
     }
 
@@ -316,7 +369,8 @@ mod tests {
         let y: Vec<f64> = x.iter().map(|v| 2.0 * (v + 0.5).ln() + 1.0).collect();
         let data = Table::new(vec!["x".into()], vec![x.clone()]).unwrap();
         let cfg = SearchConfig::default();
-        let problem = Problem::all_rows(&data, &y, 1.0, &cfg);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, 1.0, &valid);
         let cols = problem.fit_cols();
         let cand = log_candidate();
         let mut ev = Evaluator::new(&cand.program);

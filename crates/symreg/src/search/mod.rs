@@ -1,52 +1,51 @@
 //! The search: propose model structures, fit their constants in parallel, keep the best per
-//! complexity, learn, and finally select.
+//! complexity, learn, decompose, and finally select.
 //!
-//! One file per job:
+//! In layers, each a folder that uses the files above it and none below (`cargo xtask
+//! check-docs` fails on a circle of `use` among a folder's files):
 //! - `config`: [`SearchConfig`], [`Strategy`], [`Criterion`] and their checks;
-//! - `run`: [`search()`] (one search, or the consensus of [`crate::consensus`]), the main
-//!   loop, and [`Progress`];
-//! - `fitting`: the rows a search fits on, one candidate's fit, the criterion, the seeds;
-//! - `mutual_information`: the inputs' prior weights;
-//! - `generate`, `field`, `qlattice`, `genetic`, `strategy`: proposing candidates (path
-//!   sampling from a learned field with QLattice-style cells, age-regularised genetic
-//!   programming, their combination and random search, behind one internal trait);
 //! - `archive`: candidates, fits, and the best fit per complexity;
-//! - `selection`: refit on all rows, snap, prune the terms snapping killed, Pareto front,
-//!   the criterion's pick
-//!   ([`SearchResult`]);
-//! - `export`: a fit becomes a [`Model`](crate::Model) naming only the features it uses;
-//! - `structure`: [`fit_structure`], one given structure without a search;
+//! - `fitting`: the rows a search fits on, one candidate's fit (and a refit of given
+//!   constants), the criterion, the seeds;
+//! - `mutual_information`: the inputs' prior weights;
+//! - `propose/`: proposing candidates (`generate`, `field`, `qlattice`, `genetic`,
+//!   `strategy`, `combined`: path sampling from a learned field with QLattice-style cells,
+//!   age-regularised genetic programming, their combination and random search, behind one
+//!   internal trait);
+//! - `decompose/`: the most accurate model as an oracle (`oracle`) and the tools it serves,
+//!   each offering selection one more candidate: separability (`separable`, `join`),
+//!   symmetries and powers (`symmetry`), a polynomial of a transformed target
+//!   (`transform`); the sub-searches are the loop's own, passed in as a closure;
 //! - `power`: closed-form factor models of the target (products and sums of powers and
 //!   other one-column shapes, [`crate::factors`]) offered to selection
-//!   ([`SearchConfig::power_laws`]).
+//!   ([`SearchConfig::power_laws`]);
+//! - `select/`: refit on all rows, snap, prune the terms snapping killed, Pareto front,
+//!   cross-validation, the criterion's pick ([`SearchResult`]); `export` makes a fit a
+//!   [`Model`](crate::Model) naming only the features it uses;
+//! - `structure`: [`fit_structure`], one given structure without a search (fitting, then
+//!   selection);
+//! - `run`: [`search()`] (one search, or the consensus of [`crate::consensus`]), the main
+//!   loop over all of the above, and [`Progress`].
 //!
 //! Every heuristic constant is named and explained where it is used.
 mod archive;
 mod config;
-mod cv;
-mod export;
-mod field;
+mod decompose;
 mod fitting;
-#[doc(hidden)]
-pub mod generate;
-mod genetic;
 mod mutual_information;
 mod power;
-mod qlattice;
+mod propose;
 mod run;
-mod selection;
-mod separable;
-mod strategy;
+mod select;
 mod structure;
-mod symmetry;
-mod transform;
 
 pub use config::{
     Criterion, DEFAULT_OPERATORS, ErrorModel, FEW_ROWS, LAW_OPERATORS, PAPER_OPERATORS,
-    RandomStart, SearchConfig, Strategy,
+    RandomStart, SearchConfig, Strategy, ValidSearch,
 };
-pub(crate) use run::plain_search;
+#[doc(hidden)]
+pub use propose::generate;
 pub use run::{Progress, search};
-pub use selection::{SearchResult, plainness};
+pub use select::{SearchResult, plainness};
 pub use structure::fit_structure;
 pub(crate) use structure::fit_structure_from;

@@ -17,8 +17,7 @@
 //! itself is the primitive this setting turns on.
 use super::archive::Fitted;
 use super::config::ErrorModel;
-use super::fitting::Problem;
-use super::separable::refitted;
+use super::fitting::{Problem, refitted};
 use crate::Table;
 use crate::factors::{FactorConfig, Link, Shape, Shapes, fit_factors};
 use crate::nesting::NestingRules;
@@ -68,7 +67,7 @@ fn shapes(ops: &[Op]) -> Shapes {
 /// Empty where the table is too small for two folds or larger than
 /// [`POWER_LAWS_MAX_ROWS`], or no factor model fits. A model that breaks a nesting rule is
 /// left out.
-pub(super) fn candidates(problem: &Problem, ops: &[Op], nesting: &NestingRules) -> Vec<Fitted> {
+pub(super) fn factor_models(problem: &Problem, ops: &[Op], nesting: &NestingRules) -> Vec<Fitted> {
     let n = problem.fit_y.len();
     let folds = (n.min(MAX_ROWS) / 2).min(MAX_FOLDS);
     if folds < 2 || problem.y.len() > POWER_LAWS_MAX_ROWS || !ops.contains(&Op::Add) {
@@ -226,10 +225,11 @@ mod tests {
             .collect();
         let data = Table::new(vec!["a".into(), "b".into()], vec![a, b]).expect("table");
         let cfg = SearchConfig::default();
-        let problem = Problem::all_rows(&data, &y, variance(&y), &cfg);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, variance(&y), &valid);
         let ops: Vec<Op> = Op::ALL.to_vec();
         let free = crate::Nesting::none().rules().expect("rules");
-        let c = candidates(&problem, &ops, &free);
+        let c = factor_models(&problem, &ops, &free);
         let best = c
             .iter()
             .min_by(|p, q| p.mse.total_cmp(&q.mse))
@@ -242,7 +242,7 @@ mod tests {
         );
         // with only add and sub allowed there is no product, and no sum of anything
         // but powers and lines
-        let few = candidates(&problem, &[Op::Add, Op::Sub], &free);
+        let few = factor_models(&problem, &[Op::Add, Op::Sub], &free);
         assert!(
             few.iter()
                 .all(|f| !f.program.nodes.contains(&crate::program::Node::Op(Op::Exp)))

@@ -1,14 +1,13 @@
 //! The main loop: each epoch the strategy proposes, new structures are fitted in parallel,
 //! the archive keeps the best per complexity, the strategy learns, progress is reported.
 use super::archive::{Archive, Candidate, Fitted};
-use super::config::{ErrorModel, SearchConfig};
+use super::config::{ErrorModel, SearchConfig, ValidSearch};
+use super::decompose::{Spent, decompositions, polynomials};
 use super::fitting::{Problem, check_target, derive_seed, search_target_variance};
-use super::generate::Tables;
 use super::mutual_information::input_priors;
-use super::selection::{SearchResult, finish};
-use super::separable;
-use super::strategy::{self, ROUNDS_PER_EPOCH, Step};
-use super::{power, transform};
+use super::power;
+use super::propose::{self, ROUNDS_PER_EPOCH, Step, Tables};
+use super::select::{Counts, Finalists, SearchResult, select};
 use crate::canonical::{self, Effort};
 use crate::nesting::NestingRules;
 use crate::program::Program;
@@ -66,28 +65,28 @@ pub fn search(
             target.len()
         )));
     }
+    let valid = cfg.check()?;
     if cfg.consensus_runs > 0 {
-        cfg.check()?;
-        return crate::consensus::search(data, target, cfg, progress);
+        return crate::consensus::search_with(data, target, &valid, progress, &plain_search);
     }
-    plain_search(data, target, cfg, progress)
+    plain_search(data, target, &valid, progress)
 }
 
 /// One search, whatever [`SearchConfig::consensus_runs`] says.
 pub(crate) fn plain_search(
     data: &Table,
     target: &[f64],
-    cfg: &SearchConfig,
+    cfg: &ValidSearch,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<SearchResult, SrError> {
     search_at_depth(data, target, cfg, progress, 0)
 }
 
-/// A sub-search of a decomposition ([`super::separable`]) at `depth`, without progress.
+/// A sub-search of a decomposition ([`decompositions`]) at `depth`, without progress.
 pub(crate) fn search_at(
     data: &Table,
     target: &[f64],
-    cfg: &SearchConfig,
+    cfg: &ValidSearch,
     depth: u8,
 ) -> Result<SearchResult, SrError> {
     search_at_depth(data, target, cfg, &mut |_| {}, depth)
@@ -96,13 +95,12 @@ pub(crate) fn search_at(
 fn search_at_depth(
     data: &Table,
     target: &[f64],
-    cfg: &SearchConfig,
+    cfg: &ValidSearch,
     progress: &mut dyn FnMut(&Progress),
     depth: u8,
 ) -> Result<SearchResult, SrError> {
     let t0 = Instant::now();
-    let ops = cfg.check()?;
-    let nesting = cfg.nesting.rules()?;
+    let (ops, nesting) = (cfg.operators(), cfg.nesting());
     check_target(data, target)?;
     if cfg.error_model == ErrorModel::Multiplicative
         && let Some(row) = target.iter().position(|&v| v <= 0.0)
@@ -118,8 +116,8 @@ fn search_at_depth(
     let mut master = ChaCha8Rng::seed_from_u64(cfg.seed);
     let problem = Problem::sampled(data, target, y_var, cfg, &mut master);
     let in_w = input_priors(&problem.fit_cols(), &problem.fit_y);
-    let tables = Tables::for_search(ops.clone(), in_w, cfg, problem.op_costs.clone());
-    let mut strategy = strategy::build(cfg.strategy, cfg.candidates_per_epoch, &tables);
+    let tables = Tables::for_search(ops.to_vec(), in_w, cfg, problem.op_costs.clone());
+    let mut strategy = propose::build(cfg.strategy, cfg.candidates_per_epoch, &tables);
     let mut state = LoopState {
         archive: Archive::with_runners_up(cfg.runners_up),
         ..LoopState::default()
@@ -135,7 +133,7 @@ fn search_at_depth(
             let budget_spent = state.cut_to_budget(&mut cands, cfg.max_evaluations);
             let (fitted, timed_out) = state.fit_epoch(
                 &problem,
-                &nesting,
+                nesting,
                 &cands,
                 (epoch * ROUNDS_PER_EPOCH + round) as u64,
                 t0,
@@ -164,30 +162,30 @@ fn search_at_depth(
     }
     // the most accurate model as an oracle for separability: a sum or product of smaller
     // problems, searched apart and joined, is one more candidate for selection
+    let spent = Spent::new(state.evaluations, t0);
     let mut decomposition =
-        separable::candidates(&problem, data, &state.archive, state.evaluations, t0, depth)?;
+        decompositions(&problem, data, &state.archive, spent, depth, &search_at)?;
     // and, on a problem of a few inputs, a polynomial of a transformed target
     if cfg.separability {
-        decomposition
-            .candidates
-            .extend(transform::candidates(&problem, &ops));
+        decomposition.candidates.extend(polynomials(&problem, ops));
     }
     // and closed-form factor models: products and sums of powers and other one-column
     // shapes (the power primitive), on the top-level problem only
     if cfg.power_laws && depth == 0 {
         decomposition
             .candidates
-            .extend(power::candidates(&problem, &ops, &nesting));
+            .extend(power::factor_models(&problem, ops, nesting));
     }
     state.evaluations += decomposition.evaluations;
-    finish(
-        &problem,
-        data,
-        (&state.archive, &decomposition.candidates),
-        (state.evaluations, state.duplicate_structures),
-        t0,
-        &pool,
-    )
+    let finalists = Finalists {
+        archive: &state.archive,
+        extra: &decomposition.candidates,
+    };
+    let counts = Counts {
+        evaluations: state.evaluations,
+        duplicate_structures: state.duplicate_structures,
+    };
+    select(&problem, data, finalists, counts, t0, &pool)
 }
 
 /// Whether the run has used up its `time_limit_s`.
@@ -384,7 +382,8 @@ mod tests {
         second: &[Candidate],
     ) -> (LoopState, Vec<Fitted>, Vec<Fitted>) {
         let (data, y) = sum_table();
-        let problem = Problem::all_rows(&data, &y, 1.0, cfg);
+        let valid = cfg.check().unwrap();
+        let problem = Problem::all_rows(&data, &y, 1.0, &valid);
         let rules = Nesting::none().rules().unwrap();
         let pool = cfg.par.pool();
         let mut state = LoopState::default();

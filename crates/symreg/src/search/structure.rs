@@ -1,8 +1,8 @@
 //! [`fit_structure`]: fit the constants of one given structure, without a search.
 use super::archive::{Archive, Candidate};
-use super::config::SearchConfig;
+use super::config::{SearchConfig, ValidSearch};
 use super::fitting::{Problem, check_target, variance};
-use super::selection::finish;
+use super::select::{Counts, Finalists, select};
 use crate::model::Model;
 use crate::program::Program;
 use crate::{SrError, Table};
@@ -21,8 +21,7 @@ pub fn fit_structure(
     program: &Program,
     cfg: &SearchConfig,
 ) -> Result<Model, SrError> {
-    cfg.check()?;
-    fit_from(data, target, program, None, cfg)
+    fit_from(data, target, program, None, &cfg.check()?)
 }
 
 /// [`fit_structure`] of `model`'s structure, starting from its constants only (a model
@@ -31,9 +30,8 @@ pub(crate) fn fit_structure_from(
     data: &Table,
     target: &[f64],
     model: &Model,
-    cfg: &SearchConfig,
+    cfg: &ValidSearch,
 ) -> Result<Model, SrError> {
-    cfg.check()?;
     let names = data.names();
     let remap: Option<Vec<u16>> = model
         .feature_names
@@ -69,7 +67,7 @@ fn fit_from(
     target: &[f64],
     program: &Program,
     params: Option<Vec<f64>>,
-    cfg: &SearchConfig,
+    cfg: &ValidSearch,
 ) -> Result<Model, SrError> {
     if !program.is_valid() || program.vars().iter().any(|&j| j as usize >= data.n_cols()) {
         return Err(SrError::MalformedModel(
@@ -98,11 +96,19 @@ fn fit_from(
     let f = problem.fit(&cand, cfg.seed);
     let mut archive = Archive::default();
     archive.offer(&f);
-    finish(
+    let finalists = Finalists {
+        archive: &archive,
+        extra: &[],
+    };
+    let counts = Counts {
+        evaluations: 1,
+        duplicate_structures: 0,
+    };
+    select(
         &problem,
         data,
-        (&archive, &[]),
-        (1, 0),
+        finalists,
+        counts,
         Instant::now(),
         &cfg.par.pool(),
     )

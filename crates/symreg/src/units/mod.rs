@@ -481,9 +481,9 @@ pub fn search(
     if cfg.consensus_runs > 0 {
         // each of the B + 1 searches runs on the groups and is composed back, so the votes
         // are on the composed structures and the winner is refitted on the columns
-        cfg.check()?;
-        return crate::consensus::search_with(data, y, cfg, progress, &|d, t, c, p| {
-            search(d, t, Some(reduction), c, p)
+        let valid = cfg.check()?;
+        return crate::consensus::search_with(data, y, &valid, progress, &|d, t, c, p| {
+            search(d, t, Some(reduction), c.config(), p)
         });
     }
     let (pi, py) = reduction.transform(data, y)?;

@@ -5,6 +5,7 @@
 mod common;
 
 mod canonical;
+mod canonical_properties;
 mod consensus;
 mod cv_selection;
 mod error_model;

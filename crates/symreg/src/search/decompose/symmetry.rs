@@ -1,6 +1,6 @@
 //! Symmetries and powers: two more questions the search's most accurate model answers about
 //! the law (AI Feynman's translational and scaling symmetry tests, Udrescu and Tegmark 2020;
-//! issue 24 item 2), asked by [`super::separable`] on the same oracle and test points.
+//! issue 24 item 2), asked by [`super::separable`] of the same oracle ([`super::oracle`]) on the same test points.
 //!
 //! - **A pair that enters as one input.** If `f` depends on `x_a` and `x_b` only through
 //!   `x_a - x_b`, moving both by the same amount leaves `f` as it is; through `x_a / x_b`,
@@ -17,7 +17,7 @@
 //!
 //! Either way the result is one more candidate for selection, refitted and judged like the
 //! others, so a symmetry the oracle shows and the law does not costs time, not accuracy.
-use super::separable::{Oracle, spread};
+use super::oracle::{Oracle, spread};
 use crate::ops::Op;
 use crate::program::{Node, Program};
 
@@ -334,4 +334,177 @@ pub(super) fn substitute(
         },
         out,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Table;
+    use crate::eval::Evaluator;
+    use crate::search::config::SearchConfig;
+
+    fn table(rows: usize) -> Table {
+        let cols: Vec<Vec<f64>> = (0..3)
+            .map(|c| {
+                (0..rows)
+                    .map(|r| 1.0 + 2.0 * (((r * (7 + 4 * c) + 3 * c) % 97) as f64) / 97.0)
+                    .collect()
+            })
+            .collect();
+        Table::new(vec!["a".into(), "b".into(), "c".into()], cols).expect("table")
+    }
+
+    /// The oracle of `prog` (postfix nodes, no affine leaves) with `params`.
+    fn oracle_of(nodes: Vec<Node>, params: Vec<f64>) -> (Program, Vec<f64>) {
+        (
+            Program {
+                nodes,
+                affine: false,
+            },
+            params,
+        )
+    }
+
+    /// Each symmetry is found on the pair that has it, and none where no pair has one.
+    #[test]
+    fn symmetries_are_found_on_the_pair_that_has_them() {
+        let data = table(150);
+        let ops = crate::ops::parse_operators(&SearchConfig::default().operators).expect("ops");
+        let v = Node::Var;
+        let op = Node::Op;
+        let cases = [
+            // (x0 - x1) * x2
+            (
+                vec![v(0), v(1), op(Op::Sub), v(2), op(Op::Mul)],
+                Some((0, 1, Symmetry::Difference)),
+            ),
+            // x0 / x2 + exp(x1)  (x1 is not a part of the pair)
+            (
+                vec![v(0), v(2), op(Op::Div), v(1), op(Op::Exp), op(Op::Add)],
+                Some((0, 2, Symmetry::Ratio)),
+            ),
+            // sin(x1 * x2) * x0
+            (
+                vec![v(1), v(2), op(Op::Mul), op(Op::Sin), v(0), op(Op::Mul)],
+                Some((1, 2, Symmetry::Product)),
+            ),
+            // x0 * x1 + x0 * x2^2: every pair interacts, and no move leaves it as it is (x0 * x1
+            // + x0 * x2 would be x0 (x1 + x2), a sum)
+            (
+                vec![
+                    v(0),
+                    v(1),
+                    op(Op::Mul),
+                    v(0),
+                    v(2),
+                    op(Op::Square),
+                    op(Op::Mul),
+                    op(Op::Add),
+                ],
+                None,
+            ),
+        ];
+        for (nodes, want) in cases {
+            let (prog, params) = oracle_of(nodes, vec![1.0, 0.0]);
+            let mut oracle = Oracle::new(&prog, &params);
+            let got = find(&mut oracle, data.columns(), &[0, 1, 2], 0.02, &ops);
+            let want = want.map(|(a, b, symmetry)| Found { a, b, symmetry });
+            assert_eq!(got, want, "{:?}", prog.nodes);
+        }
+        // without `sub` among the operators, a difference is not offered
+        let (prog, params) = oracle_of(
+            vec![v(0), v(1), op(Op::Sub), v(2), op(Op::Mul)],
+            vec![1.0, 0.0],
+        );
+        let mut oracle = Oracle::new(&prog, &params);
+        let no_sub: Vec<Op> = ops.iter().copied().filter(|&o| o != Op::Sub).collect();
+        assert_eq!(
+            find(&mut oracle, data.columns(), &[0, 1, 2], 0.02, &no_sub),
+            None
+        );
+    }
+
+    /// `x0^1.5 x1` is a power in x0 (three halves) and in x1 (one); `exp(x0) x1` is none in
+    /// x0; a half power is not taken where the input has a negative value.
+    #[test]
+    fn a_power_is_read_off_the_elasticity() {
+        let data = table(150);
+        let ops = crate::ops::parse_operators(&SearchConfig::default().operators).expect("ops");
+        let v = Node::Var;
+        let op = Node::Op;
+        let (prog, params) = oracle_of(
+            vec![
+                v(0),
+                v(0),
+                op(Op::Mul),
+                v(0),
+                op(Op::Mul),
+                op(Op::Sqrt),
+                v(1),
+                op(Op::Mul),
+            ],
+            vec![2.0, 0.0],
+        );
+        let mut oracle = Oracle::new(&prog, &params);
+        let cols = data.columns();
+        let p = power(&mut oracle, cols, 0, &cols[0], &ops).expect("x0^1.5");
+        // the power's program is x0^1.5 over the inputs, at its unit parameters
+        for affine in [false, true] {
+            let program = p.program(0, affine);
+            let unit = unit_params(&program);
+            let refs: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
+            let mut out = Vec::new();
+            Evaluator::new(&program).predict(&program, &unit, &refs, 150, &mut out);
+            for (o, x) in out.iter().zip(&cols[0]) {
+                assert!(
+                    (o - x.powf(1.5)).abs() < 1e-12 * x.powf(1.5),
+                    "{o} vs {x}^1.5"
+                );
+            }
+        }
+        assert!(power(&mut oracle, cols, 1, &cols[1], &ops).is_some());
+        let negative: Vec<f64> = cols[0].iter().map(|x| x - 2.0).collect();
+        assert!(power(&mut oracle, cols, 0, &negative, &ops).is_none());
+        let (prog, params) = oracle_of(vec![v(0), op(Op::Exp), v(1), op(Op::Mul)], vec![1.0, 0.0]);
+        let mut oracle = Oracle::new(&prog, &params);
+        assert!(power(&mut oracle, cols, 0, &cols[0], &ops).is_none());
+    }
+
+    /// A substituted input takes its affine leaf's weight and bias around its expression.
+    #[test]
+    fn substitution_keeps_the_values() {
+        // 3 * exp(w0 * z + b0) * (w1 * x2 + b1) + 1, with z = x0 / x1
+        let program = Program {
+            nodes: vec![
+                Node::Var(0),
+                Node::Op(Op::Exp),
+                Node::Var(1),
+                Node::Op(Op::Mul),
+            ],
+            affine: true,
+        };
+        let params = vec![3.0, 1.0, 0.5, -0.25, 2.0, 0.75];
+        let inputs = vec![
+            vec![Node::Var(0), Node::Var(1), Node::Op(Op::Div)],
+            vec![Node::Var(2)],
+        ];
+        let (p, q) = substitute(&program, &params, &inputs);
+        let cols: Vec<Vec<f64>> = vec![
+            vec![0.5, 2.0, -1.0],
+            vec![1.5, -0.25, 4.0],
+            vec![2.0, 3.0, 0.1],
+        ];
+        let refs: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
+        let mut out = Vec::new();
+        Evaluator::new(&p).predict(&p, &q, &refs, 3, &mut out);
+        for r in 0..3 {
+            let z = cols[0][r] / cols[1][r];
+            let want = 3.0 * (0.5 * z - 0.25).exp() * (2.0 * cols[2][r] + 0.75) + 1.0;
+            assert!(
+                (out[r] - want).abs() < 1e-12 * want.abs(),
+                "{} vs {want}",
+                out[r]
+            );
+        }
+    }
 }

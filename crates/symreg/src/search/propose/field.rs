@@ -2,9 +2,9 @@
 //! a distribution over what stands there (an operator, an input or a constant), seeded by
 //! the operators' arity weights and the inputs' mutual-information priors, and pulled each
 //! epoch towards what the elite models put at that position.
-use super::archive::Fitted;
 use super::generate::{Tables, roulette};
 use crate::program::{Node, Program};
+use crate::search::archive::Fitted;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 

@@ -2,12 +2,13 @@
 //! rows (its constants refitted per fold), the one-standard-error rule that picks among
 //! them, and the models within one standard error of the best ("the data cannot tell these
 //! apart").
-use super::config::ErrorModel;
-use super::fitting::Problem;
-use super::selection::{REFIT_LM_ITERATIONS, REFIT_LM_TOLERANCE, simplest};
+use super::pick::simplest;
+use super::refine::{REFIT_LM_ITERATIONS, REFIT_LM_TOLERANCE};
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::model::Model;
+use crate::search::config::ErrorModel;
+use crate::search::fitting::Problem;
 use crate::{SrError, Table};
 use hxai_table::Pool;
 use rand::SeedableRng;
@@ -89,7 +90,7 @@ pub(super) fn within_one_standard_error(
     best: &Model,
 ) -> Vec<Model> {
     let limit = one_standard_error_limit(cv);
-    let mut seen = vec![crate::stability::structure_of(best)];
+    let mut seen = vec![crate::canonical::structure_of(best)];
     let mut band: Vec<(&Model, f64)> = models
         .iter()
         .zip(cv)
@@ -103,7 +104,7 @@ pub(super) fn within_one_standard_error(
     });
     let mut out = Vec::new();
     for (m, _) in band {
-        let key = crate::stability::structure_of(m);
+        let key = crate::canonical::structure_of(m);
         if !seen.contains(&key) {
             seen.push(key);
             out.push(m.clone());

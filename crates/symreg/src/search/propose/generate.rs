@@ -2,9 +2,10 @@
 //!
 //! Internal to the search; public (and hidden from the docs) only so that the property tests
 //! and [`crate::bench_programs`] can draw programs the way the search does.
-use super::config::SearchConfig;
 use crate::ops::{Op, OpCosts};
 use crate::program::{ComplexityMeasure, Node, Program};
+use crate::search::archive::Candidate;
+use crate::search::config::SearchConfig;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
@@ -186,6 +187,11 @@ impl Tables {
             .sum()
     }
 
+    /// A proposal of a fresh random program ([`Tables::random_program`]), tagged `tag`.
+    pub(crate) fn random_candidate(&self, rng: &mut ChaCha8Rng, tag: u32) -> Candidate {
+        Candidate::new(self.random_program(rng), None, tag)
+    }
+
     /// A random program within the complexity limit.
     pub fn random_program(&self, rng: &mut ChaCha8Rng) -> Program {
         let size = rng.gen_range(1..=self.max_complexity.max(1));
@@ -291,4 +297,14 @@ impl Tables {
         };
         if self.fits(&q) { Some(q) } else { None }
     }
+}
+
+/// Whether two programs have the same parameter layout (leaf sequence).
+pub(crate) fn same_layout(a: &Program, b: &Program) -> bool {
+    let la = a.nodes.iter().filter(|n| !matches!(n, Node::Op(_)));
+    let lb = b.nodes.iter().filter(|n| !matches!(n, Node::Op(_)));
+    a.affine == b.affine
+        && la
+            .map(|n| a.node_params(n))
+            .eq(lb.map(|n| b.node_params(n)))
 }

@@ -2,10 +2,10 @@
 //! PySR): each round, children of tournament winners (subtree crossover or mutation) join
 //! their island and the oldest members leave, whatever their fitness; the shared archive
 //! sends its best models in as migrants.
-use super::archive::{Archive, Candidate, Fitted};
-use super::qlattice::same_layout;
+use super::generate::same_layout;
 use super::strategy::{ROUNDS_PER_EPOCH, SearchStrategy, Step};
 use crate::program::Program;
+use crate::search::archive::{Archive, Candidate, Fitted};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
@@ -104,7 +104,7 @@ impl SearchStrategy for Genetic {
             let pop = &self.islands[isl];
             let tag = isl as u32;
             if pop.len() < 2 || rng.gen_bool(FRESH) {
-                out.push(Candidate::random(tables, rng, tag));
+                out.push(tables.random_candidate(rng, tag));
                 continue;
             }
             let a = tournament(rng, pop);
@@ -119,7 +119,7 @@ impl SearchStrategy for Genetic {
                     let params = same_layout(&a.program, &program).then(|| a.params.clone());
                     out.push(Candidate::new(program, params, tag));
                 }
-                None => out.push(Candidate::random(tables, rng, tag)),
+                None => out.push(tables.random_candidate(rng, tag)),
             }
         }
         out

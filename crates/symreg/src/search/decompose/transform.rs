@@ -5,19 +5,18 @@
 //! squared or taken the log of: `1/sqrt(1 - z^2)` is `1 - z^2` under `1/y^2`, a Gaussian is
 //! a quadratic under `ln y`. A search finds such a law only by composing three or four
 //! operators in the right order; a least-squares fit finds it at once. For each transform
-//! `T` the search's operators can undo, [`candidates`] fits a polynomial to `T(y)` (every
+//! `T` the search's operators can undo, [`polynomials`] fits a polynomial to `T(y)` (every
 //! monomial up to the degree, linear in its coefficients, so the fit is one solve) and
 //! offers `T^-1(polynomial)` to selection, refitted on the target's own scale, snapped
 //! (coefficients that are 0 drop out) and judged by the criterion like every candidate.
 //! With `--separability` (where the decomposition's parts are the small problems this
 //! serves), on searches of at most [`MAX_INPUTS`] inputs.
-use super::archive::Fitted;
-use super::fitting::Problem;
-use super::separable::refitted;
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::ops::Op;
 use crate::program::{Node, Program};
+use crate::search::archive::Fitted;
+use crate::search::fitting::{Problem, refitted};
 
 /// Most inputs a polynomial is fitted over.
 pub(crate) const MAX_INPUTS: usize = 3;
@@ -153,7 +152,7 @@ fn polynomial(terms: &[Vec<u16>], square: bool) -> Program {
 
 /// The candidates `T^-1(polynomial)` of the problem (see the module docs); none when it has
 /// more than [`MAX_INPUTS`] inputs or the operators cannot write them.
-pub(crate) fn candidates(problem: &Problem, ops: &[Op]) -> Vec<Fitted> {
+pub(crate) fn polynomials(problem: &Problem, ops: &[Op]) -> Vec<Fitted> {
     let inputs = problem.fit_cols.len();
     if inputs == 0 || inputs > MAX_INPUTS || !ops.contains(&Op::Mul) || !ops.contains(&Op::Add) {
         return Vec::new();
@@ -274,8 +273,9 @@ mod tests {
         for (cols, y, exact) in cases {
             let names = (0..cols.len()).map(|k| format!("x{k}")).collect();
             let data = Table::new(names, cols).expect("table");
-            let problem = Problem::all_rows(&data, &y, variance(&y), &cfg);
-            let c = candidates(&problem, &ops);
+            let valid = cfg.check().expect("valid");
+            let problem = Problem::all_rows(&data, &y, variance(&y), &valid);
+            let c = polynomials(&problem, &ops);
             assert!(!c.is_empty());
             let best = c
                 .iter()
@@ -310,8 +310,9 @@ mod tests {
         let z: Vec<f64> = (0..50).map(|i| 1.0 + f64::from(i) / 10.0).collect();
         let y: Vec<f64> = z.iter().map(|v| 2.0 * v * v + 1.0).collect();
         let data = Table::new(vec!["z".into()], vec![z.clone()]).expect("table");
-        let problem = Problem::all_rows(&data, &y, variance(&y), &cfg);
-        let c = candidates(&problem, &laws);
+        let valid = cfg.check().expect("valid");
+        let problem = Problem::all_rows(&data, &y, variance(&y), &valid);
+        let c = polynomials(&problem, &laws);
         assert_eq!(c.len(), 2);
         for f in &c {
             let ops: Vec<Op> = f
@@ -330,8 +331,9 @@ mod tests {
             vec![z.clone(), z.clone(), z.clone(), z.clone()],
         )
         .expect("table");
-        let p4 = Problem::all_rows(&four, &y, variance(&y), &cfg);
-        assert!(candidates(&p4, &laws).is_empty());
+        let valid = cfg.check().expect("valid");
+        let p4 = Problem::all_rows(&four, &y, variance(&y), &valid);
+        assert!(polynomials(&p4, &laws).is_empty());
         // three inputs on eight rows: the quadratic's eleven parameters outnumber the rows,
         // and a fit that interpolates them is not offered
         let few: Vec<f64> = z[..8].to_vec();
@@ -344,7 +346,8 @@ mod tests {
             ],
         )
         .expect("table");
-        let p3 = Problem::all_rows(&three, &y[..8], variance(&y[..8]), &cfg);
-        assert!(candidates(&p3, &laws).is_empty());
+        let valid = cfg.check().expect("valid");
+        let p3 = Problem::all_rows(&three, &y[..8], variance(&y[..8]), &valid);
+        assert!(polynomials(&p3, &laws).is_empty());
     }
 }

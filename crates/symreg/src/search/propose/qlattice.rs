@@ -3,11 +3,11 @@
 //! cells of lineages that mutate their kept models with decaying operator and input boosts
 //! and retire them by age. Both learn from the shared archive too, so what genetic
 //! programming finds in the combined strategy feeds the field and the cells.
-use super::archive::{Archive, Candidate, Fitted};
 use super::field::Field;
-use super::generate::Tables;
+use super::generate::{Tables, same_layout};
 use super::strategy::{SearchStrategy, Step};
 use crate::program::{Node, Program};
+use crate::search::archive::{Archive, Candidate, Fitted};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
@@ -223,14 +223,4 @@ impl SearchStrategy for QLattice {
             }
         }
     }
-}
-
-/// Whether two programs have the same parameter layout (leaf sequence).
-pub(crate) fn same_layout(a: &Program, b: &Program) -> bool {
-    let la = a.nodes.iter().filter(|n| !matches!(n, Node::Op(_)));
-    let lb = b.nodes.iter().filter(|n| !matches!(n, Node::Op(_)));
-    a.affine == b.affine
-        && la
-            .map(|n| a.node_params(n))
-            .eq(lb.map(|n| b.node_params(n)))
 }
