@@ -274,7 +274,10 @@ def _target_gaps(est, X, y):
     if y is None:
         return X, y, 0  # scikit-learn's check says that y is required
     try:
-        yv = np.asarray(y, dtype=np.float64).ravel()
+        raw = np.asarray(y)
+        if raw.dtype.kind == "c":
+            return X, y, 0  # scikit-learn's check refuses complex numbers, naming them
+        yv = np.asarray(raw, dtype=np.float64).ravel()
     except (TypeError, ValueError):
         return X, y, 0  # not numbers: scikit-learn's check names the problem
     gaps = np.isnan(yv)
