@@ -103,9 +103,9 @@ fn runs_go_where_the_equations_disagree_and_stay_in_the_space() {
 /// weighting every candidate would tie and the first one would be taken.
 #[test]
 fn discriminating_runs_are_weighted_by_the_uncertainty_of_an_outcome() {
-    let m = model_with(0.05, "PLUS");
+    // the alternative is set below, once the selected correction is known
+    let mut m = model_with(0.05, "0");
     let equation = m.correction.forms.equation.clone();
-    let mut m = m;
     let alt = format!("{} + 0.3", m.correction.forms.sympy);
     let a = &mut m
         .correction

@@ -37,7 +37,10 @@ pub(super) fn cross_validate(
     pool.install(|| {
         models
             .par_iter()
-            .map(|m| cv_loss(m, data, &problem.y, (&fold_of, k), log_loss))
+            .map(|m| {
+                let folds = Folds { of: &fold_of, k };
+                cv_loss(m, data, &problem.y, folds, log_loss)
+            })
             .collect::<Result<_, _>>()
     })
 }
@@ -113,16 +116,25 @@ pub(super) fn within_one_standard_error(
     out
 }
 
-/// Mean and standard error of one model's held-out MSE over the folds (`(fold of each
-/// row, folds)`); with `log_loss`, of the squared error of `ln y` (a multiplicative error,
-/// [`ErrorModel::Multiplicative`]; infinite where a prediction is not positive).
+/// The folds of a cross-validation ([`cv_folds`]'s): the fold of each row, and how many
+/// folds there are.
+#[derive(Clone, Copy)]
+struct Folds<'a> {
+    of: &'a [usize],
+    k: usize,
+}
+
+/// Mean and standard error of one model's held-out MSE over the `folds`; with `log_loss`,
+/// of the squared error of `ln y` (a multiplicative error, [`ErrorModel::Multiplicative`];
+/// infinite where a prediction is not positive).
 fn cv_loss(
     m: &Model,
     data: &Table,
     y: &[f64],
-    (fold_of, k): (&[usize], usize),
+    folds: Folds<'_>,
     log_loss: bool,
 ) -> Result<(f64, f64), SrError> {
+    let Folds { of: fold_of, k } = folds;
     let cols: Vec<&[f64]> = m
         .feature_names
         .iter()
