@@ -72,12 +72,18 @@ def uniform(space, n, rng):
     return cols
 
 
-def fit(a, spec, table, model):
+def hybrid_fit(a, spec, table, model, *extra):
+    """`hxai hybrid fit` of the process's hybrid on `table` (one or two rows held out, the
+    least the fit accepts); returns the model file."""
     run([a.hxai, "hybrid", "fit", "--data", str(table), "--target", spec["target"],
          "--physics", spec["physics"], "--calibrate", spec["calibrate"], "--init", spec["init"],
          "--correction", spec["correction"], "--test-fraction", "0.02", "--seed", "42",
-         "--threads", str(a.threads), "--out", str(model)])
-    m = json.loads(Path(model).read_text())
+         *extra, "--threads", str(a.threads), "--out", str(model)])
+    return json.loads(Path(model).read_text())
+
+
+def fit(a, spec, table, model):
+    m = hybrid_fit(a, spec, table, model)
     return {p: (v["ci95"][1] - v["ci95"][0]) if v.get("ci95") else float("nan")
             for p, v in m["physics"]["params"].items()}
 
@@ -85,12 +91,8 @@ def fit(a, spec, table, model):
 def true_set_share(a, spec, table, model):
     """Fits with `--stability` and returns the share of resamples whose correction's
     structure uses exactly the truth's columns."""
-    run([a.hxai, "hybrid", "fit", "--data", str(table), "--target", spec["target"],
-         "--physics", spec["physics"], "--calibrate", spec["calibrate"], "--init", spec["init"],
-         "--correction", spec["correction"], "--test-fraction", "0.02", "--seed", "42",
-         "--stability", str(a.stability), "--threads", str(a.threads), "--out", str(model)])
-    m = json.loads(Path(model).read_text())
-    columns = [c for c in spec["space_columns"]]
+    m = hybrid_fit(a, spec, table, model, "--stability", str(a.stability))
+    columns = list(ranges(spec["space"]))
     truth = set(spec["effects"].split(","))
     share = 0.0
     for st in m["stability"]["structures"]:
@@ -100,29 +102,37 @@ def true_set_share(a, spec, table, model):
     return share, bool((m["correction"].get("selection") or {}).get("alternatives"))
 
 
+def start_and_design(a, out, name, seed, measure, spec, rng, goal, fit_start):
+    """The `--start` measured runs (fitted by `fit_start(table, model)`, whose result is
+    returned), and the `--add` runs `hxai hybrid design --goal GOAL` proposes from that
+    fit, measured: `(base, designed, fit_start's result)`."""
+    base = uniform(spec["space"], a.start, rng)
+    base[spec["target"]] = measure(base, rng)
+    t0 = out / f"{name}-{seed}-start.csv"
+    hp.write_csv(t0, base)
+    m0 = out / f"{name}-{seed}-start.json"
+    started = fit_start(t0, m0)
+    nxt = out / f"{name}-{seed}-next.csv"
+    run([a.hxai, "hybrid", "design", "--model", str(m0), "--space", spec["space"],
+         "--n", str(a.add), "--goal", goal, "--seed", str(seed), "--out", str(nxt)])
+    names = [c for c in base if c != spec["target"]]
+    with open(nxt, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    designed = {c: np.array([float(r[c]) for r in rows]) for c in names}
+    designed[spec["target"]] = measure(designed, rng)
+    return base, designed, started
+
+
 def discriminate(a, out, name, measure, spec):
-    spec = dict(spec, space_columns=list(ranges(spec["space"])))
     shares = {"start": [], "designed": [], "random": [], "random3": []}
     alternatives = 0
     for seed in range(a.seeds):
         rng = np.random.default_rng(2000 + seed)
-        base = uniform(spec["space"], a.start, rng)
-        base[spec["target"]] = measure(base, rng)
-        t0 = out / f"{name}-{seed}-start.csv"
-        hp.write_csv(t0, base)
-        m0 = out / f"{name}-{seed}-start.json"
-        share, alt = true_set_share(a, spec, t0, m0)
+        base, designed, (share, alt) = start_and_design(
+            a, out, name, seed, measure, spec, rng, "discriminate",
+            lambda t, m: true_set_share(a, spec, t, m))
         shares["start"].append(share)
         alternatives += alt
-        nxt = out / f"{name}-{seed}-next.csv"
-        run([a.hxai, "hybrid", "design", "--model", str(m0), "--space", spec["space"],
-             "--n", str(a.add), "--goal", "discriminate", "--seed", str(seed),
-             "--out", str(nxt)])
-        names = [c for c in base if c != spec["target"]]
-        with open(nxt, newline="") as fh:
-            rows = list(csv.DictReader(fh))
-        designed = {c: np.array([float(r[c]) for r in rows]) for c in names}
-        designed[spec["target"]] = measure(designed, rng)
         randoms = uniform(spec["space"], 3 * a.add, rng)
         randoms[spec["target"]] = measure(randoms, rng)
         first = {k: v[:a.add] for k, v in randoms.items()}
@@ -177,21 +187,10 @@ def main():
         widths = {"start": [], "precision": [], "random": []}
         for seed in range(a.seeds):
             rng = np.random.default_rng(1000 + seed)
-            base = uniform(spec["space"], a.start, rng)
-            base[spec["target"]] = measure(base, rng)
-            t0 = out / f"{name}-{seed}-start.csv"
-            hp.write_csv(t0, base)
-            m0 = out / f"{name}-{seed}-start.json"
-            widths["start"].append(fit(a, spec, t0, m0))
-            nxt = out / f"{name}-{seed}-next.csv"
-            run([a.hxai, "hybrid", "design", "--model", str(m0), "--space", spec["space"],
-                 "--n", str(a.add), "--goal", "precision", "--seed", str(seed),
-                 "--out", str(nxt)])
-            names = [c for c in base if c != spec["target"]]
-            with open(nxt, newline="") as fh:
-                rows = list(csv.DictReader(fh))
-            designed = {c: np.array([float(r[c]) for r in rows]) for c in names}
-            designed[spec["target"]] = measure(designed, rng)
+            base, designed, started = start_and_design(
+                a, out, name, seed, measure, spec, rng, "precision",
+                lambda t, m: fit(a, spec, t, m))
+            widths["start"].append(started)
             randoms = uniform(spec["space"], a.add, rng)
             randoms[spec["target"]] = measure(randoms, rng)
             for arm, extra in (("precision", designed), ("random", randoms)):

@@ -34,17 +34,7 @@ pub const TOOL_FILE: &str = "report_tool.html";
 /// # Errors
 /// The model cannot be applied to the records (it was fitted on them, so this is a bug).
 pub fn tool(c: &Computed) -> Result<(String, String), ReproduceError> {
-    let inputs: Vec<RecordInput<'_>> = c
-        .records
-        .iter()
-        .map(|r| RecordInput {
-            id: &r.id,
-            fs_hz: r.fs_hz,
-            frequency_hz: r.frequency_hz,
-            signal: &r.accel_ms2,
-            truth: Some(&r.probe_um),
-        })
-        .collect();
+    let inputs: Vec<RecordInput<'_>> = c.records.iter().map(crate::plots::input).collect();
     let mut model = c.fit.model.clone();
     model.correction.selection = Some(c.results.symbolic.selection.clone());
     let compare = serde_json::json!({

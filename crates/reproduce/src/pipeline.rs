@@ -57,16 +57,7 @@ pub fn compute(
 
     // 2-3. Physics model, delta, features, split, symbolic regression of delta.
     let t = Instant::now();
-    let inputs: Vec<RecordInput<'_>> = records
-        .iter()
-        .map(|r| RecordInput {
-            id: &r.id,
-            fs_hz: r.fs_hz,
-            frequency_hz: r.frequency_hz,
-            signal: &r.accel_ms2,
-            truth: Some(&r.probe_um),
-        })
-        .collect();
+    let inputs: Vec<RecordInput<'_>> = records.iter().map(crate::plots::input).collect();
     let fit_cfg = RecordConfig {
         seed: cfg.seed,
         test_fraction: cfg.test_fraction,

@@ -248,7 +248,7 @@ fn predictions_on(
         preds.push(gather(physics, &split.test));
     }
 
-    let model = fit_calibrated(job, cal.clone(), progress)?;
+    let model = fit_calibrated(job, &cal, progress)?;
     let hp = model.predict(table)?;
 
     let label = format!("symbolic ({}/{})", tasks.0 + 1, tasks.1);

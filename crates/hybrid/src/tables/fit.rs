@@ -93,7 +93,7 @@ pub fn fit(
     let (split, kind) = split_rows(table, cfg)?;
     let job = SplitJob::single(table, cfg, &split, &kind);
     let cal = calibrate_split(job)?;
-    let mut model = fit_calibrated(job, cal.clone(), progress)?;
+    let mut model = fit_calibrated(job, &cal, progress)?;
     model.scores.black_boxes = super::compare::black_box_scores(job, &cal, &model)?;
     Ok(model)
 }
@@ -214,24 +214,26 @@ pub(crate) fn fit_inner(
     job: SplitJob,
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
-    fit_calibrated(job, calibrate_split(job)?, progress)
+    fit_calibrated(job, &calibrate_split(job)?, progress)
 }
 
-/// [`fit_inner`] from the split's calibrated physics `cal` ([`calibrate_split`]).
+/// [`fit_inner`] from the split's calibrated physics `cal` ([`calibrate_split`]); the
+/// joint refit works on its own copy of the parameters.
 pub(crate) fn fit_calibrated(
     job: SplitJob,
-    cal: Calibrated,
+    cal: &Calibrated,
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
     let (table, cfg, split, task) = (job.table, job.cfg, job.split, job.task);
     let Calibrated {
         res,
-        mut phys,
-        mut ses,
+        phys,
+        ses,
         physics,
     } = cal;
+    let (mut phys, mut ses) = (phys.clone(), ses.clone());
     let y_all = table.require(&cfg.target)?;
-    let delta = deltas(cfg.correction, y_all, &physics, &split.train)?;
+    let delta = deltas(cfg.correction, y_all, physics, &split.train)?;
     let label = if task.1 > 1 {
         format!("correction ({}/{})", task.0, task.1)
     } else {
@@ -241,7 +243,7 @@ pub(crate) fn fit_calibrated(
         Form::Free => {
             let (ft, found) = search_training_rows(
                 table,
-                &res,
+                res,
                 cfg,
                 split,
                 &delta,
@@ -256,7 +258,7 @@ pub(crate) fn fit_calibrated(
                 ft,
             }
         }
-        Form::Factors => search_factors(table, &res, cfg, split, &delta, &physics)?,
+        Form::Factors => search_factors(table, res, cfg, split, &delta, physics)?,
     };
     let Searched {
         ft,
@@ -271,7 +273,7 @@ pub(crate) fn fit_calibrated(
     if cfg.joint {
         joint = Some(joint_refit(
             job,
-            &res,
+            res,
             &mut phys,
             &mut correction,
             &mut ses,
@@ -286,10 +288,10 @@ pub(crate) fn fit_calibrated(
         selection,
         joint,
     };
-    let mut model = model_of(job, &res, &ft, &pareto, fitted, y_all, &y_train)?;
+    let mut model = model_of(job, res, &ft, &pareto, fitted, y_all, &y_train)?;
     model.correction.form = Some(cfg.form.name().to_string());
     model.correction.factors = factors;
-    model.warnings = super::traps::fit_warnings(table, cfg, &res.features, split, y_all, &physics);
+    model.warnings = super::traps::fit_warnings(table, cfg, &res.features, split, y_all, physics);
     let mut read: Vec<String> = vec![cfg.target.clone()];
     for c in res.columns.iter().chain(&res.features) {
         if !read.contains(c) {
@@ -320,7 +322,7 @@ pub(crate) fn fit_calibrated(
         model.conformal = Some(super::conformal::calibrate(
             table,
             cfg,
-            &res,
+            res,
             &model,
             &split.train,
             cfg.conformal_folds,

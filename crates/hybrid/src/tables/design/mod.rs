@@ -178,24 +178,21 @@ pub fn design(
             .map(|g| (0..m).map(|i| g.s2 + g.variance(i).max(0.0)).collect()),
         _ => None,
     };
-    let worth: Vec<f64> = match (goal, &width) {
-        (DesignGoal::Discriminate, _) if run_variance.is_some() => {
-            let v = run_variance.as_deref().unwrap_or_default();
-            (0..m)
-                .map(|i| {
-                    let mut pairs = 0.0;
-                    for (a, ea) in equations.iter().enumerate() {
-                        for eb in &equations[a + 1..] {
-                            pairs += (ea.1[i] - eb.1[i]).powi(2);
-                        }
+    let worth: Vec<f64> = match (goal, &width, &run_variance) {
+        (DesignGoal::Discriminate, _, Some(v)) => (0..m)
+            .map(|i| {
+                let mut pairs = 0.0;
+                for (a, ea) in equations.iter().enumerate() {
+                    for eb in &equations[a + 1..] {
+                        pairs += (ea.1[i] - eb.1[i]).powi(2);
                     }
-                    pairs / v[i]
-                })
-                .collect()
-        }
-        (DesignGoal::Discriminate | DesignGoal::Precision, _) => spread.clone(),
-        (DesignGoal::Coverage, Some(w)) => w.clone(),
-        (DesignGoal::Coverage, None) => vec![1.0; m],
+                }
+                pairs / v[i]
+            })
+            .collect(),
+        (DesignGoal::Discriminate | DesignGoal::Precision, _, _) => spread.clone(),
+        (DesignGoal::Coverage, Some(w), _) => w.clone(),
+        (DesignGoal::Coverage, None, _) => vec![1.0; m],
     };
     let worth_max = worth
         .iter()
