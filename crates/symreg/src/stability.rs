@@ -18,8 +18,8 @@
 //!
 //! Runs are searched in parallel (on the threads `cfg.par` chooses) and collected in run order; each search is itself
 //! independent of the thread count, so the result depends only on the seed and the data.
-use crate::search::SearchConfig;
-use crate::{Model, Par, SrError, Table, search};
+use crate::search::{SearchConfig, ValidSearch};
+use crate::{Model, Par, SrError, Table};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -130,7 +130,7 @@ pub use crate::canonical::structure_of;
 /// one call at a time).
 ///
 /// # Errors
-/// `runs` of 0 ([`SrError::InvalidConfig`]), and the errors of [`search()`] (a resample
+/// `runs` of 0 ([`SrError::InvalidConfig`]), and the errors of [`crate::search()`] (a resample
 /// whose target is constant, say).
 pub fn stability(
     data: &Table,
@@ -139,14 +139,19 @@ pub fn stability(
     runs: usize,
     progress: &mut (dyn FnMut(usize, usize) + Send),
 ) -> Result<Stability, SrError> {
-    stability_of(data, target, cfg, runs, progress, &|train, y, run_cfg| {
-        search(train, y, run_cfg, &mut |_| {})
-    })
+    stability_of(
+        data,
+        target,
+        &cfg.check()?,
+        runs,
+        progress,
+        &|train, y, run_cfg| crate::search_checked(train, y, run_cfg, &mut |_| {}),
+    )
 }
 
 /// One bootstrap run's search: the resampled rows, their target and the run's settings.
 pub(crate) type RunSearch<'a> =
-    dyn Fn(&Table, &[f64], &SearchConfig) -> Result<crate::SearchResult, SrError> + Sync + 'a;
+    dyn Fn(&Table, &[f64], &ValidSearch) -> Result<crate::SearchResult, SrError> + Sync + 'a;
 
 /// [`stability`] with each run's search done by `run_search` (on the resampled rows and
 /// target, with the run's configuration): how [`crate::units::stability`] searches on the
@@ -154,7 +159,7 @@ pub(crate) type RunSearch<'a> =
 pub(crate) fn stability_of(
     data: &Table,
     target: &[f64],
-    cfg: &SearchConfig,
+    cfg: &ValidSearch,
     runs: usize,
     progress: &mut (dyn FnMut(usize, usize) + Send),
     run_search: &RunSearch<'_>,
@@ -180,11 +185,7 @@ pub(crate) fn stability_of(
                 let (rows, oob) = bootstrap_rows(cfg.seed, r, n);
                 let train = data.select_rows(&rows)?;
                 let y: Vec<f64> = rows.iter().map(|&i| target[i]).collect();
-                let run_cfg = SearchConfig {
-                    seed: cfg.seed.wrapping_add(r as u64 + 1),
-                    par: Par::Current,
-                    ..cfg.clone()
-                };
+                let run_cfg = cfg.with_seed_par(cfg.seed.wrapping_add(r as u64 + 1), Par::Current);
                 let res = run_search(&train, &y, &run_cfg)?;
                 let r2 = if oob.len() >= 2 {
                     let test = data.select_rows(&oob)?;

@@ -327,7 +327,7 @@ pub fn compare(
             "1 fold: cross-validation needs at least 2 folds (0 skips it)".into(),
         ));
     }
-    cfg.check()?;
+    let cfg = &cfg.check()?;
     let (split, kind) = split_rows(table, cfg)?;
     if split.test.len() < 2 {
         return Err(HybridError::InvalidConfig(format!(

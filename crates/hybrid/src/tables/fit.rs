@@ -9,7 +9,7 @@ use super::physics::{
 };
 use super::resolve::{Resolved, resolve};
 use super::split::{check_rows, split_rows};
-use super::{Form, TableConfig, TableProgress, calibrate};
+use super::{Form, TableConfig, TableProgress, ValidTable, calibrate};
 use crate::HybridError;
 use hxai_eval::Split;
 use hxai_symreg::Table;
@@ -89,7 +89,7 @@ pub fn fit(
     cfg: &TableConfig,
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
-    cfg.check()?;
+    let cfg = &cfg.check()?;
     let (split, kind) = split_rows(table, cfg)?;
     let job = SplitJob::single(table, cfg, &split, &kind);
     let cal = calibrate_split(job)?;
@@ -108,7 +108,7 @@ pub fn fit_split(
     split: &Split,
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
-    cfg.check()?;
+    let cfg = &cfg.check()?;
     fit_inner(SplitJob::single(table, cfg, split, "given"), progress)
 }
 
@@ -126,7 +126,7 @@ pub(crate) struct Task {
 pub(crate) fn search_training_rows(
     table: &Table,
     res: &Resolved,
-    cfg: &TableConfig,
+    cfg: &ValidTable,
     split: &Split,
     y: &[f64],
     task: Task,
@@ -136,7 +136,7 @@ pub(crate) fn search_training_rows(
     let ft = table
         .select_columns(&res.features)?
         .select_rows(&split.train)?;
-    let found = hxai_symreg::search(&ft, y, &cfg.search_config(), &mut |p| {
+    let found = hxai_symreg::search_checked(&ft, y, cfg.search(), &mut |p| {
         progress(&TableProgress {
             task: task.0,
             tasks: task.1,
@@ -152,7 +152,7 @@ pub(crate) fn search_training_rows(
 #[derive(Clone, Copy)]
 pub(crate) struct SplitJob<'a> {
     pub(crate) table: &'a Table,
-    pub(crate) cfg: &'a TableConfig,
+    pub(crate) cfg: &'a ValidTable,
     pub(crate) split: &'a Split,
     /// Split kind, as the model file reports it (`random`, `given`, `fold`, ...).
     pub(crate) kind: &'a str,
@@ -162,7 +162,7 @@ pub(crate) struct SplitJob<'a> {
 
 impl<'a> SplitJob<'a> {
     /// The only task of a run.
-    fn single(table: &'a Table, cfg: &'a TableConfig, split: &'a Split, kind: &'a str) -> Self {
+    fn single(table: &'a Table, cfg: &'a ValidTable, split: &'a Split, kind: &'a str) -> Self {
         let task = (1, 1);
         Self {
             table,
@@ -251,7 +251,7 @@ pub(crate) fn fit_calibrated(
                 progress,
             )?;
             Searched {
-                selection: hxai_symreg::SelectionReport::of(&found, &cfg.search_config()),
+                selection: hxai_symreg::SelectionReport::of(&found, cfg.search()),
                 model: found.best,
                 pareto: found.pareto,
                 factors: None,

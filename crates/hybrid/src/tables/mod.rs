@@ -242,12 +242,14 @@ impl TableConfig {
     /// built), and a single conformal fold (CV+ needs 2, or 0 for none). What the table
     /// decides (columns, names, the split's sides) is checked against it by the fit.
     /// [`fit`], [`fit_split`] and [`compare`] call it first, so a bad setting is refused
-    /// before a search has run rather than after it.
+    /// before a search has run rather than after it, and every search of the run (the
+    /// correction's, the comparison's symbolic model and folds) takes the checked search
+    /// configuration it returns instead of checking it again.
     ///
     /// # Errors
     /// [`crate::HybridError::InvalidConfig`] naming the setting, or the search's own
     /// [`hxai_symreg::SrError`].
-    pub fn check(&self) -> Result<(), crate::HybridError> {
+    pub fn check(&self) -> Result<ValidTable, crate::HybridError> {
         if self.joint && self.correction_per.is_some() {
             return Err(crate::HybridError::InvalidConfig(
                 "--joint with --correction-per is not built: the joint refit fits one set of \
@@ -262,8 +264,11 @@ impl TableConfig {
                     .into(),
             ));
         }
-        self.search_config().check()?;
-        Ok(())
+        let search = self.search_config().check()?;
+        Ok(ValidTable {
+            cfg: self.clone(),
+            search,
+        })
     }
 
     fn factor_config(&self) -> hxai_symreg::factors::FactorConfig {
@@ -279,6 +284,35 @@ impl TableConfig {
             seed: self.seed,
             ..self.search.clone()
         }
+    }
+}
+
+/// A [`TableConfig`] that passed [`TableConfig::check`], with the search configuration the
+/// check derived (its seed the table's [`TableConfig::seed`]). Reads as the configuration
+/// it was made from (it dereferences to it); only [`TableConfig::check`] makes one.
+#[derive(Clone, Debug)]
+pub struct ValidTable {
+    cfg: TableConfig,
+    search: hxai_symreg::ValidSearch,
+}
+
+impl ValidTable {
+    /// The configuration checked.
+    pub fn config(&self) -> &TableConfig {
+        &self.cfg
+    }
+
+    /// The correction's search configuration, checked, with the table's seed.
+    pub fn search(&self) -> &hxai_symreg::ValidSearch {
+        &self.search
+    }
+}
+
+impl std::ops::Deref for ValidTable {
+    type Target = TableConfig;
+
+    fn deref(&self) -> &TableConfig {
+        &self.cfg
     }
 }
 

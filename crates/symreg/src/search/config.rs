@@ -522,6 +522,15 @@ impl ValidSearch {
         self.cfg.complexity_cap(n_inputs)
     }
 
+    /// This configuration with another seed and thread pool (every other setting as checked,
+    /// consensus included): one bootstrap run of [`crate::stability()`].
+    pub(crate) fn with_seed_par(&self, seed: u64, par: crate::Par) -> Self {
+        let mut out = self.clone();
+        out.cfg.seed = seed;
+        out.cfg.par = par;
+        out
+    }
+
     /// This configuration with another seed and without consensus: one run of a consensus
     /// (every other setting as checked).
     pub(crate) fn one_run(&self, seed: u64) -> Self {

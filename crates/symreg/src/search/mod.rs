@@ -45,7 +45,7 @@ pub use config::{
 };
 #[doc(hidden)]
 pub use propose::generate;
-pub use run::{Progress, search};
+pub use run::{Progress, search, search_checked};
 pub use select::{SearchResult, plainness};
 pub use structure::fit_structure;
 pub(crate) use structure::fit_structure_from;

@@ -56,6 +56,22 @@ pub fn search(
     cfg: &SearchConfig,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<SearchResult, SrError> {
+    search_checked(data, target, &cfg.check()?, progress)
+}
+
+/// [`search`] with a configuration already checked ([`SearchConfig::check`]): what a caller
+/// that runs many searches with one configuration (a hybrid table's fit, its comparison's
+/// folds, a stability run's resamples) calls, so the configuration is checked once. What
+/// depends on the table (the cross-validation folds against its rows) is checked here.
+///
+/// # Errors
+/// As [`search`], except the configuration's own checks.
+pub fn search_checked(
+    data: &Table,
+    target: &[f64],
+    cfg: &ValidSearch,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<SearchResult, SrError> {
     if cfg.criterion == crate::Criterion::CrossValidation && cfg.cv_folds > target.len() {
         // cross-validation would quietly use fewer folds; say so instead (as `--folds` does)
         return Err(SrError::InvalidConfig(format!(
@@ -65,11 +81,10 @@ pub fn search(
             target.len()
         )));
     }
-    let valid = cfg.check()?;
     if cfg.consensus_runs > 0 {
-        return crate::consensus::search_with(data, target, &valid, progress, &plain_search);
+        return crate::consensus::search_with(data, target, cfg, progress, &plain_search);
     }
-    plain_search(data, target, &valid, progress)
+    plain_search(data, target, cfg, progress)
 }
 
 /// One search, whatever [`SearchConfig::consensus_runs`] says.

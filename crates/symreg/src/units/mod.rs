@@ -548,9 +548,14 @@ pub fn stability(
     if reduction.is_none() {
         return crate::stability(data, y, cfg, runs, progress);
     }
-    crate::stability::stability_of(data, y, cfg, runs, progress, &|train, ty, run_cfg| {
-        search(train, ty, reduction, run_cfg, &mut |_| {})
-    })
+    crate::stability::stability_of(
+        data,
+        y,
+        &cfg.check()?,
+        runs,
+        progress,
+        &|train, ty, run_cfg| search(train, ty, reduction, run_cfg, &mut |_| {}),
+    )
 }
 
 #[cfg(test)]

@@ -484,3 +484,27 @@ fn normal_density_constants_snap_to_their_names() {
     assert_eq!(text.matches("sqrt(2)/2").count(), 2, "{text}");
     assert!(!text.contains("0.707"), "{text}");
 }
+
+// A configuration checked once and searched with `search_checked` gives what `search` gives
+// (which checks it itself), and what depends on the rows (more CV folds than rows) is still
+// refused there.
+#[test]
+fn search_checked_is_search_without_the_second_check() {
+    let x = uniform(40, 1.0, 5.0, 3);
+    let y: Vec<f64> = x.iter().map(|v| 2.0 * v * v + 1.0).collect();
+    let data = Table::new(vec!["x".into()], vec![x]).unwrap();
+    let cfg = quick();
+    let a = search(&data, &y, &cfg, &mut |_| {}).unwrap();
+    let b = hxai_symreg::search_checked(&data, &y, &cfg.check().unwrap(), &mut |_| {}).unwrap();
+    assert_eq!(a.best.equation(), b.best.equation());
+    assert_eq!(a.evaluations, b.evaluations);
+    let cv = SearchConfig {
+        criterion: hxai_symreg::Criterion::CrossValidation,
+        cv_folds: 41,
+        ..quick()
+    };
+    let e = hxai_symreg::search_checked(&data, &y, &cv.check().unwrap(), &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("cv-folds"), "{e}");
+}

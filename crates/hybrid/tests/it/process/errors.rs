@@ -208,5 +208,14 @@ fn settings_are_checked_before_any_work() {
         assert!(e.contains(needle), "{needle}: {e}");
         assert_eq!(reported, 0, "{needle}: a search ran before the refusal");
     }
-    assert!(cfg_roughness().check().is_ok());
+    // the checked value reads as its configuration, and its search configuration carries
+    // the table's seed (which overrides the search's own) and the parsed operators
+    let mut c = cfg_roughness();
+    c.seed = 7;
+    c.search.seed = 99;
+    let checked = c.check().unwrap();
+    assert_eq!(checked.target, c.target);
+    assert_eq!(checked.config().physics, c.physics);
+    assert_eq!(checked.search().seed, 7);
+    assert_eq!(checked.search().operators().len(), c.search.operators.len());
 }
