@@ -10,12 +10,15 @@ and each seed:
    - `precision`: the settings `hxai hybrid design --goal precision` proposes over the
      space (ranges: 4,000 seeded candidates);
    - `random`: the same number drawn uniformly over the same space;
+   - `lhs` (precision goal): the same number from a Latin hypercube of the same space (each
+     column's range cut into `--add` equal strata, one run per stratum, the strata of the
+     columns paired at random; a stepped column takes the level nearest the draw);
 4. record each physics parameter's 95 % interval width (the model file's
    `physics.params[P].ci95`).
 
 It prints, per process and parameter, the median over seeds of the width after the designed
-runs divided by the width after the random runs (issue 49's goal: at most 0.7), and the
-share of seeds where the designed runs gave the narrower interval.
+runs divided by the width after the random runs (issue 49's goal: at most 0.7) and after the
+Latin hypercube's, and the share of seeds where the designed runs gave the narrower interval.
 
 With `--goal discriminate` every fit runs `--stability N` (default 20) and the measure is
 the share of resamples whose correction uses exactly the truth's columns (the process's
@@ -27,8 +30,8 @@ the start, after `--add` runs chosen by `hxai hybrid design --goal discriminate`
     python3 scripts/design_loop.py --hxai target/release/hxai --out DIR [--seeds 10]
         [--goal precision|discriminate] [--stability 20]
 
-Needs numpy. Writes only under DIR. Not run here: the Latin hypercube arm and the coverage
-goal of issue 49 (see docs/benchmarks.md).
+Needs numpy. Writes only under DIR. Not run here: the coverage goal of issue 49, and the
+Latin hypercube arm of the discriminate goal (see docs/benchmarks.md).
 """
 import argparse
 import csv
@@ -69,6 +72,21 @@ def uniform(space, n, rng):
         else:
             levels = np.arange(lo, hi + step / 2, step)
             cols[name] = rng.choice(levels, n)
+    return cols
+
+
+def latin_hypercube(space, n, rng):
+    """n runs of a Latin hypercube over `space`: one run in each of n equal strata of every
+    column, the strata paired at random across columns; a stepped column's draw is moved to
+    its nearest level."""
+    cols = {}
+    for name, (lo, hi, step) in ranges(space).items():
+        u = (rng.permutation(n) + rng.uniform(0.0, 1.0, n)) / n
+        v = lo + u * (hi - lo)
+        if step is not None:
+            levels = np.arange(lo, hi + step / 2, step)
+            v = levels[np.abs(v[:, None] - levels[None, :]).argmin(axis=1)]
+        cols[name] = v
     return cols
 
 
@@ -178,13 +196,14 @@ def main():
                 continue
             discriminate(a, out, name, measure, spec)
         return
-    print("| process | parameter | width after 60 | after +10 designed | after +10 random | "
-          "designed / random (median) | designed narrower |")
-    print("|---|---|---:|---:|---:|---:|---:|")
+    print(f"| process | parameter | width after {a.start} | after +{a.add} designed | "
+          f"after +{a.add} random | after +{a.add} LHS | designed / random (median) | "
+          "designed / LHS (median) | designed narrower than random |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
     for name, (_, measure, spec) in hp.SPECS.items():
         if a.only and name not in a.only.split(","):
             continue
-        widths = {"start": [], "precision": [], "random": []}
+        widths = {"start": [], "precision": [], "random": [], "lhs": []}
         for seed in range(a.seeds):
             rng = np.random.default_rng(1000 + seed)
             base, designed, started = start_and_design(
@@ -193,7 +212,10 @@ def main():
             widths["start"].append(started)
             randoms = uniform(spec["space"], a.add, rng)
             randoms[spec["target"]] = measure(randoms, rng)
-            for arm, extra in (("precision", designed), ("random", randoms)):
+            # drawn after the random runs, so those are the same as without this arm
+            lhs = latin_hypercube(spec["space"], a.add, rng)
+            lhs[spec["target"]] = measure(lhs, rng)
+            for arm, extra in (("precision", designed), ("random", randoms), ("lhs", lhs)):
                 t = out / f"{name}-{seed}-{arm}.csv"
                 hp.write_csv(t, joined(base, extra))
                 widths[arm].append(fit(a, spec, t, out / f"{name}-{seed}-{arm}.json"))
@@ -201,9 +223,10 @@ def main():
             w0 = np.array([w[p] for w in widths["start"]])
             wd = np.array([w[p] for w in widths["precision"]])
             wr = np.array([w[p] for w in widths["random"]])
+            wl = np.array([w[p] for w in widths["lhs"]])
             print(f"| {name} | {p} | {np.median(w0):.4g} | {np.median(wd):.4g} | "
-                  f"{np.median(wr):.4g} | {np.median(wd / wr):.2f} | "
-                  f"{np.mean(wd < wr):.0%} |", flush=True)
+                  f"{np.median(wr):.4g} | {np.median(wl):.4g} | {np.median(wd / wr):.2f} | "
+                  f"{np.median(wd / wl):.2f} | {np.mean(wd < wr):.0%} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -143,3 +143,187 @@ fn discriminating_runs_are_weighted_by_the_uncertainty_of_an_outcome() {
     );
     assert_ne!(p.rows[0], 0, "not the first candidate by a tie");
 }
+
+/// The inverse of the small invertible `a` (Gauss-Jordan with partial pivoting), written
+/// here apart from the design's own code.
+fn inverse(a: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let k = a.len();
+    let mut m: Vec<Vec<f64>> = a
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let mut row = r.clone();
+            row.extend((0..k).map(|j| if i == j { 1.0 } else { 0.0 }));
+            row
+        })
+        .collect();
+    for c in 0..k {
+        let p = (c..k)
+            .max_by(|&x, &y| m[x][c].abs().total_cmp(&m[y][c].abs()))
+            .expect("a pivot row");
+        m.swap(c, p);
+        let d = m[c][c];
+        assert!(d.abs() > 0.0, "singular");
+        for v in &mut m[c] {
+            *v /= d;
+        }
+        for r in 0..k {
+            if r != c {
+                let f = m[r][c];
+                let pivot = m[c].clone();
+                for (v, pv) in m[r].iter_mut().zip(&pivot) {
+                    *v -= f * pv;
+                }
+            }
+        }
+    }
+    m.into_iter().map(|r| r[k..].to_vec()).collect()
+}
+
+/// The determinant of the small `a` (elimination with partial pivoting).
+fn determinant(a: &[Vec<f64>]) -> f64 {
+    let k = a.len();
+    let mut m = a.to_vec();
+    let mut det = 1.0;
+    for c in 0..k {
+        let p = (c..k)
+            .max_by(|&x, &y| m[x][c].abs().total_cmp(&m[y][c].abs()))
+            .expect("a pivot row");
+        if p != c {
+            m.swap(c, p);
+            det = -det;
+        }
+        det *= m[c][c];
+        for r in c + 1..k {
+            let f = m[r][c] / m[c][c];
+            let pivot = m[c].clone();
+            for (v, pv) in m[r].iter_mut().zip(&pivot) {
+                *v -= f * pv;
+            }
+        }
+    }
+    det
+}
+
+/// `precision` against a brute-force reference computed from the model file alone: for
+/// each set of runs, the physics parameters' block of the constants' covariance after the
+/// runs, `C - C G^T (G C G^T + s^2 I)^-1 G C` (all runs at once, not the design's rank-one
+/// updates one run at a time), and its determinant (the volume of their joint confidence region). One run:
+/// the design's pick is the set with the smallest determinant. Three runs out of 12
+/// candidates (220 sets): the greedy choice, each pick with the earlier ones fixed, reaches
+/// at least 95 % of the best set's D-efficiency (`(det_best / det_greedy)^(1/p)`, `p` the
+/// physics parameters). Greedy is not optimal in general; 95 % is the bar set here (below
+/// it, the design would waste more than one run in twenty against the best set), and the
+/// efficiency measured on this model is in docs/benchmarks.md.
+#[test]
+fn precision_agrees_with_a_brute_force_search_over_every_set_of_runs() {
+    let m = model_with(0.05, "0");
+    let u = m.hybrid.uncertainty.as_ref().expect("uncertainty");
+    assert!(!u.covariance.is_empty() && u.residual_variance > 0.0);
+    // 12 candidates, not on a symmetric grid (no ties)
+    let xs: Vec<f64> = (0..12).map(|i| 0.3 + 0.47 * i as f64).collect();
+    let zs: Vec<f64> = (0..12).map(|i| ((i * 5) % 12) as f64 / 11.0).collect();
+    let c = Table::new(vec!["x".into(), "z".into()], vec![xs, zs]).expect("candidates");
+    // the gradient of the hybrid in each constant at each candidate (central differences)
+    let values: std::collections::BTreeMap<String, f64> =
+        u.params.iter().map(|(n, p)| (n.clone(), p.value)).collect();
+    let compiled =
+        hxai_symreg::infix::compile_text(&u.template, &values).expect("the template compiles");
+    let cols: Vec<&[f64]> = compiled
+        .inputs
+        .iter()
+        .map(|name| c.column(name).expect("a column of the template"))
+        .collect();
+    let grads: Vec<Vec<f64>> = u
+        .params
+        .iter()
+        .map(|(name, p)| {
+            let h = 1e-6 * p.value.abs().max(1e-3);
+            let at = |v: f64| {
+                let mut e = compiled.clone();
+                for &s in compiled.slots.get(name).map(Vec::as_slice).unwrap_or(&[]) {
+                    e.params[s] = v;
+                }
+                e.eval_columns(&cols, c.n_rows())
+            };
+            let (hi, lo) = (at(p.value + h), at(p.value - h));
+            hi.iter()
+                .zip(&lo)
+                .map(|(a, b)| (a - b) / (2.0 * h))
+                .collect()
+        })
+        .collect();
+    let physics: Vec<usize> = u
+        .params
+        .iter()
+        .enumerate()
+        .filter(|(_, (n, _))| m.physics.calibrated.contains(n))
+        .map(|(j, _)| j)
+        .collect();
+    assert!(!physics.is_empty(), "k is calibrated");
+    let k = u.params.len();
+    let cov = &u.covariance;
+    let s2 = u.residual_variance;
+    // the covariance after the runs: C - C G^T (G C G^T + s^2 I)^-1 G C, the runs' gradients
+    // G (one row a run) taken together (the file's C may be singular where constants are
+    // confounded, so the information form (C^-1 + G^T G / s^2)^-1 is not used)
+    let det_after = |runs: &[usize]| -> f64 {
+        let cg: Vec<Vec<f64>> = runs
+            .iter()
+            .map(|&i| {
+                (0..k)
+                    .map(|a| (0..k).map(|b| cov[a][b] * grads[b][i]).sum())
+                    .collect()
+            })
+            .collect();
+        let mut gcg: Vec<Vec<f64>> = runs
+            .iter()
+            .map(|&i| {
+                cg.iter()
+                    .map(|col| (0..k).map(|a| grads[a][i] * col[a]).sum())
+                    .collect()
+            })
+            .collect();
+        for (r, row) in gcg.iter_mut().enumerate() {
+            row[r] += s2;
+        }
+        let inv = inverse(&gcg);
+        let post = |a: usize, b: usize| -> f64 {
+            let mut v = cov[a][b];
+            for (r, cr) in cg.iter().enumerate() {
+                for (q, cq) in cg.iter().enumerate() {
+                    v -= cr[a] * inv[r][q] * cq[b];
+                }
+            }
+            v
+        };
+        let block: Vec<Vec<f64>> = physics
+            .iter()
+            .map(|&a| physics.iter().map(|&b| post(a, b)).collect())
+            .collect();
+        determinant(&block)
+    };
+    let one = design(&m, &c, 1, DesignGoal::Precision).expect("design");
+    let best_one = (0..12)
+        .min_by(|&a, &b| det_after(&[a]).total_cmp(&det_after(&[b])))
+        .expect("a candidate");
+    assert_eq!(one.rows, vec![best_one]);
+    let three = design(&m, &c, 3, DesignGoal::Precision).expect("design");
+    let mut best = f64::INFINITY;
+    for a in 0..12 {
+        for b in a + 1..12 {
+            for d in b + 1..12 {
+                best = best.min(det_after(&[a, b, d]));
+            }
+        }
+    }
+    let greedy = det_after(&three.rows);
+    let efficiency = (best / greedy).powf(1.0 / physics.len() as f64);
+    assert!(
+        efficiency >= 0.95 && efficiency <= 1.0 + 1e-9,
+        "greedy {:?}: D-efficiency {efficiency}",
+        three.rows
+    );
+    // the greedy runs are the design's first picks in order: the first is the one-run best
+    assert_eq!(three.rows[0], best_one);
+}

@@ -1,0 +1,40 @@
+"""The design loop's Latin hypercube arm (scripts/design_loop.py, issue 49): one run per
+stratum of every column, inside the space, on a stepped column's levels, seeded."""
+
+import importlib.util
+import sys
+
+import pytest
+
+from conftest import ROOT
+
+np = pytest.importorskip("numpy")
+
+sys.path.insert(0, str(ROOT / "scripts"))
+_spec = importlib.util.spec_from_file_location("design_loop", ROOT / "scripts" / "design_loop.py")
+loop = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(loop)
+
+
+def test_latin_hypercube_puts_one_run_in_each_stratum_of_every_column():
+    n = 10
+    runs = loop.latin_hypercube("feed=0.05:0.3,speed=80:300", n, np.random.default_rng(3))
+    for name, (lo, hi) in {"feed": (0.05, 0.3), "speed": (80.0, 300.0)}.items():
+        v = runs[name]
+        assert len(v) == n
+        assert np.all((v >= lo) & (v <= hi))
+        strata = np.floor((v - lo) / (hi - lo) * n).astype(int)
+        assert sorted(strata) == list(range(n)), name
+    # the strata are paired at random, not in the same order in both columns
+    assert not np.array_equal(np.argsort(runs["feed"]), np.argsort(runs["speed"]))
+    # the same seed gives the same runs
+    again = loop.latin_hypercube("feed=0.05:0.3,speed=80:300", n, np.random.default_rng(3))
+    assert all(np.array_equal(runs[k], again[k]) for k in runs)
+
+
+def test_a_stepped_column_takes_its_levels():
+    runs = loop.latin_hypercube("t=100:200:25", 5, np.random.default_rng(1))
+    assert set(runs["t"]) <= {100.0, 125.0, 150.0, 175.0, 200.0}
+    # the run of the lowest stratum (100-120) is at 100 or 125, of the highest (180-200) at
+    # 175 or 200: the levels nearest the stratum
+    assert min(runs["t"]) in (100.0, 125.0) and max(runs["t"]) in (175.0, 200.0)
