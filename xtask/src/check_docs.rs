@@ -29,7 +29,8 @@
 //! `m.rs` or `m/`, whichever form the module has on disk: the name survives turning a file
 //! into a folder and back. A named folder covers the files inside it, because their map is
 //! the folder's `mod.rs` header (`search/mod.rs` maps the search, for example).
-//! And it fails on the rules of [`crate::code_shape`] (no circle, no file over 600 lines).
+//! And it fails on the rules of [`crate::code_shape`] (no circle, no file over 600 lines) and
+//! of [`crate::features`] (no dependency compiled twice for want of a feature).
 use crate::code_shape::problems as shape;
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
@@ -49,19 +50,24 @@ pub fn run(args: &[String]) -> Result<()> {
         bail!("check-docs takes no arguments (got `{a}`)");
     }
     let root = crate::root();
-    let found = [check(&root)?, check_code_map(&root)?, shape(&root)?];
+    let features = crate::features::problems(&root)?;
+    let found = [
+        check(&root)?,
+        check_code_map(&root)?,
+        shape(&root)?,
+        features,
+    ];
     if found.iter().all(Vec::is_empty) {
         println!(
             "check-docs: every path in README.md and docs/ exists, every module is in the \
-             code map of {CODE_MAP}, no circle of use, no hand-written file too long"
+             code map of {CODE_MAP}, no circle of use, no hand-written file too long, and \
+             `cargo xtask` and the Python module build with the test build's features"
         );
         return Ok(());
     }
-    for p in found.iter().flatten() {
-        eprintln!("{p}");
-    }
-    let [d, u, s] = found.each_ref().map(Vec::len);
-    bail!("{d} dangling path(s), {u} unmapped module(s), {s} circle(s) or long file(s)")
+    found.iter().flatten().for_each(|p| eprintln!("{p}"));
+    let [d, u, s, f] = found.each_ref().map(Vec::len);
+    bail!("{d} dangling path(s), {u} unmapped module(s), {s} circle(s) or long file(s), {f} twice")
 }
 
 /// The modules that the code map does not name, one line each

@@ -7,8 +7,8 @@
 //!   `--suite real-laws`: `hxai sr` against the laws of real tables (issue 47).
 //! - `cargo xtask check-docs`: fails when `README.md` or `docs/` name a path that does not
 //!   exist, when a module is missing from the code map of `docs/architecture.md`, when a
-//!   folder's files use each other in a circle or a hand-written file is over 600 lines (CI
-//!   runs it).
+//!   folder's files use each other in a circle, a hand-written file is over 600 lines, or
+//!   `cargo xtask` would build a dependency without a feature the tests turn on (CI runs it).
 //! - `cargo xtask refs`: regenerates the reference vectors under `testdata/` with the pinned
 //!   Python tools of `scripts/requirements.txt` (in a venv under `target/`; not run by CI).
 #![allow(clippy::print_stdout, clippy::print_stderr)]
@@ -19,6 +19,7 @@ use std::path::{Path, PathBuf};
 mod bench_sr;
 mod check_docs;
 mod code_shape;
+mod features;
 mod refs;
 mod reproduce;
 mod rust_paths;
