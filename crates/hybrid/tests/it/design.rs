@@ -320,7 +320,7 @@ fn precision_agrees_with_a_brute_force_search_over_every_set_of_runs() {
     let greedy = det_after(&three.rows);
     let efficiency = (best / greedy).powf(1.0 / physics.len() as f64);
     assert!(
-        efficiency >= 0.95 && efficiency <= 1.0 + 1e-9,
+        (0.95..=1.0 + 1e-9).contains(&efficiency),
         "greedy {:?}: D-efficiency {efficiency}",
         three.rows
     );
