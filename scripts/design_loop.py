@@ -13,8 +13,11 @@ and each seed:
    - `lhs` (precision goal): the same number from a Latin hypercube of the same space (each
      column's range cut into `--add` equal strata, one run per stratum, the strata of the
      columns paired at random; a stepped column takes the level nearest the draw);
+   - `coverage` (precision goal): the runs `hxai hybrid design --goal coverage` proposes
+     from the same start;
 4. record each physics parameter's 95 % interval width (the model file's
-   `physics.params[P].ci95`).
+   `physics.params[P].ci95`) and, for the precision goal, the hybrid's RMSE on 2,000 fresh
+   runs drawn uniformly over the space and measured (the same runs for every arm).
 
 It prints, per process and parameter, the median over seeds of the width after the designed
 runs divided by the width after the random runs (issue 49's goal: at most 0.7) and after the
@@ -30,8 +33,8 @@ the start, after `--add` runs chosen by `hxai hybrid design --goal discriminate`
     python3 scripts/design_loop.py --hxai target/release/hxai --out DIR [--seeds 10]
         [--goal precision|discriminate] [--stability 20]
 
-Needs numpy. Writes only under DIR. Not run here: the coverage goal of issue 49, and the
-Latin hypercube arm of the discriminate goal (see docs/benchmarks.md).
+Needs numpy. Writes only under DIR. Not run here: the Latin hypercube and coverage arms of
+the discriminate goal (see docs/benchmarks.md).
 """
 import argparse
 import csv
@@ -130,15 +133,31 @@ def start_and_design(a, out, name, seed, measure, spec, rng, goal, fit_start):
     hp.write_csv(t0, base)
     m0 = out / f"{name}-{seed}-start.json"
     started = fit_start(t0, m0)
-    nxt = out / f"{name}-{seed}-next.csv"
-    run([a.hxai, "hybrid", "design", "--model", str(m0), "--space", spec["space"],
+    designed = design_runs(a, m0, out / f"{name}-{seed}-next.csv", goal, seed, measure, spec,
+                           rng)
+    return base, designed, started
+
+
+def design_runs(a, model, nxt, goal, seed, measure, spec, rng):
+    """The `--add` runs `hxai hybrid design --goal GOAL` proposes from `model` over the
+    process's space, measured."""
+    run([a.hxai, "hybrid", "design", "--model", str(model), "--space", spec["space"],
          "--n", str(a.add), "--goal", goal, "--seed", str(seed), "--out", str(nxt)])
-    names = [c for c in base if c != spec["target"]]
+    names = list(ranges(spec["space"]))
     with open(nxt, newline="") as fh:
         rows = list(csv.DictReader(fh))
     designed = {c: np.array([float(r[c]) for r in rows]) for c in names}
     designed[spec["target"]] = measure(designed, rng)
-    return base, designed, started
+    return designed
+
+
+def test_rmse(a, model, fresh_csv, y, out_csv):
+    """RMSE of the model's hybrid (`hxai hybrid predict`) against `y` on the fresh rows."""
+    run([a.hxai, "hybrid", "predict", "--model", str(model), "--data", str(fresh_csv),
+         "--threads", str(a.threads), "--out", str(out_csv)])
+    with open(out_csv, newline="") as fh:
+        pred = np.array([float(r["hybrid"]) for r in csv.DictReader(fh)])
+    return float(np.sqrt(np.mean((pred - y) ** 2)))
 
 
 def discriminate(a, out, name, measure, spec):
@@ -197,13 +216,16 @@ def main():
             discriminate(a, out, name, measure, spec)
         return
     print(f"| process | parameter | width after {a.start} | after +{a.add} designed | "
-          f"after +{a.add} random | after +{a.add} LHS | designed / random (median) | "
-          "designed / LHS (median) | designed narrower than random |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
+          f"after +{a.add} random | after +{a.add} LHS | after +{a.add} coverage | "
+          "designed / random (median) | designed / LHS (median) | "
+          "designed narrower than random |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    rmse_rows = []
     for name, (_, measure, spec) in hp.SPECS.items():
         if a.only and name not in a.only.split(","):
             continue
-        widths = {"start": [], "precision": [], "random": [], "lhs": []}
+        widths = {"start": [], "precision": [], "random": [], "lhs": [], "coverage": []}
+        rmses = {k: [] for k in widths}
         for seed in range(a.seeds):
             rng = np.random.default_rng(1000 + seed)
             base, designed, started = start_and_design(
@@ -215,18 +237,42 @@ def main():
             # drawn after the random runs, so those are the same as without this arm
             lhs = latin_hypercube(spec["space"], a.add, rng)
             lhs[spec["target"]] = measure(lhs, rng)
-            for arm, extra in (("precision", designed), ("random", randoms), ("lhs", lhs)):
+            # drawn after the hypercube, so the arms above are the same as without this one
+            cover = design_runs(a, out / f"{name}-{seed}-start.json",
+                                out / f"{name}-{seed}-next-coverage.csv", "coverage", seed,
+                                measure, spec, rng)
+            fresh_rng = np.random.default_rng(9000 + seed)
+            fresh = uniform(spec["space"], 2000, fresh_rng)
+            y_fresh = measure(fresh, fresh_rng)
+            fresh_csv = out / f"{name}-{seed}-fresh.csv"
+            hp.write_csv(fresh_csv, fresh)
+            pred_csv = out / f"{name}-{seed}-fresh-pred.csv"
+            rmses["start"].append(test_rmse(a, out / f"{name}-{seed}-start.json", fresh_csv,
+                                            y_fresh, pred_csv))
+            for arm, extra in (("precision", designed), ("random", randoms), ("lhs", lhs),
+                               ("coverage", cover)):
                 t = out / f"{name}-{seed}-{arm}.csv"
                 hp.write_csv(t, joined(base, extra))
-                widths[arm].append(fit(a, spec, t, out / f"{name}-{seed}-{arm}.json"))
+                m = out / f"{name}-{seed}-{arm}.json"
+                widths[arm].append(fit(a, spec, t, m))
+                rmses[arm].append(test_rmse(a, m, fresh_csv, y_fresh, pred_csv))
         for p in widths["start"][0]:
             w0 = np.array([w[p] for w in widths["start"]])
             wd = np.array([w[p] for w in widths["precision"]])
             wr = np.array([w[p] for w in widths["random"]])
             wl = np.array([w[p] for w in widths["lhs"]])
+            wc = np.array([w[p] for w in widths["coverage"]])
             print(f"| {name} | {p} | {np.median(w0):.4g} | {np.median(wd):.4g} | "
-                  f"{np.median(wr):.4g} | {np.median(wl):.4g} | {np.median(wd / wr):.2f} | "
-                  f"{np.median(wd / wl):.2f} | {np.mean(wd < wr):.0%} |", flush=True)
+                  f"{np.median(wr):.4g} | {np.median(wl):.4g} | {np.median(wc):.4g} | "
+                  f"{np.median(wd / wr):.2f} | {np.median(wd / wl):.2f} | "
+                  f"{np.mean(wd < wr):.0%} |", flush=True)
+        rmse_rows.append(f"| {name} | " + " | ".join(
+            f"{np.median(rmses[k]):.4g}" for k in ("start", "precision", "random", "lhs",
+                                                     "coverage")) + " |")
+    print(f"\n| process | test RMSE after {a.start} (2,000 fresh runs, median) | "
+          f"+{a.add} designed | +{a.add} random | +{a.add} LHS | +{a.add} coverage |")
+    print("|---|---:|---:|---:|---:|---:|")
+    print("\n".join(rmse_rows))
 
 
 if __name__ == "__main__":
