@@ -12,17 +12,14 @@ import argparse
 import json
 import statistics
 import subprocess
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-
-def write(path, names, rows):
-    with open(path, "w") as f:
-        f.write(",".join(names) + "\n")
-        for r in rows:
-            f.write(",".join(repr(float(v)) for v in r) + "\n")
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from heldout_processes import write_csv  # noqa: E402
 
 
 def main():
@@ -36,8 +33,9 @@ def main():
     rng = np.random.default_rng(7)
     x = rng.uniform(1, 5, (200, 5))
     y = 2 * x[:, 0] * np.sqrt(x[:, 1]) + 0.3 * x[:, 2] + 0.1 * x[:, 3] ** 2 + rng.normal(0, 0.05, 200)
-    write(out / "train.csv", ["a", "b", "c", "d", "e", "y"], np.column_stack([x, y]))
-    write(out / "candidates.csv", ["a", "b", "c", "d", "e"], rng.uniform(1, 5, (10000, 5)))
+    names = ["a", "b", "c", "d", "e"]
+    write_csv(out / "train.csv", {**dict(zip(names, x.T)), "y": y})
+    write_csv(out / "candidates.csv", dict(zip(names, rng.uniform(1, 5, (10000, 5)).T)))
     model = out / "model.json"
     subprocess.run([a.hxai, "--threads", "2", "hybrid", "fit", "--data", str(out / "train.csv"),
                     "--target", "y", "--physics", "k*a*sqrt(b)", "--calibrate", "k",

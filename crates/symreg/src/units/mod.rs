@@ -22,7 +22,7 @@ pub use parse::{BASE, Dimension};
 
 use crate::canonical::canonical_program;
 use crate::program::{Node, Program};
-use crate::{Model, Op, SearchConfig, SearchResult, SrError, Table};
+use crate::{Model, Op, SearchConfig, SearchResult, SrError, Table, ValidSearch};
 
 /// A fraction of two integers, in lowest terms with a positive denominator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -475,21 +475,32 @@ pub fn search(
     cfg: &SearchConfig,
     progress: &mut dyn FnMut(&crate::Progress),
 ) -> Result<SearchResult, SrError> {
+    search_checked(data, y, reduction, &cfg.check()?, progress)
+}
+
+/// [`search`] with a configuration already checked: what the consensus runs and the
+/// stability resamples call, so the configuration is checked once.
+fn search_checked(
+    data: &Table,
+    y: &[f64],
+    reduction: Option<&Reduction>,
+    cfg: &ValidSearch,
+    progress: &mut dyn FnMut(&crate::Progress),
+) -> Result<SearchResult, SrError> {
     let Some(reduction) = reduction else {
-        return crate::search(data, y, cfg, progress);
+        return crate::search_checked(data, y, cfg, progress);
     };
     if cfg.consensus_runs > 0 {
         // each of the B + 1 searches runs on the groups and is composed back, so the votes
         // are on the composed structures and the winner is refitted on the columns
-        let valid = cfg.check()?;
-        return crate::consensus::search_with(data, y, &valid, progress, &|d, t, c, p| {
-            search(d, t, Some(reduction), c.config(), p)
+        return crate::consensus::search_with(data, y, cfg, progress, &|d, t, c, p| {
+            search_checked(d, t, Some(reduction), c, p)
         });
     }
     let (pi, py) = reduction.transform(data, y)?;
     let t0 = std::time::Instant::now();
     let mut res = if let Some(pi) = pi {
-        crate::search(&pi, &py, cfg, progress)?
+        crate::search_checked(&pi, &py, cfg, progress)?
     } else {
         let c = py.iter().sum::<f64>() / py.len().max(1) as f64;
         let program = Program {
@@ -554,7 +565,7 @@ pub fn stability(
         &cfg.check()?,
         runs,
         progress,
-        &|train, ty, run_cfg| search(train, ty, reduction, run_cfg, &mut |_| {}),
+        &|train, ty, run_cfg| search_checked(train, ty, reduction, run_cfg, &mut |_| {}),
     )
 }
 
