@@ -956,27 +956,34 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     def suggest_experiments(self, space, n, goal="discriminate", seed=42):
         """The settings of the next ``n`` runs, as ``hxai hybrid design`` (issue 49): ``space``
         is ranges as text (``"f=0.05:0.3,r=0.4:1.2:0.4"``, ``:step`` for levels, ``a|b`` for a
-        list) or a DataFrame of feasible settings (its rows are the only candidates); it
-        must give every column the model reads. ``goal`` is ``"discriminate"`` (where the
+        list, ``tool=A|B`` for the text levels of a model fitted with ``calibrate_per`` or
+        ``correction_per``) or a DataFrame of feasible settings (its rows are the only
+        candidates; a level column as text or numbers); it must give every column the model
+        reads. ``goal`` is ``"discriminate"`` (where the
         selected correction and its alternatives disagree most; ``precision`` when there is
         none, ``coverage`` without a covariance either), ``"coverage"`` (widest interval first, then the farthest from the runs
         picked) or ``"precision"`` (Ds-optimal for the physics parameters, the correction's
         constants as nuisance parameters: the runs that narrow their joint interval most,
         from the model's covariance). Returns a DataFrame: the settings, ``predicted``, ``spread``, ``reason``."""
         check_is_fitted(self, "model_json_")
-        if getattr(self, "level_columns_", None):
-            raise ValueError("suggest_experiments over text levels is not built yet")
         if isinstance(space, str):
             text = _hxai.table_design(self.model_json_, space, None, int(n), goal, int(seed))
         else:
             frame = pd.DataFrame(space)
+            level_columns = [
+                c for c in (getattr(self, "level_columns_", None) or []) if c in frame.columns
+            ]
+            frame, levels = _level_cells(frame, level_columns)
             cols = [str(c) for c in frame.columns]
             X = np.asarray(frame, dtype=np.float64)
             text = _hxai.table_design(
-                self.model_json_, None, (cols, columns_of(X)), int(n), goal, int(seed)
+                self.model_json_, None, (cols, columns_of(X)), int(n), goal, int(seed),
+                levels or None,
             )
         doc = json.loads(text)
         out = pd.DataFrame(doc["settings"], columns=doc["columns"])
+        for column, cells in doc.get("text", {}).items():
+            out[column] = cells
         out["predicted"] = doc["predicted"]
         out["spread"] = doc["spread"]
         out["reason"] = doc["reason"]

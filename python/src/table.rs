@@ -280,10 +280,14 @@ pub(crate) fn table_card(model_json: &str) -> PyResult<String> {
 /// Feasible settings from Python: column names and their columns.
 type Settings<'py> = (Vec<String>, Vec<Bound<'py, PyBytes>>);
 
-/// `table_design(model_json, space, settings, n, goal, seed)` -> JSON text of the proposed
-/// runs: `space` is the ranges text, or `None` with the feasible settings given as
-/// `settings` = `(names, columns)`.
+/// `table_design(model_json, space, settings, n, goal, seed, levels=None)` -> JSON text of
+/// the proposed runs: `space` is the ranges text, or `None` with the feasible settings given
+/// as `settings` = `(names, columns)` and their text columns as `levels` {column: cells}.
+/// The JSON's `columns` and `settings` are the numeric settings; `text` {column: cells}
+/// the text ones at the picks.
 #[pyfunction]
+#[pyo3(signature = (model_json, space, settings, n, goal, seed, levels=None))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn table_design(
     py: Python<'_>,
     model_json: &str,
@@ -292,8 +296,11 @@ pub(crate) fn table_design(
     n: usize,
     goal: &str,
     seed: u64,
+    levels: Option<BTreeMap<String, Vec<String>>>,
 ) -> PyResult<String> {
-    use hxai_hybrid::tables::design::{DesignGoal, candidates, design, parse_space};
+    use hxai_hybrid::tables::design::{
+        Candidates, DesignGoal, add_text_levels, candidates, design, parse_space,
+    };
     let model = TableModel::from_json(model_json).map_err(err)?;
     let goal = match goal {
         "discriminate" => DesignGoal::Discriminate,
@@ -305,20 +312,36 @@ pub(crate) fn table_design(
             )));
         }
     };
-    let table = match (space, settings) {
+    let Candidates { mut table, text } = match (space, settings) {
         (Some(s), _) => candidates(&parse_space(s).map_err(err)?, seed).map_err(err)?,
-        (None, Some((n, c))) => table_of(n, &c)?,
+        (None, Some((n, c))) => Candidates {
+            table: table_of(n, &c)?,
+            text: levels.unwrap_or_default().into_iter().collect(),
+        },
         (None, None) => {
             return Err(pyo3::exceptions::PyValueError::new_err(
                 "space: give ranges as text ('col=lo:hi,...') or a DataFrame of feasible settings",
             ));
         }
     };
+    let names: Vec<String> = table.names().to_vec();
+    add_text_levels(&model, &mut table, &text).map_err(err)?;
     let p = py.detach(|| design(&model, &table, n, goal)).map_err(err)?;
+    let numeric: Vec<&[f64]> = names.iter().filter_map(|c| table.column(c)).collect();
+    let picked_text: BTreeMap<&str, Vec<&str>> = text
+        .iter()
+        .map(|(c, cells)| {
+            (
+                c.as_str(),
+                p.rows.iter().map(|&i| cells[i].as_str()).collect(),
+            )
+        })
+        .collect();
     let doc = serde_json::json!({
         "goal": p.goal.name(),
-        "columns": table.names(),
-        "settings": p.rows.iter().map(|&i| table.columns().iter().map(|c| c[i]).collect::<Vec<f64>>()).collect::<Vec<_>>(),
+        "columns": names,
+        "settings": p.rows.iter().map(|&i| numeric.iter().map(|c| c[i]).collect::<Vec<f64>>()).collect::<Vec<_>>(),
+        "text": picked_text,
         "predicted": p.predicted,
         "spread": p.spread,
         "reason": p.reason,

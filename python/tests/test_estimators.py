@@ -470,6 +470,23 @@ def test_calibrate_per_gives_one_line_per_level_as_r_lm():
         est.predict(X[["temp"]])
     with pytest.raises(ValueError, match="COLUMN=P1,P2"):
         HybridRegressor("a + b*temp", calibrate_per="insul").fit(X, y)
+    # the next runs over the levels too (issue 49): ranges with the text levels, or a
+    # DataFrame with the level column; each run's prediction is predict's at its settings
+    runs = est.suggest_experiments("temp=-1:10,insul=After|Before", 4, goal="coverage")
+    assert list(runs.columns) == ["temp", "insul", "predicted", "spread", "reason"]
+    assert set(runs["insul"]).issubset({"After", "Before"}) and runs["temp"].between(-1, 10).all()
+    np.testing.assert_allclose(
+        runs["predicted"], est.predict(runs[["insul", "temp"]]), rtol=1e-9
+    )
+    feasible = pd.DataFrame({"insul": ["Before", "After", "After"], "temp": [2.0, 2.0, 8.0]})
+    runs = est.suggest_experiments(feasible, 2, goal="coverage")
+    assert all(
+        ((feasible == row[["insul", "temp"]]).all(axis=1)).any() for _, row in runs.iterrows()
+    )
+    with pytest.raises(ValueError, match="Sideways"):
+        est.suggest_experiments("temp=0:5,insul=Before|Sideways", 2, goal="coverage")
+    with pytest.raises(ValueError, match="`insul`"):
+        est.suggest_experiments("temp=0:5", 2, goal="coverage")
 
 
 def test_correction_per_refits_the_constants_per_batch():

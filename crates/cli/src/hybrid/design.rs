@@ -1,7 +1,9 @@
 //! `hxai hybrid design`: the settings of the next runs (issue 49, first part;
 //! `hxai_hybrid::tables::design`).
 use anyhow::{Context, Result};
-use hxai_hybrid::tables::design::{DesignGoal, candidates, design, parse_space};
+use hxai_hybrid::tables::design::{
+    Candidates, DesignGoal, add_text_levels, candidates, design, parse_space,
+};
 use std::path::PathBuf;
 
 /// What the next runs should settle.
@@ -57,18 +59,20 @@ pub(crate) fn run(a: DesignArgs) -> Result<()> {
     }
     crate::safety::check_output(&a.out, &inputs)?;
     let model = super::load_model(&a.model)?;
-    anyhow::ensure!(
-        model.per_class.is_none() && model.correction_per.is_none(),
-        "{}: the model has constants per level of a text column; designing runs over text \
-         levels is not built yet",
-        a.model.display()
-    );
-    let table = if from_file {
-        hxai_data::read_table(&space_path)
-            .with_context(|| format!("cannot read the space {}", space_path.display()))?
+    let Candidates { mut table, text } = if from_file {
+        let view = super::read(&space_path, None)
+            .with_context(|| format!("cannot read the space {}", space_path.display()))?;
+        Candidates {
+            table: view.table,
+            text: view.text,
+        }
     } else {
         candidates(&parse_space(&a.space)?, a.seed)?
     };
+    // the settings as given (numbers, then text), before the model's level indicators
+    let numeric_names: Vec<String> = table.names().to_vec();
+    add_text_levels(&model, &mut table, &text)
+        .with_context(|| format!("cannot design runs over the space {}", a.space))?;
     let goal = match a.goal {
         GoalArg::Discriminate => DesignGoal::Discriminate,
         GoalArg::Coverage => DesignGoal::Coverage,
@@ -88,10 +92,17 @@ pub(crate) fn run(a: DesignArgs) -> Result<()> {
         )]);
     }
     let mut t = hxai_data::MixedTable::default();
-    for (name, col) in table.names().iter().zip(table.columns()) {
+    for name in &numeric_names {
+        let col = table.column(name).unwrap_or_default();
         t.push(
             name,
             hxai_data::Column::Number(p.rows.iter().map(|&i| col[i]).collect()),
+        );
+    }
+    for (name, cells) in &text {
+        t.push(
+            name,
+            hxai_data::Column::Text(p.rows.iter().map(|&i| cells[i].clone()).collect()),
         );
     }
     t.push("predicted", hxai_data::Column::Number(p.predicted.clone()));
@@ -104,12 +115,14 @@ pub(crate) fn run(a: DesignArgs) -> Result<()> {
             "goal": p.goal.name(),
             "n_candidates": p.n_candidates,
             "runs": p.rows.iter().enumerate().map(|(k, &i)| {
-                let settings: serde_json::Map<String, serde_json::Value> = table
-                    .names()
-                    .iter()
-                    .zip(table.columns())
-                    .map(|(n, c)| (n.clone(), serde_json::json!(c[i])))
-                    .collect();
+                let mut settings = serde_json::Map::new();
+                for name in &numeric_names {
+                    let col = table.column(name).unwrap_or_default();
+                    settings.insert(name.clone(), serde_json::json!(col[i]));
+                }
+                for (name, cells) in &text {
+                    settings.insert(name.clone(), serde_json::json!(cells[i]));
+                }
                 serde_json::json!({
                     "settings": settings,
                     "predicted": p.predicted[k],

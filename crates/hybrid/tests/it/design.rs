@@ -54,7 +54,7 @@ fn model_with(noise: f64, alternative: &str) -> hxai_hybrid::tables::TableModel 
 fn runs_go_where_the_equations_disagree_and_stay_in_the_space() {
     let m = model();
     let space = parse_space("x=0:6,z=0:1").expect("space");
-    let c = candidates(&space, 3).expect("candidates");
+    let c = candidates(&space, 3).expect("candidates").table;
     let p = design(&m, &c, 4, DesignGoal::Discriminate).expect("design");
     assert_eq!(p.goal, DesignGoal::Discriminate);
     assert_eq!(p.equations.len(), 2);
@@ -87,7 +87,9 @@ fn runs_go_where_the_equations_disagree_and_stay_in_the_space() {
     // refused: no run, more runs than candidates, a space without a column the model reads
     assert!(design(&m, &c, 0, DesignGoal::Coverage).is_err());
     assert!(design(&m, &c, c.n_rows() + 1, DesignGoal::Coverage).is_err());
-    let only_x = candidates(&parse_space("x=0:6").expect("space"), 3).expect("candidates");
+    let only_x = candidates(&parse_space("x=0:6").expect("space"), 3)
+        .expect("candidates")
+        .table;
     let e = design(&m, &only_x, 2, DesignGoal::Coverage)
         .err()
         .map(|e| e.to_string())
@@ -123,7 +125,7 @@ fn discriminating_runs_are_weighted_by_the_uncertainty_of_an_outcome() {
         "the noisy fit has a covariance ({equation})"
     );
     let space = parse_space("x=0:6,z=0:1").expect("space");
-    let c = candidates(&space, 5).expect("candidates");
+    let c = candidates(&space, 5).expect("candidates").table;
     let p = design(&m, &c, 3, DesignGoal::Discriminate).expect("design");
     assert_eq!(p.goal, DesignGoal::Discriminate);
     assert!(p.reason[0].contains("Box and Hill"), "{}", p.reason[0]);

@@ -102,6 +102,126 @@ fn per_class_constants_give_one_line_per_level() -> TestResult {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("\"Later\"") && err.contains("row 2"), "{err}");
     assert!(!none.exists());
+    // design over the text levels (issue 49): ranges with `insul=After|Before`, and a CSV
+    // of settings with the text column; every run inside the space, each `predicted` what
+    // `hybrid predict` gives at its settings (so the level indicators are the model's)
+    let next = dir.join("next.csv");
+    ok(
+        &hxai(&[
+            "hybrid",
+            "design",
+            "--model",
+            s(&model),
+            "--space",
+            "temp=-1:10,insul=After|Before",
+            "--n",
+            "6",
+            "--goal",
+            "coverage",
+            "--out",
+            s(&next),
+        ])?,
+        "design over levels",
+    );
+    let text = std::fs::read_to_string(&next)?;
+    assert!(
+        text.starts_with("temp,insul,predicted,spread,reason\n"),
+        "{text}"
+    );
+    let runs: Vec<Vec<String>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    assert_eq!(runs.len(), 6);
+    let levels: std::collections::BTreeSet<&str> = runs.iter().map(|r| r[1].as_str()).collect();
+    assert_eq!(
+        levels.len(),
+        2,
+        "coverage spreads the runs over both levels: {text}"
+    );
+    for r in &runs {
+        let t: f64 = r[0].parse()?;
+        assert!((-1.0..=10.0).contains(&t), "{r:?}");
+    }
+    let predicted = dir.join("next-predicted.csv");
+    ok(
+        &hxai(&predict_args(&model, &next, &predicted))?,
+        "predict the runs",
+    );
+    let pred = std::fs::read_to_string(&predicted)?;
+    let header: Vec<&str> = pred.lines().next().ok_or("header")?.split(',').collect();
+    let h = header
+        .iter()
+        .position(|c| *c == "hybrid")
+        .ok_or("hybrid column")?;
+    for (r, line) in runs.iter().zip(pred.lines().skip(1)) {
+        let want: f64 = r[2].parse()?;
+        let got: f64 = line.split(',').nth(h).ok_or("cell")?.parse()?;
+        assert!(
+            (want - got).abs() <= 1e-9 * want.abs().max(1.0),
+            "{want} vs {got}"
+        );
+    }
+    // a CSV of settings with the level column: only its rows
+    let feasible = dir.join("feasible.csv");
+    std::fs::write(&feasible, "insul,temp\nBefore,2\nAfter,2\nAfter,8\n")?;
+    let next2 = dir.join("next2.csv");
+    let o = hxai(&[
+        "hybrid",
+        "design",
+        "--model",
+        s(&model),
+        "--space",
+        s(&feasible),
+        "--n",
+        "2",
+        "--goal",
+        "coverage",
+        "--out",
+        s(&next2),
+        "--json",
+    ])?;
+    ok(&o, "design from a CSV with levels");
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout)?;
+    for run in doc["runs"].as_array().ok_or("runs")? {
+        let setting = (
+            run["settings"]["insul"].as_str(),
+            run["settings"]["temp"].as_f64(),
+        );
+        assert!(
+            [
+                (Some("Before"), Some(2.0)),
+                (Some("After"), Some(2.0)),
+                (Some("After"), Some(8.0))
+            ]
+            .contains(&setting),
+            "{run}"
+        );
+    }
+    // refused, naming the problem, nothing written: a level the fit never saw, and a
+    // space without the level column
+    for (space, needle) in [
+        ("temp=0:5,insul=Before|Sideways", "\"Sideways\""),
+        ("temp=0:5", "`insul`"),
+    ] {
+        let o = hxai(&[
+            "hybrid",
+            "design",
+            "--model",
+            s(&model),
+            "--space",
+            space,
+            "--n",
+            "2",
+            "--out",
+            s(&none),
+        ])?;
+        assert_eq!(o.status.code(), Some(1), "{space}");
+        let err = common::stderr(&o);
+        assert!(err.contains(needle), "{space}: {err}");
+        assert!(!none.exists());
+    }
     // a bad spec names the form to write
     let mut bad = args.to_vec();
     bad[9] = "insul";

@@ -23,14 +23,29 @@ pub enum SpaceColumn {
     },
     /// `a|b|c`: these values only.
     Levels(Vec<f64>),
+    /// `A|B|C` with a level that is not a number: the levels of a text column (the class
+    /// column of a model with constants per level), each drawn alike.
+    Text(Vec<String>),
+}
+
+/// Seeded candidate settings: the numeric columns as a table, and the text columns' cells
+/// (one level per row) beside it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Candidates {
+    /// The numeric columns.
+    pub table: Table,
+    /// Each text column and its cells, in the space's order.
+    pub text: Vec<(String, Vec<String>)>,
 }
 
 /// Parses `col=lo:hi[:step],col=a|b` into `(column, SpaceColumn)` pairs.
 ///
 /// # Errors
 /// [`HybridError::InvalidConfig`] naming the part that is not `NAME=LO:HI[:STEP]` or
-/// `NAME=A|B`, a range with `lo >= hi` or a step that is not positive, a level that is not a
-/// number (text levels are not built yet), or a column given twice.
+/// `NAME=A|B`, a range with `lo >= hi` or a step that is not positive, an empty level or
+/// one given twice, or a column given twice. A list whose levels are all numbers is
+/// [`SpaceColumn::Levels`], one with any other level [`SpaceColumn::Text`]; a single value
+/// without `|` or `:` fixes the column there (`tool=A`, `depth=2`).
 pub fn parse_space(spec: &str) -> Result<Vec<(String, SpaceColumn)>, HybridError> {
     let bad = |part: &str, why: &str| {
         HybridError::InvalidConfig(format!(
@@ -57,9 +72,27 @@ pub fn parse_space(spec: &str) -> Result<Vec<(String, SpaceColumn)>, HybridError
                 .filter(|v| v.is_finite())
                 .ok_or_else(|| bad(part, &format!("has {:?}, not a number", s.trim())))
         };
-        let col = if value.contains('|') {
-            let levels = value.split('|').map(num).collect::<Result<Vec<_>, _>>()?;
-            SpaceColumn::Levels(levels)
+        let col = if value.contains('|') || !value.contains(':') {
+            let words: Vec<&str> = value.split('|').map(str::trim).collect();
+            if let Some(w) = words.iter().find(|w| w.is_empty()) {
+                return Err(bad(part, &format!("has an empty level {w:?}")));
+            }
+            if let Some((i, w)) = words
+                .iter()
+                .enumerate()
+                .find(|(i, w)| words[..*i].contains(w))
+                .map(|(i, w)| (i, *w))
+            {
+                return Err(bad(
+                    part,
+                    &format!("gives the level {w:?} twice (level {})", i + 1),
+                ));
+            }
+            match words.iter().map(|w| num(w)).collect::<Result<Vec<_>, _>>() {
+                Ok(levels) => SpaceColumn::Levels(levels),
+                // a level that parses as a number beside text ones stays text: `A|2`
+                Err(_) => SpaceColumn::Text(words.iter().map(|w| (*w).to_string()).collect()),
+            }
         } else {
             let f: Vec<&str> = value.split(':').collect();
             let (lo, hi, step) = match f.as_slice() {
@@ -84,13 +117,14 @@ pub fn parse_space(spec: &str) -> Result<Vec<(String, SpaceColumn)>, HybridError
 }
 
 /// [`RANDOM_CANDIDATES`] seeded random points of `space` (each column uniform over its
-/// range, snapped to its step, or one of its levels).
+/// range, snapped to its step, or one of its levels, numbers or text alike).
 ///
 /// # Errors
-/// A table that cannot be built (never, for a parsed space).
-pub fn candidates(space: &[(String, SpaceColumn)], seed: u64) -> Result<Table, HybridError> {
+/// [`HybridError::InvalidConfig`] for a space of text columns only.
+pub fn candidates(space: &[(String, SpaceColumn)], seed: u64) -> Result<Candidates, HybridError> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(RANDOM_CANDIDATES); space.len()];
+    let mut cells: Vec<Vec<String>> = vec![Vec::new(); space.len()];
     for _ in 0..RANDOM_CANDIDATES {
         for (j, (_, c)) in space.iter().enumerate() {
             let v = match c {
@@ -104,14 +138,36 @@ pub fn candidates(space: &[(String, SpaceColumn)], seed: u64) -> Result<Table, H
                     lo + s * rng.gen_range(0..=k) as f64
                 }
                 SpaceColumn::Levels(l) => l[rng.gen_range(0..l.len())],
+                SpaceColumn::Text(l) => {
+                    cells[j].push(l[rng.gen_range(0..l.len())].clone());
+                    continue;
+                }
             };
             cols[j].push(v);
         }
     }
-    Ok(Table::new(
-        space.iter().map(|(n, _)| n.clone()).collect(),
-        cols,
-    )?)
+    let mut names = Vec::new();
+    let mut numbers = Vec::new();
+    let mut text = Vec::new();
+    for (((name, c), col), cell) in space.iter().zip(cols).zip(cells) {
+        if matches!(c, SpaceColumn::Text(_)) {
+            text.push((name.clone(), cell));
+        } else {
+            names.push(name.clone());
+            numbers.push(col);
+        }
+    }
+    if names.is_empty() {
+        return Err(HybridError::InvalidConfig(
+            "--space: every column is text; a model reads at least one numeric column, so give \
+             its range"
+                .into(),
+        ));
+    }
+    Ok(Candidates {
+        table: Table::new(names, numbers)?,
+        text,
+    })
 }
 
 #[cfg(test)]
@@ -120,8 +176,8 @@ mod tests {
 
     #[test]
     fn spaces_parse_and_bad_ones_are_named() -> Result<(), HybridError> {
-        let s = parse_space("f=0.05:0.3, v=80:300:20, tool=1|2")?;
-        assert_eq!(s.len(), 3);
+        let s = parse_space("f=0.05:0.3, v=80:300:20, tool=1|2, grade=P10|K20, depth=2")?;
+        assert_eq!(s.len(), 5);
         assert_eq!(
             s[1].1,
             SpaceColumn::Range {
@@ -130,7 +186,29 @@ mod tests {
                 step: Some(20.0)
             }
         );
-        for bad in ["f", "f=3:1", "f=1:2:0", "tool=A|B", "f=1:2,f=2:3", ""] {
+        assert_eq!(s[2].1, SpaceColumn::Levels(vec![1.0, 2.0]));
+        assert_eq!(s[3].1, SpaceColumn::Text(vec!["P10".into(), "K20".into()]));
+        assert_eq!(s[4].1, SpaceColumn::Levels(vec![2.0]));
+        // a text level beside a number keeps the list text; one word fixes a text column
+        assert_eq!(
+            parse_space("tool=A|2")?[0].1,
+            SpaceColumn::Text(vec!["A".into(), "2".into()])
+        );
+        assert_eq!(
+            parse_space("tool=A")?[0].1,
+            SpaceColumn::Text(vec!["A".into()])
+        );
+        for bad in [
+            "f",
+            "f=3:1",
+            "f=1:2:0",
+            "f=1:2,f=2:3",
+            "",
+            "tool=A|",
+            "tool=A||B",
+            "tool=A|A",
+            "f=a:2",
+        ] {
             assert!(parse_space(bad).is_err(), "{bad}");
         }
         Ok(())
@@ -138,10 +216,10 @@ mod tests {
 
     #[test]
     fn candidates_stay_inside_the_space() -> Result<(), HybridError> {
-        let s = parse_space("f=0.05:0.3,v=80:300:20,t=1|2")?;
+        let s = parse_space("f=0.05:0.3,v=80:300:20,t=1|2,tool=A|B|C")?;
         let c = candidates(&s, 7)?;
-        assert_eq!(c.n_rows(), RANDOM_CANDIDATES);
-        let col = |n: &str| c.column(n).map(<[f64]>::to_vec).unwrap_or_default();
+        assert_eq!(c.table.n_rows(), RANDOM_CANDIDATES);
+        let col = |n: &str| c.table.column(n).map(<[f64]>::to_vec).unwrap_or_default();
         assert!(col("f").iter().all(|v| (0.05..=0.3).contains(v)));
         assert!(
             col("v")
@@ -149,7 +227,20 @@ mod tests {
                 .all(|v| ((v - 80.0) / 20.0).fract().abs() < 1e-9 && *v <= 300.0)
         );
         assert!(col("t").iter().all(|v| *v == 1.0 || *v == 2.0));
+        // the text column beside the numbers, every level drawn, nothing else
+        assert_eq!(c.table.names(), ["f", "v", "t"]);
+        assert_eq!(c.text.len(), 1);
+        let (name, cells) = &c.text[0];
+        assert_eq!(name, "tool");
+        assert_eq!(cells.len(), RANDOM_CANDIDATES);
+        for level in ["A", "B", "C"] {
+            let k = cells.iter().filter(|c| *c == level).count();
+            assert!(k > RANDOM_CANDIDATES / 4, "{level}: {k}");
+        }
+        assert!(cells.iter().all(|c| ["A", "B", "C"].contains(&c.as_str())));
         assert_eq!(candidates(&s, 7)?, c, "seeded");
+        // a space of text only has no numeric column to build the candidates on
+        assert!(candidates(&parse_space("tool=A|B")?, 7).is_err());
         Ok(())
     }
 }
