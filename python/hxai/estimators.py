@@ -682,7 +682,8 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     the quantity and for power-law corrections; ``y`` and the physics must be positive); ``delta`` is found
     by symbolic regression on ``features`` (default: every column not in ``exclude``) with
     the search settings. ``form="factors"`` searches the correction as one closed-form
-    factor per column instead (power, linear, exponential, logarithm, pole, saturation;
+    factor per column instead (power, linear, exponential, logarithm, pole, saturation, one
+    harmonic;
     kept only where it lowers the cross-validated error; at most one two-column
     interaction): a product of factors for the multiplicative and log corrections, a sum of
     terms for the additive one; its factors are in ``factors_``. ``joint`` refits physics

@@ -51,7 +51,7 @@ pub(crate) enum FormArg {
     /// Free-form symbolic regression over every feature.
     Free,
     /// One closed-form factor per column (power, linear, exponential, logarithm, pole,
-    /// saturation), kept only where it lowers the cross-validated error, at most one
+    /// saturation, one harmonic), kept only where it lowers the cross-validated error, at most one
     /// two-column interaction: a product of factors (multiplicative, log) or a sum of terms
     /// (additive).
     Factors,

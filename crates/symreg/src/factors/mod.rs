@@ -11,9 +11,10 @@
 //!   log scale, so that `f_p exp(y)` is again the physics times its factors.
 //!
 //! Each factor is a short law of one column ([`Shape`]: power, linear, exponential,
-//! logarithm, one pole, a saturation), of complexity at most 4; an interaction factor is a
-//! product of powers of two columns (complexity 5). No factor holds a transcendental inside
-//! a transcendental.
+//! logarithm, one pole, a saturation, one harmonic `sin(w x + c)` for an effect that
+//! repeats over its column), of complexity at most 4; an interaction factor is a product
+//! of powers of two columns (complexity 5). No factor holds a transcendental inside a
+//! transcendental (so a log correction has no harmonic).
 //!
 //! How the factors are found (the design of issue 46, after InterpretML's Explainable
 //! Boosting Machine, whose shape functions are here closed forms):
@@ -103,7 +104,7 @@ pub struct Shapes(u8);
 
 impl Shapes {
     /// Every shape.
-    pub const ALL: Shapes = Shapes(0x7f);
+    pub const ALL: Shapes = Shapes(0xff);
 
     /// No shape.
     pub const NONE: Shapes = Shapes(0);

@@ -157,6 +157,31 @@ impl<'a> Problem<'a> {
             .find(|f| self.within(f, &best, self.cfg.se_rule))
             .cloned()
             .unwrap_or(best);
+        // a harmonic (three constants, the most flexible one-column shape) must pay as an
+        // interaction must: beat the column's best other shape by `interaction_se` paired
+        // standard errors, or the plainer shape is kept (measured: without it, bootstrap
+        // resamples of issue 46's tables put a sine on columns that carry nothing)
+        let last = |s: &Scored| s.s.terms.last().map(|t| t.shape);
+        if last(&chosen) == Some(Shape::Periodic) {
+            let others: Vec<&Scored> = fits
+                .iter()
+                .filter(|f| last(f) != Some(Shape::Periodic))
+                .collect();
+            if let Some(plain) = others
+                .iter()
+                .min_by(|a, b| a.cv_mean().total_cmp(&b.cv_mean()))
+                .copied()
+                && self.within(plain, &chosen, self.cfg.interaction_se)
+            {
+                let pick = others
+                    .iter()
+                    .find(|f| self.within(f, plain, self.cfg.se_rule))
+                    .copied()
+                    .unwrap_or(plain)
+                    .clone();
+                return Some((pick, fits));
+            }
+        }
         Some((chosen, fits))
     }
 

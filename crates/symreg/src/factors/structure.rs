@@ -129,9 +129,21 @@ impl Structure {
     }
 
     /// Fits every free constant on `cols` (one slice per feature) against `y`, in place;
-    /// returns the mean squared error (`INFINITY` when the model is not finite there, or
-    /// a pole falls inside the rows' range).
+    /// returns the mean squared error (`INFINITY` when the model is not finite there, a
+    /// pole falls inside the rows' range, or a harmonic runs through less than
+    /// [`super::shape::MIN_CYCLES`] periods over them).
     pub fn fit(&mut self, link: Link, cols: &[&[f64]], y: &[f64]) -> f64 {
+        let mse = self.fit_any_period(link, cols, y);
+        if mse.is_finite() && self.harmonic_too_slow(cols) {
+            return f64::INFINITY;
+        }
+        mse
+    }
+
+    /// [`Structure::fit`] without the harmonics' period rule: a fold's refit of a structure
+    /// chosen on every row (a harmonic's period, decided there, may come out a few per cent
+    /// longer on a fold's rows without making it another shape).
+    pub fn fit_any_period(&mut self, link: Link, cols: &[&[f64]], y: &[f64]) -> f64 {
         let w = self.write(link);
         let mut params = w.params.clone();
         let mut ev = Evaluator::new(&w.program);
@@ -149,6 +161,26 @@ impl Structure {
             return f64::INFINITY;
         }
         mse
+    }
+
+    /// Whether a harmonic `sin(w x + c)` runs through less than
+    /// [`super::shape::MIN_CYCLES`] periods over the rows' range of its column: it is then
+    /// a bend (a trend or a hump) that the monotone shapes and the pole write plainer, not
+    /// an effect the rows show repeating.
+    fn harmonic_too_slow(&self, cols: &[&[f64]]) -> bool {
+        use super::shape::{MIN_CYCLES, Shape};
+        self.terms.iter().any(|t| {
+            if t.shape != Shape::Periodic {
+                return false;
+            }
+            let x = cols[t.cols[0]];
+            let (lo, hi) = x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, &v| {
+                (a.0.min(v), a.1.max(v))
+            });
+            let omega = t.params[t.params.len() - 2];
+            (omega.abs() * (hi - lo)).is_nan()
+                || omega.abs() * (hi - lo) < MIN_CYCLES * 2.0 * std::f64::consts::PI
+        })
     }
 
     /// The model's values on `cols` (`n` rows).
@@ -241,7 +273,7 @@ impl Folds {
         for f in &self.folds {
             let mut t = s.clone();
             let tc: Vec<&[f64]> = f.train_cols.iter().map(Vec::as_slice).collect();
-            if !t.fit(link, &tc, &f.train_y).is_finite() {
+            if !t.fit_any_period(link, &tc, &f.train_y).is_finite() {
                 continue;
             }
             let hc: Vec<&[f64]> = f.test_cols.iter().map(Vec::as_slice).collect();

@@ -14,7 +14,9 @@
 //!
 //! Only shapes whose operators the user allowed are tried: `exp` for the exponential, `log`
 //! for the logarithm, `div` or `inverse` for the pole and the saturation. The power `x^p`
-//! itself is the primitive this setting turns on.
+//! itself is the primitive this setting turns on. The harmonic of the hybrid's factor form
+//! is not offered here: the search reaches `sin(w x + c)` by itself, and a plain search's
+//! defaults were measured without it (docs/benchmarks.md, "Laws in small real tables").
 use super::archive::Fitted;
 use super::config::ErrorModel;
 use super::fitting::{Problem, refitted};
