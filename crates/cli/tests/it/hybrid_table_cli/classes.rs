@@ -106,23 +106,9 @@ fn per_class_constants_give_one_line_per_level() -> TestResult {
     // of settings with the text column; every run inside the space, each `predicted` what
     // `hybrid predict` gives at its settings (so the level indicators are the model's)
     let next = dir.join("next.csv");
-    ok(
-        &hxai(&[
-            "hybrid",
-            "design",
-            "--model",
-            s(&model),
-            "--space",
-            "temp=-1:10,insul=After|Before",
-            "--n",
-            "6",
-            "--goal",
-            "coverage",
-            "--out",
-            s(&next),
-        ])?,
-        "design over levels",
-    );
+    let mut a = design_args(&model, "temp=-1:10,insul=After|Before", "6", &next);
+    a.extend(["--goal", "coverage"]);
+    ok(&hxai(&a)?, "design over levels");
     let text = std::fs::read_to_string(&next)?;
     assert!(
         text.starts_with("temp,insul,predicted,spread,reason\n"),
@@ -167,21 +153,9 @@ fn per_class_constants_give_one_line_per_level() -> TestResult {
     let feasible = dir.join("feasible.csv");
     std::fs::write(&feasible, "insul,temp\nBefore,2\nAfter,2\nAfter,8\n")?;
     let next2 = dir.join("next2.csv");
-    let o = hxai(&[
-        "hybrid",
-        "design",
-        "--model",
-        s(&model),
-        "--space",
-        s(&feasible),
-        "--n",
-        "2",
-        "--goal",
-        "coverage",
-        "--out",
-        s(&next2),
-        "--json",
-    ])?;
+    let mut a = design_args(&model, s(&feasible), "2", &next2);
+    a.extend(["--goal", "coverage", "--json"]);
+    let o = hxai(&a)?;
     ok(&o, "design from a CSV with levels");
     let doc: serde_json::Value = serde_json::from_slice(&o.stdout)?;
     for run in doc["runs"].as_array().ok_or("runs")? {
@@ -205,18 +179,7 @@ fn per_class_constants_give_one_line_per_level() -> TestResult {
         ("temp=0:5,insul=Before|Sideways", "\"Sideways\""),
         ("temp=0:5", "`insul`"),
     ] {
-        let o = hxai(&[
-            "hybrid",
-            "design",
-            "--model",
-            s(&model),
-            "--space",
-            space,
-            "--n",
-            "2",
-            "--out",
-            s(&none),
-        ])?;
+        let o = hxai(&design_args(&model, space, "2", &none))?;
         assert_eq!(o.status.code(), Some(1), "{space}");
         let err = common::stderr(&o);
         assert!(err.contains(needle), "{space}: {err}");

@@ -85,6 +85,23 @@ fn predict_args<'a>(model: &'a Path, data: &'a Path, out: &'a Path) -> Vec<&'a s
     ]
 }
 
+/// `hxai hybrid design` with `model` over `space` for `n` runs, writing `out`; callers
+/// append flags.
+fn design_args<'a>(model: &'a Path, space: &'a str, n: &'a str, out: &'a Path) -> Vec<&'a str> {
+    vec![
+        "hybrid",
+        "design",
+        "--model",
+        s(model),
+        "--space",
+        space,
+        "--n",
+        n,
+        "--out",
+        s(out),
+    ]
+}
+
 #[test]
 fn fit_predict_evaluate_follow_the_contract() -> TestResult {
     let (dir, data) = scratch_table("contract", 160)?;

@@ -195,21 +195,9 @@ fn design_proposes_runs_inside_the_space() -> TestResult {
     fit.extend(["--exclude", "batch,d"]);
     ok(&hxai(&fit)?, "fit");
     let next = dir.join("next.csv");
-    let o = hxai(&[
-        "hybrid",
-        "design",
-        "--model",
-        s(&model),
-        "--space",
-        "f=0.05:0.4,r=0.4:1.6:0.4,v=50:400",
-        "--n",
-        "4",
-        "--goal",
-        "coverage",
-        "--out",
-        s(&next),
-        "--json",
-    ])?;
+    let mut a = design_args(&model, "f=0.05:0.4,r=0.4:1.6:0.4,v=50:400", "4", &next);
+    a.extend(["--goal", "coverage", "--json"]);
+    let o = hxai(&a)?;
     ok(&o, "design");
     let doc: serde_json::Value = serde_json::from_slice(&o.stdout)?;
     assert_eq!(doc["goal"], "coverage");
@@ -234,19 +222,9 @@ fn design_proposes_runs_inside_the_space() -> TestResult {
     let feasible = dir.join("feasible.csv");
     std::fs::write(&feasible, "f,r,v\n0.1,0.8,100\n0.2,0.8,200\n0.3,1.2,300\n")?;
     let next2 = dir.join("next2.csv");
-    let o = hxai(&[
-        "hybrid",
-        "design",
-        "--model",
-        s(&model),
-        "--space",
-        s(&feasible),
-        "--n",
-        "2",
-        "--out",
-        s(&next2),
-        "--json",
-    ])?;
+    let mut a = design_args(&model, s(&feasible), "2", &next2);
+    a.push("--json");
+    let o = hxai(&a)?;
     ok(&o, "design from a CSV");
     // the default goal, discriminate, needs alternatives; without them it is precision
     // (the model has a covariance), with a note
@@ -282,18 +260,7 @@ fn design_proposes_runs_inside_the_space() -> TestResult {
         ("f=0.4:0.05,r=1:2,v=1:2", "2"),
         ("f=0.05:0.4,r=0.4:1.6,v=50:400", "0"),
     ] {
-        let o = hxai(&[
-            "hybrid",
-            "design",
-            "--model",
-            s(&model),
-            "--space",
-            space,
-            "--n",
-            n,
-            "--out",
-            s(&none),
-        ])?;
+        let o = hxai(&design_args(&model, space, n, &none))?;
         assert_eq!(o.status.code(), Some(1), "{space} {n}");
         assert!(!none.exists());
     }
