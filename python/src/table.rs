@@ -79,23 +79,8 @@ fn with_levels(
     table: &mut hxai_symreg::Table,
     levels: Option<BTreeMap<String, Vec<String>>>,
 ) -> PyResult<()> {
-    let levels = levels.unwrap_or_default();
-    let cells_of = |column: &str, what: &str| {
-        levels.get(column).ok_or_else(|| {
-            pyo3::exceptions::PyValueError::new_err(format!(
-                "the model's {what} has constants per level of `{column}`: X needs that column"
-            ))
-        })
-    };
-    if let Some(cp) = &model.correction_per {
-        let cells = cells_of(&cp.column, "correction")?;
-        hxai_hybrid::tables::correction_per::add_indicators(cp, table, cells).map_err(err)?;
-    }
-    if let Some(pc) = &model.per_class {
-        let cells = cells_of(&pc.column, "physics")?;
-        hxai_hybrid::tables::per_class::add_indicators(pc, table, cells).map_err(err)?;
-    }
-    Ok(())
+    let text: Vec<(String, Vec<String>)> = levels.unwrap_or_default().into_iter().collect();
+    model.add_levels(table, &text).map_err(err)
 }
 
 fn default_conformal_folds() -> usize {
@@ -298,9 +283,7 @@ pub(crate) fn table_design(
     seed: u64,
     levels: Option<BTreeMap<String, Vec<String>>>,
 ) -> PyResult<String> {
-    use hxai_hybrid::tables::design::{
-        Candidates, DesignGoal, add_text_levels, candidates, design, parse_space,
-    };
+    use hxai_hybrid::tables::design::{Candidates, DesignGoal, candidates, design, parse_space};
     let model = TableModel::from_json(model_json).map_err(err)?;
     let goal = match goal {
         "discriminate" => DesignGoal::Discriminate,
@@ -325,7 +308,7 @@ pub(crate) fn table_design(
         }
     };
     let names: Vec<String> = table.names().to_vec();
-    add_text_levels(&model, &mut table, &text).map_err(err)?;
+    model.add_levels(&mut table, &text).map_err(err)?;
     let p = py.detach(|| design(&model, &table, n, goal)).map_err(err)?;
     let numeric: Vec<&[f64]> = names.iter().filter_map(|c| table.column(c)).collect();
     let picked_text: BTreeMap<&str, Vec<&str>> = text

@@ -1,9 +1,7 @@
 //! `hxai hybrid design`: the settings of the next runs (issue 49, first part;
 //! `hxai_hybrid::tables::design`).
 use anyhow::{Context, Result};
-use hxai_hybrid::tables::design::{
-    Candidates, DesignGoal, add_text_levels, candidates, design, parse_space,
-};
+use hxai_hybrid::tables::design::{Candidates, DesignGoal, candidates, design, parse_space};
 use std::path::PathBuf;
 
 /// What the next runs should settle.
@@ -71,8 +69,13 @@ pub(crate) fn run(a: DesignArgs) -> Result<()> {
     };
     // the settings as given (numbers, then text), before the model's level indicators
     let numeric_names: Vec<String> = table.names().to_vec();
-    add_text_levels(&model, &mut table, &text)
-        .with_context(|| format!("cannot design runs over the space {}", a.space))?;
+    model.add_levels(&mut table, &text).with_context(|| {
+        format!(
+            "cannot design runs over the space {} (give a level column as `COL=A|B` or a \
+             column of the settings)",
+            a.space
+        )
+    })?;
     let goal = match a.goal {
         GoalArg::Discriminate => DesignGoal::Discriminate,
         GoalArg::Coverage => DesignGoal::Coverage,
@@ -91,9 +94,13 @@ pub(crate) fn run(a: DesignArgs) -> Result<()> {
             p.goal.name()
         )]);
     }
+    // the settings' numeric columns (not the level indicators added for the model)
+    let numeric: Vec<(&String, &[f64])> = numeric_names
+        .iter()
+        .filter_map(|n| table.column(n).map(|c| (n, c)))
+        .collect();
     let mut t = hxai_data::MixedTable::default();
-    for name in &numeric_names {
-        let col = table.column(name).unwrap_or_default();
+    for &(name, col) in &numeric {
         t.push(
             name,
             hxai_data::Column::Number(p.rows.iter().map(|&i| col[i]).collect()),
@@ -116,8 +123,7 @@ pub(crate) fn run(a: DesignArgs) -> Result<()> {
             "n_candidates": p.n_candidates,
             "runs": p.rows.iter().enumerate().map(|(k, &i)| {
                 let mut settings = serde_json::Map::new();
-                for name in &numeric_names {
-                    let col = table.column(name).unwrap_or_default();
+                for &(name, col) in &numeric {
                     settings.insert(name.clone(), serde_json::json!(col[i]));
                 }
                 for (name, cells) in &text {

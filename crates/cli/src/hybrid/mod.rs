@@ -136,25 +136,7 @@ fn level_cells(view: &NumericView, col: &str) -> Result<Vec<String>> {
 /// Adds the level indicators of a model with per-class constants to a table read for it
 /// (refusing a level it never saw).
 pub(crate) fn add_levels(model: &TableModel, view: &mut NumericView) -> Result<()> {
-    if let Some(cp) = &model.correction_per {
-        let cells = level_cells(view, &cp.column).with_context(|| {
-            format!(
-                "the model's correction has constants per level of `{}`",
-                cp.column
-            )
-        })?;
-        tables::correction_per::add_indicators(cp, &mut view.table, &cells)?;
-    }
-    if let Some(pc) = &model.per_class {
-        let cells = level_cells(view, &pc.column).with_context(|| {
-            format!(
-                "the model's physics has constants per level of `{}`",
-                pc.column
-            )
-        })?;
-        tables::per_class::add_indicators(pc, &mut view.table, &cells)?;
-    }
-    Ok(())
+    Ok(model.add_levels(&mut view.table, &view.text)?)
 }
 
 /// [`read_for`] with the empty cells of the columns `model` reads resolved by `policy`:

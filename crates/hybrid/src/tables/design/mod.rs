@@ -30,7 +30,7 @@
 //! The space (ranges or a CSV of settings) and its candidates are `space`'s. A model with
 //! constants per level of a text column (`--calibrate-per`, `--correction-per`) is designed
 //! over that column's levels too (`tool=A|B`, or the text column of a CSV of settings):
-//! [`add_text_levels`] gives the candidates the model's level indicators, which the
+//! [`TableModel::add_levels`] gives the candidates the model's level indicators, which the
 //! distances count like any other input scaled to its range. Not built yet: each
 //! alternative's own prediction variance in the weighting.
 
@@ -91,43 +91,6 @@ pub struct Proposal {
     pub equations: Vec<(String, Vec<f64>)>,
     /// Candidates considered.
     pub n_candidates: usize,
-}
-
-/// Appends to `table` the indicator columns of the levels `model` has constants for (of its
-/// physics, `per_class`, or its correction, `correction_per`), from the cells of each such
-/// text column in `text` (or of a numeric column of `table`, its numbers as written, as
-/// `hxai hybrid predict` reads them). Nothing to do for a model without per-level constants.
-///
-/// # Errors
-/// [`HybridError::InvalidConfig`] for a level column the settings lack, or a level the
-/// model was not fitted on (naming it and the levels known).
-pub fn add_text_levels(
-    model: &TableModel,
-    table: &mut Table,
-    text: &[(String, Vec<String>)],
-) -> Result<(), HybridError> {
-    let cells_of = |table: &Table, column: &str, what: &str| -> Result<Vec<String>, HybridError> {
-        if let Some((_, cells)) = text.iter().find(|(n, _)| n == column) {
-            return Ok(cells.iter().map(|c| c.trim().to_string()).collect());
-        }
-        match table.column(column) {
-            Some(v) => Ok(v.iter().map(|x| x.to_string()).collect()),
-            None => Err(HybridError::InvalidConfig(format!(
-                "the model's {what} has constants per level of `{column}`, which the space \
-                 does not give: add `{column}=A|B` (its levels) or a `{column}` column of \
-                 settings"
-            ))),
-        }
-    };
-    if let Some(cp) = &model.correction_per {
-        let cells = cells_of(table, &cp.column, "correction")?;
-        super::correction_per::add_indicators(cp, table, &cells)?;
-    }
-    if let Some(pc) = &model.per_class {
-        let cells = cells_of(table, &pc.column, "physics")?;
-        super::per_class::add_indicators(pc, table, &cells)?;
-    }
-    Ok(())
 }
 
 /// Picks `n` rows of `candidates` (every input column of `model`) for `goal`.

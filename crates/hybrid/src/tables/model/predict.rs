@@ -22,6 +22,49 @@ impl TableModel {
         )
     }
 
+    /// Appends to `table` the indicator columns of the levels the model has constants for
+    /// (of its physics, `per_class`, or its correction, `correction_per`), from the cells
+    /// of each such column in `text` (trimmed), or of a numeric column of `table` (its
+    /// numbers as written). Nothing to do for a model without per-level constants.
+    ///
+    /// # Errors
+    /// [`HybridError::InvalidConfig`] for a level column the rows lack, or a level the
+    /// model was not fitted on (naming the row, the level and the levels known).
+    pub fn add_levels(
+        &self,
+        table: &mut Table,
+        text: &[(String, Vec<String>)],
+    ) -> Result<(), HybridError> {
+        let cells_of = |table: &Table, column: &str, what: &str| {
+            if let Some((_, cells)) = text.iter().find(|(n, _)| n == column) {
+                return Ok(cells.iter().map(|c| c.trim().to_string()).collect());
+            }
+            match table.column(column) {
+                Some(v) => Ok(v.iter().map(|x| x.to_string()).collect::<Vec<String>>()),
+                None => Err(HybridError::InvalidConfig(format!(
+                    "the model's {what} has constants per level of `{column}`, which the rows \
+                     do not give (their columns: {})",
+                    table
+                        .names()
+                        .iter()
+                        .chain(text.iter().map(|(n, _)| n))
+                        .cloned()
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))),
+            }
+        };
+        if let Some(cp) = &self.correction_per {
+            let cells = cells_of(table, &cp.column, "correction")?;
+            crate::tables::correction_per::add_indicators(cp, table, &cells)?;
+        }
+        if let Some(pc) = &self.per_class {
+            let cells = cells_of(table, &pc.column, "physics")?;
+            crate::tables::per_class::add_indicators(pc, table, &cells)?;
+        }
+        Ok(())
+    }
+
     /// Physics, correction and hybrid for every row of `table` (the target is not needed;
     /// extra columns are ignored).
     ///
