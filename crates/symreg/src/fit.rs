@@ -155,6 +155,13 @@ pub struct LmSettings {
     pub retries: usize,
     /// The damping `lambda` never falls below this after an accepted step.
     pub lambda_floor: f64,
+    /// How the normal equations' diagonal is kept positive. `false` (the search's): each
+    /// diagonal entry `d` gets `1e-12 (1 + d)`, an absolute floor that also damps an
+    /// unknown whose curvature is below `1e-12` in the target's units. `true` (the
+    /// calibration's): `1e-12 d` and the smallest positive number, so an unknown's step does
+    /// not depend on its units (an activation energy of 3e5 J/mol on rates of 1e-8/s, whose
+    /// curvature is 1e-21, moves as freely as a prefactor).
+    pub scale_free_floor: bool,
 }
 
 impl LmSettings {
@@ -166,6 +173,7 @@ impl LmSettings {
             tol,
             retries: 8,
             lambda_floor: 1e-10,
+            scale_free_floor: false,
         }
     }
 }
@@ -204,7 +212,11 @@ pub fn levenberg_marquardt(
             a.copy_from_slice(&jtj);
             for i in 0..m {
                 let d = jtj[i * m + i];
-                a[i * m + i] = d * (1.0 + lambda) + 1e-12 * (1.0 + d);
+                a[i * m + i] = if settings.scale_free_floor {
+                    d * (1.0 + lambda + 1e-12) + f64::MIN_POSITIVE
+                } else {
+                    d * (1.0 + lambda) + 1e-12 * (1.0 + d)
+                };
             }
             for i in 0..m {
                 delta[i] = -jtr[i];

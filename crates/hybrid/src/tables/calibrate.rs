@@ -13,7 +13,9 @@ use hxai_symreg::fit::{LmSettings, Unknowns, cholesky_solve, levenberg_marquardt
 /// updating `params` in place; returns the final mean squared error (`INFINITY` when the
 /// model is not finite on the data at the start). The calibration keeps its own damping
 /// settings (12 damping increases per iteration, damping floor `1e-12`, where the search
-/// uses 8 and `1e-10`), so its results are those it had before it shared the optimiser.
+/// uses 8 and `1e-10`), and a diagonal floor relative to each unknown's own curvature
+/// ([`LmSettings::scale_free_floor`]): physics constants come in the units of the law, and
+/// an absolute floor left an Arrhenius energy at its starting value.
 pub(crate) fn lm_tied(
     prog: &Program,
     params: &mut [f64],
@@ -26,6 +28,7 @@ pub(crate) fn lm_tied(
     let settings = LmSettings {
         retries: 12,
         lambda_floor: 1e-12,
+        scale_free_floor: true,
         ..LmSettings::new(max_iter, tol)
     };
     let mut ev = Evaluator::new(prog);
