@@ -89,6 +89,11 @@ pub struct FactorConfig {
     /// an interaction is searched among every pair of columns, so it must pay more than a
     /// main effect).
     pub interaction_se: f64,
+    /// Rounds of backfitting after each factor enters (default 2): every one-column
+    /// factor's shape is chosen again, by the same rule, with the other factors in the
+    /// model. A shape chosen when the column entered first was chosen against a residual
+    /// that still held every other effect; 0 keeps the shapes of the entry.
+    pub backfit_rounds: usize,
     /// The shapes a factor may take (default all; `hxai sr`'s power-law candidates leave
     /// out the shapes whose operators the user did not allow).
     pub shapes: Shapes,
@@ -129,6 +134,7 @@ impl Default for FactorConfig {
             interactions: 1,
             se_rule: 1.0,
             interaction_se: 2.0,
+            backfit_rounds: 2,
             shapes: Shapes::ALL,
             seed: 42,
             par: Par::Current,

@@ -469,3 +469,69 @@ fn a_periodic_effect_is_one_harmonic() {
         "the distractor entered {distractor} of 10 times"
     );
 }
+
+/// Backfitting: a shape is chosen again once the other factors are in. Archard-like wear
+/// with the truth `2 v^0.4 exp(-T/150)` and 12 % log-normal scatter, 320 rows, a
+/// distractor `h`, over 10 noise draws. The temperature's effect, chosen alone, is as well
+/// a line as an exponential (within one standard error while the speed's effect is still
+/// in the residual); chosen again beside the speed factor it is the exponential. Asserted:
+/// the temperature's factor is an exponential and the speed's a power law, with no
+/// interaction, on at least 8 of the 10 draws, and the exponential's rate inside its 95 %
+/// interval on at least 7. Measured: with backfitting 9 of 10 draws give the true shapes,
+/// all 9 with the rate covered; without it (`backfit_rounds: 0`) 4 of 10, the others a
+/// line in the temperature and, on four, an interaction `1 + a T^0.5 ...` standing in
+/// for the exponential.
+#[test]
+fn a_shape_is_chosen_again_beside_the_other_factors() {
+    let n = 320;
+    let mut hits = 0;
+    let mut covered = 0;
+    for draw in 0..10u64 {
+        let t = columns(
+            n,
+            &[("v", 0.1, 2.0), ("T", 20.0, 200.0), ("h", 20.0, 80.0)],
+            40 + draw,
+        );
+        let mut rng = ChaCha8Rng::seed_from_u64(200 + draw);
+        let y: Vec<f64> = (0..n)
+            .map(|i| {
+                let truth = 2.0 * col(&t, "v")[i].powf(0.4) * (-col(&t, "T")[i] / 150.0).exp();
+                truth * (0.12 * normal(&mut rng)).exp() - 1.0
+            })
+            .collect();
+        let fit = fit_factors(&t, &y, Link::Multiplicative, &FactorConfig::default()).expect("fit");
+        let mut got: Vec<(Option<String>, Shape)> = fit
+            .factors
+            .iter()
+            .filter(|f| f.column.as_deref() != Some("h"))
+            .map(|f| (f.column.clone(), f.shape))
+            .collect();
+        got.sort_by(|a, b| a.0.cmp(&b.0));
+        if got
+            != [
+                (Some("T".into()), Shape::Exp),
+                (Some("v".into()), Shape::Power),
+            ]
+        {
+            continue;
+        }
+        hits += 1;
+        let k = fit
+            .factors
+            .iter()
+            .position(|f| f.shape == Shape::Exp)
+            .expect("exp");
+        let at = offsets(&fit, Link::Multiplicative)[k];
+        let unc = fit.model.uncertainty(&t, &y).expect("uncertainty");
+        let ci = unc
+            .params
+            .iter()
+            .zip(&unc.slots)
+            .find(|(_, s)| s.as_slice() == [at])
+            .and_then(|((_, e), _)| e.ci95)
+            .expect("an interval");
+        covered += usize::from(ci[0] <= -1.0 / 150.0 && -1.0 / 150.0 <= ci[1]);
+    }
+    assert!(hits >= 8, "the true shapes on {hits} of 10 draws");
+    assert!(covered >= 7, "the rate covered on {covered} of 10 draws");
+}
