@@ -96,6 +96,10 @@ pub(super) fn factor_models(problem: &Problem, ops: &[Op], nesting: &NestingRule
         shapes: shapes(ops),
         seed: problem.cfg.seed,
         par: problem.cfg.par,
+        // the shapes of the entry: backfitting was measured on the hybrid's factor form
+        // (issue 46's tables), not on `hxai sr`'s suites, whose figures these candidates
+        // were measured with
+        backfit_rounds: 0,
         ..FactorConfig::default()
     };
     let mut out = Vec::new();
