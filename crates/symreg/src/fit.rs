@@ -162,6 +162,10 @@ pub struct LmSettings {
     /// not depend on its units (an activation energy of 3e5 J/mol on rates of 1e-8/s, whose
     /// curvature is 1e-21, moves as freely as a prefactor).
     pub scale_free_floor: bool,
+    /// Whether every value of the model must stay above zero (where it is at the start): a
+    /// step after which one is not is refused as if it raised the error. The calibration
+    /// of a physics under a log correction sets it, since `ln(y / f_p)` needs `f_p > 0`.
+    pub keep_positive: bool,
 }
 
 impl LmSettings {
@@ -174,6 +178,7 @@ impl LmSettings {
             retries: 8,
             lambda_floor: 1e-10,
             scale_free_floor: false,
+            keep_positive: false,
         }
     }
 }
@@ -205,6 +210,12 @@ pub fn levenberg_marquardt(
         // loss may still be finite
         return ev.mse(prog, params, cols, y);
     }
+    let mut values = Vec::new();
+    let mut positive = |ev: &mut Evaluator, p: &[f64]| {
+        ev.predict(prog, p, cols, y.len(), &mut values);
+        values.iter().all(|&v| v > 0.0)
+    };
+    let keep_positive = settings.keep_positive && positive(ev, params);
     let mut lambda = 1e-3;
     for _ in 0..settings.max_iter {
         let mut accepted = false;
@@ -227,7 +238,10 @@ pub fn levenberg_marquardt(
             }
             trial.copy_from_slice(params);
             unknowns.apply(&mut trial, &delta);
-            let new = ev.mse(prog, &trial, cols, y);
+            let mut new = ev.mse(prog, &trial, cols, y);
+            if keep_positive && new < mse && !positive(ev, &trial) {
+                new = f64::INFINITY;
+            }
             if new < mse {
                 params.copy_from_slice(&trial);
                 lambda = (lambda * 0.2).max(settings.lambda_floor);

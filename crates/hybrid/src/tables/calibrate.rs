@@ -9,28 +9,32 @@ use hxai_symreg::Program;
 use hxai_symreg::eval::{Evaluator, Inputs};
 use hxai_symreg::fit::{LmSettings, Unknowns, cholesky_solve, levenberg_marquardt};
 
-/// Fits the unknowns (each a group of tied parameter indices) by Levenberg-Marquardt,
-/// updating `params` in place; returns the final mean squared error (`INFINITY` when the
-/// model is not finite on the data at the start). The calibration keeps its own damping
-/// settings (12 damping increases per iteration, damping floor `1e-12`, where the search
-/// uses 8 and `1e-10`), and a diagonal floor relative to each unknown's own curvature
-/// ([`LmSettings::scale_free_floor`]): physics constants come in the units of the law, and
-/// an absolute floor left an Arrhenius energy at its starting value.
+/// The calibration's Levenberg-Marquardt settings: at most `max_iter` steps, stop below a
+/// relative gain of `tol`, 12 damping increases per iteration and a damping floor of
+/// `1e-12` (where the search uses 8 and `1e-10`), and a diagonal floor relative to each
+/// unknown's own curvature ([`LmSettings::scale_free_floor`]): physics constants come in
+/// the units of the law, and an absolute floor left an Arrhenius energy at its starting
+/// value. Set [`LmSettings::keep_positive`] where the model must stay above zero.
+pub(crate) fn settings(max_iter: usize, tol: f64) -> LmSettings {
+    LmSettings {
+        retries: 12,
+        lambda_floor: 1e-12,
+        scale_free_floor: true,
+        ..LmSettings::new(max_iter, tol)
+    }
+}
+
+/// Fits the unknowns (each a group of tied parameter indices) by Levenberg-Marquardt with
+/// `settings` (normally [`settings`]), updating `params` in place; returns the final mean
+/// squared error (`INFINITY` when the model is not finite on the data at the start).
 pub(crate) fn lm_tied(
     prog: &Program,
     params: &mut [f64],
     groups: &[Vec<usize>],
     cols: &[&[f64]],
     y: &[f64],
-    max_iter: usize,
-    tol: f64,
+    settings: &LmSettings,
 ) -> f64 {
-    let settings = LmSettings {
-        retries: 12,
-        lambda_floor: 1e-12,
-        scale_free_floor: true,
-        ..LmSettings::new(max_iter, tol)
-    };
     let mut ev = Evaluator::new(prog);
     levenberg_marquardt(
         prog,
@@ -38,7 +42,7 @@ pub(crate) fn lm_tied(
         Unknowns::Tied(groups),
         cols,
         y,
-        &settings,
+        settings,
         &mut ev,
     )
 }

@@ -110,7 +110,14 @@ fn fold_fit(
         let y_rows = gather(y, rows);
         let before = Evaluator::new(&c.program).mse(&c.program, &c.params, &cols, &y_rows);
         let mut trial = c.params.clone();
-        let after = calibrate::lm_tied(&c.program, &mut trial, &groups, &cols, &y_rows, 200, 1e-15);
+        let after = calibrate::lm_tied(
+            &c.program,
+            &mut trial,
+            &groups,
+            &cols,
+            &y_rows,
+            &calibrate::settings(200, 1e-15),
+        );
         if after.is_finite() && after <= before {
             // as `refit_constants`: the step is halved until the hybrid is finite on every
             // row where it was (the fold's held-out rows among them; features only)

@@ -429,7 +429,14 @@ fn joint_refit(
     let cols: Vec<Vec<f64>> = all.iter().map(|col| gather(col, &split.train)).collect();
     let cols: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
     let mut trial = c.params.clone();
-    let mse = calibrate::lm_tied(&c.program, &mut trial, &groups, &cols, y_train, 200, 1e-15);
+    let mse = calibrate::lm_tied(
+        &c.program,
+        &mut trial,
+        &groups,
+        &cols,
+        y_train,
+        &calibrate::settings(200, 1e-15),
+    );
     if mse.is_finite() && mse.sqrt() <= before {
         let se = calibrate::standard_errors(&c.program, &trial, &groups, &cols, y_train);
         c.params = trial;

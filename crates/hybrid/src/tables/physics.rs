@@ -6,6 +6,7 @@ use super::resolve::Resolved;
 use super::{CorrectionForm, TableConfig, calibrate};
 use crate::HybridError;
 use hxai_symreg::Table;
+use hxai_symreg::fit::LmSettings;
 use hxai_symreg::infix::Compiled;
 use std::collections::BTreeMap;
 
@@ -53,8 +54,13 @@ pub(crate) fn calibrate_physics(
             &groups,
             &cols,
             &y,
-            500,
-            1e-15,
+            &LmSettings {
+                // a log correction needs the physics above zero on every row: a step of
+                // an Arrhenius energy into the region where the law underflows to 0 is
+                // refused
+                keep_positive: cfg.correction == CorrectionForm::Log,
+                ..calibrate::settings(500, 1e-15)
+            },
         );
         let se = calibrate::standard_errors(&phys.program, &phys.params, &groups, &cols, &y);
         for (n, s) in res.calibrate.iter().zip(se) {
