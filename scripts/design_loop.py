@@ -33,6 +33,9 @@ the start, after `--add` runs chosen by `hxai hybrid design --goal discriminate`
     python3 scripts/design_loop.py --hxai target/release/hxai --out DIR [--seeds 10]
         [--goal precision|discriminate] [--stability 20]
 
+A fit `hxai hybrid fit` refuses (a correction with no value on a row, say) is left out of
+the medians and named at the end; a refused start fit leaves its seed out.
+
 Needs numpy. Writes only under DIR. Not run here: the Latin hypercube and coverage arms of
 the discriminate goal (see docs/benchmarks.md).
 """
@@ -50,10 +53,17 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import heldout_processes as hp  # noqa: E402
 
 
-def run(cmd):
+class FitFailed(Exception):
+    """`hxai hybrid fit` refused a table (its message is the exception's)."""
+
+
+def run(cmd, tolerate=False):
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
-        raise SystemExit(f"failed: {' '.join(cmd)}\n{p.stderr.strip()}")
+        msg = f"failed: {' '.join(cmd)}\n{p.stderr.strip()}"
+        if tolerate:
+            raise FitFailed(msg)
+        raise SystemExit(msg)
     return p.stdout
 
 
@@ -99,7 +109,7 @@ def hybrid_fit(a, spec, table, model, *extra):
     run([a.hxai, "hybrid", "fit", "--data", str(table), "--target", spec["target"],
          "--physics", spec["physics"], "--calibrate", spec["calibrate"], "--init", spec["init"],
          "--correction", spec["correction"], "--test-fraction", "0.02", "--seed", "42",
-         *extra, "--threads", str(a.threads), "--out", str(model)])
+         *extra, "--threads", str(a.threads), "--out", str(model)], tolerate=True)
     return json.loads(Path(model).read_text())
 
 
@@ -221,6 +231,7 @@ def main():
           "designed narrower than random |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     rmse_rows = []
+    failures = []
     for name, (_, measure, spec) in hp.SPECS.items():
         if a.only and name not in a.only.split(","):
             continue
@@ -228,9 +239,13 @@ def main():
         rmses = {k: [] for k in widths}
         for seed in range(a.seeds):
             rng = np.random.default_rng(1000 + seed)
-            base, designed, started = start_and_design(
-                a, out, name, seed, measure, spec, rng, "precision",
-                lambda t, m: fit(a, spec, t, m))
+            try:
+                base, designed, started = start_and_design(
+                    a, out, name, seed, measure, spec, rng, "precision",
+                    lambda t, m: fit(a, spec, t, m))
+            except FitFailed as e:
+                failures.append(f"{name} seed {seed}, start (the seed is left out): {e}")
+                continue
             widths["start"].append(started)
             randoms = uniform(spec["space"], a.add, rng)
             randoms[spec["target"]] = measure(randoms, rng)
@@ -254,25 +269,36 @@ def main():
                 t = out / f"{name}-{seed}-{arm}.csv"
                 hp.write_csv(t, joined(base, extra))
                 m = out / f"{name}-{seed}-{arm}.json"
-                widths[arm].append(fit(a, spec, t, m))
-                rmses[arm].append(test_rmse(a, m, fresh_csv, y_fresh, pred_csv))
+                try:
+                    widths[arm].append(fit(a, spec, t, m))
+                    rmses[arm].append(test_rmse(a, m, fresh_csv, y_fresh, pred_csv))
+                except FitFailed as e:
+                    # a refused fit counts as missing (NaN), named at the end
+                    failures.append(f"{name} seed {seed}, {arm}: {e}")
+                    widths[arm].append({p: float("nan") for p in started})
+                    rmses[arm].append(float("nan"))
         for p in widths["start"][0]:
             w0 = np.array([w[p] for w in widths["start"]])
             wd = np.array([w[p] for w in widths["precision"]])
             wr = np.array([w[p] for w in widths["random"]])
             wl = np.array([w[p] for w in widths["lhs"]])
             wc = np.array([w[p] for w in widths["coverage"]])
-            print(f"| {name} | {p} | {np.median(w0):.4g} | {np.median(wd):.4g} | "
-                  f"{np.median(wr):.4g} | {np.median(wl):.4g} | {np.median(wc):.4g} | "
-                  f"{np.median(wd / wr):.2f} | {np.median(wd / wl):.2f} | "
-                  f"{np.mean(wd < wr):.0%} |", flush=True)
+            both = np.isfinite(wd) & np.isfinite(wr)
+            print(f"| {name} | {p} | {np.nanmedian(w0):.4g} | {np.nanmedian(wd):.4g} | "
+                  f"{np.nanmedian(wr):.4g} | {np.nanmedian(wl):.4g} | {np.nanmedian(wc):.4g} | "
+                  f"{np.nanmedian(wd / wr):.2f} | {np.nanmedian(wd / wl):.2f} | "
+                  f"{np.mean(wd[both] < wr[both]):.0%} |", flush=True)
         rmse_rows.append(f"| {name} | " + " | ".join(
-            f"{np.median(rmses[k]):.4g}" for k in ("start", "precision", "random", "lhs",
-                                                     "coverage")) + " |")
+            f"{np.nanmedian(rmses[k]):.4g}" for k in ("start", "precision", "random", "lhs",
+                                                        "coverage")) + " |")
     print(f"\n| process | test RMSE after {a.start} (2,000 fresh runs, median) | "
           f"+{a.add} designed | +{a.add} random | +{a.add} LHS | +{a.add} coverage |")
     print("|---|---:|---:|---:|---:|---:|")
     print("\n".join(rmse_rows))
+    if failures:
+        print(f"\n{len(failures)} fit(s) refused, left out of the medians above:")
+        for f in failures:
+            print("- " + f.replace("\n", " / "))
 
 
 if __name__ == "__main__":
