@@ -193,11 +193,15 @@ impl<'a> Problem<'a> {
     /// error of the exponential while the speed's effect was still in the residual), and
     /// an interaction then stood in for its true exponential shape.
     fn backfit(&self, mut cur: Scored) -> Scored {
+        // one factor alone was chosen against the empty model already
+        if cur.s.terms.len() < 2 {
+            return cur;
+        }
         for _ in 0..self.cfg.backfit_rounds {
             let mut changed = false;
             for i in 0..cur.s.terms.len() {
                 let (shape, c) = (cur.s.terms[i].shape, cur.s.terms[i].cols[0]);
-                if shape == Shape::Pair || cur.s.terms.len() < 2 {
+                if shape == Shape::Pair {
                     continue;
                 }
                 let mut rest = cur.s.clone();

@@ -50,6 +50,26 @@ fn offsets(fit: &FactorFit, link: Link) -> Vec<usize> {
         .collect()
 }
 
+/// The program index of the first constant of the first factor of `shape`.
+fn slot_of(fit: &FactorFit, shape: Shape, link: Link) -> usize {
+    let k = fit
+        .factors
+        .iter()
+        .position(|f| f.shape == shape)
+        .expect("a factor of the shape");
+    offsets(fit, link)[k]
+}
+
+/// The 95 % interval of the free constant at program index `slot` (`None` where it is not
+/// a free constant or has no interval).
+fn interval(unc: &crate::uncertainty::Uncertainty, slot: usize) -> Option<[f64; 2]> {
+    unc.params
+        .iter()
+        .zip(&unc.slots)
+        .find(|(_, s)| s.as_slice() == [slot])
+        .and_then(|((_, e), _)| e.ci95)
+}
+
 #[test]
 fn a_product_of_three_laws_is_recovered_factor_by_factor() {
     let n = 600;
@@ -94,14 +114,6 @@ fn a_product_of_three_laws_is_recovered_factor_by_factor() {
     );
     // each true constant inside its 95 % interval
     let unc = fit.model.uncertainty(&t, &y).expect("uncertainty");
-    let interval = |slot: usize| {
-        unc.params
-            .iter()
-            .zip(&unc.slots)
-            .find(|(_, s)| s.as_slice() == [slot])
-            .map(|((_, e), _)| e.ci95)
-            .expect("a free constant")
-    };
     let offs = offsets(&fit, Link::Multiplicative);
     let mut checks = vec![(0usize, c)];
     for (f, &o) in fit.factors.iter().zip(&offs) {
@@ -113,7 +125,7 @@ fn a_product_of_three_laws_is_recovered_factor_by_factor() {
         }
     }
     for (slot, truth) in checks {
-        let ci = interval(slot).expect("an interval");
+        let ci = interval(&unc, slot).expect("an interval");
         assert!(
             ci[0] <= truth && truth <= ci[1],
             "constant {slot}: {truth} outside {ci:?} ({})",
@@ -441,26 +453,14 @@ fn a_periodic_effect_is_one_harmonic() {
                 fit.model.equation()
             );
             distractor += usize::from(shape_of("speed").is_some());
-            let k = fit
-                .factors
-                .iter()
-                .position(|f| f.shape == Shape::Periodic)
-                .expect("a periodic factor");
-            let at = offsets(&fit, Link::Additive)[k];
+            let at = slot_of(&fit, Shape::Periodic, Link::Additive);
             let unc = fit.model.uncertainty(&t, &y).expect("uncertainty");
-            let interval = |slot: usize| {
-                unc.params
-                    .iter()
-                    .zip(&unc.slots)
-                    .find(|(_, s)| s.as_slice() == [slot])
-                    .and_then(|((_, e), _)| e.ci95)
-                    .expect("an interval")
-            };
             // up to sign: `-a sin(-w x - c)` is the same curve
             let (amp, freq) = (fit.model.params[at], fit.model.params[at + 1]);
             let inside = |ci: [f64; 2], v: f64| ci[0] <= v && v <= ci[1];
-            covered[0] += usize::from(inside(interval(at), a * amp.signum()));
-            covered[1] += usize::from(inside(interval(at + 1), w * freq.signum()));
+            let ci = |slot: usize| interval(&unc, slot).expect("an interval");
+            covered[0] += usize::from(inside(ci(at), a * amp.signum()));
+            covered[1] += usize::from(inside(ci(at + 1), w * freq.signum()));
         }
     }
     assert!(covered.iter().all(|&k| k >= 8), "covered {covered:?} of 10");
@@ -516,20 +516,9 @@ fn a_shape_is_chosen_again_beside_the_other_factors() {
             continue;
         }
         hits += 1;
-        let k = fit
-            .factors
-            .iter()
-            .position(|f| f.shape == Shape::Exp)
-            .expect("exp");
-        let at = offsets(&fit, Link::Multiplicative)[k];
+        let at = slot_of(&fit, Shape::Exp, Link::Multiplicative);
         let unc = fit.model.uncertainty(&t, &y).expect("uncertainty");
-        let ci = unc
-            .params
-            .iter()
-            .zip(&unc.slots)
-            .find(|(_, s)| s.as_slice() == [at])
-            .and_then(|((_, e), _)| e.ci95)
-            .expect("an interval");
+        let ci = interval(&unc, at).expect("an interval");
         covered += usize::from(ci[0] <= -1.0 / 150.0 && -1.0 / 150.0 <= ci[1]);
     }
     assert!(hits >= 8, "the true shapes on {hits} of 10 draws");

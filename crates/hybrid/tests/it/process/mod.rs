@@ -52,6 +52,12 @@ fn cfg_roughness() -> TableConfig {
     c
 }
 
+/// A table of the named columns.
+fn table_of<const N: usize>(columns: [(&str, Vec<f64>); N]) -> Table {
+    let (names, cols) = columns.into_iter().map(|(n, c)| (n.to_string(), c)).unzip();
+    Table::new(names, cols).unwrap()
+}
+
 /// The quick fit of `physics` for the target `y` on a table of the named `columns`, the
 /// parameters `calibrate` calibrated.
 fn fit_calibrated<const N: usize>(
@@ -59,8 +65,7 @@ fn fit_calibrated<const N: usize>(
     physics: &str,
     calibrate: &[&str],
 ) -> TableModel {
-    let (names, cols) = columns.into_iter().map(|(n, c)| (n.to_string(), c)).unzip();
-    let t = Table::new(names, cols).unwrap();
+    let t = table_of(columns);
     let mut cfg = quick(TableConfig::new("y", physics));
     cfg.calibrate = calibrate.iter().map(|p| p.to_string()).collect();
     fit(&t, &cfg, &mut |_| {}).unwrap()
@@ -171,11 +176,7 @@ fn an_activation_energy_calibrates_in_its_own_units() {
     let law = |s: f64, t: f64| 0.3 * s.powi(4) * (-3e5 / (8.314 * t)).exp();
     let y: Vec<f64> = s.iter().zip(&t).map(|(&s, &t)| law(s, t)).collect();
     assert!(y.iter().all(|&v| v < 1e-6), "rates are small");
-    let (names, cols): (Vec<String>, Vec<Vec<f64>>) = [("s", s), ("T", t), ("y", y)]
-        .into_iter()
-        .map(|(n, c)| (n.to_string(), c))
-        .unzip();
-    let table = Table::new(names, cols).unwrap();
+    let table = table_of([("s", s), ("T", t), ("y", y)]);
     let mut cfg = quick(TableConfig::new("y", "A*s^4*exp(-Q/(8.314*T))"));
     cfg.calibrate = vec!["A".into(), "Q".into()];
     cfg.init = [("A".to_string(), 0.1), ("Q".to_string(), 2.8e5)]
