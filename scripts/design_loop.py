@@ -33,11 +33,28 @@ the start, after `--add` runs chosen by `hxai hybrid design --goal discriminate`
     python3 scripts/design_loop.py --hxai target/release/hxai --out DIR [--seeds 10]
         [--goal precision|discriminate] [--stability 20]
 
+With `--loop` it runs issue 49's closed loop instead: from the same `--start` runs, three
+arms add `--rounds` rounds of `--add` runs each, every arm refitted with `--stability N`
+after every round:
+- `design`: the runs `hxai hybrid design` proposes at its default goal (`discriminate`
+  where the model has alternatives, `precision` where it has none) from the arm's last fit;
+- `random`: uniform draws over the space;
+- `lhs`: a Latin hypercube of the space, a new one each round.
+After every fit it records the share of resamples with the truth's columns, the test RMSE
+on 2,000 fresh measured runs (the same for every arm) and each physics parameter's 95 %
+interval width, one JSON line per (process, seed, arm, rows) in DIR/loop.jsonl, and prints
+the means and medians over seeds per arm and row count. `scripts/design_loop_plot.py`
+draws them. The loop's processes are the held-out ones and `tool_life`, the simulated
+tool-life case (`hxai_sim::cases::tool_life` at its defaults, written here in Python; the
+Python tests check it against `hxai.simulate`).
+
+    python3 scripts/design_loop.py --hxai target/release/hxai --out DIR --loop
+        [--seeds 10] [--rounds 3] [--only tool_life,wear]
+
 A fit `hxai hybrid fit` refuses (a correction with no value on a row, say) is left out of
 the medians and named at the end; a refused start fit leaves its seed out.
 
-Needs numpy. Writes only under DIR. Not run here: the Latin hypercube and coverage arms of
-the discriminate goal (see docs/benchmarks.md).
+Needs numpy. Writes only under DIR.
 """
 import argparse
 import csv
@@ -51,6 +68,35 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import heldout_processes as hp  # noqa: E402
+
+
+# The simulated tool-life case at its defaults (crates/sim/src/cases/tool_life.rs): the
+# measured life is the extended Taylor law `(C/vc)^(1/n) (f/f_ref)^(-y/n)` with C = 400
+# m/min, n = 0.25, f_ref = 0.25 mm/rev, y = 0.6, times a log-normal scatter of 0.3; coolant
+# temperature and workpiece diameter have no effect. The hybrid is the results page's:
+# Taylor's law with the handbook's C = 500, n = 0.25 as the start, a multiplicative
+# correction; the truth's correction is a power law of the feed alone.
+TOOL_LIFE = dict(
+    target="tool_life_min", physics="(C/cutting_speed_m_min)^(1/n)", calibrate="C,n",
+    init="C=500,n=0.25", correction="multiplicative", effects="feed_mm",
+    space="cutting_speed_m_min=150:350,feed_mm=0.1:0.4,coolant_temp_C=18:28,"
+          "workpiece_diameter_mm=30:120")
+
+
+def tool_life_truth(c):
+    """The tool life (min) at settings `c` before scatter."""
+    return (400.0 / c["cutting_speed_m_min"]) ** 4.0 * (c["feed_mm"] / 0.25) ** (-0.6 / 0.25)
+
+
+def tool_life_measure(c, rng):
+    return tool_life_truth(c) * np.exp(0.3 * rng.standard_normal(len(c["feed_mm"])))
+
+
+def loop_processes():
+    """The closed loop's processes: the held-out ones and the simulated tool life."""
+    procs = {"tool_life": (tool_life_measure, TOOL_LIFE)}
+    procs.update({name: (measure, spec) for name, (_, measure, spec) in hp.SPECS.items()})
+    return procs
 
 
 class FitFailed(Exception):
@@ -196,6 +242,116 @@ def discriminate(a, out, name, measure, spec):
           f"{alternatives} of {a.seeds} |", flush=True)
 
 
+def loop_fit(a, spec, table, model, fresh_csv, y_fresh, pred_csv):
+    """One fit of the closed loop (with `--stability`): the truth's share, whether the model
+    has alternatives, the test RMSE on the fresh runs and each physics parameter's width."""
+    m = hybrid_fit(a, spec, table, model, "--stability", str(a.stability))
+    columns = list(ranges(spec["space"]))
+    truth = set(spec["effects"].split(","))
+    share = 0.0
+    for st in m["stability"]["structures"]:
+        used = {c for c in columns if re.search(rf"\b{re.escape(c)}\b", st["template"])}
+        if used == truth:
+            share += st["share"]
+    widths = {p: (v["ci95"][1] - v["ci95"][0]) if v.get("ci95") else None
+              for p, v in m["physics"]["params"].items()}
+    return dict(share=share,
+                alternatives=len((m["correction"].get("selection") or {}).get("alternatives")
+                                 or []),
+                rmse=test_rmse(a, model, fresh_csv, y_fresh, pred_csv), widths=widths)
+
+
+ARMS = ("design", "random", "lhs")
+
+
+def closed_loop(a, out, name, measure, spec, log, failures):
+    """Issue 49's loop on one process: `--rounds` rounds of `--add` runs per arm, each arm
+    refitted after each round; one JSON line per fit in `log`."""
+    for seed in range(a.seeds):
+        rng = np.random.default_rng(3000 + seed)
+        base = uniform(spec["space"], a.start, rng)
+        base[spec["target"]] = measure(base, rng)
+        fresh_rng = np.random.default_rng(9000 + seed)
+        fresh = uniform(spec["space"], 2000, fresh_rng)
+        y_fresh = measure(fresh, fresh_rng)
+        fresh_csv = out / f"{name}-{seed}-fresh.csv"
+        hp.write_csv(fresh_csv, fresh)
+        pred_csv = out / f"{name}-{seed}-fresh-pred.csv"
+        t0 = out / f"{name}-{seed}-loop-start.csv"
+        hp.write_csv(t0, base)
+        m0 = out / f"{name}-{seed}-loop-start.json"
+        try:
+            start = loop_fit(a, spec, t0, m0, fresh_csv, y_fresh, pred_csv)
+        except FitFailed as e:
+            failures.append(f"{name} seed {seed}, start (the seed is left out): {e}")
+            continue
+        for arm in ARMS:
+            log.write(json.dumps(dict(process=name, seed=seed, arm=arm, rows=a.start,
+                                      **start)) + "\n")
+        for k, arm in enumerate(ARMS):
+            # each arm its own stream of settings and scatter, the same whatever the others do
+            arng = np.random.default_rng([3000 + seed, k])
+            table, model = base, m0
+            for r in range(1, a.rounds + 1):
+                if arm == "design":
+                    nxt = out / f"{name}-{seed}-loop-{arm}-{r}-next.csv"
+                    run([a.hxai, "hybrid", "design", "--model", str(model), "--space",
+                         spec["space"], "--n", str(a.add), "--seed", str(seed), "--out",
+                         str(nxt)])
+                    with open(nxt, newline="") as fh:
+                        rows = list(csv.DictReader(fh))
+                    extra = {c: np.array([float(row[c]) for row in rows])
+                             for c in ranges(spec["space"])}
+                elif arm == "random":
+                    extra = uniform(spec["space"], a.add, arng)
+                else:
+                    extra = latin_hypercube(spec["space"], a.add, arng)
+                extra[spec["target"]] = measure(extra, arng)
+                table = joined(table, extra)
+                t = out / f"{name}-{seed}-loop-{arm}-{r}.csv"
+                hp.write_csv(t, table)
+                model = out / f"{name}-{seed}-loop-{arm}-{r}.json"
+                try:
+                    got = loop_fit(a, spec, t, model, fresh_csv, y_fresh, pred_csv)
+                except FitFailed as e:
+                    failures.append(f"{name} seed {seed}, {arm} round {r}: {e}")
+                    break
+                log.write(json.dumps(dict(process=name, seed=seed, arm=arm,
+                                          rows=a.start + r * a.add, **got)) + "\n")
+                log.flush()
+                print(f"  {name} seed {seed} {arm} +{r * a.add}: share {got['share']:.2f}, "
+                      f"rmse {got['rmse']:.4g}", file=sys.stderr, flush=True)
+
+
+def loop_summary(rows):
+    """Markdown tables of the loop's lines `rows`: per process, arm and row count, the mean
+    share of the truth's columns, the median test RMSE and each parameter's median width
+    over seeds, and the goal's comparison."""
+    out = []
+    by = {}
+    for r in rows:
+        by.setdefault(r["process"], []).append(r)
+    for name, rs in by.items():
+        counts = sorted({r["rows"] for r in rs})
+        params = sorted({p for r in rs for p in r["widths"]})
+        out.append(f"\n**{name}** (seeds: {len({r['seed'] for r in rs})})\n")
+        out.append("| arm | measure | " + " | ".join(f"{c} rows" for c in counts) + " |")
+        out.append("|---|---|" + "---:|" * len(counts))
+        for arm in ARMS:
+            cell = {c: [r for r in rs if r["arm"] == arm and r["rows"] == c] for c in counts}
+            out.append(f"| {arm} | share of the truth's columns (mean) | " + " | ".join(
+                f"{np.mean([r['share'] for r in cell[c]]):.2f}" if cell[c] else "-"
+                for c in counts) + " |")
+            out.append(f"| {arm} | test RMSE (median) | " + " | ".join(
+                f"{np.median([r['rmse'] for r in cell[c]]):.4g}" if cell[c] else "-"
+                for c in counts) + " |")
+            for p in params:
+                out.append(f"| {arm} | {p} 95 % width (median) | " + " | ".join(
+                    f"{np.nanmedian([np.nan if r['widths'].get(p) is None else r['widths'][p] for r in cell[c]]):.4g}"
+                    if cell[c] else "-" for c in counts) + " |")
+    return "\n".join(out)
+
+
 def joined(a, b):
     return {k: np.concatenate([a[k], b[k]]) for k in a}
 
@@ -212,9 +368,26 @@ def main():
     ap.add_argument("--only", default="")
     ap.add_argument("--goal", choices=["precision", "discriminate"], default="precision")
     ap.add_argument("--stability", type=int, default=20)
+    ap.add_argument("--loop", action="store_true",
+                    help="issue 49's closed loop: design, random and Latin hypercube arms")
+    ap.add_argument("--rounds", type=int, default=3)
     a = ap.parse_args()
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
+    if a.loop:
+        failures = []
+        path = out / "loop.jsonl"
+        with open(path, "w") as log:
+            for name, (measure, spec) in loop_processes().items():
+                if a.only and name not in a.only.split(","):
+                    continue
+                closed_loop(a, out, name, measure, spec, log, failures)
+        print(loop_summary([json.loads(x) for x in path.read_text().splitlines()]))
+        if failures:
+            print(f"\n{len(failures)} fit(s) refused, left out (an arm stops at its refusal):")
+            for f in failures:
+                print("- " + f.replace("\n", " / "))
+        return
     if a.goal == "discriminate":
         print(f"| process | true columns | share after {a.start} | +{a.add} designed | "
               f"+{a.add} random | +{3 * a.add} random | designed >= +{3 * a.add} random | "

@@ -49,3 +49,29 @@ def test_a_refused_fit_is_recorded_where_the_loop_tolerates_it():
     with pytest.raises(SystemExit, match="no value"):
         loop.run(cmd)
     assert loop.run([sys.executable, "-c", "print('ok')"]).strip() == "ok"
+
+
+def test_the_loops_tool_life_truth_is_the_simulators():
+    # the loop measures a proposed run with its own copy of the tool-life case's truth; it
+    # must be the simulator's, setting for setting (scatter off; relative 1e-12)
+    hxai = pytest.importorskip("hxai")
+    df = hxai.simulate("tool_life", n_rows=50, seed=4, noise_rel=0.0)
+    settings = {c: df[c].to_numpy() for c in ("cutting_speed_m_min", "feed_mm")}
+    np.testing.assert_allclose(loop.tool_life_truth(settings), df["tool_life_min"].to_numpy(),
+                               rtol=1e-12)
+    # and the loop's space is the simulator's ranges
+    space = loop.ranges(loop.TOOL_LIFE["space"])
+    for c in ("cutting_speed_m_min", "feed_mm", "coolant_temp_C", "workpiece_diameter_mm"):
+        lo, hi, _ = space[c]
+        assert lo <= df[c].min() and df[c].max() <= hi, c
+
+
+def test_the_loop_summary_tabulates_each_arm_by_rows():
+    rows = [dict(process="p", seed=s, arm=arm, rows=n, share=share, rmse=1.0 + s,
+                 widths={"k": 2.0}, alternatives=1)
+            for s in range(2) for arm in loop.ARMS for n, share in ((60, 0.2), (70, 0.4 + s))]
+    text = loop.loop_summary(rows)
+    line = next(x for x in text.splitlines() if x.startswith("| random | share"))
+    # the mean over the two seeds at 70 rows is (0.4 + 1.4) / 2
+    assert line.split("|")[4].strip() == "0.90"
+    assert "| design | test RMSE (median) | 1.5 | 1.5 |" in text
