@@ -257,6 +257,11 @@ pub struct Alternative {
     /// Share of the consensus runs (or, once measured, of the stability runs) that gave
     /// this structure back; `null` when neither ran.
     pub share: Option<f64>,
+    /// Its constants' covariance on the rows it was fitted on, where the fit stored it (a
+    /// hybrid's correction, for `hxai hybrid design`'s weighting by each equation's own
+    /// prediction variance); absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<crate::Uncertainty>,
 }
 
 /// How the model was selected and what else the data supports (JSON `selection`).
@@ -305,6 +310,7 @@ impl SelectionReport {
                     complexity: m.complexity(),
                     share: share_in(&structure),
                     structure,
+                    uncertainty: None,
                 }
             })
             .collect();

@@ -93,7 +93,7 @@ pub(super) fn model_of(
                 ft,
                 &correction_delta,
                 pareto,
-                selection,
+                with_alternatives_uncertainty(selection, ft, &correction_delta),
             )?
         },
         hybrid: EquationInfo {
@@ -265,4 +265,30 @@ pub(super) fn train_rmse(
         .map(|&i| combine_values(kind, p[i], d[i]))
         .collect();
     Ok(hxai_eval::rmse(y_train, &h)?)
+}
+
+/// `selection` with each alternative's constants' covariance on the training rows (`ft`,
+/// `delta`, the rows and target the selected correction's own is taken on), so that `hxai
+/// hybrid design` can weigh each equation by its own prediction variance. An alternative
+/// whose text does not compile back, or whose covariance does not exist, keeps none.
+fn with_alternatives_uncertainty(
+    mut selection: hxai_symreg::SelectionReport,
+    ft: &Table,
+    delta: &[f64],
+) -> hxai_symreg::SelectionReport {
+    for a in &mut selection.alternatives {
+        a.uncertainty = hxai_symreg::infix::compile_text(&a.sympy, &Default::default())
+            .ok()
+            .map(|c| hxai_symreg::Model {
+                feature_names: c.inputs,
+                program: c.program,
+                params: c.params,
+                complexity: a.complexity,
+                train_mse: f64::NAN,
+                score: f64::NAN,
+            })
+            .and_then(|m| m.uncertainty(ft, delta).ok())
+            .filter(|u| !u.covariance.is_empty() && u.residual_variance.is_finite());
+    }
+    selection
 }

@@ -374,6 +374,7 @@ fn search_factors(
             complexity: m.complexity(),
             structure: hxai_symreg::stability::structure_of(m),
             share: None,
+            uncertainty: None,
         })
         .collect();
     let selection = hxai_symreg::SelectionReport {

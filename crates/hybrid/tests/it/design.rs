@@ -17,6 +17,23 @@ fn model() -> hxai_hybrid::tables::TableModel {
 /// The hybrid of `y = 2x + 0.5z (+ noise of amplitude `noise`)` on `x` in 1..3 with the
 /// one alternative `alternative` (a correction in `x` and `z`).
 fn model_with(noise: f64, alternative: &str) -> hxai_hybrid::tables::TableModel {
+    let mut m = fitted(noise);
+    let sel = m.correction.selection.as_mut().expect("selection");
+    // the search's own runners-up out: one alternative whose disagreement is known
+    sel.alternatives.clear();
+    sel.alternatives.push(Alternative {
+        equation: alternative.into(),
+        sympy: alternative.into(),
+        complexity: 7,
+        structure: "c*z + c*(x + c)**2".into(),
+        share: None,
+        uncertainty: None,
+    });
+    m
+}
+
+/// The fixture's table: `y = 2x + 0.5z (+ noise of amplitude `noise`)` on `x` in 1..3.
+fn table_with(noise: f64) -> Table {
     let n = 60;
     let x: Vec<f64> = (0..n)
         .map(|i| 1.0 + 2.0 * i as f64 / (n - 1) as f64)
@@ -28,7 +45,14 @@ fn model_with(noise: f64, alternative: &str) -> hxai_hybrid::tables::TableModel 
         .enumerate()
         .map(|(i, (x, z))| 2.0 * x + 0.5 * z + noise * (((i * 13) % 17) as f64 / 8.0 - 1.0))
         .collect();
-    let t = Table::new(vec!["x".into(), "z".into(), "y".into()], vec![x, z, y]).expect("table");
+    Table::new(vec!["x".into(), "z".into(), "y".into()], vec![x, z, y]).expect("table")
+}
+
+/// The hybrid `k*x` with its searched correction on [`table_with`]`(noise)`, every row a
+/// training row, its selection as the search left it.
+fn fitted(noise: f64) -> hxai_hybrid::tables::TableModel {
+    let t = table_with(noise);
+    let n = t.n_rows();
     let mut cfg = TableConfig::new("y", "k*x");
     cfg.calibrate = vec!["k".into()];
     cfg.search.epochs = 2;
@@ -36,18 +60,7 @@ fn model_with(noise: f64, alternative: &str) -> hxai_hybrid::tables::TableModel 
         train: (0..n).collect(),
         test: vec![],
     };
-    let mut m = fit_split(&t, &cfg, &split, &mut |_| {}).expect("fit");
-    let sel = m.correction.selection.as_mut().expect("selection");
-    // the search's own runners-up out: one alternative whose disagreement is known
-    sel.alternatives.clear();
-    sel.alternatives.push(Alternative {
-        equation: alternative.into(),
-        sympy: alternative.into(),
-        complexity: 7,
-        structure: "c*z + c*(x + c)**2".into(),
-        share: None,
-    });
-    m
+    fit_split(&t, &cfg, &split, &mut |_| {}).expect("fit")
 }
 
 #[test]
@@ -328,4 +341,170 @@ fn precision_agrees_with_a_brute_force_search_over_every_set_of_runs() {
     );
     // the greedy runs are the design's first picks in order: the first is the one-run best
     assert_eq!(three.rows[0], best_one);
+}
+
+/// The prediction of `template` (its constants `params`) on `c`, and its gradient in each
+/// constant by central differences: the test's own evaluation of a model file's covariance.
+fn prediction_and_gradient(u: &hxai_symreg::Uncertainty, c: &Table) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let values: std::collections::BTreeMap<String, f64> =
+        u.params.iter().map(|(n, p)| (n.clone(), p.value)).collect();
+    let at = |name: Option<&str>, dv: f64| {
+        let mut v = values.clone();
+        if let Some(name) = name {
+            *v.get_mut(name).expect("a constant") += dv;
+        }
+        let compiled =
+            hxai_symreg::infix::compile_text(&u.template, &v).expect("the template compiles");
+        let cols: Vec<&[f64]> = compiled
+            .inputs
+            .iter()
+            .map(|n| c.column(n).expect("a column"))
+            .collect();
+        compiled.eval_columns(&cols, c.n_rows())
+    };
+    let grads = u
+        .params
+        .iter()
+        .map(|(name, p)| {
+            let h = 1e-6 * p.value.abs().max(1e-3);
+            let (hi, lo) = (at(Some(name), h), at(Some(name), -h));
+            hi.iter()
+                .zip(&lo)
+                .map(|(a, b)| (a - b) / (2.0 * h))
+                .collect()
+        })
+        .collect();
+    (at(None, 0.0), grads)
+}
+
+/// Box and Hill's criterion with each equation's own prediction variance (a fit stores each
+/// alternative's covariance): the first run is where the test's own evaluation of
+/// `sum over pairs (v_a - v_b)^2 / (v_a v_b) + (y_a - y_b)^2 (1/v_a + 1/v_b)` is largest,
+/// `v` the scatter plus each equation's `g^T C g` from its own covariance.
+#[test]
+fn each_equation_is_weighted_by_its_own_prediction_variance() {
+    // a search's alternatives carry their covariance on the training rows
+    let searched = fitted(0.05);
+    let alts = &searched
+        .correction
+        .selection
+        .as_ref()
+        .expect("selection")
+        .alternatives;
+    assert!(!alts.is_empty(), "the noisy fixture has alternatives");
+    for a in alts {
+        let u = a
+            .uncertainty
+            .as_ref()
+            .unwrap_or_else(|| panic!("{} has a covariance", a.sympy));
+        assert_eq!(u.covariance.len(), u.params.len(), "{}", a.sympy);
+    }
+
+    let alt = "0.47*z + 0.31*x - 0.13";
+    let mut m = model_with(0.05, alt);
+    let t = table_with(0.05);
+    let k = m.physics.parameters["k"];
+    let (x, z, y) = (
+        t.column("x").expect("the fixture"),
+        t.column("z").expect("the fixture"),
+        t.column("y").expect("the fixture"),
+    );
+    let delta: Vec<f64> = x.iter().zip(y).map(|(x, y)| y - k * x).collect();
+    let features = Table::new(vec!["x".into(), "z".into()], vec![x.to_vec(), z.to_vec()])
+        .expect("the fixture");
+    let c = hxai_symreg::infix::compile_text(alt, &Default::default()).expect("the fixture");
+    let am = hxai_symreg::Model {
+        feature_names: c.inputs,
+        program: c.program,
+        params: c.params,
+        complexity: 5,
+        train_mse: f64::NAN,
+        score: f64::NAN,
+    };
+    let ua = am
+        .uncertainty(&features, &delta)
+        .expect("the alternative's covariance");
+    m.correction
+        .selection
+        .as_mut()
+        .expect("the fixture")
+        .alternatives[0]
+        .uncertainty = Some(ua.clone());
+
+    let space = parse_space("x=0:6,z=0:1").expect("space");
+    let cand = candidates(&space, 11).expect("candidates").table;
+    let p = design(&m, &cand, 1, DesignGoal::Discriminate).expect("design");
+    assert_eq!(p.goal, DesignGoal::Discriminate);
+
+    let s2 = m
+        .hybrid
+        .uncertainty
+        .as_ref()
+        .expect("the fixture")
+        .residual_variance;
+    let us = m
+        .correction
+        .uncertainty
+        .as_ref()
+        .expect("the correction's covariance");
+    let phys: Vec<f64> = cand
+        .column("x")
+        .expect("the fixture")
+        .iter()
+        .map(|x| k * x)
+        .collect();
+    let variance = |u: &hxai_symreg::Uncertainty| {
+        let (_, g) = prediction_and_gradient(u, &cand);
+        let v: Vec<f64> = (0..cand.n_rows())
+            .map(|i| {
+                let gi: Vec<f64> = g.iter().map(|g| g[i]).collect();
+                let mut q = 0.0;
+                for (a, row) in u.covariance.iter().enumerate() {
+                    for (b, cab) in row.iter().enumerate() {
+                        q += gi[a] * cab * gi[b];
+                    }
+                }
+                s2 + q.max(0.0)
+            })
+            .collect();
+        v
+    };
+    let (vs, va) = (variance(us), variance(&ua));
+    // the predictions: the selected hybrid's, and the physics plus the alternative as written
+    let ys = m.predict(&cand).expect("predict").hybrid;
+    let written = hxai_symreg::infix::compile_text(alt, &Default::default()).expect("the fixture");
+    let cols: Vec<&[f64]> = written
+        .inputs
+        .iter()
+        .map(|n| cand.column(n).expect("the fixture"))
+        .collect();
+    let ya: Vec<f64> = written
+        .eval_columns(&cols, cand.n_rows())
+        .iter()
+        .zip(&phys)
+        .map(|(d, p)| p + d)
+        .collect();
+    // the two equations' variances differ, so their own variances are what is tested
+    let differ = (0..cand.n_rows()).any(|i| (vs[i] - va[i]).abs() > 0.01 * vs[i]);
+    assert!(
+        differ,
+        "the fixture's equations have different prediction variances"
+    );
+    let worth: Vec<f64> = (0..cand.n_rows())
+        .map(|i| {
+            (vs[i] - va[i]).powi(2) / (vs[i] * va[i])
+                + (ys[i] - ya[i]).powi(2) * (1.0 / vs[i] + 1.0 / va[i])
+        })
+        .collect();
+    let best = (0..worth.len())
+        .max_by(|&a, &b| worth[a].total_cmp(&worth[b]))
+        .expect("the fixture");
+    assert!(
+        worth[p.rows[0]] >= worth[best] * (1.0 - 1e-9),
+        "first run {} worth {} against the best {} worth {}",
+        p.rows[0],
+        worth[p.rows[0]],
+        best,
+        worth[best]
+    );
 }

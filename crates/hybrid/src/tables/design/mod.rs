@@ -13,11 +13,13 @@
 //!   `d / (d + 0.1)`, `d` its distance (inputs scaled to the space's ranges) to the runs
 //!   already picked: greedy sequential choice with earlier picks fixed, in the spirit of
 //!   T-optimality (Atkinson and Fedorov 1975). Where the model file has the covariance of
-//!   the hybrid's constants, the spread is weighted as in Box and Hill's (1967) criterion:
-//!   a candidate is worth the equations' squared disagreement summed over pairs, divided
-//!   by the variance of a run's outcome there (the residual variance plus the selected
-//!   hybrid's `g^T C g`; every equation is given the selected one's prediction variance,
-//!   since the file stores no covariance of the alternatives).
+//!   the hybrid's constants, the spread is replaced by Box and Hill's (1967) criterion: a
+//!   candidate is worth, summed over pairs of equations, `(v_a - v_b)^2 / (v_a v_b) +
+//!   (y_a - y_b)^2 (1/v_a + 1/v_b)`, `v` the variance of a run's outcome under each
+//!   equation there: the residual variance plus its correction constants' `g^T C g` on the
+//!   hybrid's scale, from each equation's own covariance (the file stores each
+//!   alternative's since 2026-12-02; for an older file, every equation is given the
+//!   selected hybrid's).
 //! - `coverage`: where the model is least sure and the runs are sparse: the first pick is the
 //!   candidate of widest prediction interval (the model's own method, conformal where it
 //!   stores the calibration), then each further pick the candidate farthest from the runs
@@ -31,8 +33,7 @@
 //! constants per level of a text column (`--calibrate-per`, `--correction-per`) is designed
 //! over that column's levels too (`tool=A|B`, or the text column of a CSV of settings):
 //! [`TableModel::add_levels`] gives the candidates the model's level indicators, which the
-//! distances count like any other input scaled to its range. Not built yet: each
-//! alternative's own prediction variance in the weighting.
+//! distances count like any other input scaled to its range.
 
 mod space;
 
@@ -117,6 +118,12 @@ pub fn design(
         model.correction.forms.equation.clone(),
         selected.hybrid.clone(),
     )];
+    // each equation's correction values and the covariance of its constants, where the
+    // model file has it (for Box and Hill's weighting by each one's own variance)
+    let mut own = vec![(
+        selected.correction.clone(),
+        model.correction.uncertainty.as_ref(),
+    )];
     let alternatives = model
         .correction
         .selection
@@ -138,6 +145,7 @@ pub fn design(
             .collect();
         if h.iter().all(|v| v.is_finite()) {
             equations.push((a.equation.clone(), h));
+            own.push((delta, a.uncertainty.as_ref()));
         }
     }
     let spread: Vec<f64> = (0..m)
@@ -170,27 +178,35 @@ pub fn design(
             .map(|iv| iv.iter().map(|(lo, hi)| hi - lo).collect()),
         DesignGoal::Discriminate | DesignGoal::Precision => None,
     };
-    // Box and Hill's (1967) weighting, each equation's prediction variance taken as the
-    // selected hybrid's: a run is worth the equations' squared disagreement there over the
-    // variance of a run's outcome (the scatter plus the constants' own uncertainty), so a
-    // disagreement the model could not see through its uncertainty counts less. Without
-    // the model's covariance (or where its template does not evaluate), the spread alone.
-    let run_variance: Option<Vec<f64>> = match (goal, model.hybrid.uncertainty.as_ref()) {
-        (DesignGoal::Discriminate, Some(u)) if has_covariance => gradients(u, candidates)
-            .ok()
-            .map(|g| (0..m).map(|i| g.s2 + g.variance(i).max(0.0)).collect()),
+    // Box and Hill's (1967) weighting: each equation's prediction variance there, the
+    // variance of a run's outcome under it (the scatter plus its constants' uncertainty).
+    // Where the file has every equation's own covariance (a fit since 2026-12-02), each
+    // has its own, its correction's constants' `g^T C g` on the hybrid's scale (the
+    // physics held at its calibrated values for all alike); otherwise every equation is
+    // given the selected hybrid's. Without the model's covariance (or where a template
+    // does not evaluate), the spread alone.
+    let run_variance: Option<Vec<Vec<f64>>> = match (goal, model.hybrid.uncertainty.as_ref()) {
+        (DesignGoal::Discriminate, Some(u)) if has_covariance => own_variances(
+            u.residual_variance,
+            &own,
+            phys,
+            model.correction.kind,
+            candidates,
+        )
+        .or_else(|| {
+            gradients(u, candidates).ok().map(|g| {
+                let v: Vec<f64> = (0..m).map(|i| g.s2 + g.variance(i).max(0.0)).collect();
+                vec![v; equations.len()]
+            })
+        }),
         _ => None,
     };
     let worth: Vec<f64> = match (goal, &width, &run_variance) {
         (DesignGoal::Discriminate, _, Some(v)) => (0..m)
             .map(|i| {
-                let mut pairs = 0.0;
-                for (a, ea) in equations.iter().enumerate() {
-                    for eb in &equations[a + 1..] {
-                        pairs += (ea.1[i] - eb.1[i]).powi(2);
-                    }
-                }
-                pairs / v[i]
+                let vars: Vec<f64> = v.iter().map(|e| e[i]).collect();
+                let ys: Vec<f64> = equations.iter().map(|e| e.1[i]).collect();
+                box_hill(&ys, &vars)
             })
             .collect(),
         (DesignGoal::Discriminate | DesignGoal::Precision, _, _) => spread.clone(),
@@ -260,7 +276,7 @@ pub fn design(
                     Some(v) => format!(
                         ", {} sd of a run's outcome there (Box and Hill's weighting: the \
                          scatter and the constants' uncertainty)",
-                        crate::error::num(spread[best] / v[best].sqrt())
+                        crate::error::num(spread[best] / v[0][best].sqrt())
                     ),
                     None => String::new(),
                 },
@@ -302,6 +318,52 @@ pub fn design(
         (selected.hybrid, spread, equations),
         m,
     ))
+}
+
+/// Box and Hill's (1967) expected information for discriminating at one setting, with equal
+/// prior weights (the constant factor dropped): over each pair of equations with predictions
+/// `y` and outcome variances `v`, `(v_a - v_b)^2 / (v_a v_b) + (y_a - y_b)^2 (1/v_a + 1/v_b)`.
+/// With one variance for all it is the squared disagreements over it, twice.
+pub(crate) fn box_hill(y: &[f64], v: &[f64]) -> f64 {
+    let mut sum = 0.0;
+    for a in 0..y.len() {
+        for b in a + 1..y.len() {
+            sum += (v[a] - v[b]).powi(2) / (v[a] * v[b])
+                + (y[a] - y[b]).powi(2) * (1.0 / v[a] + 1.0 / v[b]);
+        }
+    }
+    sum
+}
+
+/// Each equation's outcome variance at every candidate, `s2` plus its correction's
+/// `g^T C g` times the hybrid's sensitivity to the correction there (1, the physics, or the
+/// hybrid itself for an additive, multiplicative or log correction); `None` unless every
+/// equation in `own` (its correction values, its constants' covariance) has a covariance
+/// that evaluates on the candidates.
+fn own_variances(
+    s2: f64,
+    own: &[(Vec<f64>, Option<&hxai_symreg::Uncertainty>)],
+    phys: &[f64],
+    kind: super::CorrectionForm,
+    candidates: &Table,
+) -> Option<Vec<Vec<f64>>> {
+    own.iter()
+        .map(|(delta, u)| {
+            let g = gradients((*u)?, candidates).ok()?;
+            Some(
+                (0..candidates.n_rows())
+                    .map(|i| {
+                        let dh = match kind {
+                            super::CorrectionForm::Additive => 1.0,
+                            super::CorrectionForm::Multiplicative => phys[i],
+                            super::CorrectionForm::Log => phys[i] * delta[i].exp(),
+                        };
+                        s2 + dh * dh * g.variance(i).max(0.0)
+                    })
+                    .collect(),
+            )
+        })
+        .collect()
 }
 
 /// The [`Proposal`] of the picks `rows` (with their `reason`s) among `m` candidates: the
