@@ -207,10 +207,10 @@ def design_runs(a, model, nxt, goal, seed, measure, spec, rng):
     return designed
 
 
-def test_rmse(a, model, fresh_csv, y, out_csv):
+def test_rmse(a, model, fresh_csv, y, out_csv, tolerate=False):
     """RMSE of the model's hybrid (`hxai hybrid predict`) against `y` on the fresh rows."""
     run([a.hxai, "hybrid", "predict", "--model", str(model), "--data", str(fresh_csv),
-         "--threads", str(a.threads), "--out", str(out_csv)])
+         "--threads", str(a.threads), "--out", str(out_csv)], tolerate=tolerate)
     with open(out_csv, newline="") as fh:
         pred = np.array([float(r["hybrid"]) for r in csv.DictReader(fh)])
     return float(np.sqrt(np.mean((pred - y) ** 2)))
@@ -253,12 +253,18 @@ def loop_fit(a, spec, table, model, fresh_csv, y_fresh, pred_csv):
         used = {c for c in columns if re.search(rf"\b{re.escape(c)}\b", st["template"])}
         if used == truth:
             share += st["share"]
+    try:
+        rmse = test_rmse(a, model, fresh_csv, y_fresh, pred_csv, tolerate=True)
+        refused = None
+    except FitFailed as e:
+        # a correction with no value somewhere in the space: no test RMSE (None), and why
+        rmse, refused = None, str(e).splitlines()[-1]
     widths = {p: (v["ci95"][1] - v["ci95"][0]) if v.get("ci95") else None
               for p, v in m["physics"]["params"].items()}
     return dict(share=share,
                 alternatives=len((m["correction"].get("selection") or {}).get("alternatives")
                                  or []),
-                rmse=test_rmse(a, model, fresh_csv, y_fresh, pred_csv), widths=widths)
+                rmse=rmse, predict_refused=refused, widths=widths)
 
 
 ARMS = ("design", "random", "lhs")
@@ -267,7 +273,7 @@ ARMS = ("design", "random", "lhs")
 def closed_loop(a, out, name, measure, spec, log, failures):
     """Issue 49's loop on one process: `--rounds` rounds of `--add` runs per arm, each arm
     refitted after each round; one JSON line per fit in `log`."""
-    for seed in range(a.seeds):
+    for seed in range(a.first_seed, a.seeds):
         rng = np.random.default_rng(3000 + seed)
         base = uniform(spec["space"], a.start, rng)
         base[spec["target"]] = measure(base, rng)
@@ -343,7 +349,8 @@ def loop_summary(rows):
                 f"{np.mean([r['share'] for r in cell[c]]):.2f}" if cell[c] else "-"
                 for c in counts) + " |")
             out.append(f"| {arm} | test RMSE (median) | " + " | ".join(
-                f"{np.median([r['rmse'] for r in cell[c]]):.4g}" if cell[c] else "-"
+                f"{np.nanmedian([np.nan if r['rmse'] is None else r['rmse'] for r in cell[c]]):.4g}"
+                if cell[c] else "-"
                 for c in counts) + " |")
             for p in params:
                 out.append(f"| {arm} | {p} 95 % width (median) | " + " | ".join(
@@ -371,6 +378,8 @@ def main():
     ap.add_argument("--loop", action="store_true",
                     help="issue 49's closed loop: design, random and Latin hypercube arms")
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--first-seed", type=int, default=0,
+                    help="the loop's first seed (to go on from a stopped run)")
     a = ap.parse_args()
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)

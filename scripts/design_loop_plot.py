@@ -6,7 +6,7 @@ a Latin hypercube).
 
     python3 scripts/design_loop_plot.py LOOP.jsonl [LOOP2.jsonl ...] --out DIR
 
-Writes DIR/design_loop_PROCESS.svg (one figure per process) and DIR/design_loop.md (the
+Writes DIR/design_loop_PROCESS.svg (one figure per process) and DIR/design_loop_tables.md (the
 tables of `design_loop.loop_summary`). Needs numpy and matplotlib. The SVGs carry no date,
 so the same lines give the same files.
 """
@@ -44,7 +44,8 @@ def plot(name, rows, path):
     panels = [("share of resamples with the truth's columns (mean)",
                lambda rs: float(np.mean([r["share"] for r in rs]))),
               ("test RMSE, 2,000 fresh runs (median)",
-               lambda rs: float(np.median([r["rmse"] for r in rs])))]
+               lambda rs: float(np.nanmedian([np.nan if r["rmse"] is None else r["rmse"]
+                                              for r in rs])))]
     for p in params:
         panels.append((f"95 % interval width of {p} (median)",
                        lambda rs, p=p: float(np.nanmedian(
@@ -83,9 +84,9 @@ def main():
         raise SystemExit("no lines in " + ", ".join(a.jsonl))
     for name in dict.fromkeys(r["process"] for r in rows):
         plot(name, [r for r in rows if r["process"] == name], out / f"design_loop_{name}.svg")
-    tmp = out / "design_loop.md.tmp"
+    tmp = out / "design_loop_tables.md.tmp"
     tmp.write_text(loop.loop_summary(rows).lstrip() + "\n")
-    tmp.replace(out / "design_loop.md")
+    tmp.replace(out / "design_loop_tables.md")
 
 
 if __name__ == "__main__":
