@@ -356,6 +356,48 @@ def loop_summary(rows):
                 out.append(f"| {arm} | {p} 95 % width (median) | " + " | ".join(
                     f"{np.nanmedian([np.nan if r['widths'].get(p) is None else r['widths'][p] for r in cell[c]]):.4g}"
                     if cell[c] else "-" for c in counts) + " |")
+    out.append("\n" + loop_goals(rows))
+    return "\n".join(out)
+
+
+def loop_goals(rows):
+    """Issue 49's two goals on the loop's lines `rows`, per process: the designed runs'
+    share of the truth's columns after one round (`--add` runs, at most 1.5 x `--add`)
+    against the random runs' after three, means over seeds; and each physics parameter's
+    width after one designed round over its width after one random round, the median over
+    seeds of the ratio (goal <= 0.7); with the design rounds proposed from a model that had
+    alternatives (so at the `discriminate` goal, `precision` otherwise)."""
+    out = ["| process | share, +1 round designed | share, +3 rounds random | share goal | "
+           "parameter | width ratio, +1 round designed / random (median) | ratio goal | "
+           "design rounds from a model with alternatives |",
+           "|---|---:|---:|---|---|---:|---|---:|"]
+    by = {}
+    for r in rows:
+        by.setdefault(r["process"], []).append(r)
+    for name, rs in by.items():
+        counts = sorted({r["rows"] for r in rs})
+        if len(counts) < 2:
+            continue
+        first, last = counts[1], counts[-1]
+        pick = {(r["seed"], r["arm"], r["rows"]): r for r in rs}
+        designed = [r["share"] for r in rs if r["arm"] == "design" and r["rows"] == first]
+        random3 = [r["share"] for r in rs if r["arm"] == "random" and r["rows"] == last]
+        bases = [r for r in rs if r["arm"] == "design" and r["rows"] < last]
+        with_alt = sum(1 for r in bases if r["alternatives"])
+        sd, sr = float(np.mean(designed)), float(np.mean(random3))
+        params = sorted({p for r in rs for p in r["widths"]})
+        for i, p in enumerate(params):
+            ratios = []
+            for seed in sorted({r["seed"] for r in rs}):
+                d, q = pick.get((seed, "design", first)), pick.get((seed, "random", first))
+                if d and q and d["widths"].get(p) and q["widths"].get(p):
+                    ratios.append(d["widths"][p] / q["widths"][p])
+            ratio = float(np.median(ratios)) if ratios else float("nan")
+            lead = (f"| {name} | {sd:.2f} | {sr:.2f} | {'met' if sd >= sr else 'missed'} | "
+                    if i == 0 else "| | | | | ")
+            out.append(lead + f"{p} | {ratio:.2f} ({len(ratios)} seeds) | "
+                       f"{'met' if ratio <= 0.7 else 'missed'} | "
+                       + (f"{with_alt} of {len(bases)} |" if i == 0 else " |"))
     return "\n".join(out)
 
 

@@ -75,3 +75,7 @@ def test_the_loop_summary_tabulates_each_arm_by_rows():
     # the mean over the two seeds at 70 rows is (0.4 + 1.4) / 2
     assert line.split("|")[4].strip() == "0.90"
     assert "| design | test RMSE (median) | 1.5 | 1.5 |" in text
+    # the goals: after one designed round (70 rows) the share is the random runs' at the
+    # last count (0.90 both: met); equal widths give the ratio 1 (goal 0.7: missed)
+    goal = next(x for x in text.splitlines() if x.startswith("| p | "))
+    assert goal.startswith("| p | 0.90 | 0.90 | met | k | 1.00 (2 seeds) | missed | 2 of 2 |")
