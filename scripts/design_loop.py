@@ -326,7 +326,7 @@ def closed_loop(a, out, name, measure, spec, log, failures):
                                           rows=a.start + r * a.add, **got)) + "\n")
                 log.flush()
                 print(f"  {name} seed {seed} {arm} +{r * a.add}: share {got['share']:.2f}, "
-                      f"rmse {got['rmse']:.4g}", file=sys.stderr, flush=True)
+                      f"rmse {got['rmse'] if got['rmse'] is None else format(got['rmse'], '.4g')}", file=sys.stderr, flush=True)
 
 
 def loop_summary(rows):
