@@ -301,9 +301,15 @@ def closed_loop(a, out, name, measure, spec, log, failures):
             for r in range(1, a.rounds + 1):
                 if arm == "design":
                     nxt = out / f"{name}-{seed}-loop-{arm}-{r}-next.csv"
-                    run([a.hxai, "hybrid", "design", "--model", str(model), "--space",
-                         spec["space"], "--n", str(a.add), "--seed", str(seed), "--out",
-                         str(nxt)])
+                    try:
+                        run([a.hxai, "hybrid", "design", "--model", str(model), "--space",
+                             spec["space"], "--n", str(a.add), "--seed", str(seed), "--out",
+                             str(nxt)], tolerate=True)
+                    except FitFailed as e:
+                        failures.append(f"{name} seed {seed}, {arm} round {r} (design): {e}")
+                        print(f"  {name} seed {seed} {arm} round {r}: design refused",
+                              file=sys.stderr, flush=True)
+                        break
                     with open(nxt, newline="") as fh:
                         rows = list(csv.DictReader(fh))
                     extra = {c: np.array([float(row[c]) for row in rows])

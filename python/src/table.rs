@@ -329,6 +329,7 @@ pub(crate) fn table_design(
         "spread": p.spread,
         "reason": p.reason,
         "n_candidates": p.n_candidates,
+        "left_out": p.left_out,
     });
     Ok(doc.to_string())
 }

@@ -87,6 +87,14 @@ pub(crate) fn run(a: DesignArgs) -> Result<()> {
             a.space
         )
     })?;
+    if p.left_out > 0 {
+        crate::safety::warn(&[&format!(
+            "{} of the {} candidate settings left out: the model has no finite value there (its \
+             physics or correction is outside its domain)",
+            p.left_out,
+            p.left_out + p.n_candidates
+        )]);
+    }
     if goal == DesignGoal::Discriminate && p.goal != goal {
         crate::safety::warn(&[&format!(
             "--goal discriminate: the model file has no alternative the data could not tell \
@@ -121,6 +129,7 @@ pub(crate) fn run(a: DesignArgs) -> Result<()> {
         let doc = serde_json::json!({
             "goal": p.goal.name(),
             "n_candidates": p.n_candidates,
+            "left_out": p.left_out,
             "runs": p.rows.iter().enumerate().map(|(k, &i)| {
                 let mut settings = serde_json::Map::new();
                 for &(name, col) in &numeric {

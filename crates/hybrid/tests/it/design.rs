@@ -508,3 +508,42 @@ fn each_equation_is_weighted_by_its_own_prediction_variance() {
         worth[best]
     );
 }
+
+/// A candidate where the model has no value (here the physics `k*sqrt(x)` at `x < 0`) is
+/// left out and counted, the others are designed over, and the rows returned index the
+/// candidates as given; a space where it has none is refused with one line.
+#[test]
+fn candidates_outside_the_models_domain_are_left_out() {
+    let t = table_with(0.05);
+    let n = t.n_rows();
+    let mut cfg = TableConfig::new("y", "k*sqrt(x)");
+    cfg.calibrate = vec!["k".into()];
+    cfg.search.epochs = 2;
+    let split = Split {
+        train: (0..n).collect(),
+        test: vec![],
+    };
+    let m = fit_split(&t, &cfg, &split, &mut |_| {}).expect("fit");
+    let space = parse_space("x=-2:6,z=0:1").expect("space");
+    let c = candidates(&space, 3).expect("candidates").table;
+    let x = c.column("x").expect("x");
+    let negative = x.iter().filter(|v| **v < 0.0).count();
+    assert!(negative > 0);
+    for goal in [
+        DesignGoal::Discriminate,
+        DesignGoal::Coverage,
+        DesignGoal::Precision,
+    ] {
+        let p = design(&m, &c, 5, goal).expect("design");
+        assert_eq!(p.rows.len(), 5);
+        assert!(p.left_out >= negative, "{goal:?}: {} left out", p.left_out);
+        for &i in &p.rows {
+            assert!(x[i] >= 0.0, "{goal:?}: run at x = {}", x[i]);
+        }
+    }
+    let outside = candidates(&parse_space("x=-3:-1,z=0:1").expect("space"), 3)
+        .expect("candidates")
+        .table;
+    let e = design(&m, &outside, 5, DesignGoal::Coverage).expect_err("no value anywhere");
+    assert!(e.to_string().contains("no finite value"), "{e}");
+}

@@ -95,15 +95,59 @@ pub struct Proposal {
     pub equations: Vec<(String, Vec<f64>)>,
     /// Candidates considered.
     pub n_candidates: usize,
+    /// Candidates left out because the model has no finite value there (its physics or
+    /// correction is outside its domain); 0 when every candidate was considered.
+    pub left_out: usize,
 }
 
-/// Picks `n` rows of `candidates` (every input column of `model`) for `goal`.
+/// Picks `n` rows of `candidates` (every input column of `model`) for `goal`. Candidates
+/// where the model has no finite value (a physics or correction outside its domain, such
+/// as a logarithm of a negative number) are left out and counted in
+/// [`Proposal::left_out`]; the rows returned index `candidates` as given.
 ///
 /// # Errors
 /// [`HybridError::MissingColumn`] for an input column the candidates lack;
-/// [`HybridError::InvalidConfig`] for `n` 0 or above the candidates, or a model whose
-/// physics or correction cannot be evaluated there.
+/// [`HybridError::InvalidConfig`] for `n` 0 or above the candidates left, a model with no
+/// finite value at any candidate, or whose correction cannot be evaluated there.
 pub fn design(
+    model: &TableModel,
+    candidates: &Table,
+    n: usize,
+    goal: DesignGoal,
+) -> Result<Proposal, HybridError> {
+    match design_all(model, candidates, n, goal) {
+        Err(HybridError::BadPhysics { .. } | HybridError::BadCorrection { .. }) => {}
+        other => return other,
+    }
+    // the slow path, only where some candidate has no value: each one on its own
+    let m = candidates.n_rows();
+    let keep: Vec<usize> = (0..m)
+        .filter(|&i| {
+            candidates
+                .select_rows(&[i])
+                .is_ok_and(|row| model.predict(&row).is_ok())
+        })
+        .collect();
+    if keep.is_empty() {
+        return Err(HybridError::InvalidConfig(format!(
+            "the model has no finite value at any of the {m} candidate settings (its physics \
+             or correction is outside its domain there): give settings inside it"
+        )));
+    }
+    let mut p = design_all(model, &candidates.select_rows(&keep)?, n, goal)?;
+    for r in &mut p.rows {
+        *r = keep[*r];
+    }
+    p.left_out = m - keep.len();
+    Ok(p)
+}
+
+/// [`design`] on candidates where the model has a value at every one.
+///
+/// # Errors
+/// Those of [`design`], and [`HybridError::BadPhysics`] or
+/// [`HybridError::BadCorrection`] at a candidate without one.
+fn design_all(
     model: &TableModel,
     candidates: &Table,
     n: usize,
@@ -342,6 +386,7 @@ fn proposal(
         rows,
         reason,
         n_candidates: m,
+        left_out: 0,
     }
 }
 
