@@ -165,10 +165,9 @@ def fit(a, spec, table, model):
             for p, v in m["physics"]["params"].items()}
 
 
-def true_set_share(a, spec, table, model):
-    """Fits with `--stability` and returns the share of resamples whose correction's
-    structure uses exactly the truth's columns."""
-    m = hybrid_fit(a, spec, table, model, "--stability", str(a.stability))
+def truth_share(m, spec):
+    """The share of the model file `m`'s stability resamples whose correction's structure
+    uses exactly the truth's columns (the process's `effects`)."""
     columns = list(ranges(spec["space"]))
     truth = set(spec["effects"].split(","))
     share = 0.0
@@ -176,6 +175,14 @@ def true_set_share(a, spec, table, model):
         used = {c for c in columns if re.search(rf"\b{re.escape(c)}\b", st["template"])}
         if used == truth:
             share += st["share"]
+    return share
+
+
+def true_set_share(a, spec, table, model):
+    """Fits with `--stability` and returns the share of resamples whose correction's
+    structure uses exactly the truth's columns."""
+    m = hybrid_fit(a, spec, table, model, "--stability", str(a.stability))
+    share = truth_share(m, spec)
     return share, bool((m["correction"].get("selection") or {}).get("alternatives"))
 
 
@@ -246,13 +253,7 @@ def loop_fit(a, spec, table, model, fresh_csv, y_fresh, pred_csv):
     """One fit of the closed loop (with `--stability`): the truth's share, whether the model
     has alternatives, the test RMSE on the fresh runs and each physics parameter's width."""
     m = hybrid_fit(a, spec, table, model, "--stability", str(a.stability))
-    columns = list(ranges(spec["space"]))
-    truth = set(spec["effects"].split(","))
-    share = 0.0
-    for st in m["stability"]["structures"]:
-        used = {c for c in columns if re.search(rf"\b{re.escape(c)}\b", st["template"])}
-        if used == truth:
-            share += st["share"]
+    share = truth_share(m, spec)
     try:
         rmse = test_rmse(a, model, fresh_csv, y_fresh, pred_csv, tolerate=True)
         refused = None

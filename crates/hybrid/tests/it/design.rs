@@ -240,34 +240,7 @@ fn precision_agrees_with_a_brute_force_search_over_every_set_of_runs() {
     let zs: Vec<f64> = (0..12).map(|i| ((i * 5) % 12) as f64 / 11.0).collect();
     let c = Table::new(vec!["x".into(), "z".into()], vec![xs, zs]).expect("candidates");
     // the gradient of the hybrid in each constant at each candidate (central differences)
-    let values: std::collections::BTreeMap<String, f64> =
-        u.params.iter().map(|(n, p)| (n.clone(), p.value)).collect();
-    let compiled =
-        hxai_symreg::infix::compile_text(&u.template, &values).expect("the template compiles");
-    let cols: Vec<&[f64]> = compiled
-        .inputs
-        .iter()
-        .map(|name| c.column(name).expect("a column of the template"))
-        .collect();
-    let grads: Vec<Vec<f64>> = u
-        .params
-        .iter()
-        .map(|(name, p)| {
-            let h = 1e-6 * p.value.abs().max(1e-3);
-            let at = |v: f64| {
-                let mut e = compiled.clone();
-                for &s in compiled.slots.get(name).map(Vec::as_slice).unwrap_or(&[]) {
-                    e.params[s] = v;
-                }
-                e.eval_columns(&cols, c.n_rows())
-            };
-            let (hi, lo) = (at(p.value + h), at(p.value - h));
-            hi.iter()
-                .zip(&lo)
-                .map(|(a, b)| (a - b) / (2.0 * h))
-                .collect()
-        })
-        .collect();
+    let (_, grads) = prediction_and_gradient(u, &c);
     let physics: Vec<usize> = u
         .params
         .iter()
