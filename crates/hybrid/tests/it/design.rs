@@ -51,9 +51,14 @@ fn table_with(noise: f64) -> Table {
 /// The hybrid `k*x` with its searched correction on [`table_with`]`(noise)`, every row a
 /// training row, its selection as the search left it.
 fn fitted(noise: f64) -> hxai_hybrid::tables::TableModel {
+    fitted_with(noise, "k*x")
+}
+
+/// [`fitted`] with the physics `physics` (its one parameter `k` calibrated).
+fn fitted_with(noise: f64, physics: &str) -> hxai_hybrid::tables::TableModel {
     let t = table_with(noise);
     let n = t.n_rows();
-    let mut cfg = TableConfig::new("y", "k*x");
+    let mut cfg = TableConfig::new("y", physics);
     cfg.calibrate = vec!["k".into()];
     cfg.search.epochs = 2;
     let split = Split {
@@ -487,16 +492,7 @@ fn each_equation_is_weighted_by_its_own_prediction_variance() {
 /// candidates as given; a space where it has none is refused with one line.
 #[test]
 fn candidates_outside_the_models_domain_are_left_out() {
-    let t = table_with(0.05);
-    let n = t.n_rows();
-    let mut cfg = TableConfig::new("y", "k*sqrt(x)");
-    cfg.calibrate = vec!["k".into()];
-    cfg.search.epochs = 2;
-    let split = Split {
-        train: (0..n).collect(),
-        test: vec![],
-    };
-    let m = fit_split(&t, &cfg, &split, &mut |_| {}).expect("fit");
+    let m = fitted_with(0.05, "k*sqrt(x)");
     let space = parse_space("x=-2:6,z=0:1").expect("space");
     let c = candidates(&space, 3).expect("candidates").table;
     let x = c.column("x").expect("x");
