@@ -214,6 +214,18 @@ def design_runs(a, model, nxt, goal, seed, measure, spec, rng):
     return designed
 
 
+def fresh_runs(out, name, seed, measure, spec):
+    """The 2,000 fresh runs of a seed (uniform over the space, measured; the same for every
+    arm), written under `out`: `(their CSV, their measured target, the CSV a prediction of
+    them is written to)`."""
+    rng = np.random.default_rng(9000 + seed)
+    fresh = uniform(spec["space"], 2000, rng)
+    y = measure(fresh, rng)
+    fresh_csv = out / f"{name}-{seed}-fresh.csv"
+    hp.write_csv(fresh_csv, fresh)
+    return fresh_csv, y, out / f"{name}-{seed}-fresh-pred.csv"
+
+
 def test_rmse(a, model, fresh_csv, y, out_csv, tolerate=False):
     """RMSE of the model's hybrid (`hxai hybrid predict`) against `y` on the fresh rows."""
     run([a.hxai, "hybrid", "predict", "--model", str(model), "--data", str(fresh_csv),
@@ -271,6 +283,16 @@ def loop_fit(a, spec, table, model, fresh_csv, y_fresh, pred_csv):
 ARMS = ("design", "random", "lhs")
 
 
+def fit_or_note(a, spec, table, model, fresh, failures, what):
+    """`loop_fit` on the fresh runs `(csv, y, prediction csv)`, or `None` with the
+    refusal noted in `failures` as `what`."""
+    try:
+        return loop_fit(a, spec, table, model, *fresh)
+    except FitFailed as e:
+        failures.append(f"{what}: {e}")
+        return None
+
+
 def closed_loop(a, out, name, measure, spec, log, failures):
     """Issue 49's loop on one process: `--rounds` rounds of `--add` runs per arm, each arm
     refitted after each round; one JSON line per fit in `log`."""
@@ -278,19 +300,14 @@ def closed_loop(a, out, name, measure, spec, log, failures):
         rng = np.random.default_rng(3000 + seed)
         base = uniform(spec["space"], a.start, rng)
         base[spec["target"]] = measure(base, rng)
-        fresh_rng = np.random.default_rng(9000 + seed)
-        fresh = uniform(spec["space"], 2000, fresh_rng)
-        y_fresh = measure(fresh, fresh_rng)
-        fresh_csv = out / f"{name}-{seed}-fresh.csv"
-        hp.write_csv(fresh_csv, fresh)
-        pred_csv = out / f"{name}-{seed}-fresh-pred.csv"
+        fresh_csv, y_fresh, pred_csv = fresh_runs(out, name, seed, measure, spec)
         t0 = out / f"{name}-{seed}-loop-start.csv"
         hp.write_csv(t0, base)
         m0 = out / f"{name}-{seed}-loop-start.json"
-        try:
-            start = loop_fit(a, spec, t0, m0, fresh_csv, y_fresh, pred_csv)
-        except FitFailed as e:
-            failures.append(f"{name} seed {seed}, start (the seed is left out): {e}")
+        fresh = (fresh_csv, y_fresh, pred_csv)
+        start = fit_or_note(a, spec, t0, m0, fresh, failures,
+                            f"{name} seed {seed}, start (the seed is left out)")
+        if start is None:
             continue
         for arm in ARMS:
             log.write(json.dumps(dict(process=name, seed=seed, arm=arm, rows=a.start,
@@ -324,10 +341,9 @@ def closed_loop(a, out, name, measure, spec, log, failures):
                 t = out / f"{name}-{seed}-loop-{arm}-{r}.csv"
                 hp.write_csv(t, table)
                 model = out / f"{name}-{seed}-loop-{arm}-{r}.json"
-                try:
-                    got = loop_fit(a, spec, t, model, fresh_csv, y_fresh, pred_csv)
-                except FitFailed as e:
-                    failures.append(f"{name} seed {seed}, {arm} round {r}: {e}")
+                got = fit_or_note(a, spec, t, model, fresh, failures,
+                                  f"{name} seed {seed}, {arm} round {r}")
+                if got is None:
                     break
                 log.write(json.dumps(dict(process=name, seed=seed, arm=arm,
                                           rows=a.start + r * a.add, **got)) + "\n")
@@ -487,12 +503,7 @@ def main():
             cover = design_runs(a, out / f"{name}-{seed}-start.json",
                                 out / f"{name}-{seed}-next-coverage.csv", "coverage", seed,
                                 measure, spec, rng)
-            fresh_rng = np.random.default_rng(9000 + seed)
-            fresh = uniform(spec["space"], 2000, fresh_rng)
-            y_fresh = measure(fresh, fresh_rng)
-            fresh_csv = out / f"{name}-{seed}-fresh.csv"
-            hp.write_csv(fresh_csv, fresh)
-            pred_csv = out / f"{name}-{seed}-fresh-pred.csv"
+            fresh_csv, y_fresh, pred_csv = fresh_runs(out, name, seed, measure, spec)
             rmses["start"].append(test_rmse(a, out / f"{name}-{seed}-start.json", fresh_csv,
                                             y_fresh, pred_csv))
             for arm, extra in (("precision", designed), ("random", randoms), ("lhs", lhs),
