@@ -119,15 +119,10 @@ pub fn design(
         Err(HybridError::BadPhysics { .. } | HybridError::BadCorrection { .. }) => {}
         other => return other,
     }
-    // the slow path, only where some candidate has no value: each one on its own
+    // only where some candidate has no value: design over those that have one
     let m = candidates.n_rows();
-    let keep: Vec<usize> = (0..m)
-        .filter(|&i| {
-            candidates
-                .select_rows(&[i])
-                .is_ok_and(|row| model.predict(&row).is_ok())
-        })
-        .collect();
+    let defined = model.defined_rows(candidates)?;
+    let keep: Vec<usize> = (0..m).filter(|&i| defined[i]).collect();
     if keep.is_empty() {
         return Err(HybridError::InvalidConfig(format!(
             "the model has no finite value at any of the {m} candidate settings (its physics \

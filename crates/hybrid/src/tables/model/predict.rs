@@ -95,6 +95,28 @@ impl TableModel {
         })
     }
 
+    /// Whether the model has a value at each row of `table` (its physics and correction
+    /// both finite there): the rows [`TableModel::predict`] accepts, from one evaluation.
+    ///
+    /// # Errors
+    /// Those of [`TableModel::predict`] other than a row without a value.
+    pub fn defined_rows(&self, table: &Table) -> Result<Vec<bool>, HybridError> {
+        let phys = self.physics_program()?;
+        let cols = columns_of(table, &phys.inputs, "physics column")?;
+        let physics = phys.eval_columns(&cols, table.n_rows());
+        let model = self.correction.fitted()?;
+        columns_of(table, &model.feature_names, "correction feature")?;
+        let correction = match &self.correction_per {
+            Some(cp) => cp.predict(model, table)?,
+            None => model.predict(table)?,
+        };
+        Ok(physics
+            .iter()
+            .zip(&correction)
+            .map(|(p, d)| p.is_finite() && d.is_finite())
+            .collect())
+    }
+
     /// Warnings for rows of `table` outside the ranges of the training rows, per input
     /// column of the hybrid ([`crate::tables::traps::range_warnings`]; the ranges are those the
     /// conformal calibration stores, so a file fitted without it gives none).
