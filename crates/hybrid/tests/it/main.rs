@@ -15,4 +15,5 @@ mod json_shape;
 mod per_class;
 mod process;
 mod properties;
+mod saves;
 mod stream;

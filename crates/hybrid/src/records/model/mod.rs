@@ -252,7 +252,11 @@ impl RecordModel {
                 ));
             }
         }
-        let mut model: RecordModel = serde_json::from_value(value)
+        // From the text, not from `value`: a `serde_json::Value` object sorts its keys, and
+        // the correction's `uncertainty.params` is an ordered map (`p10` after `p9`) whose
+        // order the `slots` and the covariance follow (issue 63).
+        drop(value);
+        let mut model: RecordModel = serde_json::from_str(text)
             .map_err(|e| HybridError::ModelFormat(hxai_table::plain_json_error(&e.to_string())))?;
         // a record model always writes its test windows, empty for a record split
         model.split.test_windows.get_or_insert_with(Vec::new);

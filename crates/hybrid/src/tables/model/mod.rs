@@ -235,10 +235,21 @@ impl TableModel {
         let json = self.to_json();
         match Self::from_json(&json) {
             Ok(back) if back.to_json() == json => Ok(json),
-            Ok(_) => Err(HybridError::ModelFormat(
-                "the model does not read back as it was written (a value in it is not a finite                  number); nothing was written"
-                    .into(),
-            )),
+            Ok(back) => {
+                let again = back.to_json();
+                let line = json
+                    .lines()
+                    .zip(again.lines())
+                    .position(|(a, b)| a != b)
+                    .unwrap_or_else(|| json.lines().count().min(again.lines().count()));
+                let text = json.lines().nth(line).unwrap_or("").trim();
+                Err(HybridError::ModelFormat(format!(
+                    "the model does not read back as it was written (line {} of the file, \
+                     `{text}`, comes back otherwise: a value that is not a finite number, or a \
+                     field out of order); nothing was written",
+                    line + 1
+                )))
+            }
             Err(e) => Err(HybridError::ModelFormat(format!(
                 "the model could not be read back ({e}); nothing was written"
             ))),
@@ -273,7 +284,11 @@ impl TableModel {
                 });
             }
         }
-        let m: TableModel = serde_json::from_value(v)
+        // From the text, not from `v`: a `serde_json::Value` object sorts its keys, and
+        // `uncertainty.params` is an ordered map (template order: `k` before `c`, `p10` after
+        // `p9`) whose order the `slots` and the covariance follow (issue 63).
+        drop(v);
+        let m: TableModel = serde_json::from_str(text)
             .map_err(|e| HybridError::ModelFormat(hxai_table::plain_json_error(&e.to_string())))?;
         let phys = m.physics_program()?;
         // the correction model checks itself on the way in
