@@ -431,14 +431,17 @@ fn evaluate(a: EvaluateArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&e)?);
     } else {
         println!(
-            "{} rows: physics RMSE {} R^2 {:.4}; hybrid RMSE {} R^2 {:.4}; improvement {:.2} %; paired t-test p = {}",
+            "{} rows: physics RMSE {} R^2 {:.4}; hybrid RMSE {} R^2 {:.4}; improvement {:.2} %; paired t-test {}",
             e.n_samples,
             hxai_data::format_number(e.physics.rmse),
             e.physics.r2,
             hxai_data::format_number(e.hybrid.rmse),
             e.hybrid.r2,
             e.improvement_pct,
-            hxai_data::format_number(e.t_test.p_value)
+            match (&e.t_test, &e.t_test_reason) {
+                (Some(t), _) => format!("p = {}", hxai_data::format_number(t.p_value)),
+                (None, r) => format!("none ({})", r.as_deref().unwrap_or("undefined")),
+            }
         );
         if let Some(iv) = e.interval {
             print_interval(&iv, "rows");

@@ -144,13 +144,21 @@ pub(super) fn print_comparison(c: &Comparison) {
         }
     }
     for t in &c.t_tests {
-        println!(
-            "paired t-test {} vs {} (squared errors): t = {:.3}, p = {}",
-            t.model,
-            t.baseline,
-            t.test.statistic,
-            n(t.test.p_value)
-        );
+        match (&t.test, &t.reason) {
+            (Some(tt), _) => println!(
+                "paired t-test {} vs {} (squared errors): t = {:.3}, p = {}",
+                t.model,
+                t.baseline,
+                tt.statistic,
+                n(tt.p_value)
+            ),
+            (None, reason) => println!(
+                "paired t-test {} vs {}: none ({})",
+                t.model,
+                t.baseline,
+                reason.as_deref().unwrap_or("undefined")
+            ),
+        }
     }
     if let Some(iv) = &c.interval {
         print_interval(iv, "test rows");

@@ -56,9 +56,13 @@ pub struct TTestScore {
     /// What it is compared with.
     pub baseline: String,
     /// The test on `se_baseline - se_model` (positive statistic: the model's errors are
-    /// smaller); flattened into this object in JSON.
+    /// smaller); flattened into this object in JSON. `None` where the test is undefined
+    /// (`reason` says why: the two models predict the same on every row).
     #[serde(flatten)]
-    pub test: TTest,
+    pub test: Option<TTest>,
+    /// Why `test` is absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
 }
 
 /// What [`compare`] returns.
@@ -84,8 +88,12 @@ pub struct Comparison {
     pub cv: Vec<CvScore>,
     /// Folds of the cross-validation.
     pub folds: usize,
-    /// Hybrid vs the physics as given (uncalibrated), on the test rows.
-    pub t_test: TTestScore,
+    /// Hybrid vs the physics as given (uncalibrated), on the test rows; `null` where the
+    /// test is undefined (`t_test_reason` says why), every other number still reported.
+    pub t_test: Option<TTestScore>,
+    /// Why `t_test` is `null`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t_test_reason: Option<String>,
     /// Every paired test of the hybrid: vs `physics`, vs `physics_calibrated` (with
     /// calibration), vs `physics_forest`, vs `symbolic`.
     pub t_tests: Vec<TTestScore>,
@@ -283,6 +291,30 @@ fn predictions_on(
     })
 }
 
+/// A paired t-test of `a` against `b`, or `None` with the reason where it is undefined
+/// (`what` predict the same on every row: the statistic is 0/0). An undefined test is a
+/// result, not a failure (issue 63): the other numbers are still reported.
+///
+/// # Errors
+/// What [`hxai_eval::paired_t_test`] refuses besides identical samples.
+pub(crate) fn defined_t_test(
+    a: &[f64],
+    b: &[f64],
+    what: &str,
+) -> Result<(Option<TTest>, Option<String>), HybridError> {
+    match hxai_eval::paired_t_test(a, b) {
+        Ok(t) => Ok((Some(t), None)),
+        Err(hxai_eval::EvalError::IdenticalSamples) => Ok((
+            None,
+            Some(format!(
+                "{what} have the same error on every row (the correction changes nothing \
+                 there): the paired t-test is undefined (0/0)"
+            )),
+        )),
+        Err(e) => Err(e.into()),
+    }
+}
+
 fn t_test(
     y: &[f64],
     model: &[f64],
@@ -292,11 +324,12 @@ fn t_test(
 ) -> Result<TTestScore, HybridError> {
     let se_m = hxai_eval::squared_errors(y, model)?;
     let se_b = hxai_eval::squared_errors(y, baseline)?;
-    let t = hxai_eval::paired_t_test(&se_b, &se_m)?;
+    let (test, reason) = defined_t_test(&se_b, &se_m, &format!("{mname} and {bname}"))?;
     Ok(TTestScore {
         model: mname.into(),
         baseline: bname.into(),
-        test: t,
+        test,
+        reason,
     })
 }
 
@@ -385,7 +418,11 @@ pub fn compare(
             t_tests.push(t_test(&y_test, hybrid, b, "hybrid", base)?);
         }
     }
-    let t_test_physics = t_tests[0].clone();
+    let (t_test_physics, t_test_reason) = match t_tests.first() {
+        Some(t) if t.test.is_some() => (Some(t.clone()), None),
+        Some(t) => (None, t.reason.clone()),
+        None => (None, Some("no physics prediction to test against".into())),
+    };
     let rmse_of = |name: &str| {
         models
             .iter()
@@ -444,9 +481,37 @@ pub fn compare(
         cv,
         folds: cv_splits.len(),
         t_test: t_test_physics,
+        t_test_reason,
         t_tests,
         best_black_box,
         hybrid_over_best_black_box,
         hybrid: main.model,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::t_test;
+
+    /// Hybrid and baseline with the same predictions: the test row is kept with `None` and
+    /// the reason (issue 63: `hybrid compare` aborted), and it serialises as an object without
+    /// a p-value that reads back.
+    #[test]
+    fn an_undefined_t_test_is_a_result() {
+        let y = [1.0, 2.5, 2.9, 4.2];
+        let p = [1.1, 2.4, 3.0, 4.0];
+        let t = t_test(&y, &p, &p, "hybrid", "physics_calibrated").unwrap();
+        assert!(t.test.is_none());
+        assert!(t.reason.as_deref().unwrap().contains("physics_calibrated"));
+        let json = serde_json::to_string(&t).unwrap();
+        assert!(!json.contains("p_value"), "{json}");
+        let back: super::TTestScore = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, t);
+        let defined = t_test(&y, &[1.0, 2.5, 2.95, 4.1], &p, "hybrid", "physics").unwrap();
+        assert!(defined.test.is_some() && defined.reason.is_none());
+        let back: super::TTestScore =
+            serde_json::from_str(&serde_json::to_string(&defined).unwrap()).unwrap();
+        assert_eq!(back, defined);
+    }
 }

@@ -102,13 +102,41 @@ pub(crate) fn evaluation(
     let hs = hxai_eval::score(y, hybrid)?;
     let se_p = hxai_eval::squared_errors(y, physics)?;
     let se_h = hxai_eval::squared_errors(y, hybrid)?;
+    let (t_test, t_test_reason) =
+        crate::tables::compare::defined_t_test(&se_p, &se_h, "the physics and the hybrid")?;
     Ok(TableEvaluation {
         improvement_pct: hxai_eval::improvement_pct(ps.rmse, hs.rmse)?,
-        t_test: hxai_eval::paired_t_test(&se_p, &se_h)?,
+        t_test,
+        t_test_reason,
         physics: ps,
         hybrid: hs,
         n_samples: y.len(),
         interval: None,
         warnings: Vec::new(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::evaluation;
+
+    /// A hybrid that predicts its physics on every row (the correction kept nothing) is
+    /// evaluated: the t-test is `None` with the reason, every other number is given
+    /// (issue 63: it aborted the whole evaluation).
+    #[test]
+    fn a_hybrid_equal_to_its_physics_is_evaluated_without_a_t_test() {
+        let y = [1.0, 2.5, 2.9, 4.2];
+        let p = [1.1, 2.4, 3.0, 4.0];
+        let e = evaluation(&y, &p, &p).unwrap();
+        assert!(e.t_test.is_none());
+        assert!(e.t_test_reason.unwrap().contains("undefined"));
+        assert_eq!(e.physics, e.hybrid);
+        assert_eq!(e.improvement_pct, 0.0);
+        let json = serde_json::to_value(evaluation(&y, &p, &p).unwrap()).unwrap();
+        assert!(json["t_test"].is_null(), "{json}");
+        // a defined test is still given
+        let h = [1.0, 2.5, 2.95, 4.1];
+        assert!(evaluation(&y, &p, &h).unwrap().t_test.is_some());
+    }
 }

@@ -205,8 +205,13 @@ pub struct TableEvaluation {
     pub hybrid: Metrics,
     /// `(rmse_physics - rmse_hybrid) / rmse_physics * 100`.
     pub improvement_pct: f64,
-    /// Paired two-tailed t-test of the per-row squared errors (physics vs hybrid).
-    pub t_test: hxai_eval::TTest,
+    /// Paired two-tailed t-test of the per-row squared errors (physics vs hybrid); `null`
+    /// where it is undefined (the hybrid predicts the physics on every row), with
+    /// `t_test_reason`.
+    pub t_test: Option<hxai_eval::TTest>,
+    /// Why `t_test` is `null`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t_test_reason: Option<String>,
     /// Rows evaluated.
     pub n_samples: usize,
     /// Coverage of the hybrid's prediction intervals (when the model stores the

@@ -279,7 +279,7 @@ fn hybrid_beats_the_physics_and_round_trips_through_json() {
         .unwrap();
     assert_eq!(ev.n_samples, m.split.test.len());
     assert_eq!(ev.hybrid, test.hybrid);
-    assert!(ev.improvement_pct > 50.0 && ev.t_test.p_value < 1e-3);
+    assert!(ev.improvement_pct > 50.0 && ev.t_test.unwrap().p_value < 1e-3);
     // predicting needs no target
     let mut no_target = t.clone();
     no_target.remove_column("Ra").unwrap();
@@ -477,7 +477,7 @@ fn compare_reports_every_model_and_the_folds() {
         assert_eq!(s.r2_folds.len(), 3);
         assert!(s.r2_ci[0] <= s.r2_mean && s.r2_mean <= s.r2_ci[1]);
     }
-    assert_eq!(c.t_test.baseline, "physics");
+    assert_eq!(c.t_test.as_ref().unwrap().baseline, "physics");
     assert_eq!(c.t_tests.len(), 5);
     let score = |n: &str| c.models.iter().find(|m| m.name == n).unwrap().metrics.rmse;
     // with k = 1 the uncalibrated law is 1.3x off: calibration must help
