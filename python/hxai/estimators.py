@@ -698,7 +698,8 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     correction; docs/bad-input.md), ``selection_`` and ``stability_`` (with
     ``stability_runs=N``, as ``hxai hybrid fit --stability N``; the shares in ``selection_``
     are then the resamples') and ``model_json_`` (the model file of ``hxai hybrid
-    fit``, readable by ``hxai hybrid predict``). ``predict_parts(X)`` returns physics, correction and hybrid.
+    fit``, readable by ``hxai hybrid predict``). ``predict_parts(X)`` returns physics, correction, hybrid and
+    ``outside_training``.
 
     ``calibrate_per="COL=P1,P2"`` (or ``("COL", ["P1", "P2"])``), as ``hxai hybrid fit
     --calibrate-per``: the physics parameters ``P1``, ``P2`` are fitted once per level of the
@@ -898,10 +899,15 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         X = validate_data(self, X, dtype=np.float64, reset=False, ensure_all_finite=False)
         names = _names(self, X.shape[1])
         X = _missing_predict(self, X, names)
-        return _hxai.table_predict(self.model_json_, names, columns_of(X), levels)
+        *parts, warned = _hxai.table_predict(self.model_json_, names, columns_of(X), levels)
+        # rows beside the data, predictions of a sign the training target never had
+        for w in warned:
+            warnings.warn(w, UserWarning, stacklevel=3)
+        return parts
 
     def predict(self, X):
-        """The hybrid's values on the rows of ``X``."""
+        """The hybrid's values on the rows of ``X`` (a ``UserWarning`` names rows beside the
+        data and predictions of a sign the training target never had)."""
         return from_bytes(self._parts(X)[2])
 
     def predict_interval(self, X, level=0.95, method=None):
@@ -992,8 +998,15 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         return out
 
     def predict_parts(self, X):
-        """A DataFrame with the columns physics, correction and hybrid."""
-        p, c, h = self._parts(X)
+        """A DataFrame with the columns physics, correction, hybrid and
+        ``outside_training`` (1 where a column of the row lies outside its training range by
+        more than 10 % of the range's width, else 0), as ``hxai hybrid predict`` writes."""
+        p, c, h, o = self._parts(X)
         return pd.DataFrame(
-            {"physics": from_bytes(p), "correction": from_bytes(c), "hybrid": from_bytes(h)}
+            {
+                "physics": from_bytes(p),
+                "correction": from_bytes(c),
+                "hybrid": from_bytes(h),
+                "outside_training": from_bytes(o).astype(np.int64),
+            }
         )

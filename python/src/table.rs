@@ -153,8 +153,10 @@ pub(crate) fn table_fit(
 }
 
 /// `table_predict(model_json, names, columns, levels=None)` -> `(physics, correction,
-/// hybrid)`; `levels`: {column: cells} of the text columns of a model with per-level
-/// constants.
+/// hybrid, outside_training, warnings)`; `levels`: {column: cells} of the text columns of a
+/// model with per-level constants. `outside_training` is 1.0 for a row beside the data
+/// (`TableModel::outside_training`), else 0.0; `warnings` those of `hxai hybrid predict`
+/// about the rows (beside the data, a sign the training target never had).
 #[pyfunction]
 #[pyo3(signature = (model_json, names, columns, levels=None))]
 #[allow(clippy::type_complexity)]
@@ -168,15 +170,30 @@ pub(crate) fn table_predict<'py>(
     Bound<'py, PyBytes>,
     Bound<'py, PyBytes>,
     Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Vec<String>,
 )> {
     let model = TableModel::from_json(model_json).map_err(err)?;
     let mut table = table_of(names, &columns)?;
     with_levels(&model, &mut table, levels)?;
-    let p = py.detach(move || model.predict(&table)).map_err(err)?;
+    let (p, outside, warnings) = py
+        .detach(move || {
+            let p = model.predict(&table)?;
+            let outside: Vec<f64> = model
+                .outside_training(&table)
+                .into_iter()
+                .map(|o| if o { 1.0 } else { 0.0 })
+                .collect();
+            let warnings = model.prediction_warnings(&table, &p.hybrid);
+            Ok::<_, hxai_hybrid::HybridError>((p, outside, warnings))
+        })
+        .map_err(err)?;
     Ok((
         to_bytes(py, &p.physics),
         to_bytes(py, &p.correction),
         to_bytes(py, &p.hybrid),
+        to_bytes(py, &outside),
+        warnings,
     ))
 }
 

@@ -284,6 +284,14 @@ def test_hybrid_fit_predict_roughness(roughness):
     back = pickle.loads(pickle.dumps(m))
     np.testing.assert_array_equal(back.predict(X), m.predict(X))
     assert m.target_ == "Ra_um"
+    # the training rows are inside their own ranges; a row far beside them is flagged and
+    # warned about (issue 63)
+    assert (parts["outside_training"] == 0).all()
+    far = X.iloc[:2].copy()
+    far.iloc[1, far.columns.get_loc("feed_mm")] = 10 * X["feed_mm"].max()
+    with pytest.warns(UserWarning, match="1 of 2 rows lie beside the data"):
+        flagged = m.predict_parts(far)
+    assert flagged["outside_training"].tolist() == [0, 1]
 
 
 def test_hybrid_factor_form(roughness):

@@ -282,9 +282,9 @@ impl ConformalInfo {
     /// needs the first fold only for `Split`.
     ///
     /// # Errors
-    /// `level` outside (0, 1), too few calibration scores for `level`, a fold's prediction
-    /// that is not finite (or not positive on the log scale), and [`IntervalMethod::Delta`]
-    /// (not a conformal method).
+    /// `level` outside (0, 1), too few calibration scores for `level`, and
+    /// [`IntervalMethod::Delta`] (not a conformal method). A row where a fold's prediction
+    /// is not finite (or not positive on the log scale) gets `(NaN, NaN)`: no interval.
     pub fn intervals_from(
         &self,
         fold_pred: &[Vec<f64>],
@@ -300,21 +300,11 @@ impl ConformalInfo {
             _ => 0.0,
         };
         let factor = |row: usize| 1.0 + kappa * distance.map_or(0.0, |d| d[row]);
-        let working = |p: f64, row: usize| -> Result<f64, HybridError> {
-            let z = self.scale.to(p);
-            if z.is_finite() {
-                Ok(z)
-            } else {
-                Err(HybridError::InvalidConfig(format!(
-                    "row {}: a conformal fold's model predicts {p}, where the interval (on the {} scale) is undefined",
-                    row + 1,
-                    match self.scale {
-                        ResidualScale::Linear => "linear",
-                        ResidualScale::Log => "log",
-                    }
-                )))
-            }
-        };
+        // the working-scale value of a fold's prediction; `None` where it has none (not
+        // finite, or not positive on the log scale): that row gets no interval (NaN, NaN),
+        // and every other row keeps its own (issue 63: one such row aborted an evaluation)
+        let working = |p: f64| -> Option<f64> { Some(self.scale.to(p)).filter(|z| z.is_finite()) };
+        const NONE: (f64, f64) = (f64::NAN, f64::NAN);
         let n_rows = fold_pred.first().map_or(0, Vec::len);
         match method {
             IntervalMethod::Delta => Err(HybridError::InvalidConfig(
@@ -333,7 +323,9 @@ impl ConformalInfo {
                     .iter()
                     .enumerate()
                     .map(|(row, p)| {
-                        let z = working(*p, row)?;
+                        let Some(z) = working(*p) else {
+                            return Ok(NONE);
+                        };
                         let half = self.scale_model.at(z) * q * factor(row);
                         Ok((self.scale.from(z - half), self.scale.from(z + half)))
                     })
@@ -352,9 +344,15 @@ impl ConformalInfo {
                 let mut radius = vec![0.0; n];
                 let mut out = Vec::with_capacity(n_rows);
                 let mut z_fold = vec![0.0; self.folds];
-                for row in 0..n_rows {
+                'rows: for row in 0..n_rows {
                     for (k, p) in fold_pred.iter().enumerate() {
-                        z_fold[k] = working(p[row], row)?;
+                        match working(p[row]) {
+                            Some(z) => z_fold[k] = z,
+                            None => {
+                                out.push(NONE);
+                                continue 'rows;
+                            }
+                        }
                     }
                     let f = factor(row);
                     for i in 0..n {
@@ -524,5 +522,42 @@ mod tests {
             ..w
         };
         assert_eq!(none.slope(2.0, 0.95), 0.0);
+    }
+
+    /// A row where a fold's model has no value on the log scale (a negative prediction)
+    /// gets no interval, (NaN, NaN), and every other row keeps its own, by both conformal
+    /// methods (issue 63: one such row aborted a whole evaluation).
+    #[test]
+    fn a_row_without_an_interval_does_not_stop_the_others() {
+        use super::{ConformalInfo, IntervalMethod, ResidualScale};
+        let n = 40;
+        let y: Vec<f64> = (0..n).map(|i| 10.0 + f64::from(i)).collect();
+        let held: Vec<f64> = y
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v * if i % 2 == 0 { 1.05 } else { 0.96 })
+            .collect();
+        let fold_of: Vec<usize> = (0..y.len()).map(|i| i % 2).collect();
+        let c = ConformalInfo::from_held_out(vec![vec![1.0], vec![1.0]], fold_of, &held, &y, true)
+            .expect("a calibration");
+        assert_eq!(c.scale, ResidualScale::Log);
+        let fold_pred = vec![vec![12.0, -0.104, 30.0], vec![12.5, 5.0, 29.0]];
+        for method in [IntervalMethod::Conformal, IntervalMethod::Split] {
+            let iv = c
+                .intervals_from(&fold_pred, None, 0.9, method)
+                .expect("intervals");
+            assert_eq!(iv.len(), 3);
+            if method == IntervalMethod::Conformal {
+                assert!(iv[1].0.is_nan() && iv[1].1.is_nan(), "{iv:?}");
+            }
+            for (lo, hi) in [iv[0], iv[2]] {
+                assert!(lo.is_finite() && hi.is_finite() && lo < hi, "{iv:?}");
+            }
+        }
+        // split conformal uses the first fold alone, whose prediction at row 2 is -0.104
+        let split = c
+            .intervals_from(&fold_pred, None, 0.9, IntervalMethod::Split)
+            .expect("intervals");
+        assert!(split[1].0.is_nan());
     }
 }

@@ -82,5 +82,5 @@ pub mod tables;
 pub use correction::CorrectionInfo;
 pub use error::HybridError;
 pub use hxai_eval::IntervalMethod;
-pub use intervals::{DEFAULT_INTERVAL, IntervalReport};
+pub use intervals::{DEFAULT_INTERVAL, IntervalReport, undefined_warning};
 pub use split::{SplitInfo, WindowId};

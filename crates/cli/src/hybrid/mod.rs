@@ -375,14 +375,32 @@ fn predict(a: PredictArgs) -> Result<()> {
     let p = model.predict(&loaded.table)?;
     crate::safety::warn(&model.range_warnings(&loaded.table));
     crate::safety::warn(&model.value_warnings(&loaded.table));
+    crate::safety::warn(&model.prediction_warnings(&loaded.table, &p.hybrid));
     let bounds = match a.interval {
-        Some(level) => Some(model.intervals_with(
-            &loaded.table,
-            level,
-            interval_method(a.interval_method, model.default_interval_method(level)),
-        )?),
+        Some(level) => {
+            let method = interval_method(a.interval_method, model.default_interval_method(level));
+            let iv = model.intervals_with(&loaded.table, level, method)?;
+            let undefined = iv
+                .iter()
+                .filter(|(lo, hi)| lo.is_nan() || hi.is_nan())
+                .count();
+            if undefined > 0 {
+                crate::safety::warn(&[format!(
+                    "{undefined} row(s) have no prediction interval (the {} method has no value \
+                     there, e.g. a fold's model predicts a value the interval's log scale cannot \
+                     take): `hybrid_lo` and `hybrid_hi` are empty there",
+                    method.name()
+                )]);
+            }
+            Some(iv)
+        }
         None => None,
     };
+    let outside: Vec<f64> = model
+        .outside_training(&loaded.table)
+        .into_iter()
+        .map(|o| if o { 1.0 } else { 0.0 })
+        .collect();
     let mut t = hxai_data::MixedTable::default();
     if let (Some(g), Some(cells)) = (&model.group, loaded.group_cells) {
         t.push(g, cells);
@@ -395,6 +413,7 @@ fn predict(a: PredictArgs) -> Result<()> {
         ("hybrid", p.hybrid),
         ("hybrid_lo", lo),
         ("hybrid_hi", hi),
+        ("outside_training", outside),
     ];
     for (n, v) in columns
         .into_iter()

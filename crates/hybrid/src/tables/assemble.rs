@@ -66,6 +66,12 @@ pub(super) fn model_of(
             )
         })
         .collect();
+    let training = super::model::TrainingRanges::of(
+        table,
+        &read_columns(&res.columns, &correction, cfg.group.as_deref()),
+        y_all,
+        &split.train,
+    );
     let phys_expr = phys.expr();
     let phys_forms = forms(&phys_expr);
     let combined = combine(&phys, &correction, cfg.correction);
@@ -109,6 +115,7 @@ pub(super) fn model_of(
         missing: None,
         per_class: None,
         correction_per: None,
+        training: Some(training),
         scores: ScoresInfo {
             black_boxes: None,
             train: PairScores {
@@ -118,6 +125,22 @@ pub(super) fn model_of(
             test: None,
         },
     })
+}
+
+/// The columns the hybrid reads: the physics' and the correction's features, each once, the
+/// group column left out (an identifier, not a setting).
+fn read_columns(
+    physics: &[String],
+    correction: &hxai_symreg::Model,
+    group: Option<&str>,
+) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for c in physics.iter().chain(&correction.feature_names) {
+        if Some(c.as_str()) != group && !out.contains(c) {
+            out.push(c.clone());
+        }
+    }
+    out
 }
 
 /// The scores of `model`'s physics and hybrid on the training rows of `split` and, when

@@ -285,10 +285,14 @@ pub(crate) fn intervals(
         Some(w) => Some(w.distances(table)?),
         None => None,
     };
-    conf.intervals_by(
+    let iv = conf.intervals_by(
         |p| predict_with(c, p, table),
         distance.as_deref(),
         level,
         method,
-    )
+    )?;
+    Ok(crate::intervals::holding_points(
+        iv,
+        &predict_with(c, &c.params, table)?,
+    ))
 }

@@ -63,8 +63,8 @@ pub use compare::{BlackBox, Comparison, CvScore, ModelScore, TTestScore, compare
 pub use correction_per::{CorrectionPer, CorrectionPerInfo};
 pub use fit::{fit, fit_split, measure_stability, stability};
 pub use model::{
-    BlackBoxScores, EquationInfo, JointInfo, MissingInfo, PairScores, PhysicsInfo, SCHEMA_VERSION,
-    ScoresInfo, TableEvaluation, TableModel, TablePrediction,
+    BlackBoxScores, EquationInfo, JointInfo, MissingInfo, OUTSIDE_MARGIN, PairScores, PhysicsInfo,
+    SCHEMA_VERSION, ScoresInfo, TableEvaluation, TableModel, TablePrediction, TrainingRanges,
 };
 pub use per_class::PerClassInfo;
 pub use split::split_rows;

@@ -7,6 +7,7 @@
 //! check refused to write the file on most tables with two calibrated parameters.
 #![allow(clippy::unwrap_used)]
 
+use hxai_hybrid::IntervalMethod;
 use hxai_hybrid::tables::{TableConfig, TableModel, fit};
 use hxai_symreg::Table;
 use proptest::prelude::*;
@@ -58,7 +59,78 @@ proptest! {
         prop_assert_eq!(&back, &m);
         prop_assert_eq!(back.predict(&t).unwrap(), m.predict(&t).unwrap());
         prop_assert_eq!(back.intervals(&t, 0.95).unwrap(), m.intervals(&t, 0.95).unwrap());
+        // an interval always holds its point, beside the data too
+        let far = Table::new(
+            vec!["x1".into(), "x2".into()],
+            vec![vec![45.0, 90.0, 0.0, 200.0, 60.0], vec![160.0, 241.0, 200.0, 100.0, 400.0]],
+        )
+        .unwrap();
+        let p = m.predict(&far).unwrap().hybrid;
+        let methods = [m.default_interval_method(0.95), Some(IntervalMethod::Delta)];
+        for method in methods.into_iter().flatten() {
+            for ((lo, hi), p) in m.intervals_with(&far, 0.95, method).unwrap().iter().zip(&p) {
+                prop_assert!(
+                    !p.is_finite() || lo.is_nan() || (lo <= p && p <= hi),
+                    "{method:?}: {p} outside [{lo}, {hi}]"
+                );
+            }
+        }
+        prop_assert_eq!(&m.outside_training(&far)[2..], &[true, true, true]);
     }
+}
+
+/// Rows beside the data are flagged (a column outside its training range by more than 10 %
+/// of its width) and a prediction of a sign the training target never had is warned about
+/// by its row.
+#[test]
+fn rows_beside_the_data_and_predictions_of_a_new_sign_are_named() {
+    let t = linear_table(60, 1200.0, -6.57, -1.37, 5.0, 3);
+    let mut cfg = TableConfig::new("y", "k*x1 + c");
+    cfg.calibrate = vec!["k".into(), "c".into()];
+    cfg.search.epochs = 2;
+    cfg.search.candidates_per_epoch = 200;
+    let m = fit(&t, &cfg, &mut |_| {}).unwrap();
+    let tr = m.training.as_ref().unwrap();
+    assert!(tr.target[0] > 0.0, "{:?}", tr.target);
+    // just inside and just outside 10 % of the width beyond each end of x1's range
+    let [lo, hi] = tr.columns["x1"];
+    let w = hi - lo;
+    let rows = Table::new(
+        vec!["x1".into(), "x2".into()],
+        vec![
+            vec![
+                lo - 0.09 * w,
+                hi + 0.09 * w,
+                hi + 0.11 * w,
+                lo - 0.11 * w,
+                300.0,
+            ],
+            vec![200.0; 5],
+        ],
+    )
+    .unwrap();
+    assert_eq!(
+        m.outside_training(&rows),
+        vec![false, false, true, true, true]
+    );
+    let p = m.predict(&rows).unwrap().hybrid;
+    assert!(p[4] < 0.0, "{p:?}");
+    let w = m.prediction_warnings(&rows, &p);
+    assert!(
+        w.iter()
+            .any(|w| w.starts_with("3 of 5 rows lie beside the data")),
+        "{w:?}"
+    );
+    assert!(
+        w.iter()
+            .any(|w| w.contains("negative") && w.contains("row(s) 5")),
+        "{w:?}"
+    );
+    // a file written before the ranges were stored reads and flags nothing
+    let mut old = m.clone();
+    old.training = None;
+    old.conformal = None;
+    assert_eq!(old.outside_training(&rows), vec![false; 5]);
 }
 
 /// The reproducer at each size it names: `k*x1 + c` calibrated, the model written.

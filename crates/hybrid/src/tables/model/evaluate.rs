@@ -52,8 +52,11 @@ impl TableModel {
         let p = self.predict(table)?;
         let mut ev = evaluation(y, &p.physics, &p.hybrid)?;
         let iv = self.intervals_with(table, level, method)?;
-        ev.interval = Some(IntervalReport::of(method, level, y, &iv));
+        let report = IntervalReport::of(method, level, y, &iv);
+        ev.interval = Some(report);
         ev.warnings = self.range_warnings(table);
+        ev.warnings
+            .extend(crate::intervals::undefined_warning(&report, "row(s)"));
         Ok(ev)
     }
 

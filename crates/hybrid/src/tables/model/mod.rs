@@ -167,11 +167,104 @@ pub struct TableModel {
     /// builds the same level indicators and refuses a level it never saw.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub per_class: Option<super::per_class::PerClassInfo>,
+    /// The training rows' range of every column the hybrid reads and of the target, which
+    /// `predict` flags rows against (`outside_training`) and whose target's sign a
+    /// prediction is checked against; absent from files written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub training: Option<TrainingRanges>,
     /// With `--correction-per COL`: the correction's constants per level of the text column
     /// (each level's constants, equation and training rows); `predict` uses the row's
     /// level's constants and refuses a level it never saw.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub correction_per: Option<super::correction_per::CorrectionPerInfo>,
+}
+
+/// The ranges of the training rows (the model file's `training`).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct TrainingRanges {
+    /// Each column the hybrid reads (physics columns and correction features): its
+    /// smallest and largest training value.
+    pub columns: BTreeMap<String, [f64; 2]>,
+    /// The target's smallest and largest training value.
+    pub target: [f64; 2],
+}
+
+/// How far beyond a training range a value may lie, as a share of the range's width, before
+/// its row is flagged `outside_training` (issue 63: 10 %).
+pub const OUTSIDE_MARGIN: f64 = 0.1;
+
+impl TrainingRanges {
+    /// The ranges of `columns` and the target `y` over the rows `rows` of `table`
+    /// (columns the table lacks, and non-finite values, are left out).
+    pub fn of(table: &hxai_symreg::Table, columns: &[String], y: &[f64], rows: &[usize]) -> Self {
+        let range = |v: &[f64]| -> Option<[f64; 2]> {
+            let mut it = rows
+                .iter()
+                .filter_map(|&i| v.get(i))
+                .filter(|x| x.is_finite());
+            let first = *it.next()?;
+            Some(it.fold([first, first], |[lo, hi], &x| [lo.min(x), hi.max(x)]))
+        };
+        let columns = columns
+            .iter()
+            .filter_map(|c| Some((c.clone(), range(table.column(c)?)?)))
+            .collect();
+        TrainingRanges {
+            columns,
+            target: range(y).unwrap_or([f64::NAN, f64::NAN]),
+        }
+    }
+
+    /// For each row of `table`: whether any column lies outside its training range by more
+    /// than [`OUTSIDE_MARGIN`] of the range's width (a non-finite value counts as outside).
+    pub fn outside(&self, table: &hxai_symreg::Table) -> Vec<bool> {
+        let mut out = vec![false; table.n_rows()];
+        for (name, [lo, hi]) in &self.columns {
+            let Some(col) = table.column(name) else {
+                continue;
+            };
+            let margin = OUTSIDE_MARGIN * (hi - lo);
+            for (o, &v) in out.iter_mut().zip(col) {
+                if !(v >= lo - margin && v <= hi + margin) {
+                    *o = true;
+                }
+            }
+        }
+        out
+    }
+
+    /// The warning for predictions of a sign the training target never had (every
+    /// training value positive and a prediction below 0, or the other way round), naming
+    /// the rows (1-based, the first ten); `None` when there are none.
+    pub fn sign_warning(&self, predictions: &[f64], what: &str) -> Option<String> {
+        let [lo, hi] = self.target;
+        let (wrong, sign): (Box<dyn Fn(f64) -> bool>, &str) = if lo > 0.0 {
+            (Box::new(|p: f64| p < 0.0), "negative")
+        } else if hi < 0.0 {
+            (Box::new(|p: f64| p > 0.0), "positive")
+        } else {
+            return None;
+        };
+        let rows: Vec<usize> = predictions
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| wrong(**p))
+            .map(|(i, _)| i + 1)
+            .collect();
+        if rows.is_empty() {
+            return None;
+        }
+        let shown: Vec<String> = rows.iter().take(10).map(ToString::to_string).collect();
+        Some(format!(
+            "{} {what} predicted {sign}, a sign the training target never had (it lies in [{}, \
+             {}]): row(s) {}{}; the equation is extrapolated there, check those settings",
+            rows.len(),
+            crate::error::num(lo),
+            crate::error::num(hi),
+            shown.join(", "),
+            if rows.len() > 10 { ", ..." } else { "" }
+        ))
+    }
 }
 
 /// How a table hybrid's fit handled empty cells (`--missing`, the model file's `missing`).

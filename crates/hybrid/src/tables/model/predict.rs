@@ -133,6 +133,50 @@ impl TableModel {
         crate::tables::traps::range_warnings(table, &ranges)
     }
 
+    /// For each row of `table`, whether it lies beside the data: any column the hybrid
+    /// reads outside its training range by more than 10 % of the range's width
+    /// ([`super::TrainingRanges::outside`]; the column `outside_training` of `predict`).
+    /// A file written before the ranges were stored uses those of its conformal
+    /// calibration, and without either every row is `false`.
+    pub fn outside_training(&self, table: &Table) -> Vec<bool> {
+        if let Some(t) = &self.training {
+            return t.outside(table);
+        }
+        match self.conformal.as_ref().and_then(|c| c.widening.as_ref()) {
+            Some(w) => super::TrainingRanges {
+                columns: w
+                    .columns
+                    .iter()
+                    .zip(w.lo.iter().zip(&w.hi))
+                    .map(|(n, (lo, hi))| (n.clone(), [*lo, *hi]))
+                    .collect(),
+                target: [f64::NAN, f64::NAN],
+            }
+            .outside(table),
+            None => vec![false; table.n_rows()],
+        }
+    }
+
+    /// The warnings for `predictions` of `table`'s rows: how many rows lie beside the data
+    /// ([`TableModel::outside_training`]), and the rows predicted with a sign the training
+    /// target never had.
+    pub fn prediction_warnings(&self, table: &Table, predictions: &[f64]) -> Vec<String> {
+        let mut out = Vec::new();
+        let outside = self.outside_training(table).iter().filter(|o| **o).count();
+        if outside > 0 {
+            out.push(format!(
+                "{outside} of {} rows lie beside the data (a column outside its training range \
+                 by more than 10 % of its width; column `outside_training` = 1): their \
+                 predictions are extrapolations",
+                table.n_rows()
+            ));
+        }
+        if let Some(t) = &self.training {
+            out.extend(t.sign_warning(predictions, "row(s)"));
+        }
+        out
+    }
+
     /// Warnings for values of `table` in the columns the model reads that look like a
     /// missing-value code or are gross outliers among the table's rows
     /// ([`crate::tables::traps::value_warnings`]).
