@@ -6,6 +6,13 @@ import os
 import tempfile
 
 
+def _umask():
+    """The process's umask (read by setting it and setting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 def write_page(path, html):
     """Writes ``html`` to ``path`` atomically and returns the path as a string."""
     path = os.fspath(path)
@@ -16,6 +23,9 @@ def write_page(path, html):
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as f:
             f.write(html)
+        # mkstemp makes the file private (0600); the page is meant to be shared, so it gets
+        # the mode a new file of the user's gets: 0666 less the umask (issue 63)
+        os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

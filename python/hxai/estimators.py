@@ -219,6 +219,26 @@ def _folds(v):
     return int(v)
 
 
+_SYMBOL = re.compile(r"Symbol\('((?:[^'\\]|\\.)*)'\)")
+
+
+def _readable(v):
+    """``v`` (a dict, list or text of the model file) with every ``Symbol('name')`` of its
+    texts written as the name, for reading: the sympy text wraps a column named like a sympy
+    constant (``E``, ``I``, ``S``, ``N``, ``Q``) that way, which is right for sympy and
+    noise for a reader. The model's ``sympy_`` keeps it."""
+    if isinstance(v, str):
+        return _SYMBOL.sub(
+            lambda m: m.group(1).encode("latin-1", "backslashreplace").decode("unicode_escape"),
+            v,
+        )
+    if isinstance(v, dict):
+        return {k: _readable(x) for k, x in v.items()}
+    if isinstance(v, list):
+        return [_readable(x) for x in v]
+    return v
+
+
 def _stability_runs(v):
     """``stability_runs`` checked: a whole number of bootstrap resamples, 0 for none."""
     if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
@@ -603,8 +623,8 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.params_ = _params_frame(best["params"])
         self.evaluations_ = doc["evaluations"]
         self.simplified_ = doc["simplified"]
-        self.selection_ = doc["selection"]
-        self.stability_ = doc.get("stability")
+        self.selection_ = _readable(doc["selection"])
+        self.stability_ = _readable(doc.get("stability"))
         self.dimensional_groups_ = doc.get("dimensional_groups")
         self.uncertainty_json_ = json.dumps(doc["uncertainty"])
         conf = doc.get("conformal")
@@ -875,9 +895,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.latex_ = corr["latex"]
         self.complexity_ = corr["complexity"]
         self.features_ = list(corr["features"])
-        self.selection_ = corr.get("selection")
+        self.selection_ = _readable(corr.get("selection"))
         self.factors_ = corr.get("factors")
-        self.stability_ = doc.get("stability")
+        self.stability_ = _readable(doc.get("stability"))
         # the traps of the fit (a column copying the target, a physics that changes sign
         # under a multiplicative correction, ...): kept and raised as UserWarning
         self.warnings_ = list(doc.get("warnings", []))

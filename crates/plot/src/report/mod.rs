@@ -266,7 +266,7 @@ fn correction_part<K>(c: &CorrectionInfo<K>, kind: &str, lhs: &str) -> String {
             let _ = write!(
                 s,
                 "<p>Its constants in the template <code>{}</code>:</p>",
-                esc(&u.template)
+                esc(&hxai_symreg::expr::readable_names(&u.template))
             );
             s.push_str(&table(
                 "The correction's constants",
@@ -385,7 +385,7 @@ fn selection_part(sel: &hxai_symreg::SelectionReport) -> String {
         s,
         "<p>The correction was selected by {}; its structure <code>{}</code>{given_back}.</p>",
         esc(&sel.method),
-        esc(&sel.structure)
+        esc(&hxai_symreg::expr::readable_names(&sel.structure))
     );
     if !sel.alternatives.is_empty() {
         let rows: Vec<Vec<String>> = sel

@@ -170,7 +170,10 @@ fn sure_section(m: &TableModel, pictures: Option<&Pictures>) -> String {
             .take(8)
             .map(|x| {
                 vec![
-                    format!("<code>{}</code>", esc(&x.template)),
+                    format!(
+                        "<code>{}</code>",
+                        esc(&hxai_symreg::expr::readable_names(&x.template))
+                    ),
                     share(Some(x.share)),
                 ]
             })

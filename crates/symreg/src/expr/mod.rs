@@ -10,7 +10,7 @@ mod print;
 mod simplify;
 
 pub use mathml::xml_escape;
-pub use print::{SYMPY_RESERVED, fmt_number, sanitize, sympy_symbol};
+pub use print::{SYMPY_RESERVED, fmt_number, readable_names, sanitize, sympy_symbol};
 pub(crate) use simplify::{MAX_HALF_PI_MULTIPLE, named_constants};
 
 use crate::ops::Op;

@@ -365,3 +365,59 @@ fn is_identifier(n: &str) -> bool {
     c.next().is_some_and(|f| f.is_alphabetic() || f == '_')
         && c.all(|ch| ch.is_alphanumeric() || ch == '_')
 }
+
+/// `text` (sympy text by [`sympy_symbol`]) for a reader: every `Symbol('name')` written as
+/// its name (`Symbol('E')*x` -> `E*x`), so a column named like a sympy constant (`E`, `I`,
+/// `S`, `N`, `Q`) reads by its name in reports and summaries. The sympy text itself keeps
+/// the `Symbol` form, which sympy needs. A malformed `Symbol(` is left as it is.
+///
+/// ```
+/// use hxai_symreg::expr::readable_names;
+/// assert_eq!(readable_names("2*Symbol('E')*Symbol('Q') + x"), "2*E*Q + x");
+/// assert_eq!(readable_names("Symbol('\\u03bcm')"), "\u{3bc}m");
+/// ```
+pub fn readable_names(text: &str) -> String {
+    const OPEN: &str = "Symbol('";
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(at) = rest.find(OPEN) {
+        out.push_str(&rest[..at]);
+        let after = &rest[at + OPEN.len()..];
+        match symbol_name(after) {
+            Some((name, used)) => {
+                out.push_str(&name);
+                rest = &after[used..];
+            }
+            None => {
+                out.push_str(OPEN);
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The name of a `Symbol('...')` whose text after the opening quote is `s`, and the bytes
+/// of `s` up to and including the closing `')`.
+fn symbol_name(s: &str) -> Option<(String, usize)> {
+    let mut name = String::new();
+    let mut chars = s.char_indices();
+    while let Some((i, c)) = chars.next() {
+        match c {
+            '\'' => return s[i..].starts_with("')").then_some((name, i + 2)),
+            '\\' => match chars.next()?.1 {
+                '\\' => name.push('\\'),
+                '\'' => name.push('\''),
+                u @ ('u' | 'U') => {
+                    let n = if u == 'u' { 4 } else { 8 };
+                    let hex: String = (0..n).filter_map(|_| chars.next().map(|(_, h)| h)).collect();
+                    name.push(char::from_u32(u32::from_str_radix(&hex, 16).ok()?)?);
+                }
+                _ => return None,
+            },
+            c => name.push(c),
+        }
+    }
+    None
+}
