@@ -213,6 +213,8 @@ pub fn expand(
     {
         cfg.exclude.push(column.to_string());
     }
+    cfg.strata
+        .extend(setting.levels.iter().map(|l| setting.indicator(l)));
     cfg.correction_per = Some(setting.clone());
     Ok(setting)
 }

@@ -207,6 +207,11 @@ pub struct TableConfig {
     /// `--correction-per COL`: the correction's constants refitted per level of a text
     /// column, read from its indicator columns ([`correction_per::expand`] sets it).
     pub correction_per: Option<CorrectionPer>,
+    /// Indicator columns (1 on a level's rows, 0 elsewhere) whose levels a random split
+    /// keeps on both sides in proportion, so that every level keeps training rows
+    /// (`--calibrate-per` and `--correction-per` add theirs: a level wholly in the test rows
+    /// would keep its constant's start value).
+    pub strata: Vec<String>,
 }
 
 impl TableConfig {
@@ -234,6 +239,7 @@ impl TableConfig {
             search: SearchConfig::laws(),
             conformal_folds: DEFAULT_CONFORMAL_FOLDS,
             correction_per: None,
+            strata: Vec::new(),
         }
     }
 

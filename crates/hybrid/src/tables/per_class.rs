@@ -66,6 +66,11 @@ fn indicator_values(cells: &[String], level: &str) -> Vec<f64> {
 /// The sorted levels of `cells` (one per row of a table of `n_rows`) for a fit with
 /// per-level constants given by `flag`; refused with one line naming it: cells of another
 /// length, an empty level name (naming the row), a single level (then `one_level`).
+/// The fewest rows a level may have for constants of its own (`--calibrate-per`,
+/// `--correction-per`): with two, a stratified split keeps one for training whatever the test
+/// fraction, and the fit has a residual to judge it by.
+pub const MIN_LEVEL_ROWS: usize = 2;
+
 pub(crate) fn levels_for_fit(
     flag: &str,
     column: &str,
@@ -92,6 +97,21 @@ pub(crate) fn levels_for_fit(
         return Err(HybridError::InvalidConfig(format!(
             "{flag} {column}: the column has one level ({:?}), so per-level {one_level}",
             levels.first().map(String::as_str).unwrap_or("")
+        )));
+    }
+    let few: Vec<String> = levels
+        .iter()
+        .filter_map(|l| {
+            let n = cells.iter().filter(|c| *c == l).count();
+            (n < MIN_LEVEL_ROWS).then(|| format!("{l:?} ({n} row)"))
+        })
+        .collect();
+    if !few.is_empty() {
+        return Err(HybridError::InvalidConfig(format!(
+            "{flag} {column}: level(s) {} have fewer than {MIN_LEVEL_ROWS} rows, too few for \
+             constants of their own that a split can test; merge each with another level or \
+             drop its rows",
+            few.join(", ")
         )));
     }
     Ok(levels)
@@ -270,6 +290,7 @@ pub fn expand(
     if cfg.features.is_none() {
         cfg.exclude.extend(info.indicators());
     }
+    cfg.strata.extend(info.indicators());
     Ok(info)
 }
 

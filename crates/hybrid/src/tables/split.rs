@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 
 /// The split [`fit`](super::fit) uses: with `extrapolate`, the rows (or groups, by their mean)
 /// with the top `test_fraction` of that column are the test set; otherwise a seeded random
-/// split, grouped when `group` is set.
+/// split, grouped when `group` is set, stratified by the level indicators `strata` otherwise.
 ///
 /// # Errors
 /// A missing column, `test_fraction` outside (0, 1), or a side left empty.
@@ -115,11 +115,85 @@ pub fn split_rows(table: &Table, cfg: &TableConfig) -> Result<(Split, String), H
             hxai_eval::grouped_train_test_split(&g, cfg.test_fraction, cfg.seed)?,
             "grouped".into(),
         ),
+        None if !cfg.strata.is_empty() => (
+            stratified_split(&strata_of(table, &cfg.strata)?, cfg.test_fraction, cfg.seed)?,
+            "random".into(),
+        ),
         None => (
             hxai_eval::train_test_split(n, cfg.test_fraction, cfg.seed)?,
             "random".into(),
         ),
     })
+}
+
+/// The stratum of each row: the first of the indicator columns `strata` that is 1 there
+/// (`strata.len()` for a row of none).
+///
+/// # Errors
+/// [`HybridError::MissingColumn`] for an indicator the table lacks.
+pub(crate) fn strata_of(table: &Table, strata: &[String]) -> Result<Vec<usize>, HybridError> {
+    let mut out = vec![strata.len(); table.n_rows()];
+    for (k, name) in strata.iter().enumerate().rev() {
+        let col = table
+            .column(name)
+            .ok_or_else(|| HybridError::MissingColumn {
+                what: "level indicator column",
+                name: name.clone(),
+                columns: cols_list(table),
+            })?;
+        for (o, v) in out.iter_mut().zip(col) {
+            if *v == 1.0 {
+                *o = k;
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// A random split that keeps each stratum on both sides in proportion: within each
+/// stratum (rows in table order, shuffled by a generator seeded with `seed` and the
+/// stratum), `round(test_fraction * rows)` rows are tested, at most all but one, so every
+/// stratum keeps a training row (issue 63: a level of 2-4 rows landed wholly in the test
+/// rows and kept its constant's start value).
+///
+/// # Errors
+/// A `test_fraction` outside (0, 1), or a split that tests no row.
+pub(crate) fn stratified_split(
+    stratum: &[usize],
+    test_fraction: f64,
+    seed: u64,
+) -> Result<Split, HybridError> {
+    use rand::SeedableRng;
+    use rand::seq::SliceRandom;
+    if !(test_fraction > 0.0 && test_fraction < 1.0) {
+        return Err(HybridError::InvalidConfig(format!(
+            "test fraction {test_fraction}: choose a value between 0 and 1"
+        )));
+    }
+    let mut by: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for (i, s) in stratum.iter().enumerate() {
+        by.entry(*s).or_default().push(i);
+    }
+    let (mut train, mut test) = (Vec::new(), Vec::new());
+    for (s, mut rows) in by {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(
+            seed ^ (s as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15),
+        );
+        rows.shuffle(&mut rng);
+        let k = ((test_fraction * rows.len() as f64).round() as usize).min(rows.len() - 1);
+        test.extend_from_slice(&rows[..k]);
+        train.extend_from_slice(&rows[k..]);
+    }
+    if test.is_empty() {
+        return Err(HybridError::InvalidConfig(format!(
+            "a split stratified by level at test fraction {test_fraction} tests no row (each \
+             level is too small for a test row of its own): raise --test-fraction or give \
+             more rows"
+        )));
+    }
+    train.sort_unstable();
+    test.sort_unstable();
+    Ok(Split { train, test })
 }
 
 pub(crate) fn check_rows(table: &Table, split: &Split) -> Result<(), HybridError> {

@@ -120,3 +120,50 @@ fn bad_per_class_settings_are_refused_by_name() {
     let e = try_expand("a + b*temp", &["a"], &gap, None);
     assert!(e.contains("row 5") && e.contains("empty level"), "{e}");
 }
+
+/// Ten levels of 2-4 rows and a random 20 % split (issue 63): every level keeps training
+/// rows at every seed, so its constant is fitted, not left at its start; a level of one row
+/// is refused by name.
+#[test]
+fn a_random_split_keeps_every_level_in_the_training_rows() {
+    use hxai_hybrid::HybridError;
+    use hxai_hybrid::tables::split_rows;
+    let mut cells = Vec::new();
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for level in 0..10 {
+        for r in 0..(2 + level % 3) {
+            cells.push(format!("L{level}"));
+            let xv = 1.0 + r as f64;
+            x.push(xv);
+            y.push(10.0 * level as f64 + 2.0 * xv + 0.01 * (r as f64).sin());
+        }
+    }
+    for seed in 0..20 {
+        let mut table =
+            Table::new(vec!["x".into(), "y".into()], vec![x.clone(), y.clone()]).expect("table");
+        let mut cfg = TableConfig::new("y", "a + b*x");
+        cfg.calibrate = vec!["b".into()];
+        cfg.seed = seed;
+        per_class::expand(&mut cfg, &mut table, "lvl", &cells, &["a".to_string()]).expect("expand");
+        let (split, kind) = split_rows(&table, &cfg).expect("split");
+        assert_eq!(kind, "random");
+        assert!(!split.test.is_empty());
+        for level in 0..10 {
+            let ind = table.column(&format!("lvl=L{level}")).expect("indicator");
+            assert!(
+                split.train.iter().any(|&i| ind[i] == 1.0),
+                "seed {seed}: level L{level} has no training row"
+            );
+        }
+    }
+    let mut one = cells.clone();
+    one[0] = "lonely".into();
+    let mut table = Table::new(vec!["x".into(), "y".into()], vec![x, y]).expect("table");
+    let mut cfg = TableConfig::new("y", "a + b*x");
+    let err = per_class::expand(&mut cfg, &mut table, "lvl", &one, &["a".to_string()])
+        .expect_err("a level of one row");
+    match err {
+        HybridError::InvalidConfig(m) => assert!(m.contains("\"lonely\" (1 row)"), "{m}"),
+        other => panic!("{other}"),
+    }
+}

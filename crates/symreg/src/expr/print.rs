@@ -411,7 +411,9 @@ fn symbol_name(s: &str) -> Option<(String, usize)> {
                 '\'' => name.push('\''),
                 u @ ('u' | 'U') => {
                     let n = if u == 'u' { 4 } else { 8 };
-                    let hex: String = (0..n).filter_map(|_| chars.next().map(|(_, h)| h)).collect();
+                    let hex: String = (0..n)
+                        .filter_map(|_| chars.next().map(|(_, h)| h))
+                        .collect();
                     name.push(char::from_u32(u32::from_str_radix(&hex, 16).ok()?)?);
                 }
                 _ => return None,
