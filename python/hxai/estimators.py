@@ -403,6 +403,105 @@ def _per_class_spec(spec):
     return column, params
 
 
+# The command line's flags and the estimator's keywords, longest flag first (so that
+# `--calibrate-per` is not read as `--calibrate`).
+_KEYWORDS = [
+    ("--calibrate-per", "calibrate_per="),
+    ("--correction-per", "correction_per="),
+    ("--conformal-folds", "conformal_folds="),
+    ("--max-complexity", "max_complexity="),
+    ("--stability", "stability_runs="),
+    ("--calibrate", "calibrate="),
+    ("--correction", "correction="),
+    ("--features", "features="),
+    ("--exclude", "exclude="),
+    ("--missing", "missing="),
+    ("--epochs", "epochs="),
+    ("--joint", "joint="),
+    ("--init", "init="),
+    ("--form", "form="),
+    ("--set", "set="),
+]
+_FLAG = re.compile(
+    "|".join(re.escape(f) + r"(?![A-Za-z-])" for f, _ in _KEYWORDS)
+)
+
+
+def _speak_python(message):
+    """An engine message with the command line's flags (``--init``) written as the
+    estimator's keywords (``init=``)."""
+    words = dict(_KEYWORDS)
+    return _FLAG.sub(lambda m: words[m.group(0)], message)
+
+
+class _python_words:
+    """Re-raises the engine's ``ValueError`` with the estimator's keywords for its flags."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, err, tb):
+        if kind is ValueError and err is not None:
+            text = _speak_python(str(err))
+            if text != str(err):
+                raise ValueError(text) from None
+        return False
+
+
+def _is_row_numbers(name, values):
+    """Whether a first column is a row number a CSV writer added: named ``rownames``,
+    ``Unnamed: 0``, ``index`` or nothing, holding 1..n or 0..n-1."""
+    if str(name).strip().lower() not in ("", "rownames", "unnamed: 0", "index"):
+        return False
+    v = pd.to_numeric(pd.Series(values), errors="coerce").to_numpy(dtype=np.float64)
+    n = len(v)
+    return n > 1 and (
+        np.array_equal(v, np.arange(1, n + 1)) or np.array_equal(v, np.arange(n))
+    )
+
+
+def _row_numbers_left_out(est, X, fitting):
+    """``X`` without a first column that is a row number (``rownames``, unnamed, 1..n): it is
+    no setting of the process, so it is left out of the features, with a warning at ``fit``
+    (``row_number_column_`` names it; ``predict`` leaves it out again)."""
+    if not hasattr(X, "columns") or X.shape[1] < 2:
+        return X
+    first = X.columns[0]
+    if fitting:
+        est.row_number_column_ = None
+        if _is_row_numbers(first, X.iloc[:, 0]):
+            est.row_number_column_ = str(first)
+            warnings.warn(
+                f"the first column `{first}` holds the row numbers 1..n (or 0..n-1), not a "
+                "setting of the process: left out of the features (drop it to silence this)",
+                UserWarning,
+                stacklevel=3,
+            )
+    skip = getattr(est, "row_number_column_", None)
+    if skip is not None and str(first) == skip:
+        return X.drop(columns=[first])
+    return X
+
+
+def _refuse_text_columns(X):
+    """A DataFrame column of text or categories, named, with what to do (the engine needs
+    numbers; numpy's own message was "could not convert string to float: 'B'")."""
+    if not hasattr(X, "columns"):
+        return
+    for c in X.columns:
+        col = X[c]
+        if pd.api.types.is_numeric_dtype(col) or pd.api.types.is_bool_dtype(col):
+            continue
+        numeric = pd.to_numeric(col, errors="coerce")
+        bad = col[numeric.isna() & col.notna()]
+        if len(bad):
+            raise ValueError(
+                f"column `{c}` holds text ({bad.iloc[0]!r} in row {bad.index[0]!r}): give its "
+                f"levels their own constants with calibrate_per='{c}=P1,...' (or "
+                f"correction_per='{c}'), or drop the column"
+            )
+
+
 def _level_cells(X, columns):
     """``X`` without the level ``columns`` (a DataFrame's), and each column's cells as text
     ({column: cells}; an empty cell or NaN as ``""``, which the engine refuses naming the
@@ -835,7 +934,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             level_columns.append(per_class[0])
         if self.correction_per is not None and self.correction_per.strip() not in level_columns:
             level_columns.append(self.correction_per.strip())
+        X = _row_numbers_left_out(self, X, fitting=True)
         X, cells = _level_cells(X, level_columns)
+        _refuse_text_columns(X)
         if level_columns and _missing_policy(self) == "drop" and np.isnan(
             np.asarray(X, dtype=np.float64)
         ).any():
@@ -878,9 +979,10 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         if self.correction_per is not None:
             column = self.correction_per.strip()
             settings["correction_per"] = {"column": column, "cells": cells[column]}
-        text = _hxai.table_fit(
-            names + [target], columns_of(X) + [to_bytes(y, "y")], json.dumps(settings), n_jobs
-        )
+        with _python_words():
+            text = _hxai.table_fit(
+                names + [target], columns_of(X) + [to_bytes(y, "y")], json.dumps(settings), n_jobs
+            )
         doc = json.loads(text)
         self.model_json_ = text
         self.target_ = target
@@ -908,10 +1010,14 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     def _levels(self, X):
         """``X`` without the level columns of ``calibrate_per`` and ``correction_per``, and
         their cells ({column: cells}; ``None`` for a model without per-level constants)."""
+        X = _row_numbers_left_out(self, X, fitting=False)
         columns = getattr(self, "level_columns_", None) or []
         if not columns:
+            _refuse_text_columns(X)
             return X, None
-        return _level_cells(X, columns)
+        X, cells = _level_cells(X, columns)
+        _refuse_text_columns(X)
+        return X, cells
 
     def _parts(self, X):
         check_is_fitted(self, "model_json_")

@@ -347,6 +347,25 @@ def test_hybrid_errors_name_the_problem(roughness):
         HybridRegressor("feed_mm*(", **FAST).fit(X, y)
 
 
+def test_hybrid_errors_speak_python(roughness):
+    """Issue 63: errors name the keyword, not the command line's flag; a text column is
+    named with what to do; a first column of row numbers is left out with a warning."""
+    X, y = roughness
+    with pytest.raises(ValueError) as e:
+        HybridRegressor("k*feed_mm", **FAST).fit(X, y)
+    assert "calibrate=" in str(e.value) and "--calibrate" not in str(e.value), str(e.value)
+    texts = X.assign(mat=["A", "B"] * (len(X) // 2))
+    with pytest.raises(ValueError, match=r"column `mat` holds text .*calibrate_per="):
+        HybridRegressor("k*feed_mm", calibrate=["k"], **FAST).fit(texts, y)
+    numbered = X.copy()
+    numbered.insert(0, "rownames", np.arange(1, len(X) + 1))
+    with pytest.warns(UserWarning, match="`rownames` holds the row numbers"):
+        m = HybridRegressor("k*feed_mm", calibrate=["k"], **FAST).fit(numbered, y)
+    assert m.row_number_column_ == "rownames"
+    assert "rownames" not in json.loads(m.model_json_)["correction"]["candidates"]
+    np.testing.assert_array_equal(m.predict(numbered), m.predict(numbered))
+
+
 def test_hybrid_warns_about_a_column_that_copies_the_target(roughness):
     """The fit's traps come back as ``warnings_`` and as UserWarnings (docs/bad-input.md);
     a clean fit has none."""

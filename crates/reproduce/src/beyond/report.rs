@@ -47,8 +47,9 @@ fn model_table(out: &mut String, s: &SplitResult, unit: &str) {
             .t_tests
             .iter()
             .find(|t| t.baseline == m.name)
-            .map_or("–".to_string(), |t| {
-                format!("{:.2}, {}", t.test.statistic, p_text(t.test.p_value))
+            .map_or("–".to_string(), |t| match &t.test {
+                Some(tt) => format!("{:.2}, {}", tt.statistic, p_text(tt.p_value)),
+                None => "undefined (the same errors on every row)".to_string(),
             });
         out.push_str(&format!(
             "| {} | {:.4} | {} | {} | {} |\n",

@@ -150,5 +150,6 @@ pub(super) fn p_of(s: &SplitResult, baseline: &str) -> Option<f64> {
     s.t_tests
         .iter()
         .find(|t| t.baseline == baseline)
-        .map(|t| t.test.p_value)
+        .and_then(|t| t.test.as_ref())
+        .map(|t| t.p_value)
 }

@@ -117,7 +117,7 @@ pub fn design(
 ) -> Result<Proposal, HybridError> {
     match design_all(model, candidates, n, goal) {
         Err(HybridError::BadPhysics { .. } | HybridError::BadCorrection { .. }) => {}
-        other => return other,
+        other => return other.map(|p| with_sign_notes(model, p)),
     }
     // only where some candidate has no value: design over those that have one
     let m = candidates.n_rows();
@@ -134,7 +134,20 @@ pub fn design(
         *r = keep[*r];
     }
     p.left_out = m - keep.len();
-    Ok(p)
+    Ok(with_sign_notes(model, p))
+}
+
+/// `p` with a note in the `reason` of each proposal predicted with a sign the training
+/// target never had (issue 63: an extrapolation an engineer should check before running it).
+fn with_sign_notes(model: &TableModel, mut p: Proposal) -> Proposal {
+    if let Some(t) = &model.training {
+        for (why, &v) in p.reason.iter_mut().zip(&p.predicted) {
+            if t.sign_warning(&[v], "run").is_some() {
+                why.push_str("; predicted with a sign the training target never had (check it)");
+            }
+        }
+    }
+    p
 }
 
 /// [`design`] on candidates where the model has a value at every one.
