@@ -4,7 +4,8 @@ as pandas DataFrames, all computed by hxai's compiled Rust engine (``hxai._hxai`
 
 - :class:`SymbolicRegressor`: symbolic regression (``hxai sr``) as a scikit-learn regressor.
 - :class:`HybridRegressor`: a physics equation over the columns, calibrated, plus a symbolic
-  correction (``hxai hybrid fit``, docs/hybrid-tables.md).
+  correction (``hxai hybrid fit``, docs/hybrid-tables.md); :func:`compare` and
+  ``HybridRegressor.compare`` (``hxai hybrid compare``) as a tidy DataFrame.
 - :class:`ToolModel` and :func:`predict_records`: the tool case's per-record pipeline with a
   model written by ``hxai fit`` (features, physics, hybrid), a pure function of a pandas
   DataFrame that Dask's ``map_partitions`` runs over a partitioned archive.
@@ -20,7 +21,7 @@ with the command line's one-line messages.
 
 from . import _hxai
 from . import features, signal
-from .estimators import HybridRegressor, SymbolicRegressor
+from .estimators import HybridRegressor, SymbolicRegressor, compare
 from .sim import simulate
 from .stream import StreamEstimator
 from .tool import ToolModel, predict_records
@@ -30,6 +31,7 @@ __version__ = _hxai.__version__
 __all__ = [
     "SymbolicRegressor",
     "HybridRegressor",
+    "compare",
     "ToolModel",
     "predict_records",
     "StreamEstimator",

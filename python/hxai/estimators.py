@@ -502,6 +502,69 @@ def _refuse_text_columns(X):
             )
 
 
+def _comparison_frame(text):
+    """The JSON of a comparison as a tidy DataFrame (see ``HybridRegressor.compare``)."""
+    doc = json.loads(text)
+    cv = {c["name"]: c for c in doc.get("cv", [])}
+    p = {t["baseline"]: t.get("p_value") for t in doc.get("t_tests", [])}
+    rows = []
+    for m in doc["models"]:
+        c = cv.get(m["name"])
+        k = len(c["r2_folds"]) if c else 0
+        rows.append(
+            {
+                "model": m["name"],
+                "rmse": m["rmse"],
+                "r2": m["r2"],
+                "mae": m["mae"],
+                "cv_r2_mean": c["r2_mean"] if c else np.nan,
+                "cv_r2_se": c["r2_sd"] / np.sqrt(k) if c and k > 0 else np.nan,
+                "cv_rmse_mean": c["rmse_mean"] if c else np.nan,
+                "p_value": np.nan if p.get(m["name"]) is None else p[m["name"]],
+            }
+        )
+    frame = pd.DataFrame(rows)
+    frame.attrs["json"] = text
+    frame.attrs["split"] = doc.get("split")
+    frame.attrs["hybrid_over_best_black_box"] = doc.get("hybrid_over_best_black_box")
+    return frame
+
+
+def compare(X, y, physics, test_fraction=0.2, folds=5, **settings):
+    """``HybridRegressor(physics, **settings).compare(X, y, test_fraction, folds)``: every
+    way of modelling ``y`` on the same split, as a tidy DataFrame (see
+    :meth:`HybridRegressor.compare`)."""
+    return HybridRegressor(physics, **settings).compare(
+        X, y, test_fraction=test_fraction, folds=folds
+    )
+
+
+def _space_text(space):
+    """A dict design space as ``suggest_experiments``' text: ``{col: (lo, hi)}`` or ``(lo,
+    hi, step)`` a range, ``[a, b, c]`` levels, a text like ``"45:89"`` as written, a single
+    number or word a fixed setting; anything else is refused with how to write it."""
+    parts = []
+    for col, v in space.items():
+        if isinstance(v, str):
+            parts.append(f"{col}={v}")
+        elif isinstance(v, tuple) and len(v) in (2, 3) and all(
+            isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(x, bool)
+            for x in v
+        ):
+            parts.append(f"{col}=" + ":".join(repr(float(x)) for x in v))
+        elif isinstance(v, (list, np.ndarray)) and len(v) > 0:
+            parts.append(f"{col}=" + "|".join(str(x) for x in v))
+        elif isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool):
+            parts.append(f"{col}={float(v)!r}")
+        else:
+            raise ValueError(
+                f"space[{col!r}] = {v!r}: give a range as a tuple (lo, hi) or (lo, hi, step), "
+                "levels as a list [a, b, c], one setting as a number, or the text form "
+                "'lo:hi'"
+            )
+    return ",".join(parts)
+
+
 def _level_cells(X, columns):
     """``X`` without the level ``columns`` (a DataFrame's), and each column's cells as text
     ({column: cells}; an empty cell or NaN as ``""``, which the engine refuses naming the
@@ -910,6 +973,51 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
 
     def fit(self, X, y):
         """Calibrates the physics on ``(X, y)`` and learns its correction. Returns ``self``."""
+        names, target, X, y, settings, n_jobs = self._prepare(X, y)
+        with _python_words():
+            text = _hxai.table_fit(
+                names + [target], columns_of(X) + [to_bytes(y, "y")], json.dumps(settings), n_jobs
+            )
+        return self._fitted(text)
+
+    def compare(self, X, y, test_fraction=0.2, folds=5):
+        """Every way of modelling ``y`` on the same split, as ``hxai hybrid compare``: the
+        physics as given, calibrated, symbolic regression without physics, physics + random
+        forest, gradient boosting and this hybrid, on a seeded random split of ``(X, y)``
+        (``test_fraction`` held out, stratified by a ``calibrate_per``/``correction_per``
+        column) and over ``folds`` folds (0: none). Returns a tidy DataFrame, one row per
+        model: ``model``, ``rmse``, ``r2``, ``mae`` (test rows), ``cv_r2_mean``,
+        ``cv_r2_se`` (standard error over the folds), ``cv_rmse_mean``, ``p_value`` (paired
+        t-test of the hybrid against it on the test rows; NaN for the hybrid, and where the
+        test is undefined). The comparison's JSON is in ``.attrs["json"]``; ``report(compare=
+        frame)`` takes the frame. The estimator itself is not refitted."""
+        if isinstance(folds, bool) or not isinstance(folds, (int, np.integer)) or folds < 0 or folds == 1:
+            raise ValueError(f"folds={folds!r}: give 0 (none) or a whole number >= 2")
+        if not (isinstance(test_fraction, (int, float)) and 0 < test_fraction < 1):
+            raise ValueError(f"test_fraction={test_fraction!r}: give a number between 0 and 1")
+        fitted = {k: v for k, v in vars(self).items() if k.endswith("_") and not k.startswith("__")}
+        try:
+            names, target, X, y, settings, n_jobs = self._prepare(X, y)
+        finally:
+            # _prepare records what fit needs (level columns, row numbers): keep the fitted
+            # estimator's own
+            for k in [k for k in vars(self) if k.endswith("_") and k not in fitted]:
+                delattr(self, k)
+            vars(self).update(fitted)
+        with _python_words():
+            text = _hxai.table_compare(
+                names + [target],
+                columns_of(X) + [to_bytes(y, "y")],
+                json.dumps(settings),
+                float(test_fraction),
+                int(folds),
+                n_jobs,
+            )
+        return _comparison_frame(text)
+
+    def _prepare(self, X, y):
+        """The checked settings and columns of a fit (or a comparison) on ``(X, y)``:
+        ``(names, target, X, y, settings, n_jobs)``."""
         if not isinstance(self.physics, str) or not self.physics.strip():
             raise ValueError("physics: give the physics equation as text, e.g. 'k*f^2/(32*r)'")
         if self.correction not in ("additive", "multiplicative", "log"):
@@ -979,10 +1087,10 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         if self.correction_per is not None:
             column = self.correction_per.strip()
             settings["correction_per"] = {"column": column, "cells": cells[column]}
-        with _python_words():
-            text = _hxai.table_fit(
-                names + [target], columns_of(X) + [to_bytes(y, "y")], json.dumps(settings), n_jobs
-            )
+        return names, target, X, y, settings, n_jobs
+
+    def _fitted(self, text):
+        """Records the model file ``text`` of a fit and its attributes; returns ``self``."""
         doc = json.loads(text)
         self.model_json_ = text
         self.target_ = target
@@ -1080,6 +1188,13 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             yv = np.asarray(y, dtype=np.float64).ravel()
             names = names + [self.target_]
             columns = columns_of(X) + [to_bytes(yv, "y")]
+        if isinstance(compare, pd.DataFrame):
+            if "json" not in compare.attrs:
+                raise ValueError(
+                    "report(compare=...): this DataFrame is not one returned by compare() (its "
+                    ".attrs['json'] is gone); pass that frame, or the JSON of hxai hybrid compare"
+                )
+            compare = compare.attrs["json"]
         if isinstance(compare, dict):
             compare = json.dumps(compare)
         return write_page(
@@ -1089,7 +1204,8 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     def suggest_experiments(self, space, n, goal="discriminate", seed=42):
         """The settings of the next ``n`` runs, as ``hxai hybrid design`` (issue 49): ``space``
         is ranges as text (``"f=0.05:0.3,r=0.4:1.2:0.4"``, ``:step`` for levels, ``a|b`` for a
-        list, ``tool=A|B`` for the text levels of a model fitted with ``calibrate_per`` or
+        list; or the same as a dict, ``{"f": (0.05, 0.3), "r": (0.4, 1.2, 0.4), "tool": ["A",
+        "B"]}``: a tuple is a range, a list levels, a number one setting), ``tool=A|B`` for the text levels of a model fitted with ``calibrate_per`` or
         ``correction_per``) or a DataFrame of feasible settings (its rows are the only
         candidates; a level column as text or numbers); it must give every column the model
         reads. ``goal`` is ``"discriminate"`` (where the
@@ -1099,6 +1215,8 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         constants as nuisance parameters: the runs that narrow their joint interval most,
         from the model's covariance). Returns a DataFrame: the settings, ``predicted``, ``spread``, ``reason``."""
         check_is_fitted(self, "model_json_")
+        if isinstance(space, dict):
+            space = _space_text(space)
         if isinstance(space, str):
             text = _hxai.table_design(self.model_json_, space, None, int(n), goal, int(seed))
         else:

@@ -18,7 +18,7 @@
 //! - **Errors are `ValueError`s** carrying the library error's one-line message (the text
 //!   the CLI prints after `Error:`); no function panics on user input.
 //!
-//! Entry points: `sr_fit`, `sr_predict`, `sr_intervals`, `sr_mathml`, `table_fit`, `table_predict`,
+//! Entry points: `sr_fit`, `sr_predict`, `sr_intervals`, `sr_mathml`, `table_fit`, `table_compare`, `table_predict`,
 //! `table_intervals`, `table_report`, `table_card`, `table_design`, `tool_predict`,
 //! `tool_report`, `tool_card`, `butter`, `sosfilt`, `sosfiltfilt`, `welch`, `fit_sine`, `displacement`,
 //! `features_extract`, `simulate_tool`, `simulate_case`, `defaults`, and the class
@@ -45,7 +45,10 @@ use settings::defaults;
 use signal::{butter, displacement, features_extract, fit_sine, sosfilt, sosfiltfilt, welch};
 use sim::{simulate_case, simulate_tool};
 use symbolic::{sr_fit, sr_intervals, sr_mathml, sr_predict};
-use table::{table_card, table_design, table_fit, table_intervals, table_predict, table_report};
+use table::{
+    table_card, table_compare, table_design, table_fit, table_intervals, table_predict,
+    table_report,
+};
 use tool::{StreamEstimator, tool_card, tool_predict, tool_report};
 
 /// The module `hxai._hxai`.
@@ -57,6 +60,7 @@ fn _hxai(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sr_intervals, m)?)?;
     m.add_function(wrap_pyfunction!(table_intervals, m)?)?;
     m.add_function(wrap_pyfunction!(table_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(table_compare, m)?)?;
     m.add_function(wrap_pyfunction!(table_predict, m)?)?;
     m.add_function(wrap_pyfunction!(sr_mathml, m)?)?;
     m.add_function(wrap_pyfunction!(table_report, m)?)?;

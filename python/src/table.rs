@@ -103,37 +103,7 @@ pub(crate) fn table_fit(
 ) -> PyResult<String> {
     let mut table = table_of(names, &columns)?;
     let s: ProcessSettings = parse_json(settings_json, "hybrid settings")?;
-    let mut search: SearchConfig = with_overrides("search", &s.search.to_string())?;
-    search.par = par_of(n_jobs)?;
-    let mut cfg = TableConfig::new(&s.target, &s.physics);
-    cfg.calibrate = s.calibrate;
-    cfg.init = s.init;
-    cfg.set = s.set;
-    cfg.features = s.features;
-    cfg.exclude = s.exclude;
-    cfg.correction = s.correction;
-    cfg.form = s.form;
-    cfg.joint = s.joint;
-    cfg.conformal_folds = s.conformal_folds;
-    cfg.seed = search.seed;
-    cfg.search = search;
-    let per_class = match &s.calibrate_per {
-        Some(pc) => Some(
-            hxai_hybrid::tables::per_class::expand(
-                &mut cfg,
-                &mut table,
-                &pc.column,
-                &pc.cells,
-                &pc.parameters,
-            )
-            .map_err(err)?,
-        ),
-        None => None,
-    };
-    if let Some(cp) = &s.correction_per {
-        hxai_hybrid::tables::correction_per::expand(&mut cfg, &mut table, &cp.column, &cp.cells)
-            .map_err(err)?;
-    }
+    let (cfg, per_class) = config_of(&s, &mut table, n_jobs)?;
     let split = hxai_eval::Split {
         train: (0..table.n_rows()).collect(),
         test: Vec::new(),
@@ -150,6 +120,73 @@ pub(crate) fn table_fit(
         })
         .map_err(err)?;
     Ok(model.to_json())
+}
+
+/// `table_compare(names, columns, settings_json, test_fraction, folds, n_jobs=None)`: `hxai
+/// hybrid compare` on the table (its own random split at `test_fraction`, stratified by any
+/// per-level column, and `folds` folds of cross-validation; 0 skips them). Returns the
+/// comparison's JSON, as `hxai hybrid compare --json` prints it.
+#[pyfunction]
+#[pyo3(signature = (names, columns, settings_json, test_fraction, folds, n_jobs=None))]
+pub(crate) fn table_compare(
+    py: Python<'_>,
+    names: Vec<String>,
+    columns: Vec<Bound<'_, PyBytes>>,
+    settings_json: &str,
+    test_fraction: f64,
+    folds: usize,
+    n_jobs: Option<i64>,
+) -> PyResult<String> {
+    let mut table = table_of(names, &columns)?;
+    let s: ProcessSettings = parse_json(settings_json, "hybrid settings")?;
+    let (mut cfg, per_class) = config_of(&s, &mut table, n_jobs)?;
+    cfg.test_fraction = test_fraction;
+    let mut c = py
+        .detach(move || hxai_hybrid::tables::compare(&table, &cfg, folds, &mut |_| {}))
+        .map_err(err)?;
+    c.hybrid.per_class = per_class;
+    serde_json::to_string_pretty(&c).map_err(err)
+}
+
+/// The table configuration of `s` for `table` (the per-level expansions applied to both),
+/// with the search on the threads of `n_jobs`, and the model file's `per_class`.
+fn config_of(
+    s: &ProcessSettings,
+    table: &mut hxai_symreg::Table,
+    n_jobs: Option<i64>,
+) -> PyResult<(TableConfig, Option<hxai_hybrid::tables::PerClassInfo>)> {
+    let mut search: SearchConfig = with_overrides("search", &s.search.to_string())?;
+    search.par = par_of(n_jobs)?;
+    let mut cfg = TableConfig::new(&s.target, &s.physics);
+    cfg.calibrate = s.calibrate.clone();
+    cfg.init = s.init.clone();
+    cfg.set = s.set.clone();
+    cfg.features = s.features.clone();
+    cfg.exclude = s.exclude.clone();
+    cfg.correction = s.correction;
+    cfg.form = s.form;
+    cfg.joint = s.joint;
+    cfg.conformal_folds = s.conformal_folds;
+    cfg.seed = search.seed;
+    cfg.search = search;
+    let per_class = match &s.calibrate_per {
+        Some(pc) => Some(
+            hxai_hybrid::tables::per_class::expand(
+                &mut cfg,
+                table,
+                &pc.column,
+                &pc.cells,
+                &pc.parameters,
+            )
+            .map_err(err)?,
+        ),
+        None => None,
+    };
+    if let Some(cp) = &s.correction_per {
+        hxai_hybrid::tables::correction_per::expand(&mut cfg, table, &cp.column, &cp.cells)
+            .map_err(err)?;
+    }
+    Ok((cfg, per_class))
 }
 
 /// `table_predict(model_json, names, columns, levels=None)` -> `(physics, correction,

@@ -366,6 +366,34 @@ def test_hybrid_errors_speak_python(roughness):
     np.testing.assert_array_equal(m.predict(numbered), m.predict(numbered))
 
 
+def test_compare_returns_a_tidy_frame(roughness, tmp_path):
+    """``compare`` (issue 63): one row per model with the test scores, the folds' mean and
+    standard error and the p-value against the hybrid; the report takes the frame; the
+    module function gives the same; the fitted estimator is left as it was."""
+    X, y = roughness
+    law = "k*1000*feed_mm^2/(32*nose_radius_mm)"
+    m = HybridRegressor(law, calibrate=["k"], **FAST).fit(X, y)
+    before = m.model_json_
+    frame = m.compare(X, y, folds=2)
+    assert m.model_json_ == before
+    assert list(frame.columns) == [
+        "model", "rmse", "r2", "mae", "cv_r2_mean", "cv_r2_se", "cv_rmse_mean", "p_value"
+    ]
+    assert {"physics", "physics_calibrated", "symbolic", "physics_forest", "boosting",
+            "hybrid"} == set(frame["model"])
+    hybrid = frame.set_index("model").loc["hybrid"]
+    assert np.isnan(hybrid["p_value"]) and hybrid["rmse"] > 0 and hybrid["cv_r2_se"] >= 0
+    assert frame.set_index("model").loc["physics", "p_value"] >= 0
+    doc = json.loads(frame.attrs["json"])
+    assert doc["target"] == "Ra_um"
+    page = m.report(tmp_path / "r.html", compare=frame)
+    assert "physics_forest" in open(page, encoding="utf-8").read()
+    same = hxai.compare(X, y, physics=law, calibrate=["k"], folds=2, **FAST)
+    pd.testing.assert_frame_equal(same, frame)
+    with pytest.raises(ValueError, match="folds=1"):
+        m.compare(X, y, folds=1)
+
+
 def test_hybrid_warns_about_a_column_that_copies_the_target(roughness):
     """The fit's traps come back as ``warnings_`` and as UserWarnings (docs/bad-input.md);
     a clean fit has none."""
@@ -514,6 +542,17 @@ def test_calibrate_per_gives_one_line_per_level_as_r_lm():
         est.suggest_experiments("temp=0:5,insul=Before|Sideways", 2, goal="coverage")
     with pytest.raises(ValueError, match="`insul`"):
         est.suggest_experiments("temp=0:5", 2, goal="coverage")
+    # a dict space equals its text (issue 63), a range typo says how to write a range, and
+    # a value a dict cannot mean is refused with the forms it takes
+    as_dict = est.suggest_experiments(
+        {"temp": (-1, 10), "insul": ["After", "Before"]}, 4, goal="coverage"
+    )
+    as_text = est.suggest_experiments("temp=-1:10,insul=After|Before", 4, goal="coverage")
+    pd.testing.assert_frame_equal(as_dict, as_text)
+    with pytest.raises(ValueError, match="write temp=-1:10"):
+        est.suggest_experiments("temp=-1..10,insul=After|Before", 2, goal="coverage")
+    with pytest.raises(ValueError, match=r"as a tuple \(lo, hi\)"):
+        est.suggest_experiments({"temp": {"lo": 0}, "insul": ["After"]}, 2, goal="coverage")
 
 
 def test_correction_per_refits_the_constants_per_batch():

@@ -88,4 +88,4 @@ pub use search::{
     search_checked,
 };
 pub use stability::{Stability, stability};
-pub use uncertainty::{ParamEstimate, Uncertainty};
+pub use uncertainty::{ParamEstimate, Uncertainty, determined};

@@ -49,8 +49,11 @@ pub(crate) fn lm_tied(
 
 /// Standard errors of the unknowns at the current parameters: the square roots of the
 /// diagonal of `s^2 (J^T J)^-1` with `s^2 = SSE / (n - m)`. `None` for an unknown whose
-/// error is not defined (singular `J^T J`, no residual degrees of freedom, a non-finite
-/// Jacobian).
+/// error is not defined (no residual degrees of freedom, a non-finite Jacobian, or one the
+/// data do not determine, [`hxai_symreg::determined`]). Where `J^T J` is singular, the
+/// determined unknowns keep their errors from the rows and columns of `J^T J` that are
+/// theirs, the undetermined ones held fixed (issue 63: one per-class level without
+/// training rows dropped every parameter's error).
 pub(crate) fn standard_errors(
     prog: &Program,
     params: &[f64],
@@ -72,16 +75,22 @@ pub(crate) fn standard_errors(
         return vec![None; m];
     }
     let s2 = mse * n as f64 / (n - m) as f64;
-    (0..m)
-        .map(|i| {
-            let mut a = jtj.clone();
-            let mut e = vec![0.0; m];
-            e[i] = 1.0;
-            if !cholesky_solve(&mut a, &mut e, m) {
-                return None;
-            }
-            let v = s2 * e[i];
-            (v.is_finite() && v >= 0.0).then(|| v.sqrt())
-        })
-        .collect()
+    let ok = hxai_symreg::determined(&jtj, m);
+    let keep: Vec<usize> = (0..m).filter(|&i| ok[i]).collect();
+    let k = keep.len();
+    let sub: Vec<f64> = (0..k * k)
+        .map(|ij| jtj[keep[ij / k] * m + keep[ij % k]])
+        .collect();
+    let mut out = vec![None; m];
+    for (i, &u) in keep.iter().enumerate() {
+        let mut a = sub.clone();
+        let mut e = vec![0.0; k];
+        e[i] = 1.0;
+        if !cholesky_solve(&mut a, &mut e, k) {
+            continue;
+        }
+        let v = s2 * e[i];
+        out[u] = (v.is_finite() && v >= 0.0).then(|| v.sqrt());
+    }
+    out
 }

@@ -61,9 +61,44 @@ fn holds(cells: &[String]) -> &'static str {
     });
     if flags {
         "true/false values (write them as 1/0 to use them)"
+    } else if cells.iter().any(|v| !v.trim().is_empty())
+        && cells
+            .iter()
+            .all(|v| v.trim().is_empty() || decimal_comma(v).is_some())
+    {
+        "numbers written with a decimal comma (`1.234,5` for 1234.5): write them with a \
+         decimal point and no thousands separator (save the CSV from a spreadsheet set to an \
+         English locale, or convert the column)"
     } else {
         "text"
     }
+}
+
+/// The value of a number written the European way, a decimal comma with an optional
+/// thousands separator (`1.234,5`, `1 234,5`, `12,5`, `-0,25`); `None` for anything else.
+fn decimal_comma(cell: &str) -> Option<f64> {
+    let t = cell.trim();
+    let (int, frac) = t.split_once(',')?;
+    let digits = |s: &str| !s.is_empty() && s.chars().all(|c| c.is_ascii_digit());
+    if !digits(frac) {
+        return None;
+    }
+    let int = int.strip_prefix('-').unwrap_or(int);
+    let groups: Vec<&str> = int.split(['.', ' ', '\u{a0}']).collect();
+    let grouped = groups.len() > 1;
+    let ok = groups.iter().enumerate().all(|(i, g)| {
+        digits(g) && (!grouped || i == 0 || g.len() == 3) && (!grouped || i > 0 || g.len() <= 3)
+    });
+    if !ok {
+        return None;
+    }
+    format!(
+        "{}{}.{frac}",
+        if t.starts_with('-') { "-" } else { "" },
+        groups.concat()
+    )
+    .parse()
+    .ok()
 }
 
 /// Refuses a text column among `used` (the columns a model reads): a column of numbers
@@ -87,6 +122,11 @@ pub fn check_used_columns(
             .find(|(_, v)| !v.trim().is_empty())
             .map(|(i, v)| format!(" (row {}: `{}`)", i + 1, v.trim()))
             .unwrap_or_default();
+        if holds.starts_with("numbers written") {
+            return Err(HybridError::NoData(format!(
+                "column `{n}` holds {holds}{example}"
+            )));
+        }
         return Err(HybridError::NoData(format!(
             "column `{n}` holds {holds}{example}, not numbers: hxai hybrid needs numeric columns \
              (text is allowed only in the --group column)"
@@ -196,6 +236,23 @@ mod tests {
                 .is_some_and(|e| e.contains("column `batch` holds text (row 1: `a`), not numbers")),
             "{e:?}"
         );
+        // numbers with a decimal comma are named as such, with how to write them
+        let euro = vec![(
+            "x".to_string(),
+            cells(&["1.234,5", "2.345,1", "-0,25", "12 345,0"]),
+        )];
+        let e = check_text_columns(&TableConfig::new("y", "k*x"), &euro)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        assert!(
+            e.contains("decimal comma") && e.contains("decimal point"),
+            "{e}"
+        );
+        assert_eq!(decimal_comma("1.234,5"), Some(1234.5));
+        assert_eq!(decimal_comma("-0,25"), Some(-0.25));
+        assert_eq!(decimal_comma("12.34,5"), None);
+        assert_eq!(decimal_comma("abc"), None);
         // a typo in a column of numbers is named by row and cell, used or not
         let typo = vec![("v".to_string(), cells(&["120.5", "12O.5", "130", "140"]))];
         for cfg in [TableConfig::new("y", "k*x"), TableConfig::new("y", "k*v")] {

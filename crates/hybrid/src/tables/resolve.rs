@@ -20,6 +20,45 @@ pub(crate) struct Resolved {
 
 /// The table's columns for a message: the first 12, then how many more (a wide table's
 /// list would bury the message).
+/// The table's columns for a message about the unknown name `name`: all of them when
+/// there are few, else the three nearest to it by edit distance (issue 63: a typo among 40
+/// long names listed all 40).
+pub(super) fn nearest_columns(table: &Table, name: &str) -> String {
+    const ALL_UP_TO: usize = 12;
+    const NEAREST: usize = 3;
+    let names = table.names();
+    if names.len() <= ALL_UP_TO {
+        return names.join(", ");
+    }
+    let mut by: Vec<(usize, &String)> = names.iter().map(|n| (edit_distance(n, name), n)).collect();
+    by.sort();
+    format!(
+        "the nearest of {}: {}",
+        names.len(),
+        by.iter()
+            .take(NEAREST)
+            .map(|(_, n)| n.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    )
+}
+
+/// Levenshtein's edit distance between `a` and `b` (characters).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for (j, cb) in b.iter().enumerate() {
+            cur[j + 1] = (prev[j] + usize::from(ca != *cb))
+                .min(prev[j + 1] + 1)
+                .min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
 pub(super) fn cols_list(table: &Table) -> String {
     const SHOWN: usize = 12;
     let names = table.names();
@@ -44,11 +83,28 @@ fn require_column(table: &Table, name: &str, what: &'static str) -> Result<(), H
     Ok(())
 }
 
+/// The largest target magnitude a fit accepts: its square (1e300) still fits in an `f64`
+/// with room for sums of a million rows, where 1e300 itself overflows to infinity.
+const HUGE_TARGET: f64 = 1e150;
+
 /// Checks the configuration against the table: every name in the equation is a column or
 /// a parameter, parameters are not columns and appear in the equation, the target is not
 /// in the equation, at least one feature.
 pub(crate) fn resolve(table: &Table, cfg: &TableConfig) -> Result<Resolved, HybridError> {
     require_column(table, &cfg.target, "target")?;
+    if let Some(y) = table.column(&cfg.target) {
+        // a value whose square overflows leaves every candidate without a finite loss, and
+        // the search's own message ("no candidate model had a finite loss") names no row
+        if let Some((row, v)) = y.iter().enumerate().find(|(_, v)| v.abs() > HUGE_TARGET) {
+            return Err(HybridError::InvalidConfig(format!(
+                "row {}: the target `{}` is {}, too large for squared errors (beyond +-1e150): \
+                 is it a missing-value code or a unit mistake? Repair or remove the row",
+                row + 1,
+                cfg.target,
+                crate::error::num(*v)
+            )));
+        }
+    }
     if let Some(g) = &cfg.group {
         require_column(table, g, "group column")?;
         if *g == cfg.target {
@@ -126,7 +182,7 @@ pub(crate) fn resolve(table: &Table, cfg: &TableConfig) -> Result<Resolved, Hybr
             return Err(HybridError::UnknownName {
                 name: name.clone(),
                 position: *position,
-                columns: cols_list(table),
+                columns: nearest_columns(table, name),
             });
         }
     }

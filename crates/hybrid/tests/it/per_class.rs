@@ -167,3 +167,30 @@ fn a_random_split_keeps_every_level_in_the_training_rows() {
         other => panic!("{other}"),
     }
 }
+
+/// A level without training rows (a given split that holds all its rows out) leaves its
+/// own constant undetermined, and only it: every other parameter keeps its standard error,
+/// and the warning names that constant alone (issue 63: every error was dropped).
+#[test]
+fn a_level_without_training_rows_leaves_only_its_constant_undetermined() {
+    let (mut table, insul) = whiteside();
+    let mut cfg = TableConfig::new("gas", "a + b*temp");
+    cfg.calibrate = vec!["b".into()];
+    cfg.search.epochs = 1;
+    cfg.search.candidates_per_epoch = 50;
+    cfg.conformal_folds = 0;
+    per_class::expand(&mut cfg, &mut table, "insul", &insul, &["a".to_string()]).expect("expand");
+    let (train, test): (Vec<usize>, Vec<usize>) =
+        (0..table.n_rows()).partition(|&i| insul[i] == "Before");
+    let model = fit_split(&table, &cfg, &Split { train, test }, &mut |_| {}).expect("fit");
+    let se = &model.physics.standard_errors;
+    assert!(se["a[After]"].is_none(), "{se:?}");
+    assert!(se["a[Before]"].is_some_and(|v| v > 0.0), "{se:?}");
+    assert!(se["b"].is_some_and(|v| v > 0.0), "{se:?}");
+    let w = model
+        .warnings
+        .iter()
+        .find(|w| w.contains("a[After]"))
+        .expect("a warning naming a[After]");
+    assert!(!w.contains("a[Before]") && !w.contains(" b"), "{w}");
+}

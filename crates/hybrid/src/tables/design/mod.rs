@@ -137,6 +137,16 @@ pub fn design(
     Ok(with_sign_notes(model, p))
 }
 
+/// `v` rounded to `digits` significant digits (for a reason's text: "2.65e12 %", not
+/// "2653995409054 %").
+fn round_sig(v: f64, digits: i32) -> f64 {
+    if v == 0.0 || !v.is_finite() {
+        return v;
+    }
+    let scale = 10f64.powi(digits - 1 - v.abs().log10().floor() as i32);
+    (v * scale).round() / scale
+}
+
 /// `p` with a note in the `reason` of each proposal predicted with a sign the training
 /// target never had (issue 63: an extrapolation an engineer should check before running it).
 fn with_sign_notes(model: &TableModel, mut p: Proposal) -> Proposal {
@@ -528,11 +538,11 @@ fn precision(
         };
         reason.push(format!(
             "the run that shrinks the {what} joint confidence region most (the constants' \
-             uncertainty moves the prediction by sd {} here, {:.0} % of the scatter's), the \
-             runs picked before counted as done; that region's volume x {:.3} so far",
+             uncertainty moves the prediction by sd {} here, {} % of the scatter's), the \
+             runs picked before counted as done; that region's volume x {} so far",
             crate::error::num(best_v.max(0.0).sqrt()),
-            100.0 * (best_v.max(0.0) / s2).sqrt(),
-            (-0.5 * gain).exp()
+            crate::error::num(round_sig(100.0 * (best_v.max(0.0) / s2).sqrt(), 3)),
+            crate::error::num(round_sig((-0.5 * gain).exp(), 3))
         ));
         rows.push(i);
     }

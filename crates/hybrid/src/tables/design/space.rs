@@ -72,6 +72,14 @@ pub fn parse_space(spec: &str) -> Result<Vec<(String, SpaceColumn)>, HybridError
                 .filter(|v| v.is_finite())
                 .ok_or_else(|| bad(part, &format!("has {:?}, not a number", s.trim())))
         };
+        if let Some((lo, hi)) = range_typo(value) {
+            return Err(bad(
+                part,
+                &format!(
+                    "looks like a range written with another separator: write {name}={lo}:{hi}"
+                ),
+            ));
+        }
         let col = if value.contains('|') || !value.contains(':') {
             let words: Vec<&str> = value.split('|').map(str::trim).collect();
             if let Some(w) = words.iter().find(|w| w.is_empty()) {
@@ -114,6 +122,30 @@ pub fn parse_space(spec: &str) -> Result<Vec<(String, SpaceColumn)>, HybridError
         return Err(bad(spec, "names no column"));
     }
     Ok(out)
+}
+
+/// `(lo, hi)` when a single value (no `|`, no `:`) is two numbers joined by `-`, `..`, an
+/// en dash or ` to ` (`45-89`, `45..89`), the usual ways to write a range elsewhere: read as
+/// one text level it made the column text and the design refuse it by another name.
+fn range_typo(value: &str) -> Option<(String, String)> {
+    let v = value.trim();
+    if v.contains('|') || v.contains(':') {
+        return None;
+    }
+    let number = |s: &str| s.trim().parse::<f64>().is_ok_and(f64::is_finite);
+    for sep in ["..", "\u{2013}", " to ", "-"] {
+        for (at, _) in v.match_indices(sep) {
+            let (a, b) = (&v[..at], &v[at + sep.len()..]);
+            // the minus of a negative number or of an exponent is no separator
+            if a.trim().is_empty() || a.ends_with(['e', 'E']) {
+                continue;
+            }
+            if number(a) && number(b) {
+                return Some((a.trim().to_string(), b.trim().to_string()));
+            }
+        }
+    }
+    None
 }
 
 /// [`RANDOM_CANDIDATES`] seeded random points of `space` (each column uniform over its
@@ -173,6 +205,25 @@ pub fn candidates(space: &[(String, SpaceColumn)], seed: u64) -> Result<Candidat
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A range written `45-89` (or `45..89`, `45 to 89`) is refused with how to write it
+    /// (issue 63: it became a text level and the design refused `x1` by another name);
+    /// negative numbers and exponents are not mistaken for one.
+    #[test]
+    fn a_range_typo_says_how_to_write_a_range() {
+        for spec in [
+            "hard=45-89",
+            "hard=45..89",
+            "hard=45 to 89",
+            "hard = 45 - 89",
+        ] {
+            let e = parse_space(spec).expect_err(spec).to_string();
+            assert!(e.contains("write hard=45:89"), "{spec}: {e}");
+        }
+        for ok in ["t=-5", "t=1e-3", "t=-5:-1", "t=-2|-1"] {
+            assert!(parse_space(ok).is_ok(), "{ok}");
+        }
+    }
 
     #[test]
     fn spaces_parse_and_bad_ones_are_named() -> Result<(), HybridError> {

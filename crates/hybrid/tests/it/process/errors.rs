@@ -219,3 +219,43 @@ fn settings_are_checked_before_any_work() {
     assert_eq!(checked.search().seed, 7);
     assert_eq!(checked.search().operators().len(), c.search.operators.len());
 }
+
+/// A typo in the physics among 40 long column names names the three nearest columns, not
+/// all 40 (issue 63).
+#[test]
+fn a_typo_among_many_columns_names_the_nearest() {
+    let n = 30;
+    let mut names: Vec<String> = (0..40)
+        .map(|i| format!("measured_spindle_temperature_channel_{i:02}"))
+        .collect();
+    let mut cols: Vec<Vec<f64>> = (0..40)
+        .map(|i| (0..n).map(|r| ((r * (i + 3)) % 17) as f64).collect())
+        .collect();
+    names.push("y".into());
+    cols.push((0..n).map(|r| r as f64).collect());
+    let t = Table::new(names, cols).unwrap();
+    let mut c = quick(TableConfig::new(
+        "y",
+        "k*measured_spindle_temperatur_channel_03",
+    ));
+    c.calibrate = vec!["k".into()];
+    let s = err(&c, &t);
+    assert!(
+        s.contains("the nearest of 40: measured_spindle_temperature_channel_03,"),
+        "{s}"
+    );
+    assert!(!s.contains("channel_39"), "{s}");
+}
+
+/// A target of 1e300 (a missing-value code, a unit mistake) is refused naming its row,
+/// where the search said only that no candidate had a finite loss (issue 63).
+#[test]
+fn a_huge_target_is_named_by_its_row() {
+    let mut t = roughness(40, 0.0, 7);
+    let mut y = t.column("Ra").unwrap().to_vec();
+    y[7] = -1e300;
+    t.remove_column("Ra").unwrap();
+    t.push_column("Ra".into(), y).unwrap();
+    let s = err(&cfg_roughness(), &t);
+    assert!(s.contains("row 8") && s.contains("-1e300"), "{s}");
+}
