@@ -54,6 +54,7 @@
 pub mod bench_programs;
 pub mod canonical;
 pub mod consensus;
+pub mod enclosure;
 mod error;
 pub mod eval;
 pub mod expr;
