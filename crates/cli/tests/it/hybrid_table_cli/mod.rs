@@ -159,7 +159,10 @@ fn fit_predict_evaluate_follow_the_contract() -> TestResult {
     ok(&out, "predict");
     let written = std::fs::read_to_string(&pred)?;
     let mut lines = written.lines();
-    assert_eq!(lines.next(), Some("batch,physics,correction,hybrid"));
+    assert_eq!(
+        lines.next(),
+        Some("batch,physics,correction,hybrid,outside_training")
+    );
     assert_eq!(lines.count(), 160);
 
     // evaluate
@@ -208,7 +211,7 @@ fn fit_predict_evaluate_follow_the_contract() -> TestResult {
     let mut lines = written.lines();
     assert_eq!(
         lines.next(),
-        Some("batch,physics,correction,hybrid,hybrid_lo,hybrid_hi")
+        Some("batch,physics,correction,hybrid,hybrid_lo,hybrid_hi,outside_training")
     );
     for line in lines {
         let v: Vec<f64> = line
@@ -239,7 +242,10 @@ fn parquet_tables_and_compare_work() -> TestResult {
     let out = hxai(&predict_args(&model, &pq, &pred))?;
     ok(&out, "predict parquet");
     let back = hxai_data::read_mixed_table(&pred)?;
-    assert_eq!(back.names, ["physics", "correction", "hybrid"]);
+    assert_eq!(
+        back.names,
+        ["physics", "correction", "hybrid", "outside_training"]
+    );
 
     let mut args = hybrid_args("compare", s(&csv), LAW);
     args.extend_from_slice(&CALIBRATE_K);

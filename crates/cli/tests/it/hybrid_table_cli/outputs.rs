@@ -51,11 +51,14 @@ fn interval_methods_are_chosen_and_reported() -> TestResult {
     let mut lines = written.lines();
     assert_eq!(
         lines.next(),
-        Some("physics,correction,hybrid,hybrid_lo,hybrid_hi")
+        Some("physics,correction,hybrid,hybrid_lo,hybrid_hi,outside_training")
     );
     for line in lines {
         let v: Vec<f64> = line.split(',').filter_map(|x| x.parse().ok()).collect();
-        assert!(v.len() == 5 && v[3] <= v[4], "{line}");
+        assert!(
+            v.len() == 6 && v[3] <= v[4] && v[3] <= v[2] && v[2] <= v[4],
+            "{line}"
+        );
     }
     // a level outside (0, 1): one line naming the flag
     let mut args = vec!["hybrid"];
