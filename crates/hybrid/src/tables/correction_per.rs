@@ -319,10 +319,17 @@ mod tests {
         let Ok(mut t2) = t() else { return };
         let e = expand(&mut cfg, &mut t2, "m", &["a".into(), " ".into()]).err();
         assert!(e.is_some_and(|e| e.to_string().contains("row 2")));
-        let Ok(mut t3) = t() else { return };
-        let ok = expand(&mut cfg, &mut t3, "m", &["b".into(), "a".into()]);
+        let Ok(mut t1) = t() else { return };
+        let e = expand(&mut cfg, &mut t1, "m", &["b".into(), "a".into()]).err();
+        assert!(e.is_some_and(|e| e.to_string().contains("\"a\" (1 row), \"b\" (1 row)")));
+        let Ok(mut t3) = Table::new(vec!["x".into()], vec![vec![1.0, 2.0, 3.0, 4.0]]) else {
+            return;
+        };
+        let cells = ["b".into(), "a".into(), "b".into(), "a".into()];
+        let ok = expand(&mut cfg, &mut t3, "m", &cells);
         assert!(ok.is_ok_and(|s| s.levels == vec!["a".to_string(), "b".to_string()]));
-        assert_eq!(t3.column("m=b"), Some(&[1.0, 0.0][..]));
+        assert_eq!(t3.column("m=b"), Some(&[1.0, 0.0, 1.0, 0.0][..]));
         assert!(cfg.exclude.contains(&"m=a".to_string()));
+        assert!(cfg.strata.contains(&"m=b".to_string()));
     }
 }
