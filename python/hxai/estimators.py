@@ -539,6 +539,18 @@ def compare(X, y, physics, test_fraction=0.2, folds=5, **settings):
     )
 
 
+def _columns_arg(v, name):
+    """A keyword that names columns (a list, or one name as text)."""
+    if v is None:
+        return []
+    if isinstance(v, str):
+        return [v]
+    try:
+        return list(v)
+    except TypeError:
+        raise ValueError(f"{name}={v!r}: give a list of column names") from None
+
+
 def _space_text(space):
     """A dict design space as ``suggest_experiments``' text: ``{col: (lo, hi)}`` or ``(lo,
     hi, step)`` a range, ``[a, b, c]`` levels, a text like ``"45:89"`` as written, a single
@@ -865,10 +877,15 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     by symbolic regression on ``features`` (default: every column not in ``exclude``) with
     the search settings. ``form="factors"`` searches the correction as one closed-form
     factor per column instead (power, linear, exponential, logarithm, pole, saturation, one
-    harmonic;
+    harmonic on a ``periodic`` column;
     kept only where it lowers the cross-validated error; at most one two-column
     interaction): a product of factors for the multiplicative and log corrections, a sum of
-    terms for the additive one; its factors are in ``factors_``. ``joint`` refits physics
+    terms for the additive one; its factors are in ``factors_``. ``periodic`` names the
+    columns an engineer knows repeat (a spindle angle, a time of day): only these may carry
+    a harmonic, and without it no correction has a sine or cosine (``--periodic``). No
+    correction has a pole, a log of a value <= 0 or another blow-up within the training
+    box widened by 10 % of each column's range (proven by interval arithmetic, issue 64).
+    ``joint`` refits physics
     parameters and correction constants together. ``fit`` uses every row it is given
     (split before, as with any estimator).
 
@@ -908,6 +925,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         form="free",
         features=None,
         exclude=(),
+        periodic=(),
         joint=False,
         seed=42,
         epochs=10,
@@ -959,6 +977,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.form = form
         self.features = features
         self.exclude = exclude
+        self.periodic = periodic
         self.joint = joint
         self._set_search(locals())
 
@@ -1071,6 +1090,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             "set": {str(k): float(v) for k, v in (self.set or {}).items()},
             "features": None if self.features is None else [str(c) for c in self.features],
             "exclude": [str(c) for c in self.exclude],
+            "periodic": [str(c) for c in _columns_arg(self.periodic, "periodic")],
             "correction": self.correction,
             "form": self.form,
             "joint": bool(self.joint),

@@ -31,6 +31,9 @@ struct ProcessSettings {
     features: Option<Vec<String>>,
     #[serde(default)]
     exclude: Vec<String>,
+    /// `periodic`: the columns that may carry a harmonic (none by default).
+    #[serde(default)]
+    periodic: Vec<String>,
     #[serde(default)]
     correction: CorrectionForm,
     /// `free` or `factors` (docs/hybrid-tables.md, "The factor form").
@@ -163,6 +166,7 @@ fn config_of(
     cfg.set = s.set.clone();
     cfg.features = s.features.clone();
     cfg.exclude = s.exclude.clone();
+    cfg.periodic = s.periodic.clone();
     cfg.correction = s.correction;
     cfg.form = s.form;
     cfg.joint = s.joint;

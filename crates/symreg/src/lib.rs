@@ -54,6 +54,7 @@
 pub mod bench_programs;
 pub mod canonical;
 pub mod consensus;
+mod determined;
 pub mod enclosure;
 mod error;
 pub mod eval;
@@ -73,6 +74,7 @@ pub mod uncertainty;
 pub mod units;
 pub mod vmath;
 
+pub use determined::determined;
 pub use error::SrError;
 pub use hxai_table::{Par, Table, TableError, TableView};
 pub use model::Model;
@@ -89,4 +91,4 @@ pub use search::{
     search_checked,
 };
 pub use stability::{Stability, stability};
-pub use uncertainty::{ParamEstimate, Uncertainty, determined};
+pub use uncertainty::{ParamEstimate, Uncertainty};

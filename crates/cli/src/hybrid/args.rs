@@ -95,6 +95,10 @@ pub(crate) struct Common {
     /// `--features`).
     #[arg(long)]
     pub(crate) exclude: Vec<String>,
+    /// Columns an engineer knows repeat (a spindle angle, a time of day), comma-separated:
+    /// only these may carry a harmonic (sin, cos) in the correction; without it, none does.
+    #[arg(long)]
+    pub(crate) periodic: Vec<String>,
     /// How the correction enters the hybrid.
     #[arg(long, value_enum, default_value_t = CorrectionArg::Additive)]
     pub(crate) correction: CorrectionArg,
@@ -310,6 +314,14 @@ impl Common {
             .map(|f| column_names(f, "--features"))
             .transpose()?;
         cfg.exclude = column_names(&c.exclude, "--exclude")?;
+        cfg.periodic = column_names(&c.periodic, "--periodic")?;
+        if let Some(p) = cfg.periodic.iter().find(|p| p.contains('=')) {
+            anyhow::bail!(
+                "--periodic {p}: a fixed period is not built yet; name the column alone \
+                 (--periodic {}) and the fit finds the period",
+                p.split('=').next().unwrap_or_default()
+            );
+        }
         cfg.correction = match c.correction {
             CorrectionArg::Additive => CorrectionForm::Additive,
             CorrectionArg::Multiplicative => CorrectionForm::Multiplicative,

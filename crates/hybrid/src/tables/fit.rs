@@ -43,7 +43,7 @@ pub fn stability(
             &delta,
             &fp,
             model.correction.kind.link(),
-            &cfg.factor_config(),
+            &cfg.factor_config(&model.correction.candidates),
             runs,
             progress,
         )?);
@@ -357,13 +357,9 @@ fn search_factors(
         .select_columns(&res.features)?
         .select_rows(&split.train)?;
     let fp: Vec<f64> = split.train.iter().map(|&i| physics[i]).collect();
-    let fit = hxai_symreg::factors::fit_factors_on_physics(
-        &ft,
-        delta,
-        &fp,
-        cfg.correction.link(),
-        &cfg.factor_config(),
-    )?;
+    let fc = cfg.factor_config(&res.features);
+    let fit =
+        hxai_symreg::factors::fit_factors_on_physics(&ft, delta, &fp, cfg.correction.link(), &fc)?;
     let alternatives = fit
         .alternatives
         .iter()

@@ -164,6 +164,9 @@ impl Form {
     }
 }
 
+/// The operators that write a harmonic: allowed in a correction only with `--periodic`.
+const TRIG_OPERATORS: [&str; 2] = ["sin", "cos"];
+
 /// Settings of [`fit`] and [`compare`].
 #[derive(Clone, Debug)]
 pub struct TableConfig {
@@ -207,6 +210,11 @@ pub struct TableConfig {
     /// `--correction-per COL`: the correction's constants refitted per level of a text
     /// column, read from its indicator columns ([`correction_per::expand`] sets it).
     pub correction_per: Option<CorrectionPer>,
+    /// `--periodic`: the columns an engineer knows repeat (a spindle angle, a time of day).
+    /// Only these may carry a harmonic in the correction (the factor form's `sin(w x + c)`;
+    /// the free form gets `sin` and `cos` among its operators only when one is declared).
+    /// Empty (the default): no sine or cosine in any correction (issue 64).
+    pub periodic: Vec<String>,
     /// Indicator columns (1 on a level's rows, 0 elsewhere) whose levels a random split
     /// keeps on both sides in proportion, so that every level keeps training rows
     /// (`--calibrate-per` and `--correction-per` add theirs: a level wholly in the test rows
@@ -239,6 +247,7 @@ impl TableConfig {
             search: SearchConfig::laws(),
             conformal_folds: DEFAULT_CONFORMAL_FOLDS,
             correction_per: None,
+            periodic: Vec::new(),
             strata: Vec::new(),
         }
     }
@@ -277,17 +286,36 @@ impl TableConfig {
         })
     }
 
-    fn factor_config(&self) -> hxai_symreg::factors::FactorConfig {
+    /// The factor form's settings for a correction over the columns `features` (their
+    /// order is the factor table's): harmonics only on the `--periodic` ones.
+    fn factor_config(&self, features: &[String]) -> hxai_symreg::factors::FactorConfig {
         hxai_symreg::factors::FactorConfig {
             seed: self.seed,
             par: self.search.par,
+            periodic: Some(hxai_symreg::factors::FactorConfig::periodic_mask(
+                features,
+                &self.periodic,
+            )),
             ..self.factors
         }
     }
 
     fn search_config(&self) -> SearchConfig {
+        let mut operators = self.search.operators.clone();
+        // harmonics only where declared (issue 64): without --periodic no sin or cos in
+        // the correction, with it the free form may use both
+        if self.periodic.is_empty() {
+            operators.retain(|o| !TRIG_OPERATORS.contains(&o.as_str()));
+        } else {
+            for o in TRIG_OPERATORS {
+                if !operators.iter().any(|x| x == o) {
+                    operators.push(o.to_string());
+                }
+            }
+        }
         SearchConfig {
             seed: self.seed,
+            operators,
             ..self.search.clone()
         }
     }

@@ -288,5 +288,12 @@ fn feature_columns(table: &Table, cfg: &TableConfig) -> Result<Vec<String>, Hybr
                 .unwrap_or_default()
         )));
     }
+    if let Some(p) = cfg.periodic.iter().find(|p| !features.contains(p)) {
+        return Err(HybridError::InvalidConfig(format!(
+            "--periodic {p}: `{p}` is not a feature of the correction (its features: {}); a \
+             harmonic is a correction's repeating effect over one of its columns",
+            features.join(", ")
+        )));
+    }
     Ok(features)
 }

@@ -6,6 +6,7 @@
 
 mod common;
 
+mod beside;
 mod conformal;
 mod correction_per;
 mod design;

@@ -97,10 +97,36 @@ pub struct FactorConfig {
     /// The shapes a factor may take (default all; `hxai sr`'s power-law candidates leave
     /// out the shapes whose operators the user did not allow).
     pub shapes: Shapes,
+    /// Which columns may take the harmonic shape [`Shape::Periodic`] (issue 64: harmonics
+    /// only where declared): `None` any column (where `shapes` has it), `Some(mask)` only
+    /// the columns whose bit is set (bit `j` for the data's column `j`; columns past the
+    /// 64th never). The hybrid sets it from `--periodic`, so an undeclared column gets no
+    /// sine.
+    pub periodic: Option<u64>,
     /// Seed of the folds.
     pub seed: u64,
     /// Threads of the parallel loops (results never depend on it).
     pub par: Par,
+}
+
+impl FactorConfig {
+    /// Whether column `c` may take the harmonic shape ([`FactorConfig::periodic`]).
+    pub fn harmonic_allowed(&self, c: usize) -> bool {
+        match self.periodic {
+            None => true,
+            Some(mask) => c < 64 && mask & (1 << c) != 0,
+        }
+    }
+
+    /// The mask of [`FactorConfig::periodic`] for the `declared` columns among `columns`
+    /// (the data's column names, in order).
+    pub fn periodic_mask(columns: &[String], declared: &[String]) -> u64 {
+        columns
+            .iter()
+            .enumerate()
+            .filter(|(j, c)| *j < 64 && declared.contains(c))
+            .fold(0, |m, (j, _)| m | (1 << j))
+    }
 }
 
 /// A set of [`Shape`]s (the interaction is [`Shape::Pair`]).
@@ -136,6 +162,7 @@ impl Default for FactorConfig {
             interaction_se: 2.0,
             backfit_rounds: 2,
             shapes: Shapes::ALL,
+            periodic: None,
             seed: 42,
             par: Par::Current,
         }

@@ -146,6 +146,7 @@ impl<'a> Problem<'a> {
         let fits: Vec<Scored> = Shape::MAIN
             .iter()
             .filter(|&&sh| self.cfg.shapes.contains(sh))
+            .filter(|&&sh| sh != Shape::Periodic || self.cfg.harmonic_allowed(c))
             .filter_map(|&sh| self.extend(base, sh, &[c]))
             .collect();
         let best = fits

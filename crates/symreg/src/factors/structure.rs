@@ -160,6 +160,19 @@ impl Structure {
         if !mse.is_finite() || self.pole_inside(cols) {
             return f64::INFINITY;
         }
+        // no pole, no log of a value <= 0 and no blow-up beside the rows either: the
+        // search's rule (issue 64), over the rows' box widened by the same margin
+        let bounds = crate::enclosure::widened_box(cols, crate::search::DEFINED_MARGIN);
+        if crate::enclosure::defined_over(
+            &w.program,
+            &params,
+            &bounds,
+            crate::search::DEFINED_BOXES,
+        )
+        .is_err()
+        {
+            return f64::INFINITY;
+        }
         mse
     }
 

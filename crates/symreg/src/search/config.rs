@@ -291,6 +291,13 @@ pub struct SearchConfig {
     /// ([`crate::search::plainness`]), instead of the one that happened to fit a little
     /// better on these rows. At most 20.
     pub runners_up: usize,
+    /// No pole beside the data (issue 64): a fitted candidate that is not proven defined
+    /// and finite over the box of its input columns, each widened by this share of its
+    /// range on both sides (not below 0 for a column that never is), is rejected during
+    /// the search ([`crate::enclosure::defined_over`]: interval arithmetic with bisection,
+    /// so a pole between sample points cannot hide). `Some(0.1)` by default; `None` keeps
+    /// any candidate that is finite on the rows.
+    pub defined_margin: Option<f64>,
     /// Threads of the search (and of [`crate::stability()`]'s runs): [`Par::Current`] by
     /// default, the caller's pool. Not part of any file (`serde(skip)`): the result never
     /// depends on it.
@@ -331,10 +338,21 @@ impl Default for SearchConfig {
             max_key_nodes: None,
             simplify: true,
             runners_up: 0,
+            defined_margin: Some(DEFINED_MARGIN),
             par: Par::Current,
         }
     }
 }
+
+/// The default [`SearchConfig::defined_margin`]: 10 % of each column's range, the
+/// neighbourhood of the data an engineer reads an equation over (issue 64).
+pub const DEFINED_MARGIN: f64 = 0.1;
+
+/// Boxes [`crate::enclosure::defined_over`] may bisect a candidate's input box into before
+/// a candidate not yet proven defined is rejected: 64 halvings settle the dependency
+/// over-estimates of short programs (`1/(x^2 - x + 1)` needs a handful) at a cost of about
+/// a millisecond per rejected candidate, a fraction of its fit.
+pub const DEFINED_BOXES: usize = 64;
 
 impl SearchConfig {
     /// The defaults with the paper's operators ([`PAPER_OPERATORS`]), no transcendental

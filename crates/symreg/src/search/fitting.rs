@@ -1,7 +1,7 @@
 //! Fitting one candidate: the data a search fits on ([`Problem`]), the criterion that scores
 //! a fit, the seeds of the random starts, and the checks on the target.
 use super::archive::{Candidate, Fitted};
-use super::config::{Criterion, FEW_ROWS, MIN_ROWS, RandomStart, ValidSearch};
+use super::config::{Criterion, DEFINED_BOXES, FEW_ROWS, MIN_ROWS, RandomStart, ValidSearch};
 use crate::eval::Evaluator;
 use crate::fit::{InputScales, LmSettings, Unknowns, initial_params, levenberg_marquardt};
 use crate::ops::OpCosts;
@@ -50,6 +50,15 @@ pub(crate) struct Problem<'a> {
     pub op_costs: OpCosts,
     /// The settings, checked.
     pub cfg: &'a ValidSearch,
+    /// The box every candidate must be defined over ([`SearchConfig::defined_margin`]
+    /// around every row's inputs); `None` when not asked for.
+    pub domain: Option<Vec<(f64, f64)>>,
+}
+
+/// The box of `cols` widened by `cfg.defined_margin`, when it is set.
+fn domain_of(cols: &[&[f64]], cfg: &ValidSearch) -> Option<Vec<(f64, f64)>> {
+    cfg.defined_margin
+        .map(|m| crate::enclosure::widened_box(cols, m))
 }
 
 impl<'a> Problem<'a> {
@@ -78,8 +87,10 @@ impl<'a> Problem<'a> {
         };
         let fit_var = variance(&fit_y);
         let fit_refs: Vec<&[f64]> = fit_cols.iter().map(|c| c.as_slice()).collect();
+        let domain = domain_of(&cols, cfg);
         Problem {
             scales: InputScales::new(&fit_refs),
+            domain,
             cols,
             y: target.to_vec(),
             fit_cols,
@@ -102,6 +113,7 @@ impl<'a> Problem<'a> {
             scales: InputScales::new(&cols),
             fit_cols: data.columns().to_vec(),
             fit_y: target.to_vec(),
+            domain: domain_of(&cols, cfg),
             cols,
             y: target.to_vec(),
             y_var,
@@ -215,6 +227,13 @@ impl<'a> Problem<'a> {
         }
         if !best.is_finite() {
             return reject(vec![0.0; n_params]);
+        }
+        if let Some(bounds) = &self.domain
+            && crate::enclosure::defined_over(prog, &best_params, bounds, DEFINED_BOXES).is_err()
+        {
+            // a pole, a log of a value <= 0, ... beside the rows: what an engineer reads
+            // the equation over (issue 64)
+            return reject(best_params);
         }
         Fitted {
             program: prog.clone(),

@@ -40,8 +40,8 @@ mod select;
 mod structure;
 
 pub use config::{
-    Criterion, DEFAULT_OPERATORS, ErrorModel, FEW_ROWS, LAW_OPERATORS, PAPER_OPERATORS,
-    RandomStart, SearchConfig, Strategy, ValidSearch,
+    Criterion, DEFAULT_OPERATORS, DEFINED_BOXES, DEFINED_MARGIN, ErrorModel, FEW_ROWS,
+    LAW_OPERATORS, PAPER_OPERATORS, RandomStart, SearchConfig, Strategy, ValidSearch,
 };
 #[doc(hidden)]
 pub use propose::generate;

@@ -241,7 +241,7 @@ fn a_typo_among_many_columns_names_the_nearest() {
     c.calibrate = vec!["k".into()];
     let s = err(&c, &t);
     assert!(
-        s.contains("the nearest of 40: measured_spindle_temperature_channel_03,"),
+        s.contains("the nearest of 41: measured_spindle_temperature_channel_03,"),
         "{s}"
     );
     assert!(!s.contains("channel_39"), "{s}");

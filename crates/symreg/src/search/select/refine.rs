@@ -36,19 +36,72 @@ const PRUNE_TOLERANCE: f64 = 1e-9;
 /// shorter form ([`simpler_form`]).
 pub(super) fn refine(problem: &Problem, f: &Fitted, data: &Table) -> (Model, bool) {
     let snapped = refine_with(problem, f, data, problem.cfg.snap_constants);
-    if !problem.cfg.snap_constants {
-        return snapped;
-    }
-    // snapping comes before the fold and the second shorter form, and a snapped constant
-    // can keep a term from folding or a form from shortening that the fitted constants
-    // allow: the unsnapped path is kept when its criterion is better (snaps are kept only
-    // when the criterion is no worse)
-    let plain = refine_with(problem, f, data, false);
-    if plain.0.score < snapped.0.score {
-        plain
+    let chosen = if problem.cfg.snap_constants {
+        // snapping comes before the fold and the second shorter form, and a snapped
+        // constant can keep a term from folding or a form from shortening that the fitted
+        // constants allow: the unsnapped path is kept when its criterion is better (snaps
+        // are kept only when the criterion is no worse), or when the snapped one is not
+        // defined beside the rows
+        let plain = refine_with(problem, f, data, false);
+        match (
+            defined(problem, &snapped.0, data),
+            defined(problem, &plain.0, data),
+        ) {
+            (true, true) if plain.0.score < snapped.0.score => plain,
+            (true, _) => snapped,
+            (false, true) => plain,
+            (false, false) => return as_searched(problem, f, data),
+        }
     } else {
         snapped
+    };
+    if defined(problem, &chosen.0, data) {
+        chosen
+    } else {
+        as_searched(problem, f, data)
     }
+}
+
+/// Whether `m` (a model over some columns of `data`) is defined over the problem's box
+/// ([`crate::SearchConfig::defined_margin`]); true when there is none.
+fn defined(problem: &Problem, m: &Model, data: &Table) -> bool {
+    let Some(b) = &problem.domain else {
+        return true;
+    };
+    let bounds: Option<Vec<(f64, f64)>> = m
+        .feature_names
+        .iter()
+        .map(|n| data.names().iter().position(|x| x == n).map(|j| b[j]))
+        .collect();
+    bounds.is_some_and(|bb| {
+        crate::enclosure::defined_over(
+            &m.program,
+            &m.params,
+            &bb,
+            crate::search::config::DEFINED_BOXES,
+        )
+        .is_ok()
+    })
+}
+
+/// The search's own fit of `f`, scored on every row, without the final refit, snapping
+/// or rewriting: what is reported when each of those gives a model with a pole beside the
+/// rows (the search's constants were proven defined there when it fitted them).
+fn as_searched(problem: &Problem, f: &Fitted, data: &Table) -> (Model, bool) {
+    let mse = Evaluator::new(&f.program).mse(&f.program, &f.params, &problem.cols, &problem.y);
+    let n = problem.y.len();
+    let complexity = f
+        .program
+        .complexity_with(problem.cfg.complexity_measure, &problem.op_costs);
+    let model = to_model(
+        &f.program,
+        f.params.clone(),
+        mse,
+        problem.score(mse, f.params.len(), n),
+        complexity,
+        data,
+    );
+    (model, false)
 }
 
 /// [`refine`] with constants snapped (`snap`) or not.
