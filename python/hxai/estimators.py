@@ -875,7 +875,10 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     (``y = f_p exp(delta)``, ``delta`` found on the log scale: for scatter that grows with
     the quantity and for power-law corrections; ``y`` and the physics must be positive); ``delta`` is found
     by symbolic regression on ``features`` (default: every column not in ``exclude``) with
-    the search settings. ``form="factors"`` searches the correction as one closed-form
+    the search settings. ``form="auto"`` (the default) chooses among ``"none"`` (the
+    calibrated physics alone), ``"factors"`` and ``"free"`` by 3-fold cross-validation on
+    the training rows with the one-standard-error rule toward the simpler (``choice_``:
+    each form's held-out error, the form picked and the rule). ``form="factors"`` searches the correction as one closed-form
     factor per column instead (power, linear, exponential, logarithm, pole, saturation, one
     harmonic on a ``periodic`` column;
     kept only where it lowers the cross-validated error; at most one two-column
@@ -922,7 +925,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         init=None,
         set=None,
         correction="additive",
-        form="free",
+        form="auto",
         features=None,
         exclude=(),
         periodic=(),
@@ -1043,8 +1046,8 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             raise ValueError(
                 f"correction `{self.correction}`: use additive, multiplicative or log"
             )
-        if self.form not in ("free", "factors"):
-            raise ValueError(f"form `{self.form}`: use free or factors")
+        if self.form not in ("auto", "none", "free", "factors"):
+            raise ValueError(f"form `{self.form}`: use auto, none, free or factors")
         search = json.loads(_search_json(self))
         n_jobs = _n_jobs(self)
         X, y, dropped = _target_gaps(self, X, y)
@@ -1126,6 +1129,8 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.complexity_ = corr["complexity"]
         self.features_ = list(corr["features"])
         self.selection_ = _readable(corr.get("selection"))
+        self.choice_ = corr.get("choice")
+        self.form_ = corr.get("form")
         self.factors_ = corr.get("factors")
         self.stability_ = _readable(doc.get("stability"))
         # the traps of the fit (a column copying the target, a physics that changes sign

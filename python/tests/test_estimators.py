@@ -331,7 +331,7 @@ def test_hybrid_factor_form(roughness):
         parts["hybrid"], parts["physics"] * np.exp(parts["correction"]), rtol=1e-12
     )
     assert m.score(X, y) > 0.9
-    with pytest.raises(ValueError, match="use free or factors"):
+    with pytest.raises(ValueError, match="use auto, none, free or factors"):
         HybridRegressor("k*feed_mm", calibrate=["k"], form="product", **FAST).fit(X, y)
 
 

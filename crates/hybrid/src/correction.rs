@@ -57,6 +57,10 @@ pub struct CorrectionInfo<K> {
     /// `column` or `columns`, `shape`, `equation`, `template`, `complexity`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub factors: Option<Vec<hxai_symreg::factors::Factor>>,
+    /// With `--form auto`: each form's cross-validated error, the form picked and the rule
+    /// ([`crate::tables::auto::FormChoice`]); absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub choice: Option<crate::tables::auto::FormChoice>,
 }
 
 impl<K> CorrectionInfo<K> {
@@ -72,6 +76,7 @@ impl<K> CorrectionInfo<K> {
             selection: None,
             form: None,
             factors: None,
+            choice: None,
         }
     }
 

@@ -55,6 +55,11 @@ pub(crate) enum FormArg {
     /// two-column interaction: a product of factors (multiplicative, log) or a sum of terms
     /// (additive).
     Factors,
+    /// No correction: the calibrated physics alone.
+    None,
+    /// none, factors or free, chosen by 3-fold cross-validation on the training rows with
+    /// the one-standard-error rule toward the simpler.
+    Auto,
 }
 
 impl From<FormArg> for hxai_hybrid::tables::Form {
@@ -62,6 +67,8 @@ impl From<FormArg> for hxai_hybrid::tables::Form {
         match f {
             FormArg::Free => hxai_hybrid::tables::Form::Free,
             FormArg::Factors => hxai_hybrid::tables::Form::Factors,
+            FormArg::None => hxai_hybrid::tables::Form::None,
+            FormArg::Auto => hxai_hybrid::tables::Form::Auto,
         }
     }
 }
@@ -102,8 +109,9 @@ pub(crate) struct Common {
     /// How the correction enters the hybrid.
     #[arg(long, value_enum, default_value_t = CorrectionArg::Additive)]
     pub(crate) correction: CorrectionArg,
-    /// How the correction is searched: free form, or one factor per column.
-    #[arg(long, value_enum, default_value_t = FormArg::Free)]
+    /// How the correction is searched: chosen by cross-validation among none (the physics
+    /// alone), factors and free (auto, the default), or forced.
+    #[arg(long, value_enum, default_value_t = FormArg::Auto)]
     pub(crate) form: FormArg,
     /// Rows sharing this column's value stay on one side of every split.
     #[arg(long)]

@@ -39,6 +39,9 @@ pub(super) fn print_model(m: &TableModel) {
         m.correction.forms.complexity,
         m.correction.forms.equation
     );
+    if let Some(choice) = &m.correction.choice {
+        println!("{}", choice.sentence());
+    }
     if let Some(factors) = &m.correction.factors {
         for f in factors {
             let on = f

@@ -71,6 +71,10 @@ pub fn measure_stability(
     runs: usize,
     progress: &mut (dyn FnMut(usize, usize) + Send),
 ) -> Result<(), HybridError> {
+    if model.correction.form.as_deref() == Some(Form::None.name()) {
+        // the physics alone: no structure to resample
+        return Ok(());
+    }
     let st = stability(table, cfg, model, runs, progress)?;
     let sel = model.correction.selection.take();
     model.correction.selection = sel.map(|sel| sel.with_stability(&st));
@@ -239,8 +243,12 @@ pub(crate) fn fit_calibrated(
     } else {
         "correction".to_string()
     };
-    let searched = match cfg.form {
-        Form::Free => {
+    let (form, choice) = match cfg.form {
+        Form::Auto => super::auto::choose(job, progress)?,
+        f => (f, None),
+    };
+    let searched = match form {
+        Form::Free | Form::Auto => {
             let (ft, found) = search_training_rows(
                 table,
                 res,
@@ -259,6 +267,7 @@ pub(crate) fn fit_calibrated(
             }
         }
         Form::Factors => search_factors(table, res, cfg, split, &delta, physics)?,
+        Form::None => no_correction(table, res, split)?,
     };
     let Searched {
         ft,
@@ -289,7 +298,8 @@ pub(crate) fn fit_calibrated(
         joint,
     };
     let mut model = model_of(job, res, &ft, &pareto, fitted, y_all, &y_train)?;
-    model.correction.form = Some(cfg.form.name().to_string());
+    model.correction.form = Some(form.name().to_string());
+    model.correction.choice = choice;
     model.correction.factors = factors;
     model.warnings = super::traps::fit_warnings(table, cfg, &res.features, split, y_all, physics);
     let mut read: Vec<String> = vec![cfg.target.clone()];
@@ -345,6 +355,37 @@ struct Searched {
 /// training rows: its alternatives are the selected columns with another shape that the
 /// held-out error cannot tell apart. A multiplicative correction is fitted by the
 /// hybrid's error in the target's units (`physics` on every row of the table).
+/// The zero correction of `--form none` (or of `auto` when no correction pays): a
+/// constant 0 over no column, its selection saying so.
+fn no_correction(table: &Table, res: &Resolved, split: &Split) -> Result<Searched, HybridError> {
+    let ft = table
+        .select_columns(&res.features)?
+        .select_rows(&split.train)?;
+    let zero = hxai_symreg::Model::new(
+        Vec::new(),
+        hxai_symreg::Program {
+            nodes: vec![hxai_symreg::Node::Const],
+            affine: false,
+        },
+        vec![1.0, 0.0, 0.0],
+    )?;
+    let selection = hxai_symreg::SelectionReport {
+        method: "none".into(),
+        structure: "0".into(),
+        share: None,
+        runs: None,
+        alternatives: Vec::new(),
+        error_model: hxai_symreg::ErrorModel::Additive,
+    };
+    Ok(Searched {
+        ft,
+        pareto: vec![zero.clone()],
+        model: zero,
+        selection,
+        factors: None,
+    })
+}
+
 fn search_factors(
     table: &Table,
     res: &Resolved,

@@ -43,6 +43,7 @@
 //! # Ok::<(), hxai_hybrid::HybridError>(())
 //! ```
 mod assemble;
+pub mod auto;
 mod calibrate;
 mod columns;
 mod compare;
@@ -138,27 +139,37 @@ pub enum Form {
     /// one interaction ([`hxai_symreg::factors`]): a product of factors for the
     /// multiplicative and log corrections, a sum of terms for the additive one.
     Factors,
+    /// No correction: the calibrated physics alone (the hybrid is the physics).
+    None,
+    /// `none`, `factors` or `free`, chosen by cross-validation on the training rows with
+    /// the one-standard-error rule toward the simpler ([`auto`]); the model file says
+    /// which (`correction.form`) and how (`correction.choice`).
+    Auto,
 }
 
 impl Form {
-    /// `free` or `factors`.
+    /// `free`, `factors`, `none` or `auto`.
     pub fn name(self) -> &'static str {
         match self {
             Form::Free => "free",
             Form::Factors => "factors",
+            Form::None => "none",
+            Form::Auto => "auto",
         }
     }
 
-    /// Parses `free` or `factors`.
+    /// Parses `free`, `factors`, `none` or `auto`.
     ///
     /// # Errors
-    /// [`crate::HybridError::InvalidConfig`] naming the two choices.
+    /// [`crate::HybridError::InvalidConfig`] naming the choices.
     pub fn parse(s: &str) -> Result<Self, crate::HybridError> {
         match s.trim().to_ascii_lowercase().as_str() {
             "free" => Ok(Form::Free),
             "factors" | "factor" => Ok(Form::Factors),
+            "none" => Ok(Form::None),
+            "auto" => Ok(Form::Auto),
             other => Err(crate::HybridError::InvalidConfig(format!(
-                "unknown correction form {other:?}: use free or factors"
+                "unknown correction form {other:?}: use auto, none, factors or free"
             ))),
         }
     }

@@ -123,3 +123,55 @@ fn harmonics_only_where_declared() {
     let e = fit(&t, &wrong, &mut |_| {}).unwrap_err().to_string();
     assert!(e.contains("--periodic y"), "{e}");
 }
+
+/// `--form auto` (issue 64): on a table whose physics is exact, the physics alone
+/// (`none`); on a product of power laws that the physics lacks, the factors; the model file
+/// says which and why, and reads back.
+#[test]
+fn auto_picks_none_for_exact_physics_and_factors_for_power_laws() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let n = 150;
+    let (mut x, mut z, mut w): (Vec<f64>, Vec<f64>, Vec<f64>) =
+        (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..n {
+        x.push(rng.gen_range(1.0..5.0));
+        z.push(rng.gen_range(1.0..4.0));
+        w.push(rng.gen_range(0.5..2.0));
+    }
+    let noise: Vec<f64> = (0..n).map(|_| 1.0 + rng.gen_range(-0.01..0.01)).collect();
+    let exact: Vec<f64> = (0..n).map(|i| 3.0 * x[i].powf(1.5) * noise[i]).collect();
+    let power: Vec<f64> = (0..n)
+        .map(|i| 2.0 * x[i] * z[i].powf(0.7) * w[i].powf(-0.5) * noise[i])
+        .collect();
+    let names = vec!["x".into(), "z".into(), "w".into(), "y".into()];
+    let quick = |physics: &str| {
+        let mut cfg = TableConfig::new("y", physics);
+        cfg.calibrate = vec!["k".into()];
+        cfg.form = Form::Auto;
+        cfg.search.epochs = 3;
+        cfg.search.candidates_per_epoch = 300;
+        cfg.correction = hxai_hybrid::tables::CorrectionForm::Multiplicative;
+        cfg
+    };
+    let t = Table::new(names.clone(), vec![x.clone(), z.clone(), w.clone(), exact]).unwrap();
+    let m = fit(&t, &quick("k*x^1.5"), &mut |_| {}).unwrap();
+    let choice = m.correction.choice.as_ref().unwrap();
+    assert_eq!(choice.picked, "none", "{choice:?}");
+    assert_eq!(m.correction.form.as_deref(), Some("none"));
+    assert_eq!(m.predict(&t).unwrap().correction, vec![0.0; n]);
+    // (the zero model's training loss is NaN: compare the files, not the values)
+    let json = m.to_checked_json().unwrap();
+    assert_eq!(TableModel::from_json(&json).unwrap().to_json(), json);
+
+    let t = Table::new(names, vec![x, z, w, power]).unwrap();
+    let m = fit(&t, &quick("k*x"), &mut |_| {}).unwrap();
+    let choice = m.correction.choice.as_ref().unwrap();
+    assert_eq!(choice.picked, "factors", "{choice:?}");
+    assert!(
+        choice.cv["factors"].mean < choice.cv["none"].mean / 10.0,
+        "{choice:?}"
+    );
+    // (the zero model's training loss is NaN: compare the files, not the values)
+    let json = m.to_checked_json().unwrap();
+    assert_eq!(TableModel::from_json(&json).unwrap().to_json(), json);
+}

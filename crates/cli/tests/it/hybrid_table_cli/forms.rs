@@ -72,7 +72,9 @@ fn the_factor_form_writes_its_factors() -> TestResult {
     );
     // the free form's model says so too
     let free = dir.join("free.json");
-    ok(&hxai(&fit_args(s(&data), s(&free)))?, "fit");
+    let mut args = fit_args(s(&data), s(&free));
+    args.extend_from_slice(&["--form", "free"]);
+    ok(&hxai(&args)?, "fit");
     let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&free)?)?;
     assert_eq!(m["correction"]["form"], "free");
     assert!(m["correction"].get("factors").is_none());

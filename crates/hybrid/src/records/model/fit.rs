@@ -213,6 +213,15 @@ pub fn fit(
         )));
     }
     cfg.window.check()?;
+    if matches!(
+        cfg.form,
+        crate::tables::Form::None | crate::tables::Form::Auto
+    ) {
+        return Err(HybridError::InvalidConfig(format!(
+            "correction form {}: the tool case's correction is searched free or as factors",
+            cfg.form.name()
+        )));
+    }
     let hybrid = record_hybrid_with(&cfg.physics, &cfg.features, cfg.window);
     let mut samples = Vec::new();
     let mut warnings = Vec::new();
@@ -264,7 +273,9 @@ pub fn fit(
             let selection = hxai_symreg::SelectionReport::of(&result, &cfg.search);
             (result, selection, None)
         }
-        crate::tables::Form::Factors => factor_search(&train_table, &train_delta, cfg)?,
+        crate::tables::Form::Factors | crate::tables::Form::None | crate::tables::Form::Auto => {
+            factor_search(&train_table, &train_delta, cfg)?
+        }
     };
     let conformal = if cfg.conformal_folds > 0 {
         Some(conformal_of(

@@ -65,6 +65,7 @@ impl CorrectionInfo<CorrectionKind> {
             selection: None,
             form: None,
             factors: None,
+            choice: None,
         }
     }
 }

@@ -1,0 +1,212 @@
+//! `--form auto` (issue 64): which correction these rows support, `none` (the calibrated
+//! physics alone), `factors` or `free`, chosen by K-fold cross-validation on the training
+//! rows with the one-standard-error rule toward the simpler.
+//!
+//! Each fold is a whole fit on the fold's training rows (the physics calibrated again, the
+//! correction searched again), scored by the hybrid's squared error on the fold's held-out
+//! rows, so a correction that fits the rows and breaks beside them pays for it. The folds'
+//! free-form searches run with `1/K` of the epochs each (at least one), which keeps `auto`
+//! near twice the free form's cost ([`AUTO_FOLDS`]); the form picked is then fitted with the
+//! full budget on every training row.
+
+use super::fit::{SplitJob, calibrate_split, fit_calibrated};
+use super::{Form, TableProgress};
+use crate::HybridError;
+use hxai_eval::Split;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Folds of the choice: 3, not the 5 of the search's own selection, since every fold is a
+/// whole fit of both corrections (at 5 the choice cost about four free-form fits).
+pub const AUTO_FOLDS: usize = 3;
+
+/// Standard errors of the rule: a more complex form is picked only when its held-out error
+/// is lower than the simpler one's by more than one standard error of the best.
+pub const AUTO_SE_RULE: f64 = 1.0;
+
+/// One form's cross-validated error (JSON `correction.choice.cv.FORM`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CvError {
+    /// Mean over the folds of the hybrid's held-out mean squared error.
+    pub mean: f64,
+    /// Its standard error (sample sd of the folds' errors over `sqrt(K)`).
+    pub se: f64,
+}
+
+/// How `--form auto` chose (JSON `correction.choice`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FormChoice {
+    /// Each candidate form's cross-validated error.
+    pub cv: BTreeMap<String, CvError>,
+    /// The form picked.
+    pub picked: String,
+    /// The rule, in words.
+    pub rule: String,
+}
+
+impl FormChoice {
+    /// The sentence for a report: the form picked and why.
+    pub fn sentence(&self) -> String {
+        let cv = |f: &str| {
+            self.cv.get(f).map_or_else(
+                || "-".to_string(),
+                |e| {
+                    format!(
+                        "{} +- {}",
+                        crate::error::num(e.mean.sqrt()),
+                        crate::error::num(e.se / (2.0 * e.mean.sqrt().max(f64::MIN_POSITIVE)))
+                    )
+                },
+            )
+        };
+        let why = if self.picked == "none" {
+            "the physics alone is as good as any correction these rows support"
+        } else {
+            "the simplest form within one standard error of the best"
+        };
+        format!(
+            "correction form: {} ({why}; held-out RMSE none {}, factors {}, free {})",
+            self.picked,
+            cv("none"),
+            cv("factors"),
+            cv("free")
+        )
+    }
+}
+
+/// Chooses the form of `job`'s correction: see the module documentation.
+///
+/// # Errors
+/// Fewer training rows (or groups) than [`AUTO_FOLDS`] are not an error: the choice is then
+/// the free form, unscored. Errors of a fold's calibration or search are returned.
+pub(crate) fn choose(
+    job: SplitJob,
+    progress: &mut dyn FnMut(&TableProgress),
+) -> Result<(Form, Option<FormChoice>), HybridError> {
+    let (table, cfg, split) = (job.table, job.cfg, job.split);
+    let Some(folds) = folds(table, cfg, &split.train)? else {
+        return Ok((Form::Free, None));
+    };
+    let y = table.require(&cfg.target)?;
+    let mut per_form: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
+    for (k, fold) in folds.iter().enumerate() {
+        let sub = Split {
+            train: fold.train.iter().map(|&i| split.train[i]).collect(),
+            test: fold.test.iter().map(|&i| split.train[i]).collect(),
+        };
+        let mse = |pred: &[f64]| {
+            sub.test
+                .iter()
+                .map(|&i| (y[i] - pred[i]).powi(2))
+                .sum::<f64>()
+                / sub.test.len() as f64
+        };
+        let cal = calibrate_split(SplitJob {
+            table,
+            cfg,
+            split: &sub,
+            kind: "fold",
+            task: (k + 1, folds.len()),
+        })?;
+        per_form.entry("none").or_default().push(mse(&cal.physics));
+        for form in [Form::Factors, Form::Free] {
+            let mut c = cfg.config().clone();
+            c.form = form;
+            c.conformal_folds = 0;
+            c.search.epochs = (c.search.epochs / folds.len()).max(1);
+            let c = c.check()?;
+            let fold_job = SplitJob {
+                table,
+                cfg: &c,
+                split: &sub,
+                kind: "fold",
+                task: (k + 1, folds.len()),
+            };
+            // a fold whose correction has no value on a held-out row scores as the physics
+            // would not: infinitely bad, so that form is not picked on its account
+            let err = match fit_calibrated(fold_job, &cal, progress).and_then(|m| m.predict(table))
+            {
+                Ok(p) => mse(&p.hybrid),
+                Err(HybridError::BadCorrection { .. } | HybridError::BadPhysics { .. }) => {
+                    f64::INFINITY
+                }
+                Err(e) => return Err(e),
+            };
+            per_form.entry(form.name()).or_default().push(err);
+        }
+    }
+    let cv: BTreeMap<String, CvError> = per_form
+        .iter()
+        .map(|(f, e)| ((*f).to_string(), mean_se(e)))
+        .collect();
+    let best = cv
+        .values()
+        .copied()
+        .min_by(|a, b| a.mean.total_cmp(&b.mean))
+        .unwrap_or(CvError {
+            mean: f64::INFINITY,
+            se: 0.0,
+        });
+    let bar = best.mean + AUTO_SE_RULE * best.se;
+    let picked = [Form::None, Form::Factors, Form::Free]
+        .into_iter()
+        .find(|f| cv.get(f.name()).is_some_and(|e| e.mean <= bar))
+        .unwrap_or(Form::None);
+    Ok((
+        picked,
+        Some(FormChoice {
+            cv,
+            picked: picked.name().to_string(),
+            rule: format!(
+                "{} folds of the training rows, each a whole fit; the simplest of none < factors < \
+                 free whose held-out error is within {AUTO_SE_RULE} standard error of the lowest",
+                folds.len()
+            ),
+        }),
+    ))
+}
+
+/// Mean and standard error of the folds' errors (`se` infinite with one fold or an
+/// infinite error).
+fn mean_se(e: &[f64]) -> CvError {
+    let k = e.len() as f64;
+    let mean = e.iter().sum::<f64>() / k;
+    let var = e.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (k - 1.0).max(1.0);
+    CvError {
+        mean,
+        se: if e.len() > 1 && var.is_finite() {
+            (var / k).sqrt()
+        } else {
+            f64::INFINITY
+        },
+    }
+}
+
+/// The folds of the training rows (positions in `train`): grouped by `--group`; `None`
+/// when there are fewer rows (or groups) than [`AUTO_FOLDS`] twice over.
+fn folds(
+    table: &hxai_symreg::Table,
+    cfg: &super::ValidTable,
+    train: &[usize],
+) -> Result<Option<Vec<Split>>, HybridError> {
+    let k = AUTO_FOLDS;
+    match &cfg.group {
+        Some(g) => {
+            let col = table.require(g)?;
+            let keys: Vec<u64> = train.iter().map(|&i| (col[i] + 0.0).to_bits()).collect();
+            let mut distinct = keys.clone();
+            distinct.sort_unstable();
+            distinct.dedup();
+            if distinct.len() < 2 * k {
+                return Ok(None);
+            }
+            Ok(Some(hxai_eval::grouped_kfold(&keys, k, cfg.seed)?))
+        }
+        None => {
+            if train.len() < 4 * k {
+                return Ok(None);
+            }
+            Ok(Some(hxai_eval::kfold(train.len(), k, cfg.seed)?))
+        }
+    }
+}
