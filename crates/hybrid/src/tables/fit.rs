@@ -57,6 +57,10 @@ pub fn stability(
     )?)
 }
 
+/// The share of resamples below which a correction's structure is warned about (issue 64:
+/// a structure that came back in 0 % of 20 resamples was reported without a word).
+pub const LOW_SHARE: f64 = 0.2;
+
 /// Measures the stability of `model`'s correction ([`stability`]) and stores it in the
 /// model: `model.stability`, and the shares of its selection report (the structure's and
 /// each alternative's, [`hxai_symreg::SelectionReport::with_stability`]). What `hxai
@@ -79,6 +83,17 @@ pub fn measure_stability(
     let sel = model.correction.selection.take();
     model.correction.selection = sel.map(|sel| sel.with_stability(&st));
     model.stability = Some(st);
+    if let Some(share) = model.correction.selection.as_ref().and_then(|s| s.share)
+        && share < LOW_SHARE
+    {
+        model.warnings.push(format!(
+            "the correction's structure came back in {:.0} % of the {runs} resamples (below \
+             {:.0} %): the rows do not pin it down; read it as one of several that fit, or try \
+             --form factors or none",
+            100.0 * share,
+            100.0 * LOW_SHARE
+        ));
+    }
     Ok(())
 }
 
@@ -315,6 +330,23 @@ pub(crate) fn fit_calibrated(
         &model.physics.standard_errors,
         &model.physics.parameters,
     ));
+    if let Some(u) = &model.correction.uncertainty {
+        let spanning: Vec<String> = u
+            .params
+            .iter()
+            .filter(|(_, p)| p.ci95.is_some_and(|[lo, hi]| lo < 0.0 && hi > 0.0))
+            .map(|(n, _)| n.clone())
+            .collect();
+        if !spanning.is_empty() {
+            model.warnings.push(format!(
+                "the correction's constant(s) {} of `{}` have a 95 % interval that spans 0: the \
+                 rows do not show that their terms matter (--form auto weighs the whole \
+                 correction against the physics alone)",
+                spanning.join(", "),
+                u.template
+            ));
+        }
+    }
     if let Some(setting) = &cfg.correction_per {
         let cp = super::correction_per::fit_levels(setting, &model, table, &split.train, &delta)?;
         if !cp.shared.is_empty() {
