@@ -13,6 +13,7 @@ use hxai_eval::IntervalMethod;
 use hxai_symreg::{Model, ModelForms, SelectionReport, Uncertainty};
 use hxai_table::Table;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 
 /// The correction as a model file stores it: its kind, the readable forms and the fitted
 /// model with its uncertainty, Pareto front and selection (JSON `correction`).
@@ -58,9 +59,9 @@ pub struct CorrectionInfo<K> {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub factors: Option<Vec<hxai_symreg::factors::Factor>>,
     /// With `--form auto`: each form's cross-validated error, the form picked and the rule
-    /// ([`crate::tables::auto::FormChoice`]); absent otherwise.
+    /// ([`FormChoice`], made by `tables::auto`); absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub choice: Option<crate::tables::auto::FormChoice>,
+    pub choice: Option<FormChoice>,
 }
 
 impl<K> CorrectionInfo<K> {
@@ -170,5 +171,55 @@ impl<K> CorrectionInfo<K> {
             ));
         };
         crate::explain::explain(model, band, self.pareto.as_deref(), data, "delta", level)
+    }
+}
+
+/// One form's cross-validated error (JSON `correction.choice.cv.FORM`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CvError {
+    /// Mean over the folds of the hybrid's held-out mean squared error.
+    pub mean: f64,
+    /// Its standard error (sample sd of the folds' errors over `sqrt(K)`).
+    pub se: f64,
+}
+
+/// How `--form auto` chose (JSON `correction.choice`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FormChoice {
+    /// Each candidate form's cross-validated error.
+    pub cv: BTreeMap<String, CvError>,
+    /// The form picked.
+    pub picked: String,
+    /// The rule, in words.
+    pub rule: String,
+}
+
+impl FormChoice {
+    /// The sentence for a report: the form picked and why.
+    pub fn sentence(&self) -> String {
+        let cv = |f: &str| {
+            self.cv.get(f).map_or_else(
+                || "-".to_string(),
+                |e| {
+                    format!(
+                        "{} +- {}",
+                        crate::error::num(e.mean.sqrt()),
+                        crate::error::num(e.se / (2.0 * e.mean.sqrt().max(f64::MIN_POSITIVE)))
+                    )
+                },
+            )
+        };
+        let why = if self.picked == "none" {
+            "the physics alone is as good as any correction these rows support"
+        } else {
+            "the simplest form within one standard error of the best"
+        };
+        format!(
+            "correction form: {} ({why}; held-out RMSE none {}, factors {}, free {})",
+            self.picked,
+            cv("none"),
+            cv("factors"),
+            cv("free")
+        )
     }
 }

@@ -12,8 +12,8 @@
 use super::fit::{SplitJob, calibrate_split, fit_calibrated};
 use super::{Form, TableProgress};
 use crate::HybridError;
+pub use crate::correction::{CvError, FormChoice};
 use hxai_eval::Split;
-use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// Folds of the choice: 3, not the 5 of the search's own selection, since every fold is a
@@ -23,56 +23,6 @@ pub const AUTO_FOLDS: usize = 3;
 /// Standard errors of the rule: a more complex form is picked only when its held-out error
 /// is lower than the simpler one's by more than one standard error of the best.
 pub const AUTO_SE_RULE: f64 = 1.0;
-
-/// One form's cross-validated error (JSON `correction.choice.cv.FORM`).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct CvError {
-    /// Mean over the folds of the hybrid's held-out mean squared error.
-    pub mean: f64,
-    /// Its standard error (sample sd of the folds' errors over `sqrt(K)`).
-    pub se: f64,
-}
-
-/// How `--form auto` chose (JSON `correction.choice`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct FormChoice {
-    /// Each candidate form's cross-validated error.
-    pub cv: BTreeMap<String, CvError>,
-    /// The form picked.
-    pub picked: String,
-    /// The rule, in words.
-    pub rule: String,
-}
-
-impl FormChoice {
-    /// The sentence for a report: the form picked and why.
-    pub fn sentence(&self) -> String {
-        let cv = |f: &str| {
-            self.cv.get(f).map_or_else(
-                || "-".to_string(),
-                |e| {
-                    format!(
-                        "{} +- {}",
-                        crate::error::num(e.mean.sqrt()),
-                        crate::error::num(e.se / (2.0 * e.mean.sqrt().max(f64::MIN_POSITIVE)))
-                    )
-                },
-            )
-        };
-        let why = if self.picked == "none" {
-            "the physics alone is as good as any correction these rows support"
-        } else {
-            "the simplest form within one standard error of the best"
-        };
-        format!(
-            "correction form: {} ({why}; held-out RMSE none {}, factors {}, free {})",
-            self.picked,
-            cv("none"),
-            cv("factors"),
-            cv("free")
-        )
-    }
-}
 
 /// Chooses the form of `job`'s correction: see the module documentation.
 ///

@@ -455,7 +455,12 @@ fn union(leaves: &[Leaf]) -> Iv {
 
 /// The box of `columns` widened by `margin` (for example 0.1) of each column's range on each
 /// side, but not below 0 for a column whose values are all `>= 0` (a length, a speed, a
-/// count stays one). Values that are not finite are ignored; a column without a finite
+/// count stays one), and not to 0 for a column whose values are all `> 0`: where the linear
+/// margin would reach 0 there, the lower end moves down by `margin` of the column's range
+/// on the log scale instead (`lo (lo/hi)^margin`), so a power law or a logarithm of a
+/// positive quantity, which an engineer writes and which has no value at 0, is not
+/// rejected for a point no row comes near (`b` in [0.5, 8]: down to 0.379, not 0).
+/// Values that are not finite are ignored; a column without a finite
 /// value gets `(NaN, NaN)`, which [`enclose`] reports as undefined if the program reads
 /// that column. A `margin` that is negative or NaN counts as 0.
 pub fn widened_box(columns: &[&[f64]], margin: f64) -> Vec<(f64, f64)> {
@@ -474,7 +479,13 @@ pub fn widened_box(columns: &[&[f64]], margin: f64) -> Vec<(f64, f64)> {
             }
             let pad = margin * (hi - lo);
             let wide_lo = lo - pad;
-            let wide_lo = if lo >= 0.0 { wide_lo.max(0.0) } else { wide_lo };
+            let wide_lo = if lo > 0.0 && wide_lo <= 0.0 {
+                lo * (lo / hi).powf(margin)
+            } else if lo >= 0.0 {
+                wide_lo.max(0.0)
+            } else {
+                wide_lo
+            };
             (wide_lo, hi + pad)
         })
         .collect()

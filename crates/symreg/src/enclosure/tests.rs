@@ -269,8 +269,15 @@ fn widened_box_pads_each_column_and_keeps_non_negative_columns_non_negative() {
     assert!((bx[1].0 + 1.4).abs() < 1e-12 && (bx[1].1 - 3.4).abs() < 1e-12);
     assert_eq!(bx[2], (5.0, 5.0));
     assert!(bx[3].0.is_nan() && bx[3].1.is_nan());
-    // all >= 0, the margin reaching exactly 0; further from 0 it applies in full
-    assert_eq!(bx[4], (0.0, 12.0));
+    // all > 0 and the margin reaching 0: the lower end moves on the log scale instead,
+    // 1 * (1/11)^0.1, so a power law of the column keeps a value there
+    assert!(
+        (bx[4].0 - (1.0f64 / 11.0).powf(0.1)).abs() < 1e-15,
+        "{:?}",
+        bx[4]
+    );
+    assert!(bx[4].0 > 0.0 && bx[4].0 < 1.0 && bx[4].1 == 12.0);
+    // further from 0 the linear margin applies in full
     let bx = widened_box(&[&[2.0, 12.0][..]], 0.1);
     assert_eq!(bx[0], (1.0, 13.0));
     assert_eq!(widened_box(&[&[2.0, 12.0][..]], -1.0)[0], (2.0, 12.0));
