@@ -74,6 +74,7 @@ _SEARCH_KEYS = (
     "max_key_nodes",
     "simplify",
     "runners_up",
+    "defined_margin",
 )
 
 _CRITERIA = {
@@ -155,6 +156,16 @@ def _search_json(est):
         if isinstance(mk, bool) or not isinstance(mk, (int, np.integer)) or mk < 0:
             raise ValueError(f"max_key_nodes must be None or a non-negative integer, got {mk!r}")
         s["max_key_nodes"] = int(mk)
+    dm = s["defined_margin"]
+    if dm is not None:
+        if isinstance(dm, bool) or not isinstance(dm, (int, float, np.integer, np.floating)) or not (
+            dm >= 0
+        ):
+            raise ValueError(
+                f"defined_margin must be None (no check) or a share >= 0 of each column's "
+                f"range, got {dm!r}"
+            )
+        s["defined_margin"] = float(dm)
     s["simplify"] = bool(s["simplify"])
     s["named_constants"] = bool(s["named_constants"])
     s["separability"] = bool(s["separability"])
@@ -685,6 +696,10 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     loss (a fifth less time, two fewer laws at 1 % noise on the AI Feynman 100:
     docs/benchmarks.md).
 
+    ``defined_margin=0.1`` (both estimators): no model with a pole, a log of a value
+    <= 0 or another blow-up within the training box widened by this share of each column's
+    range (proven by interval arithmetic during the search); ``None`` turns the check off.
+
     ``max_key_nodes=N`` (``hxai sr --max-key-nodes N``) computes the structure key (the
     canonical form, to skip a candidate whose structure was fitted before) only for
     candidates of at most N nodes (inputs, constants and operators) and fits longer ones
@@ -749,6 +764,7 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         max_key_nodes=SR_MAX_KEY_NODES,
         simplify=True,
         runners_up=0,
+        defined_margin=0.1,
         conformal_folds=5,
         stability_runs=0,
         units=None,
@@ -960,6 +976,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         max_key_nodes=None,
         simplify=True,
         runners_up=3,
+        defined_margin=0.1,
         conformal_folds=5,
         stability_runs=0,
         missing="refuse",
@@ -1000,7 +1017,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             text = _hxai.table_fit(
                 names + [target], columns_of(X) + [to_bytes(y, "y")], json.dumps(settings), n_jobs
             )
-        return self._fitted(text)
+        return self._fitted(text, target)
 
     def compare(self, X, y, test_fraction=0.2, folds=5):
         """Every way of modelling ``y`` on the same split, as ``hxai hybrid compare``: the
@@ -1112,8 +1129,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             settings["correction_per"] = {"column": column, "cells": cells[column]}
         return names, target, X, y, settings, n_jobs
 
-    def _fitted(self, text):
-        """Records the model file ``text`` of a fit and its attributes; returns ``self``."""
+    def _fitted(self, text, target):
+        """Records the model file ``text`` of a fit (of the target named ``target``) and its
+        attributes; returns ``self``."""
         doc = json.loads(text)
         self.model_json_ = text
         self.target_ = target
