@@ -133,30 +133,28 @@ fn mean_se(e: &[f64]) -> CvError {
 }
 
 /// The folds of the training rows (positions in `train`): grouped by `--group`; `None`
-/// when there are fewer rows (or groups) than [`AUTO_FOLDS`] twice over.
+/// when there are fewer rows than four times [`AUTO_FOLDS`], or groups than twice it.
 fn folds(
     table: &hxai_symreg::Table,
     cfg: &super::ValidTable,
     train: &[usize],
 ) -> Result<Option<Vec<Split>>, HybridError> {
     let k = AUTO_FOLDS;
-    match &cfg.group {
-        Some(g) => {
-            let col = table.require(g)?;
-            let keys: Vec<u64> = train.iter().map(|&i| (col[i] + 0.0).to_bits()).collect();
+    let units = super::conformal::fold_units(table, cfg, train)?;
+    let enough = match &units {
+        Some(keys) => {
             let mut distinct = keys.clone();
             distinct.sort_unstable();
             distinct.dedup();
-            if distinct.len() < 2 * k {
-                return Ok(None);
-            }
-            Ok(Some(hxai_eval::grouped_kfold(&keys, k, cfg.seed)?))
+            distinct.len() >= 2 * k
         }
-        None => {
-            if train.len() < 4 * k {
-                return Ok(None);
-            }
-            Ok(Some(hxai_eval::kfold(train.len(), k, cfg.seed)?))
-        }
+        None => train.len() >= 4 * k,
+    };
+    if !enough {
+        return Ok(None);
     }
+    Ok(Some(match units {
+        Some(keys) => hxai_eval::grouped_kfold(&keys, k, cfg.seed)?,
+        None => hxai_eval::kfold(train.len(), k, cfg.seed)?,
+    }))
 }

@@ -48,10 +48,8 @@ fn folds_of(
              use fewer folds (--conformal-folds, at least 2), or 0 to fit without conformal intervals"
         ))
     };
-    match &cfg.group {
-        Some(g) => {
-            let col = table.require(g)?;
-            let keys: Vec<u64> = train.iter().map(|&i| (col[i] + 0.0).to_bits()).collect();
+    match fold_units(table, cfg, train)? {
+        Some(keys) => {
             let mut distinct = keys.clone();
             distinct.sort_unstable();
             distinct.dedup();
@@ -66,6 +64,24 @@ fn folds_of(
             }
             Ok(hxai_eval::kfold(train.len(), k, cfg.seed)?)
         }
+    }
+}
+
+/// The group key of each training row (in the order of `train`) when the fit has a
+/// `--group` column, which folds of the training rows keep whole; `None` without one.
+pub(crate) fn fold_units(
+    table: &Table,
+    cfg: &TableConfig,
+    train: &[usize],
+) -> Result<Option<Vec<u64>>, HybridError> {
+    match &cfg.group {
+        Some(g) => {
+            let col = table.require(g)?;
+            Ok(Some(
+                train.iter().map(|&i| (col[i] + 0.0).to_bits()).collect(),
+            ))
+        }
+        None => Ok(None),
     }
 }
 
