@@ -238,17 +238,18 @@ impl TrainingRanges {
     /// the rows (1-based, the first ten); `None` when there are none.
     pub fn sign_warning(&self, predictions: &[f64], what: &str) -> Option<String> {
         let [lo, hi] = self.target;
-        let (wrong, sign): (Box<dyn Fn(f64) -> bool>, &str) = if lo > 0.0 {
-            (Box::new(|p: f64| p < 0.0), "negative")
+        // the training target's sign, and the word for the other one
+        let (s, sign) = if lo > 0.0 {
+            (1.0, "negative")
         } else if hi < 0.0 {
-            (Box::new(|p: f64| p > 0.0), "positive")
+            (-1.0, "positive")
         } else {
             return None;
         };
         let rows: Vec<usize> = predictions
             .iter()
             .enumerate()
-            .filter(|(_, p)| wrong(**p))
+            .filter(|(_, p)| **p * s < 0.0)
             .map(|(i, _)| i + 1)
             .collect();
         if rows.is_empty() {
