@@ -177,10 +177,20 @@ impl<K> CorrectionInfo<K> {
 /// One form's cross-validated error (JSON `correction.choice.cv.FORM`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CvError {
-    /// Mean over the folds of the hybrid's held-out mean squared error.
+    /// Mean over the folds of the hybrid's held-out mean squared error: infinite (JSON
+    /// `null`) when a fold's correction has no finite value on a held-out row.
+    #[serde(deserialize_with = "null_as_infinity")]
     pub mean: f64,
-    /// Its standard error (sample sd of the folds' errors over `sqrt(K)`).
+    /// Its standard error (sample sd of the folds' errors over `sqrt(K)`; infinite, JSON
+    /// `null`, with an infinite error or one fold).
+    #[serde(deserialize_with = "null_as_infinity")]
     pub se: f64,
+}
+
+/// JSON has no infinity: serde_json writes it as `null`; a cross-validated error reads
+/// `null` back as infinite.
+fn null_as_infinity<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
 }
 
 /// How `--form auto` chose (JSON `correction.choice`).
@@ -221,5 +231,41 @@ impl FormChoice {
             cv("factors"),
             cv("free")
         )
+    }
+}
+
+#[cfg(test)]
+mod choice_file {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    /// A form whose folds had no finite error is written as `null` and read back as
+    /// infinite (a model file with it failed to save once).
+    #[test]
+    fn an_infinite_cv_error_reads_back() {
+        let mut cv = BTreeMap::new();
+        cv.insert(
+            "free".to_string(),
+            CvError {
+                mean: f64::INFINITY,
+                se: f64::INFINITY,
+            },
+        );
+        cv.insert(
+            "none".to_string(),
+            CvError {
+                mean: 1.5,
+                se: 0.25,
+            },
+        );
+        let c = FormChoice {
+            cv,
+            picked: "none".into(),
+            rule: "r".into(),
+        };
+        let text = serde_json::to_string(&c).unwrap();
+        assert!(text.contains("null"), "{text}");
+        let back: FormChoice = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, c);
     }
 }

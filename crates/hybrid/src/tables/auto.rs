@@ -34,7 +34,7 @@ pub(crate) fn choose(
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<(Form, Option<FormChoice>), HybridError> {
     let (table, cfg, split) = (job.table, job.cfg, job.split);
-    let Some(folds) = folds(table, cfg, &split.train)? else {
+    let Some(folds) = folds(table, cfg, &split.train, AUTO_FOLDS)? else {
         return Ok((Form::Free, None));
     };
     let y = table.require(&cfg.target)?;
@@ -118,7 +118,7 @@ pub(crate) fn choose(
 
 /// Mean and standard error of the folds' errors (`se` infinite with one fold or an
 /// infinite error).
-fn mean_se(e: &[f64]) -> CvError {
+pub(super) fn mean_se(e: &[f64]) -> CvError {
     let k = e.len() as f64;
     let mean = e.iter().sum::<f64>() / k;
     let var = e.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (k - 1.0).max(1.0);
@@ -132,14 +132,15 @@ fn mean_se(e: &[f64]) -> CvError {
     }
 }
 
-/// The folds of the training rows (positions in `train`): grouped by `--group`; `None`
-/// when there are fewer rows than four times [`AUTO_FOLDS`], or groups than twice it.
-fn folds(
+/// `k` folds of the training rows (positions in `train`): grouped by `--group`, else in
+/// blocks of the `--extrapolate` column's range ([`block_folds`]), else at random; `None`
+/// when there are fewer rows than four times `k`, or groups than twice it.
+pub(super) fn folds(
     table: &hxai_symreg::Table,
     cfg: &super::ValidTable,
     train: &[usize],
+    k: usize,
 ) -> Result<Option<Vec<Split>>, HybridError> {
-    let k = AUTO_FOLDS;
     let units = super::conformal::fold_units(table, cfg, train)?;
     let enough = match &units {
         Some(keys) => {
@@ -153,8 +154,65 @@ fn folds(
     if !enough {
         return Ok(None);
     }
-    Ok(Some(match units {
-        Some(keys) => hxai_eval::grouped_kfold(&keys, k, cfg.seed)?,
-        None => hxai_eval::kfold(train.len(), k, cfg.seed)?,
+    Ok(Some(match (units, &cfg.extrapolate) {
+        (Some(keys), _) => hxai_eval::grouped_kfold(&keys, k, cfg.seed)?,
+        // the split asks how the model extrapolates in a column: so do the folds, each
+        // holding out one block of the training rows' range of that column
+        (None, Some(col)) => {
+            let v = table.require(col)?;
+            block_folds(&train.iter().map(|&i| v[i]).collect::<Vec<_>>(), k)
+        }
+        (None, None) => hxai_eval::kfold(train.len(), k, cfg.seed)?,
     }))
+}
+
+/// `k` folds of the rows of `values` in which each fold's held-out rows are one block of
+/// the rows sorted by value (ties kept in row order): the first fold holds out the lowest
+/// values, the last the highest.
+pub(super) fn block_folds(values: &[f64], k: usize) -> Vec<Split> {
+    let n = values.len();
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| values[a].total_cmp(&values[b]).then(a.cmp(&b)));
+    (0..k)
+        .map(|b| {
+            let mut test: Vec<usize> = order[b * n / k..(b + 1) * n / k].to_vec();
+            test.sort_unstable();
+            let train = (0..n).filter(|i| test.binary_search(i).is_err()).collect();
+            Split { train, test }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    /// Every row is held out once, each fold's held-out rows are one block of the values,
+    /// and the blocks go from the lowest values to the highest.
+    #[test]
+    fn block_folds_hold_out_blocks_of_the_range() {
+        let v = [5.0, 1.0, 9.0, 3.0, 7.0, 2.0, 8.0, 4.0, 6.0];
+        let folds = block_folds(&v, 3);
+        let held: Vec<Vec<f64>> = folds
+            .iter()
+            .map(|f| {
+                let mut h: Vec<f64> = f.test.iter().map(|&i| v[i]).collect();
+                h.sort_by(f64::total_cmp);
+                h
+            })
+            .collect();
+        assert_eq!(
+            held,
+            vec![
+                vec![1.0, 2.0, 3.0],
+                vec![4.0, 5.0, 6.0],
+                vec![7.0, 8.0, 9.0]
+            ]
+        );
+        for f in &folds {
+            assert_eq!(f.train.len() + f.test.len(), v.len());
+            assert!(f.train.iter().all(|i| !f.test.contains(i)));
+        }
+    }
 }

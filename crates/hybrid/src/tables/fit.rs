@@ -286,11 +286,13 @@ pub(crate) fn fit_calibrated(
     };
     let Searched {
         ft,
-        model: mut correction,
-        selection,
+        model: correction,
+        mut selection,
         pareto,
         factors,
     } = searched;
+    let (mut correction, earned) =
+        super::earn::earn(job, form, correction, &mut selection, &ft, &delta)?;
     let y_train = gather(y_all, &split.train);
 
     let mut joint = None;
@@ -330,6 +332,7 @@ pub(crate) fn fit_calibrated(
         &model.physics.standard_errors,
         &model.physics.parameters,
     ));
+    model.warnings.extend(earned);
     if let Some(u) = &model.correction.uncertainty {
         let spanning: Vec<String> = u
             .params
@@ -339,9 +342,10 @@ pub(crate) fn fit_calibrated(
             .collect();
         if !spanning.is_empty() {
             model.warnings.push(format!(
-                "the correction's constant(s) {} of `{}` have a 95 % interval that spans 0: the \
-                 rows do not show that their terms matter (--form auto weighs the whole \
-                 correction against the physics alone)",
+                "the correction's constant(s) {} of `{}` have a 95 % interval that spans 0 and \
+                 were kept: the rows do not show that their terms matter, but dropping them \
+                 raised the held-out error by more than one standard error (or, in the factor \
+                 form, their factor passed the forward selection's test)",
                 spanning.join(", "),
                 u.template
             ));

@@ -50,6 +50,7 @@ mod compare;
 mod conformal;
 pub mod correction_per;
 pub mod design;
+pub mod earn;
 mod fit;
 mod model;
 pub mod per_class;
@@ -314,7 +315,7 @@ impl TableConfig {
     fn search_config(&self) -> SearchConfig {
         let mut operators = self.search.operators.clone();
         // harmonics only where declared (issue 64): without --periodic no sin or cos in
-        // the correction, with it the free form may use both
+        // the correction, with it the free form may use both over the declared columns
         if self.periodic.is_empty() {
             operators.retain(|o| !TRIG_OPERATORS.contains(&o.as_str()));
         } else {
@@ -327,6 +328,8 @@ impl TableConfig {
         SearchConfig {
             seed: self.seed,
             operators,
+            // and with it, a sin or cos reads only the columns declared
+            harmonic_inputs: (!self.periodic.is_empty()).then(|| self.periodic.clone()),
             ..self.search.clone()
         }
     }

@@ -77,6 +77,9 @@ fn model_section(m: &TableModel) -> String {
         m.correction.kind.name(),
         "δ",
     ));
+    if let Some(c) = &m.correction.choice {
+        s.push_str(&choice_table(c));
+    }
     if let Some(cp) = &m.correction_per {
         let rows: Vec<Vec<String>> = cp
             .levels
@@ -328,6 +331,60 @@ pub fn table_report(m: &TableModel, inputs: &ReportInputs<'_>) -> String {
     )
 }
 
+/// `--form auto`'s choice as a table: each form's cross-validated error with its standard
+/// error, the one picked marked, and the rule under it.
+fn choice_table(c: &hxai_hybrid::tables::auto::FormChoice) -> String {
+    let forms = ["none", "factors", "free"];
+    let rows: Vec<Vec<String>> = forms
+        .iter()
+        .filter_map(|f| c.cv.get(*f).map(|e| (f, e)))
+        .map(|(f, e)| {
+            vec![
+                format!("<code>{f}</code>"),
+                num(e.mean),
+                num(e.se),
+                if c.picked == *f {
+                    "picked".into()
+                } else {
+                    String::new()
+                },
+            ]
+        })
+        .collect();
+    let mut s = table(
+        &format!(
+            "How the correction's form was chosen (--form auto): {}",
+            c.picked
+        ),
+        &["form", "held-out mean squared error", "standard error", ""],
+        &rows,
+    );
+    let _ = write!(s, "<p class=\"note\">{}.</p>", esc(&c.rule));
+    s
+}
+
+/// `--form auto`'s choice in one sentence (the notebook card's).
+fn choice_sentence(c: &hxai_hybrid::tables::auto::FormChoice) -> String {
+    let errors: Vec<String> = ["none", "factors", "free"]
+        .iter()
+        .filter_map(|f| {
+            c.cv.get(*f)
+                .map(|e| format!("{f} {} ± {}", num(e.mean), num(e.se)))
+        })
+        .collect();
+    let what = if c.picked == "none" {
+        "the physics alone is as good as any correction these rows support".to_string()
+    } else {
+        format!("the {} form", c.picked)
+    };
+    format!(
+        "Form auto picked <code>{}</code>: {} (held-out mean squared error {}).",
+        esc(&c.picked),
+        esc(&what),
+        errors.join(", ")
+    )
+}
+
 /// A compact card of `m` for a notebook (`_repr_html_` of the Python estimator): the hybrid
 /// as MathML with its text, the calibrated parameters with their 95 % intervals, and the
 /// scores. No figure, no style sheet (the notebook's own applies).
@@ -371,6 +428,17 @@ pub fn table_card(m: &TableModel) -> String {
     if let Some(t) = &m.scores.test {
         let _ = write!(s, ", test RMSE {}", num(t.hybrid.rmse));
     }
-    s.push_str(".</p></div>");
+    s.push_str(".</p>");
+    if let Some(c) = &m.correction.choice {
+        let _ = write!(s, "<p>{}</p>", choice_sentence(c));
+    }
+    if !m.warnings.is_empty() {
+        s.push_str("<p>Warnings:</p><ul>");
+        for w in &m.warnings {
+            let _ = write!(s, "<li>{}</li>", esc(w));
+        }
+        s.push_str("</ul>");
+    }
+    s.push_str("</div>");
     s
 }

@@ -1,5 +1,7 @@
 //! Fitted models: evaluation on new data and export (`mod.rs`), constant snapping
-//! (`snap.rs`), and folding and pruning that keep the values (`fold.rs`).
+//! (`snap.rs`), folding and pruning that keep the values (`fold.rs`), and dropping a
+//! constant's term (`drop.rs`).
+mod drop;
 mod fold;
 mod snap;
 

@@ -298,6 +298,12 @@ pub struct SearchConfig {
     /// so a pole between sample points cannot hide). `Some(0.1)` by default; `None` keeps
     /// any candidate that is finite on the rows.
     pub defined_margin: Option<f64>,
+    /// Harmonics only where declared (issue 64): the columns a `sin` or `cos` may read.
+    /// A candidate with a `sin` or `cos` over any other column is rejected before it is
+    /// fitted. `None` (the default) lets them read any column; the hybrid sets it to its
+    /// `--periodic` columns.
+    #[serde(default)]
+    pub harmonic_inputs: Option<Vec<String>>,
     /// Threads of the search (and of [`crate::stability()`]'s runs): [`Par::Current`] by
     /// default, the caller's pool. Not part of any file (`serde(skip)`): the result never
     /// depends on it.
@@ -339,6 +345,7 @@ impl Default for SearchConfig {
             simplify: true,
             runners_up: 0,
             defined_margin: Some(DEFINED_MARGIN),
+            harmonic_inputs: None,
             par: Par::Current,
         }
     }

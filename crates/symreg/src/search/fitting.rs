@@ -4,8 +4,9 @@ use super::archive::{Candidate, Fitted};
 use super::config::{Criterion, DEFINED_BOXES, FEW_ROWS, MIN_ROWS, RandomStart, ValidSearch};
 use crate::eval::Evaluator;
 use crate::fit::{InputScales, LmSettings, Unknowns, initial_params, levenberg_marquardt};
+use crate::ops::Op;
 use crate::ops::OpCosts;
-use crate::program::Program;
+use crate::program::{Node, Program};
 use crate::{SrError, Table};
 use rand::SeedableRng;
 use rand::seq::index::sample;
@@ -53,6 +54,46 @@ pub(crate) struct Problem<'a> {
     /// The box every candidate must be defined over ([`SearchConfig::defined_margin`]
     /// around every row's inputs); `None` when not asked for.
     pub domain: Option<Vec<(f64, f64)>>,
+    /// For each column, whether a `sin` or `cos` may read it
+    /// ([`SearchConfig::harmonic_inputs`]); `None` when any may.
+    pub harmonic: Option<Vec<bool>>,
+}
+
+/// Which columns of `data` a `sin` or `cos` may read, from `cfg.harmonic_inputs`.
+fn harmonic_of(data: &Table, cfg: &ValidSearch) -> Option<Vec<bool>> {
+    cfg.harmonic_inputs
+        .as_ref()
+        .map(|allowed| data.names().iter().map(|n| allowed.contains(n)).collect())
+}
+
+/// Whether every `sin` and `cos` of `prog` reads only columns `allowed` marks (true when
+/// there is no mask).
+pub(crate) fn harmonics_allowed(prog: &Program, allowed: Option<&[bool]>) -> bool {
+    let Some(allowed) = allowed else {
+        return true;
+    };
+    // for each subtree on the stack: whether it reads a column a harmonic may not
+    let mut stack: Vec<bool> = Vec::with_capacity(prog.nodes.len());
+    for n in &prog.nodes {
+        let reads_other = match *n {
+            Node::Var(j) => !allowed.get(j as usize).copied().unwrap_or(false),
+            Node::Const => false,
+            Node::Op(op) if op.arity() == 1 => {
+                let a = stack.pop().unwrap_or(false);
+                if a && matches!(op, Op::Sin | Op::Cos) {
+                    return false;
+                }
+                a
+            }
+            Node::Op(_) => {
+                let b = stack.pop().unwrap_or(false);
+                let a = stack.pop().unwrap_or(false);
+                a || b
+            }
+        };
+        stack.push(reads_other);
+    }
+    true
 }
 
 /// The box of `cols` widened by `cfg.defined_margin`, when it is set.
@@ -91,6 +132,7 @@ impl<'a> Problem<'a> {
         Problem {
             scales: InputScales::new(&fit_refs),
             domain,
+            harmonic: harmonic_of(data, cfg),
             cols,
             y: target.to_vec(),
             fit_cols,
@@ -114,6 +156,7 @@ impl<'a> Problem<'a> {
             fit_cols: data.columns().to_vec(),
             fit_y: target.to_vec(),
             domain: domain_of(&cols, cfg),
+            harmonic: harmonic_of(data, cfg),
             cols,
             y: target.to_vec(),
             y_var,
@@ -194,7 +237,10 @@ impl<'a> Problem<'a> {
             source: c.source,
             tag: c.tag,
         };
-        if n_params >= y.len() || (y.len() < FEW_ROWS && n_params + 2 > y.len()) {
+        if n_params >= y.len()
+            || (y.len() < FEW_ROWS && n_params + 2 > y.len())
+            || !harmonics_allowed(prog, self.harmonic.as_deref())
+        {
             return reject(vec![0.0; n_params]);
         }
         let mut ev = Evaluator::new(prog);
@@ -316,7 +362,9 @@ pub(crate) fn refitted(
     mut params: Vec<f64>,
 ) -> Option<Fitted> {
     let cfg = problem.cfg;
-    if params.len() >= problem.fit_y.len() {
+    if params.len() >= problem.fit_y.len()
+        || !harmonics_allowed(&program, problem.harmonic.as_deref())
+    {
         return None;
     }
     let fit_cols = problem.fit_cols();
@@ -356,6 +404,38 @@ pub(crate) fn refitted(
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+
+    /// A harmonic of a declared column passes, one of another column (alone, or mixed
+    /// into the argument) does not, and other operators over any column do.
+    #[test]
+    fn harmonics_read_only_declared_columns() {
+        let allowed = [true, false];
+        let p = |nodes: Vec<Node>| Program {
+            nodes,
+            affine: true,
+        };
+        let sin_a = p(vec![Node::Var(0), Node::Op(Op::Sin)]);
+        let cos_b = p(vec![Node::Var(1), Node::Op(Op::Cos)]);
+        let sin_ab = p(vec![
+            Node::Var(0),
+            Node::Var(1),
+            Node::Op(Op::Add),
+            Node::Op(Op::Sin),
+        ]);
+        let b_times_sin_a = p(vec![
+            Node::Var(1),
+            Node::Var(0),
+            Node::Op(Op::Sin),
+            Node::Op(Op::Mul),
+        ]);
+        let exp_b = p(vec![Node::Var(1), Node::Op(Op::Exp)]);
+        assert!(harmonics_allowed(&sin_a, Some(&allowed)));
+        assert!(!harmonics_allowed(&cos_b, Some(&allowed)));
+        assert!(!harmonics_allowed(&sin_ab, Some(&allowed)));
+        assert!(harmonics_allowed(&b_times_sin_a, Some(&allowed)));
+        assert!(harmonics_allowed(&exp_b, Some(&allowed)));
+        assert!(harmonics_allowed(&cos_b, None));
+    }
     use crate::Op;
     use crate::program::{Node, Program};
     use crate::search::config::SearchConfig;
