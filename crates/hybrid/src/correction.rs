@@ -177,11 +177,12 @@ impl<K> CorrectionInfo<K> {
 /// One form's cross-validated error (JSON `correction.choice.cv.FORM`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CvError {
-    /// Mean over the folds of the hybrid's held-out mean squared error: infinite (JSON
+    /// Mean of the hybrid's held-out squared errors (each training row held out once in
+    /// `--form auto`; the folds' mean errors in the constants' rule): infinite (JSON
     /// `null`) when a fold's correction has no finite value on a held-out row.
     #[serde(deserialize_with = "null_as_infinity")]
     pub mean: f64,
-    /// Its standard error (sample sd of the folds' errors over `sqrt(K)`; infinite, JSON
+    /// Its standard error (sample sd of those errors over the square root of their count; infinite, JSON
     /// `null`, with an infinite error or one fold).
     #[serde(deserialize_with = "null_as_infinity")]
     pub se: f64,

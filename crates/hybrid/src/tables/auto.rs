@@ -5,9 +5,9 @@
 //! Each fold is a whole fit on the fold's training rows (the physics calibrated again, the
 //! correction searched again), scored by the hybrid's squared error on the fold's held-out
 //! rows, so a correction that fits the rows and breaks beside them pays for it. The folds'
-//! free-form searches run with `1/K` of the epochs each (at least one), which keeps `auto`
-//! near twice the free form's cost ([`AUTO_FOLDS`]); the form picked is then fitted with the
-//! full budget on every training row.
+//! free-form searches run with `1/(2K)` of the epochs each (at least one,
+//! [`AUTO_EPOCH_SHARE`]), which keeps `auto` near twice the free form's cost; the form picked
+//! is then fitted with the full budget on every training row.
 
 use super::fit::{SplitJob, calibrate_split, fit_calibrated};
 use super::{Form, TableProgress};
@@ -19,6 +19,11 @@ use std::collections::BTreeMap;
 /// Folds of the choice: 3, not the 5 of the search's own selection, since every fold is a
 /// whole fit of both corrections (at 5 the choice cost about four free-form fits).
 pub const AUTO_FOLDS: usize = 3;
+
+/// The folds' free-form searches run with `1 / (AUTO_EPOCH_SHARE * K)` of the epochs
+/// each (at least one): together half a free-form search, which keeps `auto` within about
+/// twice the free form's time when it picks the free form, and below when it picks another.
+pub const AUTO_EPOCH_SHARE: usize = 2;
 
 /// Standard errors of the rule: a more complex form is picked only when its held-out error
 /// is lower than the simpler one's by more than one standard error of the best.
@@ -44,12 +49,9 @@ pub(crate) fn choose(
             train: fold.train.iter().map(|&i| split.train[i]).collect(),
             test: fold.test.iter().map(|&i| split.train[i]).collect(),
         };
-        let mse = |pred: &[f64]| {
-            sub.test
-                .iter()
-                .map(|&i| (y[i] - pred[i]).powi(2))
-                .sum::<f64>()
-                / sub.test.len() as f64
+        // each held-out row's squared error
+        let errors = |pred: &[f64]| -> Vec<f64> {
+            sub.test.iter().map(|&i| (y[i] - pred[i]).powi(2)).collect()
         };
         let cal = calibrate_split(SplitJob {
             table,
@@ -58,12 +60,15 @@ pub(crate) fn choose(
             kind: "fold",
             task: (k + 1, folds.len()),
         })?;
-        per_form.entry("none").or_default().push(mse(&cal.physics));
+        per_form
+            .entry("none")
+            .or_default()
+            .extend(errors(&cal.physics));
         for form in [Form::Factors, Form::Free] {
             let mut c = cfg.config().clone();
             c.form = form;
             c.conformal_folds = 0;
-            c.search.epochs = (c.search.epochs / folds.len()).max(1);
+            c.search.epochs = (c.search.epochs / (AUTO_EPOCH_SHARE * folds.len())).max(1);
             let c = c.check()?;
             let fold_job = SplitJob {
                 table,
@@ -76,48 +81,66 @@ pub(crate) fn choose(
             // would not: infinitely bad, so that form is not picked on its account
             let err = match fit_calibrated(fold_job, &cal, progress).and_then(|m| m.predict(table))
             {
-                Ok(p) => mse(&p.hybrid),
+                Ok(p) => errors(&p.hybrid),
                 Err(HybridError::BadCorrection { .. } | HybridError::BadPhysics { .. }) => {
-                    f64::INFINITY
+                    vec![f64::INFINITY; sub.test.len()]
                 }
                 Err(e) => return Err(e),
             };
-            per_form.entry(form.name()).or_default().push(err);
+            per_form.entry(form.name()).or_default().extend(err);
         }
     }
-    let cv: BTreeMap<String, CvError> = per_form
-        .iter()
-        .map(|(f, e)| ((*f).to_string(), mean_se(e)))
-        .collect();
-    let best = cv
-        .values()
-        .copied()
-        .min_by(|a, b| a.mean.total_cmp(&b.mean))
-        .unwrap_or(CvError {
-            mean: f64::INFINITY,
-            se: 0.0,
-        });
-    let bar = best.mean + AUTO_SE_RULE * best.se;
-    let picked = [Form::None, Form::Factors, Form::Free]
-        .into_iter()
-        .find(|f| cv.get(f.name()).is_some_and(|e| e.mean <= bar))
-        .unwrap_or(Form::None);
+    let (cv, picked) = pick(&per_form);
     Ok((
         picked,
         Some(FormChoice {
             cv,
             picked: picked.name().to_string(),
             rule: format!(
-                "{} folds of the training rows, each a whole fit; the simplest of none < factors < \
-                 free whose held-out error is within {AUTO_SE_RULE} standard error of the lowest",
+                "{} folds of the training rows, each a whole fit, every training row held out \
+                 once; the simplest of none < factors < free whose mean held-out squared error \
+                 is within {AUTO_SE_RULE} standard error of the lowest (from its rows' spread)",
                 folds.len()
             ),
         }),
     ))
 }
 
-/// Mean and standard error of the folds' errors (`se` infinite with one fold or an
-/// infinite error).
+/// The rule of the choice over each form's held-out squared errors, one per training row
+/// (`errors`): each form's mean and standard error, and the simplest form whose mean is
+/// within [`AUTO_SE_RULE`] standard errors of the lowest mean (the standard error of that
+/// lowest mean, from its rows' spread: steadier than the spread of three folds' means);
+/// `none` when no form has a finite error. A row whose error is not a number counts as
+/// infinitely bad.
+fn pick(errors: &BTreeMap<&str, Vec<f64>>) -> (BTreeMap<String, CvError>, Form) {
+    let cv: BTreeMap<String, CvError> = errors
+        .iter()
+        .map(|(f, e)| {
+            let e: Vec<f64> = e
+                .iter()
+                .map(|v| if v.is_nan() { f64::INFINITY } else { *v })
+                .collect();
+            ((*f).to_string(), mean_se(&e))
+        })
+        .collect();
+    let Some(best) = cv
+        .values()
+        .filter(|e| e.mean.is_finite())
+        .min_by(|a, b| a.mean.total_cmp(&b.mean))
+        .copied()
+    else {
+        return (cv, Form::None);
+    };
+    let bar = best.mean + AUTO_SE_RULE * best.se;
+    let picked = [Form::None, Form::Factors, Form::Free]
+        .into_iter()
+        .find(|f| cv.get(f.name()).is_some_and(|e| e.mean <= bar))
+        .unwrap_or(Form::None);
+    (cv, picked)
+}
+
+/// Mean and standard error of the mean of errors `e` (`se` infinite with one error or an
+/// infinite one).
 pub(super) fn mean_se(e: &[f64]) -> CvError {
     let k = e.len() as f64;
     let mean = e.iter().sum::<f64>() / k;
@@ -187,6 +210,30 @@ pub(super) fn block_folds(values: &[f64], k: usize) -> Vec<Split> {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+
+    /// A form better on every row by less than one standard error of the best's mean is
+    /// not picked over a simpler one, one better by more is, a form with an error that is
+    /// not a number never is, and the simplest of several within the bar wins.
+    #[test]
+    fn the_simplest_within_one_standard_error_is_picked() {
+        let base: Vec<f64> = (0..30).map(|i| 1.0 + f64::from(i % 10) / 10.0).collect();
+        let shifted = |d: f64| base.iter().map(|v| v - d).collect::<Vec<f64>>();
+        let se = mean_se(&base).se;
+        let mut e: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
+        e.insert("none", base.clone());
+        e.insert("free", shifted(0.5 * se));
+        assert_eq!(pick(&e).1, Form::None);
+        e.insert("free", shifted(2.0 * se));
+        assert_eq!(pick(&e).1, Form::Free);
+        e.insert("factors", shifted(1.5 * se));
+        assert_eq!(pick(&e).1, Form::Factors);
+        let mut nan = shifted(3.0 * se);
+        nan[4] = f64::NAN;
+        e.insert("factors", nan);
+        let (cv, picked) = pick(&e);
+        assert_eq!(picked, Form::Free);
+        assert!(cv["factors"].mean.is_infinite());
+    }
 
     /// Every row is held out once, each fold's held-out rows are one block of the values,
     /// and the blocks go from the lowest values to the highest.
