@@ -65,6 +65,7 @@ pub mod infix;
 mod model;
 pub mod nesting;
 pub mod ops;
+pub mod prior;
 pub mod program;
 pub mod report;
 pub mod search;
