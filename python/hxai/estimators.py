@@ -894,7 +894,10 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     the search settings. ``form="auto"`` (the default) chooses among ``"none"`` (the
     calibrated physics alone), ``"factors"`` and ``"free"`` by 3-fold cross-validation on
     the training rows with the one-standard-error rule toward the simpler (``choice_``:
-    each form's held-out error, the form picked and the rule). ``form="factors"`` searches the correction as one closed-form
+    each form's held-out error, the form picked and the rule; a pick of ``"none"`` is also
+    a warning). In the free form a term whose constant's 95 % interval spans 0 is dropped
+    and the rest refitted when the 5-fold error does not rise by more than one standard
+    error (each drop is in ``warnings_``). ``form="factors"`` searches the correction as one closed-form
     factor per column instead (power, linear, exponential, logarithm, pole, saturation, one
     harmonic on a ``periodic`` column;
     kept only where it lowers the cross-validated error; at most one two-column
@@ -913,7 +916,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     the correction's ``equation_``, ``sympy_``, ``latex_``, ``complexity_``, ``features_``,
     ``warnings_`` (the fit's warnings, each also raised as a ``UserWarning``: a column that
     nearly copies the target, a physics that changes sign under a multiplicative
-    correction; docs/bad-input.md), ``selection_`` and ``stability_`` (with
+    correction, a correction no better than the physics in cross-validation, constants
+    spanning 0 that were kept, residuals that break the delta intervals' assumptions;
+    docs/bad-input.md), ``selection_`` and ``stability_`` (with
     ``stability_runs=N``, as ``hxai hybrid fit --stability N``; the shares in ``selection_``
     are then the resamples') and ``model_json_`` (the model file of ``hxai hybrid
     fit``, readable by ``hxai hybrid predict``). ``predict_parts(X)`` returns physics, correction, hybrid and

@@ -333,6 +333,13 @@ pub(crate) fn fit_calibrated(
         &model.physics.parameters,
     ));
     model.warnings.extend(earned);
+    model.warnings.extend(
+        model
+            .correction
+            .choice
+            .as_ref()
+            .and_then(super::auto::none_warning),
+    );
     if let Some(u) = &model.correction.uncertainty {
         let spanning: Vec<String> = u
             .params
@@ -374,6 +381,12 @@ pub(crate) fn fit_calibrated(
             cfg.conformal_folds,
         )?);
     }
+    let hybrid = model.predict(table)?.hybrid;
+    model.warnings.extend(super::traps::interval_warnings(
+        &y_train,
+        &gather(&hybrid, &split.train),
+        job.kind == "extrapolate",
+    ));
     Ok(model)
 }
 

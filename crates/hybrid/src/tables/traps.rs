@@ -172,6 +172,88 @@ pub(crate) fn parameter_warnings(
     )]
 }
 
+/// Rows below which the residuals' shape is not judged: a spread or a tail needs some.
+const ASSUMPTION_ROWS: usize = 20;
+
+/// Spearman correlation of the residuals' size with the prediction above which the scatter
+/// is said to grow (with its t statistic above [`ASSUMPTION_T`]).
+const SCATTER_RHO: f64 = 0.3;
+
+/// t statistic of that correlation above which it is not chance (two-sided p about 0.01).
+const ASSUMPTION_T: f64 = 2.6;
+
+/// Excess kurtosis of the residuals above which their tails are called heavy (a normal
+/// sample of 20 rows passes 3 in about 1 % of draws; a t with 5 degrees of freedom has 6).
+const HEAVY_TAILS: f64 = 3.0;
+
+/// Where the intervals' assumptions fail (issue 64), from the hybrid's residuals on the
+/// training rows (`y`, `pred`) and whether the split extrapolates: a scatter that grows
+/// with the prediction and heavy tails break the delta method's constant normal scatter
+/// (`--interval-method delta`; the conformal default scales its scores by the prediction
+/// and assumes no shape); an extrapolation split breaks the exchangeability every method
+/// assumes (the test rows are not like the training rows).
+pub(crate) fn interval_warnings(y: &[f64], pred: &[f64], extrapolate: bool) -> Vec<String> {
+    let mut out = Vec::new();
+    if extrapolate {
+        out.push(
+            "the test rows lie outside the training rows' range (--extrapolate): every \
+             interval method assumes new rows like the training rows, so the intervals' \
+             coverage there is not guaranteed (the evaluation's `interval` measures it)"
+                .to_string(),
+        );
+    }
+    let r: Vec<f64> = y.iter().zip(pred).map(|(a, b)| a - b).collect();
+    if r.len() < ASSUMPTION_ROWS || r.iter().any(|v| !v.is_finite()) {
+        return out;
+    }
+    let n = r.len() as f64;
+    let size: Vec<f64> = r.iter().map(|v| v.abs()).collect();
+    if let Some(rho) = correlation(&ranks(&size), &ranks(pred)) {
+        let t = rho * ((n - 2.0) / (1.0 - rho * rho).max(1e-12)).sqrt();
+        if rho > SCATTER_RHO && t > ASSUMPTION_T {
+            out.push(format!(
+                "the residuals grow with the prediction (Spearman {:.2} between their size and \
+                 the prediction on the training rows): intervals of --interval-method delta \
+                 assume a constant scatter and are too narrow at large values; the conformal \
+                 default scales with the prediction, or try --correction multiplicative",
+                rho
+            ));
+        }
+    }
+    let mean = r.iter().sum::<f64>() / n;
+    let m2 = r.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n;
+    let m4 = r.iter().map(|v| (v - mean).powi(4)).sum::<f64>() / n;
+    let kurtosis = m4 / (m2 * m2) - 3.0;
+    if m2 > 0.0 && kurtosis > HEAVY_TAILS {
+        out.push(format!(
+            "the residuals have heavy tails (excess kurtosis {kurtosis:.1} on the training \
+             rows, 0 for normal errors): intervals of --interval-method delta assume normal \
+             errors and miss the outlying rows; the conformal default does not assume a shape"
+        ));
+    }
+    out
+}
+
+/// The ranks of `v` (1 for the smallest; ties get the mean of their ranks).
+fn ranks(v: &[f64]) -> Vec<f64> {
+    let mut order: Vec<usize> = (0..v.len()).collect();
+    order.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
+    let mut out = vec![0.0; v.len()];
+    let mut i = 0;
+    while i < order.len() {
+        let mut j = i;
+        while j + 1 < order.len() && v[order[j + 1]] == v[order[i]] {
+            j += 1;
+        }
+        let rank = (i + j) as f64 / 2.0 + 1.0;
+        for &k in &order[i..=j] {
+            out[k] = rank;
+        }
+        i = j + 1;
+    }
+    out
+}
+
 /// Pearson's correlation of two equally long series (`None` when either is constant).
 fn correlation(x: &[f64], y: &[f64]) -> Option<f64> {
     let n = x.len() as f64;
@@ -239,6 +321,33 @@ mod tests {
         assert!((correlation(&x, &[2.0, 4.0, 6.0, 8.0]).unwrap() - 1.0).abs() < 1e-15);
         assert!((correlation(&x, &[-1.0, -2.0, -3.0, -4.0]).unwrap() + 1.0).abs() < 1e-15);
         assert!(correlation(&x, &[5.0; 4]).is_none());
+    }
+
+    /// Residuals of constant normal-like scatter give no warning; scatter in proportion to
+    /// the prediction, heavy tails and an extrapolation split each give theirs.
+    #[test]
+    fn the_intervals_assumptions_are_checked_on_the_residuals() {
+        let n = 200;
+        let pred: Vec<f64> = (0..n).map(|i| 1.0 + f64::from(i) / 10.0).collect();
+        // a deterministic sequence of spread 1 and light tails
+        let wiggle: Vec<f64> = (0..n).map(|i| (f64::from(i) * 2.39).sin()).collect();
+        let y: Vec<f64> = pred.iter().zip(&wiggle).map(|(p, w)| p + w).collect();
+        assert!(interval_warnings(&y, &pred, false).is_empty());
+        let growing: Vec<f64> = pred.iter().zip(&wiggle).map(|(p, w)| p + p * w).collect();
+        let w = interval_warnings(&growing, &pred, false);
+        assert!(
+            w.iter().any(|w| w.contains("grow with the prediction")),
+            "{w:?}"
+        );
+        let mut tails = y.clone();
+        for i in [7, 77, 150] {
+            tails[i] += 40.0;
+        }
+        let w = interval_warnings(&tails, &pred, false);
+        assert!(w.iter().any(|w| w.contains("heavy tails")), "{w:?}");
+        let w = interval_warnings(&y, &pred, true);
+        assert!(w.len() == 1 && w[0].contains("--extrapolate"), "{w:?}");
+        assert_eq!(ranks(&[3.0, 1.0, 3.0, 2.0]), vec![3.5, 1.0, 3.5, 2.0]);
     }
 
     #[test]
