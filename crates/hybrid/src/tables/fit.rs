@@ -386,6 +386,7 @@ pub(crate) fn fit_calibrated(
         &y_train,
         &gather(&hybrid, &split.train),
         job.kind == "extrapolate",
+        cfg.correction == super::CorrectionForm::Additive,
     ));
     Ok(model)
 }
@@ -425,6 +426,7 @@ fn no_correction(table: &Table, res: &Resolved, split: &Split) -> Result<Searche
         runs: None,
         alternatives: Vec::new(),
         error_model: hxai_symreg::ErrorModel::Additive,
+        prior: None,
     };
     Ok(Searched {
         ft,
@@ -470,6 +472,7 @@ fn search_factors(
         runs: None,
         alternatives,
         error_model: hxai_symreg::ErrorModel::Additive,
+        prior: None,
     };
     let mut pareto = vec![fit.model.clone()];
     pareto.extend(fit.alternatives.iter().cloned());

@@ -192,7 +192,13 @@ const HEAVY_TAILS: f64 = 3.0;
 /// (`--interval-method delta`; the conformal default scales its scores by the prediction
 /// and assumes no shape); an extrapolation split breaks the exchangeability every method
 /// assumes (the test rows are not like the training rows).
-pub(crate) fn interval_warnings(y: &[f64], pred: &[f64], extrapolate: bool) -> Vec<String> {
+/// `additive`: the correction is additive, so a relative one is worth suggesting.
+pub(crate) fn interval_warnings(
+    y: &[f64],
+    pred: &[f64],
+    extrapolate: bool,
+    additive: bool,
+) -> Vec<String> {
     let mut out = Vec::new();
     if extrapolate {
         out.push(
@@ -215,8 +221,13 @@ pub(crate) fn interval_warnings(y: &[f64], pred: &[f64], extrapolate: bool) -> V
                 "the residuals grow with the prediction (Spearman {:.2} between their size and \
                  the prediction on the training rows): intervals of --interval-method delta \
                  assume a constant scatter and are too narrow at large values; the conformal \
-                 default scales with the prediction, or try --correction multiplicative",
-                rho
+                 default scales with the prediction{}",
+                rho,
+                if additive {
+                    ", or try --correction multiplicative"
+                } else {
+                    ""
+                }
             ));
         }
     }
@@ -332,9 +343,9 @@ mod tests {
         // a deterministic sequence of spread 1 and light tails
         let wiggle: Vec<f64> = (0..n).map(|i| (f64::from(i) * 2.39).sin()).collect();
         let y: Vec<f64> = pred.iter().zip(&wiggle).map(|(p, w)| p + w).collect();
-        assert!(interval_warnings(&y, &pred, false).is_empty());
+        assert!(interval_warnings(&y, &pred, false, true).is_empty());
         let growing: Vec<f64> = pred.iter().zip(&wiggle).map(|(p, w)| p + p * w).collect();
-        let w = interval_warnings(&growing, &pred, false);
+        let w = interval_warnings(&growing, &pred, false, true);
         assert!(
             w.iter().any(|w| w.contains("grow with the prediction")),
             "{w:?}"
@@ -343,9 +354,9 @@ mod tests {
         for i in [7, 77, 150] {
             tails[i] += 40.0;
         }
-        let w = interval_warnings(&tails, &pred, false);
+        let w = interval_warnings(&tails, &pred, false, true);
         assert!(w.iter().any(|w| w.contains("heavy tails")), "{w:?}");
-        let w = interval_warnings(&y, &pred, true);
+        let w = interval_warnings(&y, &pred, true, true);
         assert!(w.len() == 1 && w[0].contains("--extrapolate"), "{w:?}");
         assert_eq!(ranks(&[3.0, 1.0, 3.0, 2.0]), vec![3.5, 1.0, 3.5, 2.0]);
     }
