@@ -153,6 +153,11 @@ pub struct Args {
     /// standard error of the lowest).
     #[arg(long, value_enum, default_value_t = CriterionArg::Mdl)]
     pub criterion: CriterionArg,
+    /// The prior over structures `--criterion mdl` charges by: `laws` (the default: the
+    /// codelength of the structure's operators under a back-off n-gram model of 726
+    /// written laws, testdata/laws/) or `uniform` (every operator alike).
+    #[arg(long, value_enum, default_value_t = crate::strategy::PriorArg::Laws)]
+    pub prior: crate::strategy::PriorArg,
     /// Folds of `--criterion cv`.
     #[arg(long, default_value_t = 5)]
     pub cv_folds: usize,
@@ -349,6 +354,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         separability: !args.no_separability,
         power_laws: !args.no_power_laws,
         error_model: args.error_model.into(),
+        prior: args.prior.into(),
         nesting: hxai_symreg::Nesting::strict(),
         ..SearchConfig::default()
     };

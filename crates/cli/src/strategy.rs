@@ -102,9 +102,9 @@ pub enum CriterionArg {
     Pareto,
     /// K-fold cross-validated loss (`--cv-folds`), with the one-standard-error rule.
     Cv,
-    /// Description length: BIC plus a charge for each operator and input of the structure
-    /// (`2 ln B` per unit of complexity, B the operators and inputs), so a structure must
-    /// pay for itself on small tables.
+    /// Description length: BIC plus a charge for writing the structure down (under
+    /// `--prior`: its tokens' codelength under a model of written laws, or `2 ln B` per
+    /// unit of complexity), so a structure must pay for itself on small tables.
     Mdl,
 }
 
@@ -116,6 +116,25 @@ impl From<CriterionArg> for Criterion {
             CriterionArg::Pareto => Criterion::ParetoScore,
             CriterionArg::Cv => Criterion::CrossValidation,
             CriterionArg::Mdl => Criterion::Mdl,
+        }
+    }
+}
+
+/// `--prior` values: the prior over structures `--criterion mdl` charges by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PriorArg {
+    /// Learned from 726 written laws (testdata/laws/): a power or an exponential of a ratio
+    /// is cheap, a tanh, a cosine or a Gaussian dear.
+    Laws,
+    /// Every operator alike: `2 ln B` per unit of complexity.
+    Uniform,
+}
+
+impl From<PriorArg> for hxai_symreg::Prior {
+    fn from(p: PriorArg) -> Self {
+        match p {
+            PriorArg::Laws => hxai_symreg::Prior::Laws,
+            PriorArg::Uniform => hxai_symreg::Prior::Uniform,
         }
     }
 }

@@ -87,9 +87,9 @@ pub use report::{
     SelectionReport,
 };
 pub use search::{
-    Criterion, DEFAULT_OPERATORS, ErrorModel, FEW_ROWS, LAW_OPERATORS, PAPER_OPERATORS, Progress,
-    RandomStart, SearchConfig, SearchResult, Strategy, ValidSearch, fit_structure, search,
-    search_checked,
+    Criterion, DEFAULT_OPERATORS, ErrorModel, FEW_ROWS, LAW_OPERATORS, PAPER_OPERATORS, Prior,
+    Progress, RandomStart, SearchConfig, SearchResult, Strategy, ValidSearch, fit_structure,
+    search, search_checked,
 };
 pub use stability::{Stability, stability};
 pub use uncertainty::{ParamEstimate, Uncertainty};

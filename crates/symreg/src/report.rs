@@ -284,6 +284,10 @@ pub struct SelectionReport {
     /// files written before it read as additive, and are written back unchanged).
     #[serde(default, skip_serializing_if = "crate::ErrorModel::is_additive")]
     pub error_model: crate::ErrorModel,
+    /// The prior over structures the description length charged by (`laws` or `uniform`,
+    /// [`crate::Prior`]): written only under the `mdl` criterion.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prior: Option<String>,
 }
 
 impl SelectionReport {
@@ -326,6 +330,7 @@ impl SelectionReport {
             runs: consensus.map(|c| c.runs),
             alternatives,
             error_model: result.error_model,
+            prior: (cfg.criterion == Criterion::Mdl).then(|| cfg.prior.name().to_string()),
         }
     }
 

@@ -23,7 +23,8 @@
 //! offset), so the model learns how often each operator follows each other in laws written
 //! the way the search writes them.
 //!
-//! This module only prices structures; the search does not use it yet (issue 65).
+//! This module only prices structures; the search charges by it under `Criterion::Mdl` with
+//! `SearchConfig::prior = Prior::Laws` (the default; `hxai sr --prior laws|uniform`).
 //!
 //! ```
 //! use hxai_symreg::infix::parse;

@@ -121,6 +121,32 @@ pub enum Criterion {
     Mdl,
 }
 
+/// The prior over structures that [`Criterion::Mdl`] charges a structure's description by
+/// (issue 65). Serialised as `laws` or `uniform`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Prior {
+    /// `2 L` for a structure whose operator tokens cost `L` nats under the back-off n-gram
+    /// model of written laws ([`crate::prior::LawPrior::builtin`]): a power, a product or
+    /// an exponential of a ratio is cheap, a `tanh`, a `cos` or a Gaussian dear, as in the
+    /// handbooks (the default).
+    #[default]
+    Laws,
+    /// `2 c ln(B)` for a structure of complexity `c` over an alphabet of `B` symbols: every
+    /// operator alike.
+    Uniform,
+}
+
+impl Prior {
+    /// `laws` or `uniform`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Prior::Laws => "laws",
+            Prior::Uniform => "uniform",
+        }
+    }
+}
+
 /// How the criterion of [`Criterion::Bic`], [`Criterion::Aic`] and [`Criterion::Mdl`]
 /// reads the scatter of a positive target: as an error of fixed size (additive, the
 /// least-squares likelihood) or in proportion to the value (multiplicative: a normal error
@@ -298,6 +324,10 @@ pub struct SearchConfig {
     /// so a pole between sample points cannot hide). `Some(0.1)` by default; `None` keeps
     /// any candidate that is finite on the rows.
     pub defined_margin: Option<f64>,
+    /// The prior over structures of [`Criterion::Mdl`] ([`Prior`]; other criteria do not
+    /// read it): [`Prior::Laws`] by default.
+    #[serde(default)]
+    pub prior: Prior,
     /// Harmonics only where declared (issue 64): the columns a `sin` or `cos` may read.
     /// A candidate with a `sin` or `cos` over any other column is rejected before it is
     /// fitted. `None` (the default) lets them read any column; the hybrid sets it to its
@@ -345,6 +375,7 @@ impl Default for SearchConfig {
             simplify: true,
             runners_up: 0,
             defined_margin: Some(DEFINED_MARGIN),
+            prior: Prior::Laws,
             harmonic_inputs: None,
             par: Par::Current,
         }

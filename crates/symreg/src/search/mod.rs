@@ -41,7 +41,7 @@ mod structure;
 
 pub use config::{
     Criterion, DEFAULT_OPERATORS, DEFINED_BOXES, DEFINED_MARGIN, ErrorModel, FEW_ROWS,
-    LAW_OPERATORS, PAPER_OPERATORS, RandomStart, SearchConfig, Strategy, ValidSearch,
+    LAW_OPERATORS, PAPER_OPERATORS, Prior, RandomStart, SearchConfig, Strategy, ValidSearch,
 };
 #[doc(hidden)]
 pub use propose::generate;

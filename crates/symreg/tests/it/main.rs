@@ -11,6 +11,7 @@ mod cv_selection;
 mod error_model;
 mod eval_programs;
 mod nesting;
+mod prior;
 mod properties;
 mod search;
 mod stability;

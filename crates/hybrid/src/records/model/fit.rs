@@ -392,6 +392,7 @@ fn factor_search(
         runs: None,
         alternatives: Vec::new(),
         error_model: hxai_symreg::ErrorModel::Additive,
+        prior: None,
     };
     let result = hxai_symreg::SearchResult {
         best: fit.model.clone(),

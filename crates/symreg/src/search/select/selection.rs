@@ -8,7 +8,7 @@ use crate::canonical::structure_of;
 use crate::eval::Evaluator;
 use crate::model::Model;
 use crate::search::archive::{Archive, Fitted};
-use crate::search::config::{Criterion, ErrorModel};
+use crate::search::config::{Criterion, ErrorModel, Prior};
 use crate::search::fitting::Problem;
 use crate::{SrError, Table};
 use hxai_table::Pool;
@@ -125,9 +125,21 @@ pub(crate) fn select(
     });
     distinct_structures(&mut models, pool);
     if problem.cfg.criterion == Criterion::Mdl {
-        let charge = problem.structure_charge();
-        for m in &mut models {
-            m.score += charge * m.complexity as f64;
+        match problem.cfg.prior {
+            Prior::Uniform => {
+                let charge = problem.structure_charge();
+                for m in &mut models {
+                    m.score += charge * m.complexity as f64;
+                }
+            }
+            Prior::Laws => {
+                // the score is twice the negative log-likelihood in nats: twice the
+                // structure's codelength joins it on the same scale
+                let prior = crate::prior::LawPrior::builtin();
+                for m in &mut models {
+                    m.score += 2.0 * prior.codelength_program(&m.program);
+                }
+            }
         }
     }
     let error_model = if matches!(
