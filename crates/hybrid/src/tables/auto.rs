@@ -173,7 +173,8 @@ pub(super) fn mean_se(e: &[f64]) -> CvError {
 }
 
 /// `k` folds of the training rows (positions in `train`): grouped by `--group`, else in
-/// blocks of the `--extrapolate` column's range ([`block_folds`]), else at random; `None`
+/// blocks of the `--extrapolate` column's range ([`block_folds`]), else stratified by the
+/// per-class levels (`--calibrate-per`, `--correction-per`), else at random; `None`
 /// when there are fewer rows than four times `k`, or groups than twice it.
 pub(super) fn folds(
     table: &hxai_symreg::Table,
@@ -201,6 +202,15 @@ pub(super) fn folds(
         (None, Some(col)) => {
             let v = table.require(col)?;
             block_folds(&train.iter().map(|&i| v[i]).collect::<Vec<_>>(), k)
+        }
+        // per-class constants: each level spread over the folds, so none is held out whole
+        (None, None) if !cfg.strata.is_empty() => {
+            let strata = super::split::strata_of(table, &cfg.strata)?;
+            super::split::stratified_folds(
+                &train.iter().map(|&i| strata[i]).collect::<Vec<_>>(),
+                k,
+                cfg.seed,
+            )
         }
         (None, None) => hxai_eval::kfold(train.len(), k, cfg.seed)?,
     }))
@@ -250,6 +260,30 @@ mod tests {
         let (cv, picked) = pick(&e);
         assert_eq!(picked, Form::Free);
         assert!(cv["factors"].mean.is_infinite());
+    }
+
+    /// Stratified folds hold every row out once and spread each stratum over the folds: a
+    /// stratum of 2 rows is held out in two different folds, one of 3 in all three.
+    #[test]
+    fn stratified_folds_spread_each_level() {
+        let strata = [0, 0, 1, 1, 1, 2, 2, 2, 2, 2, 2, 2];
+        let folds = super::super::split::stratified_folds(&strata, 3, 42);
+        let mut held = vec![0; strata.len()];
+        for f in &folds {
+            for &i in &f.test {
+                held[i] += 1;
+            }
+            assert_eq!(f.train.len() + f.test.len(), strata.len());
+        }
+        assert!(held.iter().all(|&h| h == 1));
+        for level in 0..3 {
+            let rows = strata.iter().filter(|&&s| s == level).count();
+            let folds_with = folds
+                .iter()
+                .filter(|f| f.test.iter().any(|&i| strata[i] == level))
+                .count();
+            assert_eq!(folds_with, rows.min(3), "level {level}");
+        }
     }
 
     /// Every row is held out once, each fold's held-out rows are one block of the values,

@@ -196,6 +196,38 @@ pub(crate) fn stratified_split(
     Ok(Split { train, test })
 }
 
+/// `k` folds of the rows of `stratum` (one stratum per row) that keep each stratum spread
+/// over the folds: within each stratum (shuffled as [`stratified_split`] shuffles it) the
+/// rows go round the folds in turn, each stratum starting where the last one stopped, so a
+/// level of 2 rows is never held out whole while another fold has none of it.
+pub(crate) fn stratified_folds(stratum: &[usize], k: usize, seed: u64) -> Vec<Split> {
+    use rand::SeedableRng;
+    use rand::seq::SliceRandom;
+    let mut by: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for (i, s) in stratum.iter().enumerate() {
+        by.entry(*s).or_default().push(i);
+    }
+    let mut fold_of = vec![0usize; stratum.len()];
+    let mut next = 0;
+    for (s, mut rows) in by {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(
+            seed ^ (s as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15),
+        );
+        rows.shuffle(&mut rng);
+        for r in rows {
+            fold_of[r] = next % k.max(1);
+            next += 1;
+        }
+    }
+    (0..k)
+        .map(|f| {
+            let (test, train): (Vec<usize>, Vec<usize>) =
+                (0..stratum.len()).partition(|&i| fold_of[i] == f);
+            Split { train, test }
+        })
+        .collect()
+}
+
 pub(crate) fn check_rows(table: &Table, split: &Split) -> Result<(), HybridError> {
     let n = table.n_rows();
     if split.train.is_empty() {

@@ -331,8 +331,9 @@ pub struct SearchConfig {
     /// Harmonics only where declared (issue 64): the columns a `sin` or `cos` may read.
     /// A candidate with a `sin` or `cos` over any other column is rejected before it is
     /// fitted. `None` (the default) lets them read any column; the hybrid sets it to its
-    /// `--periodic` columns.
-    #[serde(default)]
+    /// `--periodic` columns, so it is not part of any file (`serde(skip)`): the hybrid's
+    /// own `periodic` setting is.
+    #[serde(skip)]
     pub harmonic_inputs: Option<Vec<String>>,
     /// Threads of the search (and of [`crate::stability()`]'s runs): [`Par::Current`] by
     /// default, the caller's pool. Not part of any file (`serde(skip)`): the result never

@@ -1,7 +1,7 @@
 //! The error model of the criterion (`SearchConfig::error_model`, issue 47): a positive
 //! target whose scatter grows with its value is judged on every row.
 #![allow(clippy::unwrap_used)]
-use hxai_symreg::{Criterion, ErrorModel, Nesting, Node, Op, SearchConfig, SrError, Table, search};
+use hxai_symreg::{ErrorModel, Node, Op, SearchConfig, SrError, Table, search};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -9,13 +9,8 @@ use rand_chacha::ChaCha8Rng;
 /// description-length criterion), with `error_model`.
 fn sr_config(error_model: ErrorModel) -> SearchConfig {
     SearchConfig {
-        criterion: Criterion::Mdl,
-        nesting: Nesting::strict(),
-        power_laws: true,
-        complexity_per_input: 2,
-        max_key_nodes: Some(14),
         error_model,
-        ..SearchConfig::default()
+        ..crate::common::sr_defaults()
     }
 }
 

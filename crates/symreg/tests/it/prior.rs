@@ -2,18 +2,13 @@
 //! under the description length, a straight line through six noisy points of a
 //! calibration beats a cosine that fits them a little better.
 #![allow(clippy::unwrap_used)]
-use hxai_symreg::{Criterion, Nesting, Node, Op, Prior, SearchConfig, Table, search};
+use hxai_symreg::{Criterion, Node, Op, Prior, SearchConfig, Table, search};
 
 /// `hxai sr`'s defaults that matter here, with `prior`.
 fn sr_config(prior: Prior) -> SearchConfig {
     SearchConfig {
-        criterion: Criterion::Mdl,
-        nesting: Nesting::strict(),
-        power_laws: true,
-        complexity_per_input: 2,
-        max_key_nodes: Some(14),
         prior,
-        ..SearchConfig::default()
+        ..crate::common::sr_defaults()
     }
 }
 

@@ -29,3 +29,17 @@ pub fn affine_program(postfix: &str) -> Program {
         affine: true,
     }
 }
+
+/// `hxai sr`'s defaults that the selection tests depend on (strict nesting, the power
+/// primitive, the description-length criterion, two units of complexity per input, keys for
+/// candidates of at most 14 nodes), the rest the library's.
+pub fn sr_defaults() -> hxai_symreg::SearchConfig {
+    hxai_symreg::SearchConfig {
+        criterion: hxai_symreg::Criterion::Mdl,
+        nesting: hxai_symreg::Nesting::strict(),
+        power_laws: true,
+        complexity_per_input: 2,
+        max_key_nodes: Some(14),
+        ..hxai_symreg::SearchConfig::default()
+    }
+}
