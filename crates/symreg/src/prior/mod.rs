@@ -135,8 +135,35 @@ pub use tokens::{Token, expr_tokens, program_tokens};
 use crate::SrError;
 use crate::program::Program;
 use ngram::Ngram;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::OnceLock;
+
+/// The prior over structures that [`crate::Criterion::Mdl`] charges a structure's description by
+/// (issue 65). Serialised as `laws` or `uniform`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Prior {
+    /// `2 L` for a structure whose operator tokens cost `L` nats under the back-off n-gram
+    /// model of written laws ([`LawPrior::builtin`]): a power, a product or
+    /// an exponential of a ratio is cheap, a `tanh`, a `cos` or a Gaussian dear, as in the
+    /// handbooks (the default).
+    #[default]
+    Laws,
+    /// `2 c ln(B)` for a structure of complexity `c` over an alphabet of `B` symbols: every
+    /// operator alike.
+    Uniform,
+}
+
+impl Prior {
+    /// `laws` or `uniform`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Prior::Laws => "laws",
+            Prior::Uniform => "uniform",
+        }
+    }
+}
 
 /// The corpus the built-in prior is trained on.
 pub const BUILTIN_CORPUS: &str = include_str!("../../../../testdata/laws/laws.txt");

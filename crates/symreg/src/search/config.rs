@@ -121,32 +121,7 @@ pub enum Criterion {
     Mdl,
 }
 
-/// The prior over structures that [`Criterion::Mdl`] charges a structure's description by
-/// (issue 65). Serialised as `laws` or `uniform`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Prior {
-    /// `2 L` for a structure whose operator tokens cost `L` nats under the back-off n-gram
-    /// model of written laws ([`crate::prior::LawPrior::builtin`]): a power, a product or
-    /// an exponential of a ratio is cheap, a `tanh`, a `cos` or a Gaussian dear, as in the
-    /// handbooks (the default).
-    #[default]
-    Laws,
-    /// `2 c ln(B)` for a structure of complexity `c` over an alphabet of `B` symbols: every
-    /// operator alike.
-    Uniform,
-}
-
-impl Prior {
-    /// `laws` or `uniform`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Prior::Laws => "laws",
-            Prior::Uniform => "uniform",
-        }
-    }
-}
-
+pub use crate::prior::Prior;
 /// How the criterion of [`Criterion::Bic`], [`Criterion::Aic`] and [`Criterion::Mdl`]
 /// reads the scatter of a positive target: as an error of fixed size (additive, the
 /// least-squares likelihood) or in proportion to the value (multiplicative: a normal error
@@ -328,11 +303,9 @@ pub struct SearchConfig {
     /// read it): [`Prior::Laws`] by default.
     #[serde(default)]
     pub prior: Prior,
-    /// Harmonics only where declared (issue 64): the columns a `sin` or `cos` may read.
-    /// A candidate with a `sin` or `cos` over any other column is rejected before it is
-    /// fitted. `None` (the default) lets them read any column; the hybrid sets it to its
-    /// `--periodic` columns, so it is not part of any file (`serde(skip)`): the hybrid's
-    /// own `periodic` setting is.
+    /// Harmonics only where declared (issue 64): the columns a `sin` or `cos` may read (a
+    /// candidate with one over another column is rejected unfitted); `None` (the default):
+    /// any. Set by the hybrid from its `--periodic` columns, which its files keep instead.
     #[serde(skip)]
     pub harmonic_inputs: Option<Vec<String>>,
     /// Threads of the search (and of [`crate::stability()`]'s runs): [`Par::Current`] by
