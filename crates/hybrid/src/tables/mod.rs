@@ -50,7 +50,7 @@ mod compare;
 mod conformal;
 pub mod correction_per;
 pub mod design;
-pub mod earn;
+mod earn;
 mod fit;
 mod model;
 pub mod per_class;
