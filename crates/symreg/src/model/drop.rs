@@ -115,24 +115,8 @@ impl Model {
 
 /// The model of `program` over the features of `names` it still reads, renumbered.
 fn compact(names: &[String], program: Program, params: Vec<f64>) -> Result<Model, SrError> {
-    let used = program.vars();
-    let nodes = program
-        .nodes
-        .iter()
-        .map(|n| match n {
-            Node::Var(j) => Node::Var(used.iter().position(|u| u == j).unwrap_or(0) as u16),
-            other => *other,
-        })
-        .collect();
-    let feature_names = used.iter().map(|&j| names[j as usize].clone()).collect();
-    Model::new(
-        feature_names,
-        Program {
-            nodes,
-            affine: program.affine,
-        },
-        params,
-    )
+    let (feature_names, program) = super::over_used_columns(&program, names);
+    Model::new(feature_names, program, params)
 }
 
 #[cfg(test)]

@@ -37,6 +37,29 @@ pub struct Model {
     pub score: f64,
 }
 
+/// `prog` over the columns `names` with its inputs renumbered to the columns it reads (in
+/// increasing column order), and those columns' names: what a model of it names as its
+/// features (the search's export, a model with a term dropped).
+pub(crate) fn over_used_columns(prog: &Program, names: &[String]) -> (Vec<String>, Program) {
+    let used = prog.vars();
+    let nodes = prog
+        .nodes
+        .iter()
+        .map(|n| match n {
+            Node::Var(j) => Node::Var(used.iter().position(|u| u == j).unwrap_or(0) as u16),
+            other => *other,
+        })
+        .collect();
+    let feature_names = used.iter().map(|&j| names[j as usize].clone()).collect();
+    (
+        feature_names,
+        Program {
+            nodes,
+            affine: prog.affine,
+        },
+    )
+}
+
 /// JSON has no NaN: serde_json writes it as `null`; read `null` back as NaN.
 fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
