@@ -217,13 +217,20 @@ def _params_frame(params):
 
 
 def _pareto_frame(front):
-    return pd.DataFrame(
+    """The front as a DataFrame; under ``criterion="mdl"`` with each model's two
+    codelengths in nats (``structure_nats``, ``parameters_nats``, the engine's
+    ``codelength``)."""
+    frame = pd.DataFrame(
         {
             "complexity": [m["complexity"] for m in front],
             "loss": [m["loss"] for m in front],
             "equation": [m["equation"] for m in front],
         }
     )
+    if front and all("codelength" in m for m in front):
+        frame["structure_nats"] = [m["codelength"]["structure"] for m in front]
+        frame["parameters_nats"] = [m["codelength"]["parameters"] for m in front]
+    return frame
 
 
 def _folds(v):
@@ -671,7 +678,9 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
 
     Fitted attributes: ``equation_`` (4 significant digits, for reading), ``sympy_`` (full
     precision, sympy-parseable), ``latex_``, ``complexity_``, ``features_`` (columns used),
-    ``pareto_`` (DataFrame: complexity, loss = training MSE, equation), ``template_`` (the
+    ``pareto_`` (DataFrame: complexity, loss = training MSE, equation; under
+    ``criterion="mdl"`` also ``structure_nats`` and ``parameters_nats``, each model's two
+    codelengths under the prior), ``template_`` (the
     equation with its fitted constants named ``p0``, ``p1``, ...) and ``params_`` (DataFrame:
     name, value, fitted, std_error, ci95_lo, ci95_hi), ``model_json_`` (the
     model as the engine serialises it), ``evaluations_``, ``simplified_`` (reported models

@@ -137,8 +137,13 @@ def test_fit_dataframe_names_and_attributes(quadratic):
     assert "a" in m.equation_ and "a" in m.sympy_
     assert isinstance(m.latex_, str) and m.latex_
     assert m.complexity_ >= 1
-    assert list(m.pareto_.columns) == ["complexity", "loss", "equation"]
+    # under the description length (the default), each model's two codelengths
+    assert list(m.pareto_.columns) == [
+        "complexity", "loss", "equation", "structure_nats", "parameters_nats"]
+    assert (m.pareto_[["structure_nats", "parameters_nats"]] >= 0).all().all()
     assert m.pareto_["complexity"].is_monotonic_increasing
+    bic = SymbolicRegressor(**FAST, criterion="bic").fit(X, y)
+    assert list(bic.pareto_.columns) == ["complexity", "loss", "equation"]
     assert m.score(X, y) > 0.999
     assert list(m.feature_names_in_) == ["a", "b"]
 

@@ -243,10 +243,22 @@ pub fn selection_lines(sel: &hxai_symreg::SelectionReport) -> Vec<String> {
             let s = share(a.share)
                 .map(|s| format!("  [{s}]"))
                 .unwrap_or_default();
-            lines.push(format!("  {:>3}  {}{s}", a.complexity, a.equation));
+            lines.push(format!(
+                "  {:>3}{}  {}{s}",
+                a.complexity,
+                codelength_column(a.codelength.as_ref()),
+                a.equation
+            ));
         }
     }
     lines
+}
+
+/// A model's two codelengths as a column of the text output (`  L 12.3 + 4.5 nats`:
+/// structure, then constants), empty when the criterion charged none.
+fn codelength_column(c: Option<&hxai_symreg::prior::Codelengths>) -> String {
+    c.map(|c| format!("  L {:>5.1} + {:>5.1} nats", c.structure, c.parameters))
+        .unwrap_or_default()
 }
 
 /// Prints [`selection_lines`].
@@ -440,8 +452,13 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     } else {
         let num = |v: Option<f64>| v.unwrap_or(f64::NAN);
         println!(
-            "best (complexity {}): {}",
+            "best (complexity {}{}): {}",
             res.best.complexity(),
+            report
+                .best
+                .codelength
+                .map(|c| format!(", L {:.1} + {:.1} nats", c.structure, c.parameters))
+                .unwrap_or_default(),
             res.best.equation()
         );
         println!(
@@ -453,9 +470,10 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         println!("Pareto front:");
         for (m, s) in res.pareto.iter().zip(&report.pareto) {
             println!(
-                "  {:>3}  R^2 {:.6}  {}",
+                "  {:>3}  R^2 {:.6}{}  {}",
                 m.complexity(),
                 num(s.r2),
+                codelength_column(s.codelength.as_ref()),
                 m.equation()
             );
         }

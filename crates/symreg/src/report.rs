@@ -71,6 +71,10 @@ pub struct ModelSummary {
     /// beside the others); absent unless asked for ([`ModelSummary::with_constants`]).
     #[serde(flatten)]
     pub constants: Option<ConstantsSummary>,
+    /// Its description length in nats, structure and constants, under the search's prior
+    /// (`--criterion mdl` only; absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub codelength: Option<crate::prior::Codelengths>,
 }
 
 /// A model's constants as a template with named parameters, each with its standard error
@@ -109,6 +113,7 @@ impl ModelSummary {
             rmse: scores.map(|s| s.rmse),
             model: model.to_json(),
             constants: None,
+            codelength: None,
         })
     }
 
@@ -221,13 +226,30 @@ impl SearchReport {
         if let Some(st) = &stability {
             selection = selection.with_stability(st);
         }
+        // under the description length, each model's two codelengths: what it was charged
+        let symbols = cfg.operators.len() + data.n_cols();
+        let codelength = |m: &crate::Model| {
+            (cfg.criterion == Criterion::Mdl)
+                .then(|| crate::prior::Codelengths::of(m, cfg.prior, symbols, (data, y)))
+                .flatten()
+        };
+        for (a, m) in selection.alternatives.iter_mut().zip(&result.alternatives) {
+            a.codelength = codelength(m);
+        }
+        let mut best = ModelSummary::of(&result.best, data, y)?.with_constants(best_uncertainty);
+        best.codelength = codelength(&result.best);
         Ok(Self {
-            best: ModelSummary::of(&result.best, data, y)?.with_constants(best_uncertainty),
+            best,
             selection,
             pareto: result
                 .pareto
                 .iter()
-                .map(|m| summary(m, front_constants))
+                .map(|m| {
+                    summary(m, front_constants).map(|mut s| {
+                        s.codelength = codelength(m);
+                        s
+                    })
+                })
                 .collect::<Result<_, _>>()?,
             evaluations: result.evaluations,
             duplicate_structures: result.duplicate_structures,
@@ -262,6 +284,10 @@ pub struct Alternative {
     /// prediction variance); absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uncertainty: Option<crate::Uncertainty>,
+    /// Its description length in nats, structure and constants, under the search's prior
+    /// (a search's report under `--criterion mdl` only; absent otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub codelength: Option<crate::prior::Codelengths>,
 }
 
 /// How the model was selected and what else the data supports (JSON `selection`).
@@ -315,6 +341,7 @@ impl SelectionReport {
                     share: share_in(&structure),
                     structure,
                     uncertainty: None,
+                    codelength: None,
                 }
             })
             .collect();

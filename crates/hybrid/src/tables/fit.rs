@@ -463,6 +463,7 @@ fn search_factors(
             structure: hxai_symreg::stability::structure_of(m),
             share: None,
             uncertainty: None,
+            codelength: None,
         })
         .collect();
     let selection = hxai_symreg::SelectionReport {

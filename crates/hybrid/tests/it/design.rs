@@ -28,6 +28,7 @@ fn model_with(noise: f64, alternative: &str) -> hxai_hybrid::tables::TableModel 
         structure: "c*z + c*(x + c)**2".into(),
         share: None,
         uncertainty: None,
+        codelength: None,
     });
     m
 }

@@ -57,3 +57,44 @@ fn other_criteria_do_not_name_a_prior() {
     let r = search(&data, &y, &cfg, &mut |_| {}).unwrap();
     assert!(hxai_symreg::SelectionReport::of(&r, &cfg).prior.is_none());
 }
+
+/// The search's report shows each model's two codelengths under the description length
+/// (the selected one, every model of the Pareto front, every alternative), the structure's
+/// being the prior's price of its program; other criteria show none.
+#[test]
+fn the_report_shows_each_models_two_codelengths() {
+    let (data, y) = calibration();
+    let report = |cfg: &SearchConfig| {
+        let r = search(&data, &y, cfg, &mut |_| {}).unwrap();
+        let unc = r.best.uncertainty(&data, &y).unwrap();
+        let rep = hxai_symreg::SearchReport::of(&r, cfg, (&data, &y), &unc, false, None).unwrap();
+        (r, rep)
+    };
+    let cfg = sr_config(Prior::Laws);
+    let (r, rep) = report(&cfg);
+    let prior = hxai_symreg::prior::LawPrior::builtin();
+    let best = rep.best.codelength.expect("the best's codelengths");
+    assert!((best.structure - prior.codelength_program(&r.best.program)).abs() < 1e-12);
+    assert!(best.parameters >= 0.0);
+    assert!(!rep.pareto.is_empty());
+    assert!(rep.pareto.iter().all(|s| s.codelength.is_some()));
+    assert!(
+        rep.selection
+            .alternatives
+            .iter()
+            .all(|a| a.codelength.is_some())
+    );
+    // the uniform prior prices a structure by its complexity
+    let cfg = sr_config(Prior::Uniform);
+    let (r, rep) = report(&cfg);
+    let symbols = (cfg.operators.len() + 1) as f64;
+    let best = rep.best.codelength.expect("the best's codelengths");
+    assert!((best.structure - r.best.complexity as f64 * symbols.ln()).abs() < 1e-12);
+    let cfg = SearchConfig {
+        criterion: Criterion::Bic,
+        ..sr_config(Prior::Laws)
+    };
+    let (_, rep) = report(&cfg);
+    assert!(rep.best.codelength.is_none());
+    assert!(rep.pareto.iter().all(|s| s.codelength.is_none()));
+}

@@ -147,7 +147,8 @@ pub(crate) fn select(
                         .iter()
                         .filter(|&&v| !crate::uncertainty::is_exact(v))
                         .count();
-                    let precision = precision_codelength(m, data, &problem.y, problem.y_var);
+                    let precision =
+                        crate::prior::precision_codelength(m, data, &problem.y, problem.y_var);
                     m.score += 2.0 * prior.codelength_program(&m.program) - per_constant * k as f64
                         + 2.0 * lambda * precision;
                 }
@@ -275,65 +276,6 @@ fn reported_fits(archive: &Archive) -> Vec<Fitted> {
     reported
 }
 
-/// The codelength in nats of the constants of `m` (Bartlett, Desmond and Ferreira's
-/// description length, issue 65): an exact one `ln(1 + |v|)`; for each constant that is not
-/// exact, at its precision, `ln|theta| + ln(I)/2 - ln(3)/2`, `I` the Fisher information of the constant alone
-/// (`(J^T J)_ii / s^2`, `s^2` the mean squared error, floored as the loss is), each term at
-/// least 0 (a constant the rows cannot tell from 0 costs nothing to write: it is 0 to its
-/// precision). Infinite when the model cannot be evaluated on `data`.
-fn precision_codelength(m: &Model, data: &Table, y: &[f64], y_var: f64) -> f64 {
-    let Ok(cols) = m.columns(data) else {
-        return f64::INFINITY;
-    };
-    // an exact constant (a whole or half number the search snapped to) is written as a
-    // number: `ln(1 + |v|)` nats (0 for 0, ln 2 for 1; 8.4 for 4267), as exhaustive SR
-    // charges its integers, so a snapped `-4267*a/(a - 1806)` does not come for free
-    let exact: f64 = m
-        .params
-        .iter()
-        .filter(|v| crate::uncertainty::is_exact(**v))
-        .map(|v| v.abs().ln_1p())
-        .sum();
-    let free: Vec<usize> = (0..m.params.len())
-        .filter(|&i| !crate::uncertainty::is_exact(m.params[i]))
-        .collect();
-    if free.is_empty() {
-        return exact;
-    }
-    let k = free.len();
-    let (mut jtj, mut jtr) = (vec![0.0; k * k], vec![0.0; k]);
-    let mut ev = Evaluator::new(&m.program);
-    let mse = crate::fit::Unknowns::Free(&free).normal_equations(
-        &mut ev,
-        crate::eval::Inputs {
-            prog: &m.program,
-            params: &m.params,
-            cols: &cols,
-        },
-        y,
-        &mut jtj,
-        &mut jtr,
-    );
-    if !mse.is_finite() {
-        return f64::INFINITY;
-    }
-    let s2 = mse.max(PRECISION_FLOOR * y_var);
-    exact
-        + free
-            .iter()
-            .enumerate()
-            .map(|(a, &i)| {
-                let info = jtj[a * k + a] / s2;
-                let bits = m.params[i].abs().ln() + 0.5 * info.ln() - 0.5 * 3f64.ln();
-                if bits.is_finite() { bits.max(0.0) } else { 0.0 }
-            })
-            .sum::<f64>()
-}
-
-/// The floor of the residual variance, over the target's, in [`precision_codelength`]: the
-/// loss's own floor, so an exact fit's constants are not charged without bound.
-const PRECISION_FLOOR: f64 = 1e-12;
-
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
@@ -343,55 +285,6 @@ mod tests {
     use super::*;
     use crate::program::{Node, Program};
 
-    /// A constant costs more to write the more precisely the rows pin it down: the slope of
-    /// `3.7 x` under scatter 0.1 costs about `ln(10)` = 2.3 nats more than under scatter 1,
-    /// an exact fit is charged at the loss's floor (finite), and exact constants cost what
-    /// writing the number costs.
-    #[test]
-    fn a_constant_costs_its_precision() {
-        let x: Vec<f64> = (0..50).map(f64::from).collect();
-        let wiggle: Vec<f64> = (0..50).map(|i| (f64::from(i) * 2.39).sin()).collect();
-        let data = Table::new(vec!["x".into()], vec![x.clone()]).unwrap();
-        // scale 1 and the biases exact: the slope 3.7 is the one fitted constant
-        let m = Model::new(
-            vec!["x".into()],
-            Program {
-                nodes: vec![Node::Var(0)],
-                affine: true,
-            },
-            vec![1.0, 0.5, 3.7, 0.0],
-        )
-        .unwrap();
-        let y_at = |s: f64| -> Vec<f64> {
-            x.iter()
-                .zip(&wiggle)
-                .map(|(v, w)| 0.5 + 3.7 * v + s * w)
-                .collect()
-        };
-        let var = 100.0;
-        let (fine, coarse) = (
-            precision_codelength(&m, &data, &y_at(0.1), var),
-            precision_codelength(&m, &data, &y_at(1.0), var),
-        );
-        assert!(
-            ((fine - coarse) - 10f64.ln()).abs() < 0.05,
-            "{fine} {coarse}"
-        );
-        let exact = precision_codelength(&m, &data, &y_at(0.0), var);
-        assert!(exact.is_finite() && exact > fine);
-        let flat = Model::new(
-            Vec::new(),
-            Program {
-                nodes: vec![Node::Const],
-                affine: true,
-            },
-            vec![1.0, 0.0, 2.0],
-        )
-        .unwrap();
-        // its exact constants written as numbers: 1, 0 and 2
-        let numbers = 2f64.ln() + 3f64.ln();
-        assert!((precision_codelength(&flat, &data, &y_at(0.1), var) - numbers).abs() < 1e-12);
-    }
     use crate::search::archive::Candidate;
     use crate::search::config::SearchConfig;
     use crate::{Op, Par};
