@@ -5,6 +5,10 @@ textbook physics that leaves something for the correction (the law an engineer w
 start from), fitted with ``hxai hybrid fit``.
 
     python3 scripts/form_auto_real.py [--hxai target/release/hxai] [--seed 42]
+        [--forms auto,free] [--extra="--prior laws"]
+
+``--extra`` is passed to every ``hxai hybrid fit`` (issue 65 compares ``--prior laws``
+and ``--prior uniform`` with ``--forms free,auto``).
 
 Prints one line per table, split and form, and the worst ratio hybrid / physics per form.
 """
@@ -30,6 +34,7 @@ CASES = [
 
 
 def fit(hxai, table, target, physics, calibrate, init, extra, form, split, seed):
+    """One ``hxai hybrid fit``: its model file, or None and the last line of its error."""
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "m.json")
         args = [hxai, "hybrid", "fit", "--data", os.path.join(ROOT, "testdata/real", table),
@@ -48,12 +53,15 @@ def main():
     p = argparse.ArgumentParser()
     p.add_argument("--hxai", default=os.path.join(ROOT, "target/release/hxai"))
     p.add_argument("--seed", type=int, default=42)
+    p.add_argument("--forms", default="auto,free", help="comma list of --form values")
+    p.add_argument("--extra", default="", help="more arguments for every hxai hybrid fit")
     a = p.parse_args()
     worst = {}
     for table, target, physics, cal, init, ext, extra in CASES:
         for split in (None, ext):
-            for form in ("auto", "free"):
-                m, err = fit(a.hxai, table, target, physics, cal, init, extra, form, split, a.seed)
+            for form in a.forms.split(","):
+                m, err = fit(a.hxai, table, target, physics, cal, init, extra + a.extra.split(),
+                             form, split, a.seed)
                 where = f"extrapolate {ext}" if split else "random"
                 if m is None:
                     print(f"{table:16} {where:22} {form:6} refused: {err}")

@@ -710,11 +710,14 @@ class SymbolicRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     loss (a fifth less time, two fewer laws at 1 % noise on the AI Feynman 100:
     docs/benchmarks.md).
 
-    ``prior="laws"`` (both estimators; ``hxai sr --prior``): the prior over structures the
-    description length (``criterion="mdl"``) charges by, learned from 726 written laws
-    (testdata/laws/): a power, a product or an exponential of a ratio is cheap, a tanh, a
-    cosine or a Gaussian dear; ``"uniform"`` charges every operator alike. Other criteria
-    do not read it.
+    ``prior="laws"`` (``"uniform"`` on ``HybridRegressor``; ``hxai sr --prior``, ``hxai
+    hybrid --prior``): the prior over structures the description length
+    (``criterion="mdl"``) charges by, learned from 726 written laws (testdata/laws/): a
+    power, a product or an exponential of a ratio is cheap, a tanh, a cosine or a Gaussian
+    dear; ``"uniform"`` charges every operator alike. Under ``criterion="cv"`` the
+    one-standard-error rule picks, among the models it cannot tell apart, the shortest
+    description under ``"laws"`` and the lowest complexity under ``"uniform"``; BIC, AIC
+    and Pareto do not read it.
 
     ``defined_margin=0.1`` (both estimators): no model with a pole, a log of a value
     <= 0 or another blow-up within the training box widened by this share of each column's
@@ -1003,7 +1006,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         simplify=True,
         runners_up=3,
         defined_margin=0.1,
-        prior="laws",
+        prior="uniform",
         conformal_folds=5,
         stability_runs=0,
         missing="refuse",

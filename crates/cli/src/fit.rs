@@ -156,6 +156,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         operators: args.operators.as_deref(),
         nesting: args.nesting.as_deref(),
         consensus: args.consensus,
+        prior: None,
         operator_complexity: &args.operator_complexity,
         complexity_per_input: args.complexity_per_input,
     }

@@ -153,9 +153,11 @@ pub struct Args {
     /// standard error of the lowest).
     #[arg(long, value_enum, default_value_t = CriterionArg::Mdl)]
     pub criterion: CriterionArg,
-    /// The prior over structures `--criterion mdl` charges by: `laws` (the default: the
-    /// codelength of the structure's operators under a back-off n-gram model of 726
-    /// written laws, testdata/laws/) or `uniform` (every operator alike).
+    /// The prior over structures: `laws` (the default: the codelength of the structure's
+    /// operators under a back-off n-gram model of 726 written laws, testdata/laws/) or
+    /// `uniform` (every operator alike). `--criterion mdl` charges by it; under `cv` the
+    /// one-standard-error rule picks the shortest description by it (`uniform`: the lowest
+    /// complexity).
     #[arg(long, value_enum, default_value_t = crate::strategy::PriorArg::Laws)]
     pub prior: crate::strategy::PriorArg,
     /// Folds of `--criterion cv`.
@@ -378,6 +380,7 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
         operators: args.operators.as_deref(),
         nesting: args.nesting.as_deref(),
         consensus: Some(args.consensus),
+        prior: None,
         operator_complexity: &args.operator_complexity,
         complexity_per_input: Some(args.complexity_per_input),
     }

@@ -23,6 +23,8 @@ pub(crate) struct SearchFlags<'a> {
     pub(crate) nesting: Option<&'a str>,
     /// `--consensus`.
     pub(crate) consensus: Option<usize>,
+    /// `--prior`.
+    pub(crate) prior: Option<hxai_symreg::Prior>,
     /// `--operator-complexity` entries `NAME=INTEGER`.
     pub(crate) operator_complexity: &'a [String],
     /// `--complexity-per-input`.
@@ -55,6 +57,9 @@ impl SearchFlags<'_> {
         }
         if let Some(b) = self.consensus {
             cfg.consensus_runs = b;
+        }
+        if let Some(p) = self.prior {
+            cfg.prior = p;
         }
         if !self.operator_complexity.is_empty() {
             cfg.operator_complexity = operator_complexity(self.operator_complexity)?;
@@ -120,7 +125,8 @@ impl From<CriterionArg> for Criterion {
     }
 }
 
-/// `--prior` values: the prior over structures `--criterion mdl` charges by.
+/// `--prior` values: the prior over structures `--criterion mdl` charges by, and by which
+/// `--criterion cv` picks among the models within one standard error.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum PriorArg {
     /// Learned from 726 written laws (testdata/laws/): a power or an exponential of a ratio

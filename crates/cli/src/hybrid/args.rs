@@ -150,6 +150,12 @@ pub(crate) struct Common {
     /// `hxai sr --help`; default `cv`, the library's for table hybrids).
     #[arg(long, value_enum)]
     pub(crate) criterion: Option<crate::strategy::CriterionArg>,
+    /// The prior over structures by which the criterion picks the correction (see
+    /// `hxai sr --help`; default `uniform`, the library's for table hybrids: under `cv`,
+    /// the lowest complexity within one standard error; `laws` picks the shortest
+    /// description under the model of written laws instead).
+    #[arg(long, value_enum)]
+    pub(crate) prior: Option<crate::strategy::PriorArg>,
     /// Folds of `--criterion cv`.
     #[arg(long, default_value_t = defaults().search.cv_folds)]
     pub(crate) cv_folds: usize,
@@ -350,6 +356,7 @@ impl Common {
             operators: c.operators.as_deref(),
             nesting: c.nesting.as_deref(),
             consensus: c.consensus,
+            prior: c.prior.map(Into::into),
             ..Default::default()
         }
         .apply(&mut cfg.search)?;

@@ -299,8 +299,12 @@ pub struct SearchConfig {
     /// so a pole between sample points cannot hide). `Some(0.1)` by default; `None` keeps
     /// any candidate that is finite on the rows.
     pub defined_margin: Option<f64>,
-    /// The prior over structures of [`Criterion::Mdl`] ([`Prior`]; other criteria do not
-    /// read it): [`Prior::Laws`] by default.
+    /// The prior over structures ([`Prior`]): what [`Criterion::Mdl`] charges a structure,
+    /// and by which [`Criterion::CrossValidation`]'s one-standard-error rule picks among the
+    /// models it cannot tell apart (the shortest description under [`Prior::Laws`], the
+    /// lowest complexity under [`Prior::Uniform`]); the other criteria do not read it.
+    /// [`Prior::Laws`] by default; [`Prior::Uniform`] in [`SearchConfig::laws`], the table
+    /// hybrid's (measured on real tables: docs/benchmarks.md, issue 65).
     #[serde(default)]
     pub prior: Prior,
     /// Harmonics only where declared (issue 64): the columns a `sin` or `cos` may read (a
@@ -387,11 +391,14 @@ impl SearchConfig {
     /// against [`SearchConfig::paper`] on bootstrap resamples of the three process tables of
     /// `hxai_sim::cases` (docs/benchmarks.md, "Equations that explain: the law operators
     /// and cross-validated selection"): the structure the resamples agree on most often is
-    /// more frequent, the hybrid's test error as low or lower.
+    /// more frequent, the hybrid's test error as low or lower. The prior is
+    /// [`Prior::Uniform`]: the laws prior's pick under cross-validation did no better on
+    /// real tables (docs/benchmarks.md, issue 65).
     pub fn laws() -> Self {
         Self {
             operators: LAW_OPERATORS.iter().map(|s| s.to_string()).collect(),
             criterion: Criterion::CrossValidation,
+            prior: Prior::Uniform,
             ..Self::paper()
         }
     }

@@ -2,7 +2,7 @@
 //! rows (its constants refitted per fold), the one-standard-error rule that picks among
 //! them, and the models within one standard error of the best ("the data cannot tell these
 //! apart").
-use super::pick::simplest;
+use super::pick::{likeliest, simplest};
 use super::refine::{REFIT_LM_ITERATIONS, REFIT_LM_TOLERANCE};
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
@@ -209,14 +209,22 @@ fn cv_loss(
 /// The one-standard-error rule (Hastie, Tibshirani and Friedman, *The Elements of
 /// Statistical Learning*, 7.10): the simplest model whose cross-validated error is within
 /// one standard error of the lowest.
-/// `cv[i]` is the mean and standard error of `models[i]`'s held-out loss.
-pub(super) fn one_standard_error_pick(models: &[Model], cv: &[(f64, f64)]) -> Option<Model> {
+/// `cv[i]` is the mean and standard error of `models[i]`'s held-out loss. With a
+/// `codelength` (the laws prior, [`crate::Prior::Laws`]), "simplest" is the likeliest under
+/// it ([`likeliest`]); without, the lowest complexity ([`simplest`]).
+pub(super) fn one_standard_error_pick(
+    models: &[Model],
+    cv: &[(f64, f64)],
+    codelength: Option<&(dyn Fn(&Model) -> f64 + Sync)>,
+) -> Option<Model> {
     let limit = one_standard_error_limit(cv);
-    simplest(
-        models
-            .iter()
-            .zip(cv)
-            .filter(|(_, (mean, _))| *mean <= limit)
-            .map(|(m, _)| m),
-    )
+    let band = models
+        .iter()
+        .zip(cv)
+        .filter(|(_, (mean, _))| *mean <= limit)
+        .map(|(m, _)| m);
+    match codelength {
+        Some(l) => likeliest(band, l),
+        None => simplest(band),
+    }
 }

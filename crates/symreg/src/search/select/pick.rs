@@ -71,6 +71,37 @@ pub(crate) fn simplest<'m>(models: impl Iterator<Item = &'m Model>) -> Option<Mo
         .map(|(m, _)| m.clone())
 }
 
+/// Under the laws prior, the model selection picks among `models` (which the criterion
+/// cannot tell apart) the one with the shortest description, structure and constants
+/// (`codelength`, nats), ties by [`simplest`]; but a model that reads no input (a constant:
+/// "the inputs have no effect") goes first when it is among them, as under [`simplest`]:
+/// it is the null every effect must beat, and the prior, learned from laws that all have
+/// inputs, would price it above a line.
+pub(crate) fn likeliest<'m>(
+    models: impl Iterator<Item = &'m Model>,
+    codelength: &(dyn Fn(&Model) -> f64 + Sync),
+) -> Option<Model> {
+    let models: Vec<&Model> = models.collect();
+    if models.iter().any(|m| m.program.vars().is_empty()) {
+        return simplest(models.into_iter().filter(|m| m.program.vars().is_empty()));
+    }
+    let lengths: Vec<f64> = models.iter().map(|m| codelength(m)).collect();
+    let lowest = lengths.iter().copied().fold(f64::INFINITY, f64::min);
+    if !lowest.is_finite() {
+        return simplest(models.into_iter());
+    }
+    simplest(
+        models
+            .into_iter()
+            .zip(&lengths)
+            .filter(|(_, l)| **l <= lowest + CODELENGTH_TIE)
+            .map(|(m, _)| m),
+    )
+}
+
+/// Codelengths closer than this (nats) are a tie in [`likeliest`]: rounding only.
+const CODELENGTH_TIE: f64 = 1e-9;
+
 /// Each model strictly more complex and strictly better than the previous one, from
 /// `models` sorted by complexity then loss.
 pub(super) fn pareto_front(models: &[Model]) -> Vec<Model> {
@@ -123,4 +154,63 @@ pub(super) fn pareto_score_pick(pareto: &[Model]) -> Option<Model> {
         prev = Some(m);
     }
     best.map(|(_, m)| m.clone())
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use crate::program::Program;
+
+    fn model(nodes: Vec<Node>, complexity: usize) -> Model {
+        let program = Program {
+            nodes,
+            affine: true,
+        };
+        let params = vec![1.0; program.n_params()];
+        let mut m = Model::new(vec!["x".into()], program, params).unwrap();
+        m.complexity = complexity;
+        m
+    }
+
+    /// The laws prior's pick: the shortest description, not the lowest complexity; a model
+    /// without inputs first whenever it is among the candidates.
+    #[test]
+    fn the_likeliest_is_the_shortest_description_and_a_constant_goes_first() {
+        let line = model(vec![Node::Var(0)], 1);
+        let tanh = model(vec![Node::Var(0), Node::Op(Op::Tanh)], 2);
+        let flat = model(vec![Node::Const], 0);
+        // a made-up price: the tanh cheaper than the line, whatever the complexity
+        let price = |m: &Model| {
+            if m.program.nodes.contains(&Node::Op(Op::Tanh)) {
+                1.0
+            } else {
+                5.0
+            }
+        };
+        assert_eq!(
+            likeliest([&line, &tanh].into_iter(), &price)
+                .unwrap()
+                .program,
+            tanh.program
+        );
+        assert_eq!(
+            simplest([&line, &tanh].into_iter()).unwrap().program,
+            line.program
+        );
+        assert_eq!(
+            likeliest([&line, &tanh, &flat].into_iter(), &price)
+                .unwrap()
+                .program,
+            flat.program
+        );
+        // ties go to the simplest
+        let same = |_: &Model| 3.0;
+        assert_eq!(
+            likeliest([&tanh, &line].into_iter(), &same)
+                .unwrap()
+                .program,
+            line.program
+        );
+    }
 }

@@ -173,7 +173,18 @@ pub(crate) fn select(
     let pareto = pareto_front(&models);
     let best = match problem.cfg.criterion {
         Criterion::ParetoScore => pareto_score_pick(&pareto),
-        Criterion::CrossValidation => one_standard_error_pick(&models, &cv),
+        Criterion::CrossValidation => match problem.cfg.prior {
+            Prior::Uniform => one_standard_error_pick(&models, &cv, None),
+            Prior::Laws => {
+                // the data cannot tell the band apart: the prior's likeliest description
+                let prior = crate::prior::LawPrior::builtin();
+                let codelength = |m: &Model| {
+                    prior.codelength_program(&m.program)
+                        + crate::prior::precision_codelength(m, data, &problem.y, problem.y_var)
+                };
+                one_standard_error_pick(&models, &cv, Some(&codelength))
+            }
+        },
         Criterion::Bic | Criterion::Aic | Criterion::Mdl => {
             simplest_within_one_charge(problem, &models)
         }
