@@ -292,19 +292,16 @@ pub struct SearchConfig {
     /// ([`crate::search::plainness`]), instead of the one that happened to fit a little
     /// better on these rows. At most 20.
     pub runners_up: usize,
-    /// No pole beside the data (issue 64): a fitted candidate that is not proven defined
-    /// and finite over the box of its input columns, each widened by this share of its
-    /// range on both sides (not below 0 for a column that never is), is rejected during
-    /// the search ([`crate::enclosure::defined_over`]: interval arithmetic with bisection,
-    /// so a pole between sample points cannot hide). `Some(0.1)` by default; `None` keeps
-    /// any candidate that is finite on the rows.
+    /// No pole or blow-up beside the data (issue 64): a fitted candidate not proven defined,
+    /// finite and within [`crate::search::BLOW_UP_RANGES`] of the target's range over the
+    /// box of its input columns, each widened by this share of its range (not below 0 for
+    /// a column that never is), is rejected ([`crate::enclosure::defined_within`]).
+    /// `Some(0.1)` by default; `None` keeps any candidate that is finite on the rows.
     pub defined_margin: Option<f64>,
-    /// The prior over structures ([`Prior`]): what [`Criterion::Mdl`] charges a structure,
-    /// and by which [`Criterion::CrossValidation`]'s one-standard-error rule picks among the
-    /// models it cannot tell apart (the shortest description under [`Prior::Laws`], the
-    /// lowest complexity under [`Prior::Uniform`]); the other criteria do not read it.
-    /// [`Prior::Laws`] by default; [`Prior::Uniform`] in [`SearchConfig::laws`], the table
-    /// hybrid's (measured on real tables: docs/benchmarks.md, issue 65).
+    /// The prior over structures ([`Prior`]): what [`Criterion::Mdl`] charges, and how
+    /// [`Criterion::CrossValidation`] picks within one standard error (shortest description
+    /// or lowest complexity). [`Prior::Laws`]; [`Prior::Uniform`] in [`SearchConfig::laws`]
+    /// (no better there on real tables: docs/benchmarks.md, issue 65).
     #[serde(default)]
     pub prior: Prior,
     /// Harmonics only where declared (issue 64): the columns a `sin` or `cos` may read (a
@@ -360,8 +357,7 @@ impl Default for SearchConfig {
     }
 }
 
-/// The default [`SearchConfig::defined_margin`]: 10 % of each column's range, the
-/// neighbourhood of the data an engineer reads an equation over (issue 64).
+/// The default [`SearchConfig::defined_margin`]: 10 % of each column's range (issue 64).
 pub const DEFINED_MARGIN: f64 = 0.1;
 
 /// Boxes [`crate::enclosure::defined_over`] may bisect a candidate's input box into before
@@ -391,9 +387,7 @@ impl SearchConfig {
     /// against [`SearchConfig::paper`] on bootstrap resamples of the three process tables of
     /// `hxai_sim::cases` (docs/benchmarks.md, "Equations that explain: the law operators
     /// and cross-validated selection"): the structure the resamples agree on most often is
-    /// more frequent, the hybrid's test error as low or lower. The prior is
-    /// [`Prior::Uniform`]: the laws prior's pick under cross-validation did no better on
-    /// real tables (docs/benchmarks.md, issue 65).
+    /// more frequent, the hybrid's test error as low or lower.
     pub fn laws() -> Self {
         Self {
             operators: LAW_OPERATORS.iter().map(|s| s.to_string()).collect(),

@@ -54,6 +54,9 @@ pub(crate) struct Problem<'a> {
     /// The box every candidate must be defined over ([`SearchConfig::defined_margin`]
     /// around every row's inputs); `None` when not asked for.
     pub domain: Option<Vec<(f64, f64)>>,
+    /// The values a candidate may take beside the rows, over [`Problem::domain`]
+    /// ([`super::beside`]).
+    pub allowed: crate::enclosure::Interval,
     /// For each column, whether a `sin` or `cos` may read it
     /// ([`SearchConfig::harmonic_inputs`]); `None` when any may.
     pub harmonic: Option<Vec<bool>>,
@@ -132,6 +135,7 @@ impl<'a> Problem<'a> {
         Problem {
             scales: InputScales::new(&fit_refs),
             domain,
+            allowed: super::beside::allowed_of(target),
             harmonic: harmonic_of(data, cfg),
             cols,
             y: target.to_vec(),
@@ -156,6 +160,7 @@ impl<'a> Problem<'a> {
             fit_cols: data.columns().to_vec(),
             fit_y: target.to_vec(),
             domain: domain_of(&cols, cfg),
+            allowed: super::beside::allowed_of(target),
             harmonic: harmonic_of(data, cfg),
             cols,
             y: target.to_vec(),

@@ -29,6 +29,7 @@
 //!
 //! Every heuristic constant is named and explained where it is used.
 mod archive;
+mod beside;
 mod config;
 mod decompose;
 mod fitting;
@@ -39,11 +40,12 @@ mod run;
 mod select;
 mod structure;
 
+#[doc(hidden)]
+pub use beside::BLOW_UP_RANGES;
 pub use config::{
     Criterion, DEFAULT_OPERATORS, DEFINED_BOXES, DEFINED_MARGIN, ErrorModel, FEW_ROWS,
     LAW_OPERATORS, PAPER_OPERATORS, Prior, RandomStart, SearchConfig, Strategy, ValidSearch,
 };
-#[doc(hidden)]
 pub use propose::generate;
 pub use run::{Progress, search, search_checked};
 pub use select::{SearchResult, plainness};

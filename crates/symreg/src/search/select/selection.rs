@@ -118,6 +118,8 @@ pub(crate) fn select(
     if models.is_empty() {
         return Err(SrError::NoModel);
     }
+    // a model that blows up beside the rows is not offered (unless every one does)
+    crate::search::beside::drop_blow_ups(problem, &mut models, data);
     models.sort_by(|a, b| {
         a.complexity
             .cmp(&b.complexity)
