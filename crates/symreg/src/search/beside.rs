@@ -19,7 +19,6 @@ use crate::enclosure::Interval;
 use crate::eval::Evaluator;
 use crate::model::Model;
 use crate::program::Program;
-use crate::search::fitting::Problem;
 
 /// How many times the target's range (its width) a candidate's values may leave it by
 /// beside the rows before they count as a blow-up: a true exponential law whose rows
@@ -84,11 +83,16 @@ pub(crate) fn blows_up(
         .any(|v| !v.is_finite() || *v < allowed.lo || *v > allowed.hi)
 }
 
-/// Drops from `models` (over columns of `data`) each that blows up beside the rows of
-/// `problem` ([`blows_up`] over [`Problem::domain`]), unless every one does; nothing without
-/// a domain ([`crate::SearchConfig::defined_margin`] `None`).
-pub(crate) fn drop_blow_ups(problem: &Problem, models: &mut Vec<Model>, data: &Table) {
-    let Some(domain) = &problem.domain else {
+/// Drops from `models` (over columns of `data`) each that blows up beside the rows
+/// ([`blows_up`] over `domain`, the widened box of `data`'s columns, against `allowed`),
+/// unless every one does; nothing without a domain
+/// ([`crate::SearchConfig::defined_margin`] `None`).
+pub(crate) fn drop_blow_ups(
+    (domain, allowed): (Option<&[(f64, f64)]>, Interval),
+    models: &mut Vec<Model>,
+    data: &Table,
+) {
+    let Some(domain) = domain else {
         return;
     };
     let tame = |m: &Model| {
@@ -100,7 +104,7 @@ pub(crate) fn drop_blow_ups(problem: &Problem, models: &mut Vec<Model>, data: &T
             .iter()
             .map(|n| data.names().iter().position(|x| x == n).map(|j| domain[j]))
             .collect();
-        bounds.is_none_or(|b| !blows_up(&m.program, &m.params, &cols, &b, problem.allowed))
+        bounds.is_none_or(|b| !blows_up(&m.program, &m.params, &cols, &b, allowed))
     };
     let keep: Vec<bool> = models.iter().map(tame).collect();
     if keep.iter().any(|&k| k) {

@@ -292,10 +292,10 @@ pub struct SearchConfig {
     /// ([`crate::search::plainness`]), instead of the one that happened to fit a little
     /// better on these rows. At most 20.
     pub runners_up: usize,
-    /// No pole or blow-up beside the data (issue 64): a fitted candidate not proven defined,
-    /// finite and within [`crate::search::BLOW_UP_RANGES`] of the target's range over the
-    /// box of its input columns, each widened by this share of its range (not below 0 for
-    /// a column that never is), is rejected ([`crate::enclosure::defined_within`]).
+    /// No pole beside the data (issue 64): a candidate not proven defined and finite over
+    /// the box of its input columns, each widened by this share of its range (not below 0
+    /// for a column that never is), is rejected ([`crate::enclosure::defined_over`]), and a
+    /// reported one seen to blow up there is not selected ([`crate::search::BLOW_UP_RANGES`]).
     /// `Some(0.1)` by default; `None` keeps any candidate that is finite on the rows.
     pub defined_margin: Option<f64>,
     /// The prior over structures ([`Prior`]): what [`Criterion::Mdl`] charges, and how

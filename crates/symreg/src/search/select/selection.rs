@@ -119,7 +119,11 @@ pub(crate) fn select(
         return Err(SrError::NoModel);
     }
     // a model that blows up beside the rows is not offered (unless every one does)
-    crate::search::beside::drop_blow_ups(problem, &mut models, data);
+    crate::search::beside::drop_blow_ups(
+        (problem.domain.as_deref(), problem.allowed),
+        &mut models,
+        data,
+    );
     models.sort_by(|a, b| {
         a.complexity
             .cmp(&b.complexity)
