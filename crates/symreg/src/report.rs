@@ -310,8 +310,9 @@ pub struct SelectionReport {
     /// files written before it read as additive, and are written back unchanged).
     #[serde(default, skip_serializing_if = "crate::ErrorModel::is_additive")]
     pub error_model: crate::ErrorModel,
-    /// The prior over structures the description length charged by (`laws` or `uniform`,
-    /// [`crate::Prior`]): written only under the `mdl` criterion.
+    /// The prior over structures the criterion read (`laws` or `uniform`,
+    /// [`crate::Prior`]): written only under the `mdl` and `cv` criteria, the two that read
+    /// it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub prior: Option<String>,
 }
@@ -357,7 +358,8 @@ impl SelectionReport {
             runs: consensus.map(|c| c.runs),
             alternatives,
             error_model: result.error_model,
-            prior: (cfg.criterion == Criterion::Mdl).then(|| cfg.prior.name().to_string()),
+            prior: matches!(cfg.criterion, Criterion::Mdl | Criterion::CrossValidation)
+                .then(|| cfg.prior.name().to_string()),
         }
     }
 

@@ -46,16 +46,24 @@ fn a_line_through_six_noisy_points_beats_a_cosine() {
     assert_eq!(sel.prior.as_deref(), Some("laws"));
 }
 
-/// The prior is read by the description length alone, and named only there.
+/// The prior is read by the description length and by cross-validation's pick, and named
+/// only there.
 #[test]
 fn other_criteria_do_not_name_a_prior() {
     let (data, y) = calibration();
-    let cfg = SearchConfig {
-        criterion: Criterion::Bic,
-        ..sr_config(Prior::Laws)
+    let named = |criterion: Criterion, prior: Prior| {
+        let cfg = SearchConfig {
+            criterion,
+            ..sr_config(prior)
+        };
+        let r = search(&data, &y, &cfg, &mut |_| {}).unwrap();
+        hxai_symreg::SelectionReport::of(&r, &cfg).prior
     };
-    let r = search(&data, &y, &cfg, &mut |_| {}).unwrap();
-    assert!(hxai_symreg::SelectionReport::of(&r, &cfg).prior.is_none());
+    assert!(named(Criterion::Bic, Prior::Laws).is_none());
+    assert_eq!(
+        named(Criterion::CrossValidation, Prior::Uniform).as_deref(),
+        Some("uniform")
+    );
 }
 
 /// The search's report shows each model's two codelengths under the description length
