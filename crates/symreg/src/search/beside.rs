@@ -99,18 +99,28 @@ pub(crate) fn drop_blow_ups(
         let Ok(cols) = m.columns(data) else {
             return true;
         };
-        let bounds: Option<Vec<(f64, f64)>> = m
-            .feature_names
-            .iter()
-            .map(|n| data.names().iter().position(|x| x == n).map(|j| domain[j]))
-            .collect();
-        bounds.is_none_or(|b| !blows_up(&m.program, &m.params, &cols, &b, allowed))
+        bounds_of(m, data, domain)
+            .is_none_or(|b| !blows_up(&m.program, &m.params, &cols, &b, allowed))
     };
     let keep: Vec<bool> = models.iter().map(tame).collect();
     if keep.iter().any(|&k| k) {
         let mut flags = keep.into_iter();
         models.retain(|_| flags.next().unwrap_or(true));
     }
+}
+
+/// The ranges of `domain` (one per column of `data`) of the columns `m` reads, in its
+/// features' order; `None` when one of them is not a column of `data`.
+pub(crate) fn bounds_of(m: &Model, data: &Table, domain: &[(f64, f64)]) -> Option<Vec<(f64, f64)>> {
+    m.feature_names
+        .iter()
+        .map(|n| {
+            data.names()
+                .iter()
+                .position(|x| x == n)
+                .and_then(|j| domain.get(j).copied())
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -68,12 +68,7 @@ fn defined(problem: &Problem, m: &Model, data: &Table) -> bool {
     let Some(b) = &problem.domain else {
         return true;
     };
-    let bounds: Option<Vec<(f64, f64)>> = m
-        .feature_names
-        .iter()
-        .map(|n| data.names().iter().position(|x| x == n).map(|j| b[j]))
-        .collect();
-    bounds.is_some_and(|bb| {
+    crate::search::beside::bounds_of(m, data, b).is_some_and(|bb| {
         crate::enclosure::defined_over(
             &m.program,
             &m.params,
