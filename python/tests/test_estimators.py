@@ -67,9 +67,9 @@ def test_defaults_are_the_engines():
                 got = list(got)
             if k == "operator_complexity" and got is None:
                 got = {}
-            if k in ("operators", "criterion") and isinstance(est, HybridRegressor):
+            if k in ("operators", "criterion", "prior") and isinstance(est, HybridRegressor):
                 # a table hybrid's correction searches the law operators and selects by
-                # cross-validated loss (SearchConfig::laws())
+                # cross-validated loss with the uniform prior (SearchConfig::laws())
                 want = table[k]
             if k == "nesting":
                 # the estimators name the engine's presets: the engine's default is the
