@@ -132,7 +132,6 @@ mod tests;
 pub use corpus::{Law, parse_corpus};
 pub use ngram::{KATZ_K, MIN_BACKOFF_MASS};
 pub use precision::Codelengths;
-pub(crate) use precision::precision_codelength;
 pub use tokens::{Token, expr_tokens, program_tokens};
 
 use crate::SrError;

@@ -42,10 +42,7 @@ impl Codelengths {
                 let n = y.len().max(1) as f64;
                 let mean = y.iter().sum::<f64>() / n;
                 let var = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n;
-                Self {
-                    structure: LawPrior::builtin().codelength_program(&m.program),
-                    parameters: precision_codelength(m, data, y, if var > 0.0 { var } else { 1.0 }),
-                }
+                Self::laws(m, (data, y), if var > 0.0 { var } else { 1.0 })
             }
             Prior::Uniform => Self {
                 structure: m.complexity as f64 * (symbols.max(2) as f64).ln(),
@@ -53,6 +50,16 @@ impl Codelengths {
             },
         };
         (lengths.structure.is_finite() && lengths.parameters.is_finite()).then_some(lengths)
+    }
+
+    /// The two codelengths of `m` under [`Prior::Laws`]: what the selection charges (under
+    /// `mdl`) and picks by (under `cv`), `y_var` the target's variance that floors the
+    /// residual one; a part is infinite where `m` cannot be evaluated on `data`.
+    pub(crate) fn laws(m: &Model, (data, y): (&Table, &[f64]), y_var: f64) -> Self {
+        Self {
+            structure: LawPrior::builtin().codelength_program(&m.program),
+            parameters: precision_codelength(m, data, y, y_var),
+        }
     }
 }
 
@@ -62,7 +69,7 @@ impl Codelengths {
 /// (`(J^T J)_ii / s^2`, `s^2` the mean squared error, floored as the loss is), each term at
 /// least 0 (a constant the rows cannot tell from 0 costs nothing to write: it is 0 to its
 /// precision). Infinite when the model cannot be evaluated on `data`.
-pub(crate) fn precision_codelength(m: &Model, data: &Table, y: &[f64], y_var: f64) -> f64 {
+fn precision_codelength(m: &Model, data: &Table, y: &[f64], y_var: f64) -> f64 {
     let Ok(cols) = m.columns(data) else {
         return f64::INFINITY;
     };

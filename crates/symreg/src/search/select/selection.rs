@@ -7,6 +7,7 @@ use super::refine::refine;
 use crate::canonical::structure_of;
 use crate::eval::Evaluator;
 use crate::model::Model;
+use crate::prior::Codelengths;
 use crate::search::archive::{Archive, Fitted};
 use crate::search::config::{Criterion, ErrorModel, Prior};
 use crate::search::fitting::Problem;
@@ -143,7 +144,6 @@ pub(crate) fn select(
                 // structure's codelength joins it on the same scale, and twice the
                 // constants' codelength at their precision takes the place of BIC's
                 // `ln n` per constant
-                let prior = crate::prior::LawPrior::builtin();
                 let n = problem.y.len();
                 let per_constant = problem.param_penalty(n);
                 let lambda = problem.cfg.complexity_penalty;
@@ -153,10 +153,9 @@ pub(crate) fn select(
                         .iter()
                         .filter(|&&v| !crate::uncertainty::is_exact(v))
                         .count();
-                    let precision =
-                        crate::prior::precision_codelength(m, data, &problem.y, problem.y_var);
-                    m.score += 2.0 * prior.codelength_program(&m.program) - per_constant * k as f64
-                        + 2.0 * lambda * precision;
+                    let lengths = Codelengths::laws(m, (data, &problem.y), problem.y_var);
+                    m.score += 2.0 * lengths.structure - per_constant * k as f64
+                        + 2.0 * lambda * lengths.parameters;
                 }
             }
         }
@@ -183,10 +182,9 @@ pub(crate) fn select(
             Prior::Uniform => one_standard_error_pick(&models, &cv, None),
             Prior::Laws => {
                 // the data cannot tell the band apart: the prior's likeliest description
-                let prior = crate::prior::LawPrior::builtin();
                 let codelength = |m: &Model| {
-                    prior.codelength_program(&m.program)
-                        + crate::prior::precision_codelength(m, data, &problem.y, problem.y_var)
+                    let l = Codelengths::laws(m, (data, &problem.y), problem.y_var);
+                    l.structure + l.parameters
                 };
                 one_standard_error_pick(&models, &cv, Some(&codelength))
             }
