@@ -178,8 +178,8 @@ pub(crate) fn read_for_missing(
 
 /// The physics' column names among `names` (its variables that are not parameters).
 fn physics_columns(cfg: &TableConfig, names: &[String]) -> Vec<String> {
-    hxai_symreg::infix::parse(&cfg.physics)
-        .map(|p| {
+    hxai_symreg::infix::parse_with_slots(&cfg.physics)
+        .map(|(p, _)| {
             p.names()
                 .into_iter()
                 .filter(|n| names.iter().any(|c| c == n))

@@ -15,10 +15,13 @@ fn fmt_se(se: Option<&Option<f64>>) -> String {
 pub(super) fn print_model(m: &TableModel) {
     println!("physics: {}", m.physics.equation);
     for (name, v) in &m.physics.parameters {
-        let tag = if m.physics.calibrated.contains(name) {
-            "calibrated"
-        } else {
-            "set"
+        let slot = m.slots.iter().find(|s| s.uncertainty.contains_key(name));
+        let tag = match (m.physics.calibrated.contains(name), slot) {
+            (true, Some(s)) => format!("slot {}, calibrated", s.name),
+            (true, None) => "calibrated".into(),
+            // a slot's scale beside a law's own is held where the rows cannot tell them apart
+            (false, Some(s)) => format!("slot {}, held: not separable from the law's", s.name),
+            (false, None) => "set".into(),
         };
         let ci = m
             .physics
@@ -31,6 +34,16 @@ pub(super) fn print_model(m: &TableModel) {
             "  {name} = {}{}{ci} ({tag})",
             n(*v),
             fmt_se(m.physics.standard_errors.get(name))
+        );
+    }
+    for s in &m.slots {
+        println!(
+            "slot {}({}) ({}, {} round(s)): {}",
+            s.name,
+            s.columns.join(", "),
+            s.form,
+            s.rounds,
+            s.equation
         );
     }
     println!(

@@ -115,6 +115,7 @@ pub(super) fn model_of(
         missing: None,
         per_class: None,
         correction_per: None,
+        slots: Vec::new(),
         training: Some(training),
         scores: ScoresInfo {
             black_boxes: None,

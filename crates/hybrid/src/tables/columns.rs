@@ -174,7 +174,7 @@ pub fn check_text_columns(
     let mut named: Vec<String> = vec![cfg.target.clone()];
     named.extend(cfg.features.iter().flatten().cloned());
     named.extend(cfg.extrapolate.iter().cloned());
-    if let Ok(p) = hxai_symreg::infix::parse(&cfg.physics) {
+    if let Ok((p, _)) = hxai_symreg::infix::parse_with_slots(&cfg.physics) {
         named.extend(p.names().into_iter().map(str::to_string));
     }
     check_used_columns(&named, text)?;

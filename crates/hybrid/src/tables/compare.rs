@@ -362,6 +362,10 @@ pub fn compare(
     }
     let cfg = &cfg.check()?;
     let (split, kind) = split_rows(table, cfg)?;
+    // learned slots are written out on the training rows once; every model and fold of the
+    // comparison then starts from that physics (its slot constants calibrated per split)
+    let slots = super::slots::expand(table, cfg, &split.train, progress)?;
+    let cfg = slots.as_ref().map_or(cfg, |e| &e.cfg);
     if split.test.len() < 2 {
         return Err(HybridError::InvalidConfig(format!(
             "the test split has {} row(s): the comparison's R² and paired t-tests need at least \

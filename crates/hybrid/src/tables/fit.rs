@@ -110,10 +110,15 @@ pub fn fit(
 ) -> Result<TableModel, HybridError> {
     let cfg = &cfg.check()?;
     let (split, kind) = split_rows(table, cfg)?;
+    let slots = super::slots::expand(table, cfg, &split.train, progress)?;
+    let cfg = slots.as_ref().map_or(cfg, |e| &e.cfg);
     let job = SplitJob::single(table, cfg, &split, &kind);
     let cal = calibrate_split(job)?;
     let mut model = fit_calibrated(job, &cal, progress)?;
     model.scores.black_boxes = super::compare::black_box_scores(job, &cal, &model)?;
+    if let Some(e) = &slots {
+        e.finish(&mut model);
+    }
     Ok(model)
 }
 
@@ -128,7 +133,14 @@ pub fn fit_split(
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
     let cfg = &cfg.check()?;
-    fit_inner(SplitJob::single(table, cfg, split, "given"), progress)
+    check_rows(table, split)?;
+    let slots = super::slots::expand(table, cfg, &split.train, progress)?;
+    let cfg = slots.as_ref().map_or(cfg, |e| &e.cfg);
+    let mut model = fit_inner(SplitJob::single(table, cfg, split, "given"), progress)?;
+    if let Some(e) = &slots {
+        e.finish(&mut model);
+    }
+    Ok(model)
 }
 
 /// A search as the progress reports name it: task `of.0` of `of.1`, called `label`.

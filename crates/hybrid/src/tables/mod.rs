@@ -56,6 +56,7 @@ mod model;
 pub mod per_class;
 mod physics;
 mod resolve;
+pub mod slots;
 mod split;
 pub mod traps;
 
@@ -69,6 +70,7 @@ pub use model::{
     SCHEMA_VERSION, ScoresInfo, TableEvaluation, TableModel, TablePrediction, TrainingRanges,
 };
 pub use per_class::PerClassInfo;
+pub use slots::SlotInfo;
 pub use split::split_rows;
 
 use hxai_symreg::SearchConfig;

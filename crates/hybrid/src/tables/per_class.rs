@@ -232,11 +232,12 @@ pub fn expand(
         table.n_rows(),
         "parameters are the shared ones; use --calibrate",
     )?;
-    let parsed =
-        hxai_symreg::infix::parse(&cfg.physics).map_err(|source| HybridError::Equation {
+    let (parsed, _) = hxai_symreg::infix::parse_with_slots(&cfg.physics).map_err(|source| {
+        HybridError::Equation {
             equation: cfg.physics.clone(),
             source,
-        })?;
+        }
+    })?;
     for p in params {
         if parsed.position(p).is_none() {
             return Err(HybridError::ParameterNotInEquation {

@@ -14,6 +14,8 @@ pub(super) enum Tok {
     Pow,
     LParen,
     RParen,
+    /// `,`: only between the columns of a learned slot, `f(T, v)`.
+    Comma,
     End,
 }
 
@@ -28,6 +30,7 @@ pub(super) fn describe(t: &Tok) -> String {
         Tok::Pow => "a power operator".into(),
         Tok::LParen => "`(`".into(),
         Tok::RParen => "`)`".into(),
+        Tok::Comma => "`,`".into(),
         Tok::End => "the end of the equation".into(),
     }
 }
@@ -108,6 +111,7 @@ pub(super) fn lex(text: &str) -> Result<Vec<(Tok, usize)>, SrError> {
             '^' => Some(Tok::Pow),
             '(' => Some(Tok::LParen),
             ')' => Some(Tok::RParen),
+            ',' => Some(Tok::Comma),
             '*' => {
                 if chars.get(i + 1) == Some(&'*') {
                     i += 1;

@@ -40,9 +40,21 @@ mod lexer;
 mod parser;
 
 pub use compiler::{Compiled, compile, compile_text};
-pub use parser::parse;
+pub use parser::{parse, parse_with_slots};
 
 use crate::expr::Expr;
+
+/// A learned slot in a physics equation, `f(T, v)`: a function the data are to write
+/// ([`parse_with_slots`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SlotCall {
+    /// The slot's name (`f`).
+    pub name: String,
+    /// The columns it reads, as listed.
+    pub columns: Vec<String>,
+    /// 1-based character position of its first call.
+    pub position: usize,
+}
 
 /// A parsed equation: the expression and where each name first appears.
 #[derive(Clone, Debug, PartialEq)]
@@ -239,5 +251,52 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A call of an unknown name is a learned slot only under `parse_with_slots`: its
+    /// columns are names the equation reads, the slot is a variable, and a slot called over
+    /// two sets of columns, an argument that is not a name, or a slot in plain `parse` are
+    /// refused by position.
+    #[test]
+    fn slots_are_calls_of_unknown_names() {
+        let (p, slots) = parse_with_slots("A*exp(-((E - E0)/w)^2)*f(C) + g(T, `v c`)").unwrap();
+        assert_eq!(
+            slots,
+            vec![
+                SlotCall {
+                    name: "f".into(),
+                    columns: vec!["C".into()],
+                    position: 24
+                },
+                SlotCall {
+                    name: "g".into(),
+                    columns: vec!["T".into(), "v c".into()],
+                    position: 31
+                }
+            ]
+        );
+        assert_eq!(p.names(), vec!["A", "E", "E0", "w", "C", "T", "v c"]);
+        assert_eq!(p.expr.to_text(None, false), "A*exp(-((E - E0)/w)**2)*f + g");
+        assert!(parse_with_slots("f(C)*2 + f(C)").is_ok());
+        for (text, at, says) in [
+            ("f(C) + f(D)", 8, "one set of columns"),
+            ("f(2*C)", 3, "column names"),
+            ("f(C D)", 5, "expected `,` or `)`"),
+            ("f(C, C)", 6, "twice"),
+            ("f()", 3, "column names"),
+        ] {
+            match parse_with_slots(text) {
+                Err(SrError::Parse { position, message }) => {
+                    assert_eq!(position, at, "{text}: {message}");
+                    assert!(message.contains(says), "{text}: {message}");
+                }
+                other => panic!("{text}: {other:?}"),
+            }
+        }
+        assert!(matches!(
+            parse("2*f(C)"),
+            Err(SrError::Parse { position: 3, .. })
+        ));
+        assert!(matches!(parse("f(C, D)"), Err(SrError::Parse { .. })));
     }
 }

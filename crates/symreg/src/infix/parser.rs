@@ -1,8 +1,8 @@
 //! The parser: recursive descent over the tokens, one function per precedence level, as
 //! Python binds its operators.
 
-use super::Parsed;
 use super::lexer::{Tok, describe, err, function, lex};
+use super::{Parsed, SlotCall};
 use crate::SrError;
 use crate::expr::Expr;
 use crate::ops::Op;
@@ -22,6 +22,8 @@ struct Parser {
     i: usize,
     positions: Vec<(String, usize)>,
     depth: usize,
+    /// `Some` when calls of unknown names are learned slots ([`parse_with_slots`]).
+    slots: Option<Vec<SlotCall>>,
 }
 
 impl Parser {
@@ -135,6 +137,9 @@ impl Parser {
             }
             Tok::Name(name) => {
                 if *self.peek() == Tok::LParen {
+                    if function(&name).is_none() && self.slots.is_some() {
+                        return self.slot(name, pos);
+                    }
                     let Some(op) = function(&name) else {
                         return Err(err(
                             pos,
@@ -173,6 +178,69 @@ impl Parser {
         }
     }
 
+    /// A learned slot `name(col, ...)`: its columns, recorded, and the slot's name as a
+    /// variable in the expression.
+    fn slot(&mut self, name: String, pos: usize) -> Result<Expr, SrError> {
+        let (_, open) = self.next();
+        let mut columns = Vec::new();
+        loop {
+            let (t, at) = self.next();
+            match t {
+                Tok::Name(c) if function(&c).is_none() && c != "pi" => {
+                    if columns.contains(&c) {
+                        return Err(err(at, format!("the slot `{name}` lists `{c}` twice")));
+                    }
+                    columns.push(c);
+                }
+                other => {
+                    return Err(err(
+                        at,
+                        format!(
+                            "the learned slot `{name}(...)` takes column names separated by \
+                             commas, but found {}",
+                            describe(&other)
+                        ),
+                    ));
+                }
+            }
+            let (t, at) = self.next();
+            match t {
+                Tok::Comma => {}
+                Tok::RParen => break,
+                other => {
+                    return Err(err(
+                        at,
+                        format!(
+                            "expected `,` or `)` to close the `(` at character {open} but found {}",
+                            describe(&other)
+                        ),
+                    ));
+                }
+            }
+        }
+        let slots = self.slots.get_or_insert_with(Vec::new);
+        if let Some(s) = slots.iter().find(|s| s.name == name) {
+            if s.columns != columns {
+                return Err(err(
+                    pos,
+                    format!(
+                        "the slot `{name}` is called over ({}) here and over ({}) before: one \
+                         learned function has one set of columns",
+                        columns.join(", "),
+                        s.columns.join(", ")
+                    ),
+                ));
+            }
+        } else {
+            slots.push(SlotCall {
+                name: name.clone(),
+                columns,
+                position: pos,
+            });
+        }
+        Ok(Expr::Var(name))
+    }
+
     fn close(&mut self, open: usize) -> Result<(), SrError> {
         let (t, pos) = self.next();
         if t == Tok::RParen {
@@ -195,6 +263,24 @@ impl Parser {
 /// [`SrError::Parse`] with the 1-based character position: an unexpected character or
 /// token, an unclosed parenthesis, an unknown function, an empty equation.
 pub fn parse(text: &str) -> Result<Parsed, SrError> {
+    Ok(parse_inner(text, false)?.0)
+}
+
+/// [`parse`] of a physics equation with learned slots: a call of a name that is not a
+/// known function (`f(C)`, `g(T, v)`) is a learned function of the listed columns. Each
+/// slot is a variable of its own name in the expression; the slots are returned in order
+/// of first use, and their columns are among [`Parsed::positions`] (the equation reads
+/// them), their names are not.
+///
+/// # Errors
+/// [`parse`]'s, a slot whose arguments are not names, that lists one twice, or that is
+/// called over two different sets of columns.
+pub fn parse_with_slots(text: &str) -> Result<(Parsed, Vec<SlotCall>), SrError> {
+    let (parsed, slots) = parse_inner(text, true)?;
+    Ok((parsed, slots.unwrap_or_default()))
+}
+
+fn parse_inner(text: &str, slots: bool) -> Result<(Parsed, Option<Vec<SlotCall>>), SrError> {
     let toks = lex(text)?;
     // Checked before any tree is built: the tree of a longer chain could not even be dropped
     // without deep recursion.
@@ -213,6 +299,7 @@ pub fn parse(text: &str) -> Result<Parsed, SrError> {
         i: 0,
         positions: Vec::new(),
         depth: 0,
+        slots: slots.then(Vec::new),
     };
     if *p.peek() == Tok::End {
         return Err(err(1, "the equation is empty".into()));
@@ -235,10 +322,18 @@ pub fn parse(text: &str) -> Result<Parsed, SrError> {
             ),
         ));
     }
-    Ok(Parsed {
-        expr,
-        positions: p.positions,
-    })
+    let mut positions = p.positions;
+    if let Some(calls) = &p.slots {
+        // a slot's columns are names the equation reads
+        for s in calls {
+            for c in &s.columns {
+                if !positions.iter().any(|(n, _)| n == c) {
+                    positions.push((c.clone(), s.position));
+                }
+            }
+        }
+    }
+    Ok((Parsed { expr, positions }, p.slots))
 }
 
 /// The depth of a tree, without recursion.

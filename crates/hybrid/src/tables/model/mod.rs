@@ -177,6 +177,11 @@ pub struct TableModel {
     /// level's constants and refuses a level it never saw.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub correction_per: Option<super::correction_per::CorrectionPerInfo>,
+    /// The learned slots of the physics (`f(C)` in `A*exp(-E/T)*f(C)`, [`super::slots`]):
+    /// what each became, its constants calibrated with the physics'; `physics.equation` is
+    /// the physics with them substituted. Absent without slots.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub slots: Vec<super::slots::SlotInfo>,
 }
 
 /// The ranges of the training rows (the model file's `training`).
