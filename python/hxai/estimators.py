@@ -1180,6 +1180,8 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.choice_ = corr.get("choice")
         self.form_ = corr.get("form")
         self.factors_ = corr.get("factors")
+        # the learned slots of the physics (`f(C)` in `A*exp(-E/T)*f(C)`): what each became
+        self.slots_ = list(doc.get("slots", []))
         self.stability_ = _readable(doc.get("stability"))
         # the traps of the fit (a column copying the target, a physics that changes sign
         # under a multiplicative correction, ...): kept and raised as UserWarning

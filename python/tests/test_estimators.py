@@ -563,6 +563,30 @@ def test_calibrate_per_gives_one_line_per_level_as_r_lm():
         est.suggest_experiments({"temp": {"lo": 0}, "insul": ["After"]}, 2, goal="coverage")
 
 
+def test_a_learned_slot_inside_the_physics():
+    """Issue 66: ``f(C)`` in the physics string is a learned function of ``C``; the fit
+    writes it into the physics (a power of C on the bump-times-power table, test RMSE within
+    1.3x the noise), ``slots_`` says what it became, and a slot over an unknown column is
+    refused by name."""
+    rng = np.random.default_rng(7)
+    n = 400
+    X = pd.DataFrame({"E": 0.4 + rng.random(n), "C": 0.5 + 9.5 * rng.random(n)})
+    truth = 1.7 * np.exp(-(((X["E"] - 0.9) / 0.2) ** 2)) * X["C"] ** 0.3
+    noise = 0.03 * truth.mean()
+    y = truth + noise * rng.standard_normal(n)
+    train, test = np.arange(320), np.arange(320, n)
+    est = HybridRegressor(
+        "A*exp(-((E - E0)/w)^2)*f(C)", calibrate=["A", "E0", "w"], init={"E0": 1, "w": 0.3}
+    ).fit(X.iloc[train], y.iloc[train])
+    (slot,) = est.slots_
+    assert slot["name"] == "f" and slot["columns"] == ["C"]
+    assert "C**" in slot["template"]
+    rmse = float(np.sqrt(np.mean((est.predict(X.iloc[test]) - y.iloc[test]) ** 2)))
+    assert rmse <= 1.3 * noise, (rmse, noise, est.hybrid_equation_)
+    with pytest.raises(ValueError, match="slot column"):
+        HybridRegressor("A*f(Q)", calibrate=["A"]).fit(X, y)
+
+
 def test_correction_per_refits_the_constants_per_batch():
     """``correction_per`` (issue 48): on ``y = 2*x + c[batch]*z`` with three slopes over three
     batches in words, the per-batch constants follow each batch (training RMSE far below the

@@ -44,7 +44,7 @@ pub(super) fn nearest_columns(table: &Table, name: &str) -> String {
 }
 
 /// Levenshtein's edit distance between `a` and `b` (characters).
-fn edit_distance(a: &str, b: &str) -> usize {
+pub(super) fn edit_distance(a: &str, b: &str) -> usize {
     let b: Vec<char> = b.chars().collect();
     let mut prev: Vec<usize> = (0..=b.len()).collect();
     for (i, ca) in a.chars().enumerate() {

@@ -26,7 +26,7 @@
 //! substituted. `slots` in the model file ([`SlotInfo`]) says what each slot became.
 
 use super::physics::{calibrate_physics, gather, named_values};
-use super::resolve::{cols_list, resolve};
+use super::resolve::{cols_list, edit_distance, resolve};
 use super::{Form, TableConfig, TableProgress, ValidTable};
 use crate::HybridError;
 use hxai_symreg::Table;
@@ -42,6 +42,11 @@ pub const MAX_ROUNDS: usize = 8;
 
 /// A round that lowers the training error by less than this share ends the backfitting.
 pub const MIN_GAIN: f64 = 1e-3;
+
+/// The infix functions, which a slot's name must not be one letter from.
+const FUNCTIONS: [&str; 10] = [
+    "exp", "log", "ln", "sqrt", "sin", "cos", "tan", "tanh", "abs", "Abs",
+];
 
 /// Share of the largest `|b|` (how much the slot moves the physics) below which a row is
 /// left out of a free-form slot's search.
@@ -286,6 +291,21 @@ fn names(calls: &[SlotCall]) -> String {
 /// over the target.
 fn check_calls(table: &Table, cfg: &TableConfig, calls: &[SlotCall]) -> Result<(), HybridError> {
     for c in calls {
+        // a misspelt function is not a slot: `sqr(f)` is refused, not learned
+        if let Some(f) = FUNCTIONS.iter().find(|f| edit_distance(f, &c.name) <= 1) {
+            return Err(HybridError::Equation {
+                equation: cfg.physics.clone(),
+                source: hxai_symreg::SrError::Parse {
+                    position: c.position,
+                    message: format!(
+                        "unknown function `{}` (one letter from `{f}`): use exp, log, sqrt, \
+                         sin, cos, tan, tanh or abs; a learned slot needs a name that is not one \
+                         letter from a function (`g(...)`)",
+                        c.name
+                    ),
+                },
+            });
+        }
         let as_param = cfg.calibrate.contains(&c.name) || cfg.set.contains_key(&c.name);
         if table.column(&c.name).is_some() || as_param {
             return Err(HybridError::InvalidConfig(format!(

@@ -148,7 +148,8 @@ fn a_slot_beside_a_per_class_constant() {
 #[test]
 fn bad_slots_are_refused_by_name() {
     let (table, _) = bump_table(60);
-    let cases: [(&str, Form, &str); 4] = [
+    let cases: [(&str, Form, &str); 5] = [
+        ("A*sqr(C)", Form::Auto, "one letter from `sqrt`"),
         ("A*f(Q)", Form::Auto, "Q"),
         ("A*f(NOx)", Form::Auto, "target"),
         ("A*E(C)", Form::Auto, "column"),
