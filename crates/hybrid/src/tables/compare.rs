@@ -1,12 +1,13 @@
 //! Every way of modelling the target on the same splits (`hxai hybrid compare`).
-use super::fit::{Calibrated, SplitJob, calibrate_split, fit_calibrated, search_training_rows};
-use super::model::{columns_of, combine_values};
-use super::physics::{deltas, gather, physics_values};
-use super::resolve::Resolved;
+use super::fit::{
+    SplitJob, Task, black_box_predictions, calibrate_split, fit_calibrated, search_training_rows,
+};
+use super::model::BlackBox;
+use super::model::defined_t_test;
+use super::physics::{gather, physics_values};
 use super::split::split_rows;
 use super::{TableConfig, TableModel, TableProgress};
 use crate::HybridError;
-use hxai_baselines::{GradientBoosting, Par, RandomForest, Regressor};
 use hxai_eval::{Metrics, Split, TTest};
 use hxai_symreg::Table;
 use serde::{Deserialize, Serialize};
@@ -20,15 +21,6 @@ pub struct ModelScore {
     /// R^2, RMSE and MAE on the test rows (flattened into this object in JSON).
     #[serde(flatten)]
     pub metrics: Metrics,
-}
-
-/// A black box of the comparison and its test RMSE.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct BlackBox {
-    /// `physics_forest` or `boosting`.
-    pub name: String,
-    /// Its test RMSE.
-    pub rmse: f64,
 }
 
 /// Cross-validated R^2 of one model.
@@ -113,126 +105,6 @@ struct SplitPredictions {
     model: TableModel,
 }
 
-fn forest_delta(
-    table: &Table,
-    features: &[String],
-    split: &Split,
-    delta: &[f64],
-    seed: u64,
-    par: Par,
-) -> Result<Vec<f64>, HybridError> {
-    columns_of(table, features, "feature")?;
-    let x = table.select_columns(features)?;
-    let pick = |rows: &[usize]| -> Result<Table, HybridError> { Ok(x.select_rows(rows)?) };
-    let mut forest = RandomForest::with_seed(seed);
-    forest.par = par;
-    forest.fit(&pick(&split.train)?, delta)?;
-    Ok(forest.predict(&pick(&split.test)?)?)
-}
-
-/// Gradient boosting ([`GradientBoosting`], scikit-learn's `HistGradientBoostingRegressor`
-/// defaults) of the target itself on `columns` (the physics' columns and the correction's
-/// features): the black box an engineer reaches for, with no physics.
-fn boosting_on(
-    table: &Table,
-    columns: &[String],
-    split: &Split,
-    y_train: &[f64],
-    seed: u64,
-    par: Par,
-) -> Result<Vec<f64>, HybridError> {
-    let x = table.select_columns(columns)?;
-    let mut b = GradientBoosting::with_seed(seed);
-    b.par = par;
-    b.fit(&x.select_rows(&split.train)?, y_train)?;
-    Ok(b.predict(&x.select_rows(&split.test)?)?)
-}
-
-/// The black boxes' test-row predictions on `split`: the calibrated `physics` (every row)
-/// plus a forest on its `delta`, and gradient boosting of the target on the physics' columns
-/// and the correction's features.
-fn black_box_predictions(
-    table: &Table,
-    cfg: &TableConfig,
-    res: &Resolved,
-    split: &Split,
-    physics: &[f64],
-) -> Result<(Vec<f64>, Vec<f64>), HybridError> {
-    let y = table.require(&cfg.target)?;
-    let delta = deltas(cfg.correction, y, physics, &split.train)?;
-    let d = forest_delta(
-        table,
-        &res.features,
-        split,
-        &delta,
-        cfg.seed,
-        cfg.search.par,
-    )?;
-    let forest = split
-        .test
-        .iter()
-        .zip(&d)
-        .map(|(&i, &d)| combine_values(cfg.correction, physics[i], d))
-        .collect();
-    let mut columns = res.columns.clone();
-    for f in &res.features {
-        if !columns.contains(f) {
-            columns.push(f.clone());
-        }
-    }
-    let boosted = boosting_on(
-        table,
-        &columns,
-        split,
-        &gather(y, &split.train),
-        cfg.seed,
-        cfg.search.par,
-    )?;
-    Ok((forest, boosted))
-}
-
-/// The black boxes of `hxai hybrid compare` (physics + forest, boosting) on `job`'s split,
-/// from its calibrated physics `cal` (the fit's), scored against the fitted `model`'s test
-/// RMSE; `None` with fewer than two test rows, or where a black box has no error (the ratio
-/// would not be a number).
-pub(crate) fn black_box_scores(
-    job: SplitJob,
-    cal: &Calibrated,
-    model: &TableModel,
-) -> Result<Option<crate::tables::BlackBoxScores>, HybridError> {
-    let (table, cfg, split) = (job.table, job.cfg, job.split);
-    let Some(test) = model.scores.test.as_ref().filter(|_| split.test.len() >= 2) else {
-        return Ok(None);
-    };
-    let y = table.require(&cfg.target)?;
-    let yt = gather(y, &split.test);
-    let (forest, boosted) = black_box_predictions(table, cfg, &cal.res, split, &cal.physics)?;
-    let physics_forest = hxai_eval::rmse(&yt, &forest)?;
-    let boosting = hxai_eval::rmse(&yt, &boosted)?;
-    let best_black_box = if boosting < physics_forest {
-        BlackBox {
-            name: "boosting".into(),
-            rmse: boosting,
-        }
-    } else {
-        BlackBox {
-            name: "physics_forest".into(),
-            rmse: physics_forest,
-        }
-    };
-    let ratio = test.hybrid.rmse / best_black_box.rmse;
-    // a black box without error (a constant target) leaves no ratio to report
-    if !(ratio.is_finite() && physics_forest.is_finite() && boosting.is_finite()) {
-        return Ok(None);
-    }
-    Ok(Some(crate::tables::BlackBoxScores {
-        physics_forest,
-        boosting,
-        hybrid_over_best_black_box: ratio,
-        best_black_box,
-    }))
-}
-
 fn predictions_on(
     job: SplitJob,
     progress: &mut dyn FnMut(&TableProgress),
@@ -266,7 +138,7 @@ fn predictions_on(
         cfg,
         split,
         &gather(y, &split.train),
-        super::fit::Task {
+        Task {
             of: (tasks.0 + 1, tasks.1),
             label,
         },
@@ -289,30 +161,6 @@ fn predictions_on(
         preds,
         model,
     })
-}
-
-/// A paired t-test of `a` against `b`, or `None` with the reason where it is undefined
-/// (`what` predict the same on every row: the statistic is 0/0). An undefined test is a
-/// result, not a failure (issue 63): the other numbers are still reported.
-///
-/// # Errors
-/// What [`hxai_eval::paired_t_test`] refuses besides identical samples.
-pub(crate) fn defined_t_test(
-    a: &[f64],
-    b: &[f64],
-    what: &str,
-) -> Result<(Option<TTest>, Option<String>), HybridError> {
-    match hxai_eval::paired_t_test(a, b) {
-        Ok(t) => Ok((Some(t), None)),
-        Err(hxai_eval::EvalError::IdenticalSamples) => Ok((
-            None,
-            Some(format!(
-                "{what} have the same error on every row (the correction changes nothing \
-                 there): the paired t-test is undefined (0/0)"
-            )),
-        )),
-        Err(e) => Err(e.into()),
-    }
 }
 
 fn t_test(

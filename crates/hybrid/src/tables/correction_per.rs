@@ -20,7 +20,6 @@
 //! conformal calibration and the delta method both assume one set of constants): asking for
 //! them is refused, naming the reason.
 
-use super::model::TableModel;
 use crate::HybridError;
 use hxai_symreg::{Model, Table};
 use serde::{Deserialize, Serialize};
@@ -234,20 +233,20 @@ pub fn add_indicators(
     super::per_class::add_level_indicators(&info.column, &info.levels, "correction", table, &cells)
 }
 
-/// Each level's constants of `model`'s correction, refitted to `delta` (the correction's
-/// target on the training rows `train`, in their order) on that level's training rows; a
-/// level with fewer rows than the correction's constants plus two keeps the shared ones.
+/// Each level's constants of the `shared` correction (its feature columns `features`, every
+/// row of `table`), refitted to `delta` (the correction's target on the training rows
+/// `train`, in their order) on that level's training rows; a level with fewer rows than the
+/// correction's constants plus two keeps the shared ones.
 ///
 /// # Errors
-/// As [`CorrectionPer::rows_levels`], or a feature column the table lacks.
+/// As [`CorrectionPer::rows_levels`].
 pub(crate) fn fit_levels(
     setting: &CorrectionPer,
-    model: &TableModel,
+    (shared, features): (&Model, &[&[f64]]),
     table: &Table,
     train: &[usize],
     delta: &[f64],
 ) -> Result<CorrectionPerInfo, HybridError> {
-    let shared = model.correction.fitted()?;
     let levels = setting.rows_levels(table)?;
     // every constant, the snapped ones too: a batch's slope may be another simple number
     let free: Vec<usize> = (0..shared.params.len()).collect();
@@ -266,13 +265,12 @@ pub(crate) fn fit_levels(
         let rows: Vec<usize> = pos.iter().map(|&k| train[k]).collect();
         let m = if rows.len() >= free.len() + 2 {
             let d: Vec<f64> = pos.iter().map(|&k| delta[k]).collect();
-            let all = super::model::columns_of(table, &shared.feature_names, "correction feature")?;
-            let cols: Vec<Vec<f64>> = all
+            let cols: Vec<Vec<f64>> = features
                 .iter()
                 .map(|c| rows.iter().map(|&i| c[i]).collect())
                 .collect();
             let cols: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
-            crate::conformal::refit_these(shared, &free, &cols, &d, &all)
+            crate::conformal::refit_these(shared, &free, &cols, &d, features)
         } else {
             info.shared.push(level.clone());
             shared.clone()

@@ -42,15 +42,12 @@
 //! assert_eq!(back, model);
 //! # Ok::<(), hxai_hybrid::HybridError>(())
 //! ```
-mod assemble;
-pub mod auto;
 mod calibrate;
 mod columns;
 mod compare;
 mod conformal;
 pub mod correction_per;
 pub mod design;
-mod earn;
 mod fit;
 mod model;
 pub mod per_class;
@@ -62,12 +59,14 @@ pub mod traps;
 
 pub use crate::conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, ResidualScale};
 pub use columns::{check_text_columns, check_used_columns, first_bad_cell, model_columns};
-pub use compare::{BlackBox, Comparison, CvScore, ModelScore, TTestScore, compare};
+pub use compare::{Comparison, CvScore, ModelScore, TTestScore, compare};
 pub use correction_per::{CorrectionPer, CorrectionPerInfo};
+pub use fit::auto;
 pub use fit::{fit, fit_split, measure_stability, stability};
 pub use model::{
-    BlackBoxScores, EquationInfo, JointInfo, MissingInfo, OUTSIDE_MARGIN, PairScores, PhysicsInfo,
-    SCHEMA_VERSION, ScoresInfo, TableEvaluation, TableModel, TablePrediction, TrainingRanges,
+    BlackBox, BlackBoxScores, EquationInfo, JointInfo, MissingInfo, OUTSIDE_MARGIN, PairScores,
+    PhysicsInfo, SCHEMA_VERSION, ScoresInfo, TableEvaluation, TableModel, TablePrediction,
+    TrainingRanges,
 };
 pub use per_class::PerClassInfo;
 pub use slots::SlotInfo;

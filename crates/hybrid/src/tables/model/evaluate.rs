@@ -5,7 +5,7 @@
 use super::{TableEvaluation, TableModel, columns_of};
 use crate::HybridError;
 use crate::intervals::{DEFAULT_INTERVAL, IntervalReport};
-use hxai_eval::IntervalMethod;
+use hxai_eval::{IntervalMethod, TTest};
 use hxai_symreg::Table;
 
 impl TableModel {
@@ -105,8 +105,7 @@ pub(crate) fn evaluation(
     let hs = hxai_eval::score(y, hybrid)?;
     let se_p = hxai_eval::squared_errors(y, physics)?;
     let se_h = hxai_eval::squared_errors(y, hybrid)?;
-    let (t_test, t_test_reason) =
-        crate::tables::compare::defined_t_test(&se_p, &se_h, "the physics and the hybrid")?;
+    let (t_test, t_test_reason) = defined_t_test(&se_p, &se_h, "the physics and the hybrid")?;
     Ok(TableEvaluation {
         improvement_pct: hxai_eval::improvement_pct(ps.rmse, hs.rmse)?,
         t_test,
@@ -117,6 +116,30 @@ pub(crate) fn evaluation(
         interval: None,
         warnings: Vec::new(),
     })
+}
+
+/// A paired t-test of `a` against `b`, or `None` with the reason where it is undefined
+/// (`what` predict the same on every row: the statistic is 0/0). An undefined test is a
+/// result, not a failure (issue 63): the other numbers are still reported.
+///
+/// # Errors
+/// What [`hxai_eval::paired_t_test`] refuses besides identical samples.
+pub(crate) fn defined_t_test(
+    a: &[f64],
+    b: &[f64],
+    what: &str,
+) -> Result<(Option<TTest>, Option<String>), HybridError> {
+    match hxai_eval::paired_t_test(a, b) {
+        Ok(t) => Ok((Some(t), None)),
+        Err(hxai_eval::EvalError::IdenticalSamples) => Ok((
+            None,
+            Some(format!(
+                "{what} have the same error on every row (the correction changes nothing \
+                 there): the paired t-test is undefined (0/0)"
+            )),
+        )),
+        Err(e) => Err(e.into()),
+    }
 }
 
 #[cfg(test)]

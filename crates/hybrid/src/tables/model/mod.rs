@@ -7,6 +7,7 @@
 //! `evaluate.rs`.
 
 mod evaluate;
+pub(crate) use evaluate::defined_t_test;
 mod predict;
 mod program;
 
@@ -104,7 +105,7 @@ pub struct BlackBoxScores {
     /// correction's features (scikit-learn's `HistGradientBoostingRegressor` defaults).
     pub boosting: f64,
     /// The better of the two.
-    pub best_black_box: crate::tables::BlackBox,
+    pub best_black_box: BlackBox,
     /// The hybrid's test RMSE divided by the best black box's.
     pub hybrid_over_best_black_box: f64,
 }
@@ -182,6 +183,15 @@ pub struct TableModel {
     /// the physics with them substituted. Absent without slots.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub slots: Vec<super::slots::SlotInfo>,
+}
+
+/// A black box of the comparison and its test RMSE.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct BlackBox {
+    /// `physics_forest` or `boosting`.
+    pub name: String,
+    /// Its test RMSE.
+    pub rmse: f64,
 }
 
 /// The ranges of the training rows (the model file's `training`).

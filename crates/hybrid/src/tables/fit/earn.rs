@@ -11,8 +11,9 @@
 //! are those of the constants alone: a term whose constant the rows cannot tell from 0 is
 //! weighed by what it does to rows it was not fitted on.
 
-use super::ValidTable;
-use super::auto::mean_se;
+use super::super::{Form, ValidTable};
+use super::folds::{folds, mean_se};
+use super::job::SplitJob;
 use crate::HybridError;
 use crate::correction::CvError;
 use hxai_eval::Split;
@@ -35,7 +36,7 @@ pub(crate) fn earn_folds(
     cfg: &ValidTable,
     train: &[usize],
 ) -> Result<Option<Vec<Split>>, HybridError> {
-    super::auto::folds(table, cfg, train, EARN_FOLDS)
+    folds(table, cfg, train, EARN_FOLDS)
 }
 
 /// The cross-validated error of `model`'s constants on `ft`, `delta` over `folds`
@@ -212,8 +213,8 @@ fn defined(m: &Model, ft: &Table, margin: Option<f64>) -> bool {
 /// # Errors
 /// Those of [`drop_unearned`].
 pub(crate) fn earn(
-    job: super::fit::SplitJob,
-    form: super::Form,
+    job: SplitJob,
+    form: Form,
     correction: Model,
     selection: &mut hxai_symreg::SelectionReport,
     ft: &Table,
@@ -222,7 +223,7 @@ pub(crate) fn earn(
     let Some(folds) = earn_folds(job.table, job.cfg, &job.split.train)? else {
         return Ok((correction, Vec::new()));
     };
-    let (model, mut warnings) = if form == super::Form::Free {
+    let (model, mut warnings) = if form == Form::Free {
         let e = drop_unearned(
             correction,
             ft,

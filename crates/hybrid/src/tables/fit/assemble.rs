@@ -2,14 +2,14 @@
 //! physics' parameter intervals, the correction's and the whole hybrid's uncertainty, and
 //! the scores on the fitting table's split.
 
-use super::fit::SplitJob;
-use super::model::{
+use super::super::model::{
     EquationInfo, JointInfo, PairScores, PhysicsInfo, SCHEMA_VERSION, ScoresInfo, TableModel,
     columns_of, combine, combine_values, forms,
 };
-use super::physics::{calibrated_slots, deltas, gather, named_values, physics_values};
-use super::resolve::Resolved;
-use super::{CorrectionForm, TableConfig};
+use super::super::physics::{calibrated_slots, deltas, gather, named_values, physics_values};
+use super::super::resolve::Resolved;
+use super::super::{CorrectionForm, TableConfig};
+use super::job::SplitJob;
 use crate::HybridError;
 use crate::{CorrectionInfo, SplitInfo};
 use hxai_eval::Split;
@@ -66,7 +66,7 @@ pub(super) fn model_of(
             )
         })
         .collect();
-    let training = super::model::TrainingRanges::of(
+    let training = super::super::model::TrainingRanges::of(
         table,
         &read_columns(&res.columns, &correction, cfg.group.as_deref()),
         y_all,

@@ -1,0 +1,113 @@
+//! One fit's job on one split ([`SplitJob`]): the physics resolved and calibrated on its
+//! training rows ([`calibrate_split`]), and the free search of a target on those rows
+//! ([`search_training_rows`]). Everything else of the fit builds on these.
+
+use super::super::physics::{calibrate_physics, physics_values};
+use super::super::resolve::{Resolved, resolve};
+use super::super::split::check_rows;
+use super::super::{TableProgress, ValidTable};
+use crate::HybridError;
+use hxai_eval::Split;
+use hxai_symreg::Table;
+use hxai_symreg::infix::Compiled;
+use std::collections::BTreeMap;
+
+/// A search as the progress reports name it: task `of.0` of `of.1`, called `label`.
+pub(crate) struct Task {
+    /// `(this task, tasks in all)`.
+    pub(crate) of: (usize, usize),
+    /// What the task is (`correction (2/11)`, `symbolic (3/11)`).
+    pub(crate) label: String,
+}
+
+/// Symbolic regression of `y` (one value per training row of `split`) on the training rows
+/// of the feature columns, reported as `task`: those rows' feature table and the search's
+/// result.
+pub(crate) fn search_training_rows(
+    table: &Table,
+    res: &Resolved,
+    cfg: &ValidTable,
+    split: &Split,
+    y: &[f64],
+    task: Task,
+    progress: &mut dyn FnMut(&TableProgress),
+) -> Result<(Table, hxai_symreg::SearchResult), HybridError> {
+    let Task { of: task, label } = task;
+    let ft = table
+        .select_columns(&res.features)?
+        .select_rows(&split.train)?;
+    let found = hxai_symreg::search_checked(&ft, y, cfg.search(), &mut |p| {
+        progress(&TableProgress {
+            task: task.0,
+            tasks: task.1,
+            label: label.clone(),
+            search: p.clone(),
+        })
+    })?;
+    Ok((ft, found))
+}
+
+/// One fit on one split of a table: what [`fit_inner`] (and the comparison's
+/// per-split predictions) work on.
+#[derive(Clone, Copy)]
+pub(crate) struct SplitJob<'a> {
+    pub(crate) table: &'a Table,
+    pub(crate) cfg: &'a ValidTable,
+    pub(crate) split: &'a Split,
+    /// Split kind, as the model file reports it (`random`, `given`, `fold`, ...).
+    pub(crate) kind: &'a str,
+    /// `(this task, tasks in all)`, for progress reports.
+    pub(crate) task: (usize, usize),
+}
+
+impl<'a> SplitJob<'a> {
+    /// The only task of a run.
+    pub(crate) fn single(
+        table: &'a Table,
+        cfg: &'a ValidTable,
+        split: &'a Split,
+        kind: &'a str,
+    ) -> Self {
+        let task = (1, 1);
+        Self {
+            table,
+            cfg,
+            split,
+            kind,
+            task,
+        }
+    }
+}
+
+/// What every model of one split starts from, computed once per split
+/// ([`calibrate_split`]): the physics resolved against the table, calibrated on the
+/// training rows (with the standard errors of its parameters), and its values on every row.
+#[derive(Clone, Debug)]
+pub(crate) struct Calibrated {
+    pub(crate) res: Resolved,
+    pub(crate) phys: Compiled,
+    pub(crate) ses: BTreeMap<String, Option<f64>>,
+    /// The calibrated physics on every row of the table.
+    pub(crate) physics: Vec<f64>,
+}
+
+/// Checks `job`'s rows, resolves the physics against the table and calibrates
+/// it on the training rows: what the fit ([`fit_calibrated`]), the black boxes beside it
+/// and the comparison's other models share.
+///
+/// # Errors
+/// Rows out of range, and those of the physics' resolution and calibration (the settings
+/// were checked by [`TableConfig::check`]).
+pub(crate) fn calibrate_split(job: SplitJob) -> Result<Calibrated, HybridError> {
+    let (table, cfg, split) = (job.table, job.cfg, job.split);
+    check_rows(table, split)?;
+    let res = resolve(table, cfg)?;
+    let (phys, ses) = calibrate_physics(table, cfg, &res, &split.train)?;
+    let physics = physics_values(table, &res, &phys)?;
+    Ok(Calibrated {
+        res,
+        phys,
+        ses,
+        physics,
+    })
+}
