@@ -30,7 +30,7 @@ pub struct R2Spread {
     pub sd: f64,
 }
 
-/// What [`stability`] reports (JSON `stability`).
+/// What [`crate::stability()`] reports (JSON `stability`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Stability {
     /// Number of runs.
@@ -58,8 +58,9 @@ pub struct Stability {
 }
 
 /// The rows of bootstrap run `r` of `n` rows under `seed` (drawn with replacement from the
-/// run's own generator), and the rows it left out (out-of-bag). [`crate::consensus`] draws
-/// its resamples here too, so its run `r` and this module's see the same rows.
+/// run's own generator), and the rows it left out (out-of-bag). [`crate::stability()`],
+/// [`crate::consensus`] and the factor bands all draw their resamples here, so their runs
+/// `r` see the same rows.
 pub(crate) fn bootstrap_rows(seed: u64, r: usize, n: usize) -> (Vec<usize>, Vec<usize>) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (r as u64 + 1).wrapping_mul(RUN_MIX));
     let rows: Vec<usize> = (0..n).map(|_| rng.gen_range(0..n)).collect();
