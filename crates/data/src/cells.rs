@@ -1,8 +1,60 @@
-//! Turning raw cells into checked numbers, with errors that name row and column.
+//! A file's cells as read ([`RawTable`], filled by the reader in `raw`), and turning them
+//! into checked numbers, with errors that name row and column.
 
 use crate::DataError;
-use crate::raw::{RawColumn, RawTable};
 use std::path::Path;
+
+/// One column as read from a file.
+#[derive(Debug, Clone)]
+pub(crate) enum RawColumn {
+    /// Numeric cells (Parquet numeric types); `None` is a null.
+    Num(Vec<Option<f64>>),
+    /// Cells as text (CSV, or Parquet text columns); `None` is an empty cell / null.
+    Text(Vec<Option<String>>),
+}
+
+impl RawColumn {
+    /// Removes the first cell (a units row read ahead of the numbers).
+    pub(crate) fn drop_first(&mut self) {
+        match self {
+            RawColumn::Num(v) if !v.is_empty() => {
+                v.remove(0);
+            }
+            RawColumn::Text(v) if !v.is_empty() => {
+                v.remove(0);
+            }
+            _ => {}
+        }
+    }
+
+    fn len(&self) -> usize {
+        match self {
+            RawColumn::Num(v) => v.len(),
+            RawColumn::Text(v) => v.len(),
+        }
+    }
+}
+
+/// A file's columns before any checking.
+#[derive(Debug, Clone)]
+pub(crate) struct RawTable {
+    pub names: Vec<String>,
+    pub columns: Vec<RawColumn>,
+    /// For each column stored as integers (Parquet), the type's name; `None` otherwise.
+    pub integer_type: Vec<Option<String>>,
+    /// Blank lines and all-empty rows of a CSV, skipped.
+    pub skipped: usize,
+}
+
+impl RawTable {
+    pub fn height(&self) -> usize {
+        self.columns.first().map_or(0, RawColumn::len)
+    }
+
+    pub fn find(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == name)
+    }
+}
 
 /// Parses one text cell as a number; `None` when it is not one.
 pub(crate) fn parse_number(s: &str) -> Option<f64> {

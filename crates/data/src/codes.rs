@@ -15,7 +15,7 @@
 //! code. What was emptied is counted per column and kept as notes ([`take_missing_code_notes`])
 //! for the command line to show.
 
-use crate::raw::{RawColumn, RawTable};
+use crate::cells::{RawColumn, RawTable, parse_number};
 use std::path::Path;
 use std::sync::{Mutex, OnceLock};
 
@@ -80,7 +80,7 @@ fn blank(raw: &mut RawTable, codes: &[f64]) -> Vec<(String, usize)> {
             RawColumn::Text(v) => {
                 for c in v.iter_mut() {
                     if c.as_deref()
-                        .and_then(crate::cells::parse_number)
+                        .and_then(parse_number)
                         .is_some_and(|x| is_code(x, codes))
                     {
                         *c = None;

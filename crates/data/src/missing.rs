@@ -15,8 +15,8 @@
 //! new row is filled exactly as the training rows were.
 use crate::DataError;
 use crate::Format;
-use crate::cells::parse_number;
-use crate::raw::{self, RawColumn};
+use crate::cells::{RawColumn, parse_number};
+use crate::raw;
 use crate::table::{Column, MixedTable};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;

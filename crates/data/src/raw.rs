@@ -4,62 +4,12 @@
 //! (CSV, and Parquet text columns), so that the checks above this module can name the row
 //! and column of a bad cell instead of relaying a reader's message.
 
+use crate::cells::{RawColumn, RawTable};
+use crate::codes;
 use crate::{DataError, Format};
 use polars::prelude::*;
 use std::fs::File;
 use std::path::Path;
-
-/// One column as read from a file.
-#[derive(Debug, Clone)]
-pub(crate) enum RawColumn {
-    /// Numeric cells (Parquet numeric types); `None` is a null.
-    Num(Vec<Option<f64>>),
-    /// Cells as text (CSV, or Parquet text columns); `None` is an empty cell / null.
-    Text(Vec<Option<String>>),
-}
-
-impl RawColumn {
-    /// Removes the first cell (a units row read ahead of the numbers).
-    pub(crate) fn drop_first(&mut self) {
-        match self {
-            RawColumn::Num(v) if !v.is_empty() => {
-                v.remove(0);
-            }
-            RawColumn::Text(v) if !v.is_empty() => {
-                v.remove(0);
-            }
-            _ => {}
-        }
-    }
-
-    fn len(&self) -> usize {
-        match self {
-            RawColumn::Num(v) => v.len(),
-            RawColumn::Text(v) => v.len(),
-        }
-    }
-}
-
-/// A file's columns before any checking.
-#[derive(Debug, Clone)]
-pub(crate) struct RawTable {
-    pub names: Vec<String>,
-    pub columns: Vec<RawColumn>,
-    /// For each column stored as integers (Parquet), the type's name; `None` otherwise.
-    pub integer_type: Vec<Option<String>>,
-    /// Blank lines and all-empty rows of a CSV, skipped.
-    pub skipped: usize,
-}
-
-impl RawTable {
-    pub fn height(&self) -> usize {
-        self.columns.first().map_or(0, RawColumn::len)
-    }
-
-    pub fn find(&self, name: &str) -> Option<usize> {
-        self.names.iter().position(|n| n == name)
-    }
-}
 
 /// A column to write.
 #[derive(Debug)]
@@ -208,7 +158,7 @@ pub(crate) fn read(path: &Path, format: Format) -> Result<RawTable, DataError> {
         integer_type,
         skipped,
     };
-    crate::codes::apply(path, &mut raw);
+    codes::apply(path, &mut raw);
     Ok(raw)
 }
 

@@ -2,7 +2,6 @@
 //! coverage and median width of the 95 % intervals of every case, made by each method the
 //! model files offer (CV+ conformal, split conformal, the delta method), side by side.
 
-use crate::beyond::BeyondResults;
 use hxai_hybrid::IntervalMethod;
 use hxai_hybrid::IntervalReport;
 use hxai_hybrid::tables::TableModel;
@@ -90,9 +89,35 @@ fn cell(rows: &[MethodInterval], method: IntervalMethod, relative: bool) -> Stri
     format!("{} ({width})", pct(m.report.coverage))
 }
 
+/// One table case as the section shows it (made by `crate::beyond::CaseResult::intervals`).
+#[derive(Debug, Clone, Copy)]
+pub struct TableCase<'a> {
+    /// Human title.
+    pub title: &'a str,
+    /// `additive` or `multiplicative`.
+    pub correction_form: &'a str,
+    /// The column of the extrapolation split.
+    pub extrapolate: &'a str,
+    /// The generator's measurement scatter (log-sd of the measured/true ratio).
+    pub noise_rel: Option<f64>,
+    /// The random split's, then the extrapolation split's intervals.
+    pub splits: [TableSplit<'a>; 2],
+}
+
+/// One split of a [`TableCase`].
+#[derive(Debug, Clone, Copy)]
+pub struct TableSplit<'a> {
+    /// `random` or `extrapolate`.
+    pub split: &'a str,
+    /// Test rows.
+    pub n_test: usize,
+    /// Each method's intervals on the test rows.
+    pub intervals: &'a [MethodInterval],
+}
+
 /// The section's markdown: the tool case's `tool` intervals (of the amplitude, on the test
 /// windows) and each table case's at both splits.
-pub fn markdown(tool: &[MethodInterval], beyond: &BeyondResults) -> String {
+pub fn markdown(tool: &[MethodInterval], cases: &[TableCase<'_>]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -127,11 +152,11 @@ pub fn markdown(tool: &[MethodInterval], beyond: &BeyondResults) -> String {
             cell(tool, IntervalMethod::Delta, false)
         );
     }
-    for c in &beyond.cases {
+    for c in cases {
         let band = c
             .noise_rel
             .map_or("–".into(), |sd| pct(2.0 * (1.96 * sd).sinh()));
-        for sp in [&c.random, &c.extrapolation] {
+        for sp in &c.splits {
             let split = if sp.split == "random" {
                 "random".to_string()
             } else {
@@ -143,9 +168,9 @@ pub fn markdown(tool: &[MethodInterval], beyond: &BeyondResults) -> String {
                 c.title,
                 c.correction_form,
                 sp.n_test,
-                cell(&sp.intervals, IntervalMethod::Conformal, true),
-                cell(&sp.intervals, IntervalMethod::Split, true),
-                cell(&sp.intervals, IntervalMethod::Delta, true),
+                cell(sp.intervals, IntervalMethod::Conformal, true),
+                cell(sp.intervals, IntervalMethod::Split, true),
+                cell(sp.intervals, IntervalMethod::Delta, true),
             );
         }
     }

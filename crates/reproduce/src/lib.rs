@@ -212,7 +212,14 @@ pub fn run(
             "README.md".to_string(),
             report::markdown(&computed.results)
                 + &beyond::markdown(&beyond)
-                + &intervals::markdown(&computed.results.intervals, &beyond)
+                + &intervals::markdown(
+                    &computed.results.intervals,
+                    &beyond
+                        .cases
+                        .iter()
+                        .map(beyond::CaseResult::intervals)
+                        .collect::<Vec<_>>(),
+                )
                 + &pages::markdown(
                     &beyond
                         .cases

@@ -4,7 +4,7 @@
 //! looks like on every case the reproduction runs.
 
 use crate::ReproduceError;
-use crate::pipeline::Computed;
+use crate::pipeline::{Computed, input};
 use hxai_hybrid::records::RecordInput;
 use hxai_hybrid::tables::Comparison;
 use hxai_table::Table;
@@ -34,7 +34,7 @@ pub const TOOL_FILE: &str = "report_tool.html";
 /// # Errors
 /// The model cannot be applied to the records (it was fitted on them, so this is a bug).
 pub fn tool(c: &Computed) -> Result<(String, String), ReproduceError> {
-    let inputs: Vec<RecordInput<'_>> = c.records.iter().map(crate::plots::input).collect();
+    let inputs: Vec<RecordInput<'_>> = c.records.iter().map(input).collect();
     let mut model = c.fit.model.clone();
     model.correction.selection = Some(c.results.symbolic.selection.clone());
     let compare = serde_json::json!({

@@ -26,6 +26,17 @@ pub struct Computed {
     pub timings: Vec<(&'static str, f64)>,
 }
 
+/// A simulated record as the record model takes it, with its probe as the truth.
+pub(crate) fn input(r: &SimRecord) -> RecordInput<'_> {
+    RecordInput {
+        id: &r.id,
+        fs_hz: r.fs_hz,
+        frequency_hz: r.frequency_hz,
+        signal: &r.accel_ms2,
+        truth: Some(&r.probe_um),
+    }
+}
+
 /// `values[i]` for every `i` of `idx`.
 fn pick(values: &[f64], idx: &[usize]) -> Vec<f64> {
     idx.iter().map(|&i| values[i]).collect()
@@ -57,7 +68,7 @@ pub fn compute(
 
     // 2-3. Physics model, delta, features, split, symbolic regression of delta.
     let t = Instant::now();
-    let inputs: Vec<RecordInput<'_>> = records.iter().map(crate::plots::input).collect();
+    let inputs: Vec<RecordInput<'_>> = records.iter().map(input).collect();
     let fit_cfg = RecordConfig {
         seed: cfg.seed,
         test_fraction: cfg.test_fraction,

@@ -3,8 +3,7 @@
 
 use crate::ReproduceError;
 use crate::figures::{Panel, Series, draw};
-use crate::pipeline::Computed;
-use hxai_hybrid::records::RecordInput;
+use crate::pipeline::{Computed, input};
 use hxai_sim::SimRecord;
 use std::collections::BTreeMap;
 
@@ -94,16 +93,6 @@ fn trace(r: &SimRecord, x: &[f64], start: usize, n: usize, offset: f64) -> Vec<(
     (start..start + n)
         .filter_map(|i| Some((r.time_s.get(i)? * 1e3, x.get(i)? - offset)))
         .collect()
-}
-
-pub(crate) fn input(r: &SimRecord) -> RecordInput<'_> {
-    RecordInput {
-        id: &r.id,
-        fs_hz: r.fs_hz,
-        frequency_hz: r.frequency_hz,
-        signal: &r.accel_ms2,
-        truth: Some(&r.probe_um),
-    }
 }
 
 fn fig4(c: &Computed) -> Vec<Panel> {
@@ -367,7 +356,7 @@ pub fn all(c: &Computed) -> Result<Vec<(String, String)>, ReproduceError> {
         .collect::<Result<Vec<_>, ReproduceError>>()?;
     files.extend(explain(c)?);
     if let Some(r) = pick(c, 25.0) {
-        let panels = crate::streaming::figure(c, r)?;
+        let panels = crate::streaming::figure(&c.fit.model, r)?;
         files.push((STREAM_FIGURE.to_string(), draw(STREAM_FIGURE, &panels, 1)?));
     }
     Ok(files)

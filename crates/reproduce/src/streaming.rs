@@ -4,7 +4,6 @@
 
 use crate::ReproduceError;
 use crate::figures::{Panel, Series};
-use crate::pipeline::Computed;
 use hxai_hybrid::records::stream::Estimator;
 use hxai_hybrid::records::{RecordInput, RecordModel};
 use hxai_sim::SimRecord;
@@ -75,8 +74,11 @@ pub struct StreamingSummary {
 /// The record as the offline prediction takes it, without its truth.
 fn input(r: &SimRecord) -> RecordInput<'_> {
     RecordInput {
+        id: &r.id,
+        fs_hz: r.fs_hz,
+        frequency_hz: r.frequency_hz,
+        signal: &r.accel_ms2,
         truth: None,
-        ..crate::plots::input(r)
     }
 }
 
@@ -198,13 +200,13 @@ pub fn compute(all: &[SimRecord], model: &RecordModel) -> Result<StreamingSummar
     })
 }
 
-/// The figure: the probe, the offline and the streaming hybrid over one test record at 25 Hz
-/// around the end of the warm-up (marked), where the streaming rows begin.
+/// The figure: the probe, the offline and the streaming hybrid of `model` over one test
+/// record (at 25 Hz) around the end of the warm-up (marked), where the streaming rows begin.
 ///
 /// # Errors
 /// The estimator's and the offline prediction's errors.
-pub fn figure(c: &Computed, r: &SimRecord) -> Result<Vec<Panel>, ReproduceError> {
-    let (_, sh, _, oh, est) = predictions(&c.fit.model, r)?;
+pub fn figure(model: &RecordModel, r: &SimRecord) -> Result<Vec<Panel>, ReproduceError> {
+    let (_, sh, _, oh, est) = predictions(model, r)?;
     let w = est.warmup_samples();
     let period = (r.fs_hz / r.frequency_hz).round() as usize;
     let from = w.saturating_sub(2 * period);

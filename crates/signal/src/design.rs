@@ -66,7 +66,10 @@ pub fn butter(order: usize, band: Band, fs: f64) -> Result<Sos, SignalError> {
         return Err(SignalError::ZeroOrder);
     }
     if order > MAX_ORDER {
-        return Err(SignalError::OrderTooHigh(order));
+        return Err(SignalError::OrderTooHigh {
+            order,
+            max: MAX_ORDER,
+        });
     }
     band.check(fs)?;
     let n = order as f64;

@@ -69,8 +69,13 @@ pub enum SignalError {
     #[error("the filter order must be at least 1")]
     ZeroOrder,
     /// A filter order above [`crate::MAX_ORDER`] was requested.
-    #[error("the filter order {0} is too high; at most {max} is supported (typical: 2 to 8)", max = crate::MAX_ORDER)]
-    OrderTooHigh(usize),
+    #[error("the filter order {order} is too high; at most {max} is supported (typical: 2 to 8)")]
+    OrderTooHigh {
+        /// The order requested.
+        order: usize,
+        /// The highest order supported.
+        max: usize,
+    },
     /// A filter section is unusable (a0 = 0 or non-finite coefficients).
     #[error("filter section {index} is invalid: {reason}")]
     InvalidSection {

@@ -52,6 +52,7 @@
 
 #[doc(hidden)]
 pub mod bench_programs;
+mod bootstrap;
 pub mod canonical;
 pub mod consensus;
 mod determined;

@@ -182,3 +182,17 @@ impl Program {
         stack.pop().unwrap_or(0)
     }
 }
+
+/// Pushes `w * top + b` onto the program, leaving out a unit weight and a zero offset.
+pub(crate) fn affine(w: f64, b: f64, nodes: &mut Vec<Node>, params: &mut Vec<f64>) {
+    if w != 1.0 {
+        nodes.push(Node::Const);
+        params.push(w);
+        nodes.push(Node::Op(Op::Mul));
+    }
+    if b != 0.0 {
+        nodes.push(Node::Const);
+        params.push(b);
+        nodes.push(Node::Op(Op::Add));
+    }
+}

@@ -33,6 +33,7 @@
 use crate::eval::{Evaluator, Inputs};
 use crate::expr::Expr;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
+pub use crate::model::is_exact;
 use crate::program::Program;
 use crate::{Model, SrError, Table};
 use serde::{Deserialize, Serialize};
@@ -355,11 +356,6 @@ pub(crate) mod ordered_map {
     ) -> Result<Vec<(String, ParamEstimate)>, D::Error> {
         d.deserialize_map(V)
     }
-}
-
-/// True for the values snapping fixes as exact: whole and half numbers (0 and +-1 among them).
-pub fn is_exact(v: f64) -> bool {
-    v.is_finite() && (2.0 * v).fract() == 0.0
 }
 
 /// Template names `p0`, `p1`, ... for `count` parameters, skipping names in `taken`.

@@ -3,7 +3,8 @@
 use crate::HybridError;
 use crate::IntervalReport;
 use crate::correction::CorrectionInfo;
-use crate::records::composer::{RecordHybrid, RecordInput};
+use crate::records::composer::RecordHybrid;
+use crate::records::sample::RecordInput;
 use hxai_eval::Metrics;
 use serde::{Deserialize, Serialize};
 

@@ -20,13 +20,14 @@ mod composer;
 mod evaluation;
 mod model;
 mod rows;
+mod sample;
 pub mod stream;
 mod warnings;
 mod window;
 
 pub use composer::{
-    Latent, RecordHybrid, RecordInput, RecordPrediction, RecordSamples, WindowPrediction,
-    WindowSample, corrected_latent, feature_names, reconstruct_record,
+    RecordHybrid, RecordPrediction, RecordSamples, WindowPrediction, corrected_latent,
+    feature_names, reconstruct_record,
 };
 pub(crate) use evaluation::metrics_um;
 pub use evaluation::{EvalInput, Evaluation, evaluate};
@@ -36,6 +37,7 @@ pub use model::{
     split_samples,
 };
 pub use rows::WindowRow;
+pub use sample::{Latent, RecordInput, WindowSample};
 pub use warnings::{
     AMPLITUDE_RATIO_LIMIT, MIN_PERIODS_PER_WINDOW, PLAUSIBLE_FS_HZ, Warning, amplitude_warning,
     input_warnings, record_warnings, units_warning,

@@ -1,7 +1,7 @@
 //! Warnings: input that is legal but implausible, reported with the result instead of
 //! refused (the caller decides whether to show them; this crate prints nothing).
 
-use crate::records::composer::{RecordInput, WindowSample};
+use crate::records::sample::{RecordInput, WindowSample};
 use crate::records::window::WindowConfig;
 use serde::{Deserialize, Serialize};
 

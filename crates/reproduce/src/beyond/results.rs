@@ -1,5 +1,6 @@
 //! The section's results as they go into `results.json` (key `beyond_the_paper`).
 
+use crate::intervals::{MethodInterval, TableCase, TableSplit};
 use hxai_hybrid::tables::ModelScore;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -56,6 +57,26 @@ pub struct CaseResult {
     pub goals: Goals,
 }
 
+impl CaseResult {
+    /// The case as the section "Prediction intervals by method" shows it.
+    pub fn intervals(&self) -> TableCase<'_> {
+        fn split(s: &SplitResult) -> TableSplit<'_> {
+            TableSplit {
+                split: &s.split,
+                n_test: s.n_test,
+                intervals: &s.intervals,
+            }
+        }
+        TableCase {
+            title: &self.title,
+            correction_form: &self.correction_form,
+            extrapolate: &self.extrapolate,
+            noise_rel: self.noise_rel,
+            splits: [split(&self.random), split(&self.extrapolation)],
+        }
+    }
+}
+
 /// One split of one case.
 #[derive(Debug, Clone, Serialize)]
 pub struct SplitResult {
@@ -83,7 +104,7 @@ pub struct SplitResult {
     /// method (`None` when they cannot be computed).
     pub interval: Option<hxai_hybrid::IntervalReport>,
     /// The same by every method the model file offers ([`crate::intervals`]).
-    pub intervals: Vec<crate::intervals::MethodInterval>,
+    pub intervals: Vec<MethodInterval>,
 }
 
 /// One physics parameter.

@@ -453,6 +453,17 @@ fn union(leaves: &[Leaf]) -> Iv {
 
 // ---- the box -----------------------------------------------------------------------------
 
+/// The default [`SearchConfig::defined_margin`](crate::SearchConfig::defined_margin): 10 %
+/// of each column's range (issue 64), the `margin` of [`widened_box`] that the search and
+/// the factor fits check candidates over.
+pub const DEFINED_MARGIN: f64 = 0.1;
+
+/// Boxes [`defined_over`] may bisect a candidate's input box into before a candidate not
+/// yet proven defined is rejected (by the search and the factor fits): 64 halvings settle
+/// the dependency over-estimates of short programs (`1/(x^2 - x + 1)` needs a handful) at a
+/// cost of about a millisecond per rejected candidate, a fraction of its fit.
+pub const DEFINED_BOXES: usize = 64;
+
 /// The box of `columns` widened by `margin` (for example 0.1) of each column's range on each
 /// side, but not below 0 for a column whose values are all `>= 0` (a length, a speed, a
 /// count stays one), and not to 0 for a column whose values are all `> 0`: where the linear

@@ -9,32 +9,15 @@
 use super::shape::Shape;
 use super::structure::Structure;
 use super::{FactorConfig, Link, fit_structure};
+use crate::bootstrap::{FactorBand, Stability, bootstrap_rows, r2_spread, shares};
 use crate::canonical::structure_of;
-use crate::stability::{Stability, bootstrap_rows, r2_spread, shares};
 use crate::{Par, SrError, Table};
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Mutex;
 
 /// Points of a factor's response grid.
 const GRID: usize = 25;
-
-/// A one-column factor's response over the runs that kept it (JSON: an entry of
-/// `stability.bands`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct FactorBand {
-    /// Runs that kept a factor of this column.
-    pub runs: usize,
-    /// Grid over the column's range in the rows.
-    pub grid: Vec<f64>,
-    /// 5 % quantile of the normalised response at each grid point.
-    pub lo: Vec<f64>,
-    /// Median.
-    pub median: Vec<f64>,
-    /// 95 % quantile.
-    pub hi: Vec<f64>,
-}
 
 /// What one run kept.
 struct Run {

@@ -53,7 +53,8 @@ mod select;
 mod shape;
 mod structure;
 
-pub use bands::{FactorBand, FactorStability, factor_stability, factor_stability_on_physics};
+pub use crate::bootstrap::FactorBand;
+pub use bands::{FactorStability, factor_stability, factor_stability_on_physics};
 pub use shape::{Shape, complexity, template};
 
 use crate::expr::Expr;

@@ -162,12 +162,12 @@ impl Structure {
         }
         // no pole, no log of a value <= 0 and no blow-up beside the rows either: the
         // search's rule (issue 64), over the rows' box widened by the same margin
-        let bounds = crate::enclosure::widened_box(cols, crate::search::DEFINED_MARGIN);
+        let bounds = crate::enclosure::widened_box(cols, crate::enclosure::DEFINED_MARGIN);
         if crate::enclosure::defined_over(
             &w.program,
             &params,
             &bounds,
-            crate::search::DEFINED_BOXES,
+            crate::enclosure::DEFINED_BOXES,
         )
         .is_err()
         {

@@ -1,11 +1,10 @@
 //! Dropping a constant's term from a fitted model ([`Model::without_constant`]) and
 //! refitting a model's constants on other rows ([`Model::refitted`]): what a hybrid's "every
 //! constant earns its place" rule (issue 64) weighs a model against.
-use super::{Model, prune_snapped};
+use super::{Model, is_exact, prune_snapped};
 use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::program::{Node, Program};
-use crate::uncertainty::is_exact;
 use crate::{SrError, Table};
 
 /// Iterations of the refits here: those of [`Model::uncertainty`]'s refit.

@@ -11,6 +11,7 @@ use crate::program::{ComplexityMeasure, Node, Program};
 use crate::{SrError, Table};
 pub(crate) use fold::{fold_data_constants, prune_snapped};
 use serde::{Deserialize, Serialize};
+pub use snap::is_exact;
 pub(crate) use snap::{SnapRule, snap_params};
 
 /// A fitted symbolic model: a postfix program over named features with its parameters.

@@ -5,6 +5,11 @@ use crate::eval::Evaluator;
 use crate::fit::{LmSettings, Unknowns, levenberg_marquardt};
 use crate::program::{Node, Program};
 
+/// True for the values snapping fixes as exact: whole and half numbers (0 and +-1 among them).
+pub fn is_exact(v: f64) -> bool {
+    v.is_finite() && (2.0 * v).fract() == 0.0
+}
+
 /// How close (relative) a constant must be to a third, a quarter or a named irrational
 /// ([`crate::expr::named_constants`]) for that value to be tried: 1 %. Farther values would
 /// rarely pass the criterion and each try costs a refit.

@@ -1,6 +1,7 @@
 //! Search settings: which strategy, which selection criterion, and every knob with its
 //! default and its check.
 use crate::consensus::MAX_CONSENSUS_RUNS;
+pub use crate::enclosure::{DEFINED_BOXES, DEFINED_MARGIN};
 use crate::nesting::{Nesting, NestingRules};
 use crate::ops::{Op, OpCosts, parse_operators};
 use crate::program::ComplexityMeasure;
@@ -356,15 +357,6 @@ impl Default for SearchConfig {
         }
     }
 }
-
-/// The default [`SearchConfig::defined_margin`]: 10 % of each column's range (issue 64).
-pub const DEFINED_MARGIN: f64 = 0.1;
-
-/// Boxes [`crate::enclosure::defined_over`] may bisect a candidate's input box into before
-/// a candidate not yet proven defined is rejected: 64 halvings settle the dependency
-/// over-estimates of short programs (`1/(x^2 - x + 1)` needs a handful) at a cost of about
-/// a millisecond per rejected candidate, a fraction of its fit.
-pub const DEFINED_BOXES: usize = 64;
 
 impl SearchConfig {
     /// The defaults with the paper's operators ([`PAPER_OPERATORS`]), no transcendental

@@ -4,6 +4,7 @@
 //! In layers, each a folder that uses the files above it and none below (`cargo xtask
 //! check-docs` fails on a circle of `use` among a folder's files):
 //! - `config`: [`SearchConfig`], [`Strategy`], [`Criterion`] and their checks;
+//! - `progress`: [`Progress`], what a search reports after every epoch;
 //! - `archive`: candidates, fits, and the best fit per complexity;
 //! - `fitting`: the rows a search fits on, one candidate's fit (and a refit of given
 //!   constants), the criterion, the seeds;
@@ -24,8 +25,10 @@
 //!   [`Model`](crate::Model) naming only the features it uses;
 //! - `structure`: [`fit_structure`], one given structure without a search (fitting, then
 //!   selection);
-//! - `run`: [`search()`] (one search, or the consensus of [`crate::consensus`]), the main
-//!   loop over all of the above, and [`Progress`].
+//! - `vote`: the consensus of [`crate::consensus`] over B + 1 searches, each passed in as a
+//!   closure (the loop's own, or `crate::units`' search on the dimensionless groups);
+//! - `run`: [`search()`] (one search, or the consensus of `vote`) and the main loop over
+//!   all of the above.
 //!
 //! Every heuristic constant is named and explained where it is used.
 mod archive;
@@ -35,10 +38,12 @@ mod decompose;
 mod fitting;
 mod mutual_information;
 mod power;
+mod progress;
 mod propose;
 mod run;
 mod select;
 mod structure;
+mod vote;
 
 #[doc(hidden)]
 pub use beside::BLOW_UP_RANGES;
@@ -46,8 +51,9 @@ pub use config::{
     Criterion, DEFAULT_OPERATORS, DEFINED_BOXES, DEFINED_MARGIN, ErrorModel, FEW_ROWS,
     LAW_OPERATORS, PAPER_OPERATORS, Prior, RandomStart, SearchConfig, Strategy, ValidSearch,
 };
+pub use progress::Progress;
 pub use propose::generate;
-pub use run::{Progress, search, search_checked};
+pub use run::{search, search_checked};
 pub use select::{SearchResult, plainness};
 pub use structure::fit_structure;
-pub(crate) use structure::fit_structure_from;
+pub(crate) use vote::search_with;

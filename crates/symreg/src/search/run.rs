@@ -6,8 +6,10 @@ use super::decompose::{Spent, decompositions, polynomials};
 use super::fitting::{Problem, check_target, derive_seed, search_target_variance};
 use super::mutual_information::input_priors;
 use super::power;
+use super::progress::Progress;
 use super::propose::{self, ROUNDS_PER_EPOCH, Step, Tables};
 use super::select::{Counts, Finalists, SearchResult, select};
+use super::vote;
 use crate::canonical::{self, Effort};
 use crate::nesting::NestingRules;
 use crate::program::Program;
@@ -23,19 +25,6 @@ use std::time::Instant;
 /// busy (a few hundred fits of about a millisecond each), small enough that a time limit
 /// overshoots by a fraction of a second at most.
 const FIT_CHUNK: usize = 256;
-
-/// Reported after every epoch.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Progress {
-    /// Epochs done (1-based).
-    pub epoch: usize,
-    /// Epochs planned.
-    pub epochs: usize,
-    /// Models fitted so far.
-    pub evaluations: u64,
-    /// Lowest training mean squared error so far.
-    pub best_loss: f64,
-}
 
 /// Runs symbolic regression of `target` on the columns of `data`: one search, or with
 /// [`SearchConfig::consensus_runs`] > 0 the consensus of that many bootstrap searches
@@ -82,7 +71,7 @@ pub fn search_checked(
         )));
     }
     if cfg.consensus_runs > 0 {
-        return crate::consensus::search_with(data, target, cfg, progress, &plain_search);
+        return vote::search_with(data, target, cfg, progress, &plain_search);
     }
     plain_search(data, target, cfg, progress)
 }

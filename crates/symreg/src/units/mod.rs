@@ -21,7 +21,7 @@ mod parse;
 pub use parse::{BASE, Dimension};
 
 use crate::canonical::canonical_program;
-use crate::program::{Node, Program};
+use crate::program::{Node, Program, affine};
 use crate::{Model, Op, SearchConfig, SearchResult, SrError, Table, ValidSearch};
 
 /// A fraction of two integers, in lowest terms with a positive denominator.
@@ -330,20 +330,6 @@ fn power(x: f64, k: f64) -> f64 {
     }
 }
 
-/// Pushes `w * top + b` onto the program, leaving out a unit weight and a zero offset.
-pub(crate) fn affine(w: f64, b: f64, nodes: &mut Vec<Node>, params: &mut Vec<f64>) {
-    if w != 1.0 {
-        nodes.push(Node::Const);
-        params.push(w);
-        nodes.push(Node::Op(Op::Mul));
-    }
-    if b != 0.0 {
-        nodes.push(Node::Const);
-        params.push(b);
-        nodes.push(Node::Op(Op::Add));
-    }
-}
-
 /// Pushes one input to a positive power: whole powers as products and squares, halves as
 /// the square root of a whole power, others as `pow` with the exponent as a constant.
 fn power_nodes(var: u16, r: Ratio, nodes: &mut Vec<Node>, params: &mut Vec<f64>) {
@@ -493,7 +479,7 @@ fn search_checked(
     if cfg.consensus_runs > 0 {
         // each of the B + 1 searches runs on the groups and is composed back, so the votes
         // are on the composed structures and the winner is refitted on the columns
-        return crate::consensus::search_with(data, y, cfg, progress, &|d, t, c, p| {
+        return crate::search::search_with(data, y, cfg, progress, &|d, t, c, p| {
             search_checked(d, t, Some(reduction), c, p)
         });
     }

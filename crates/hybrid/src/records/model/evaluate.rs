@@ -4,8 +4,8 @@
 use super::{RecordModel, SplitKind};
 use crate::HybridError;
 use crate::intervals::{DEFAULT_INTERVAL, IntervalReport};
-use crate::records::composer::RecordInput;
 use crate::records::evaluation::{EvalInput, Evaluation, evaluate};
+use crate::records::sample::RecordInput;
 use crate::records::warnings::input_warnings;
 use hxai_eval::IntervalMethod;
 use std::collections::BTreeMap;

@@ -7,7 +7,8 @@ use super::{
 };
 use crate::HybridError;
 use crate::correction::CorrectionInfo;
-use crate::records::composer::{RecordHybrid, RecordInput, WindowSample};
+use crate::records::composer::RecordHybrid;
+use crate::records::sample::{RecordInput, WindowSample};
 use crate::records::warnings::{Warning, input_warnings, units_warning};
 use crate::records::window::WindowConfig;
 use crate::split::{SplitInfo, WindowId};

@@ -16,8 +16,9 @@ pub use samples::{SamplesTable, samples_table};
 
 use crate::HybridError;
 use crate::correction::CorrectionInfo;
-use crate::records::composer::{RecordHybrid, RecordInput, feature_names};
+use crate::records::composer::{RecordHybrid, feature_names};
 use crate::records::metrics_um;
+use crate::records::sample::RecordInput;
 use crate::records::window::WindowConfig;
 use crate::split::SplitInfo;
 use hxai_eval::Metrics;

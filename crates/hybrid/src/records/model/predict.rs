@@ -4,7 +4,8 @@
 use super::RecordModel;
 use crate::HybridError;
 use crate::explain::{ExplainData, Explanation};
-use crate::records::composer::{RecordInput, RecordPrediction, WindowSample};
+use crate::records::composer::RecordPrediction;
+use crate::records::sample::{RecordInput, WindowSample};
 use crate::records::warnings::input_warnings;
 use hxai_eval::IntervalMethod;
 

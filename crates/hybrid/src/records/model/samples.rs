@@ -5,7 +5,7 @@
 //! here only.
 
 use crate::HybridError;
-use crate::records::composer::WindowSample;
+use crate::records::sample::WindowSample;
 use hxai_table::Table;
 use std::fmt::Write;
 

@@ -317,7 +317,12 @@ pub(super) fn substitute(
             Node::Var(v) => {
                 nodes.extend_from_slice(&inputs[usize::from(*v)]);
                 if program.affine {
-                    crate::units::affine(params[off[i]], params[off[i] + 1], &mut nodes, &mut out);
+                    crate::program::affine(
+                        params[off[i]],
+                        params[off[i] + 1],
+                        &mut nodes,
+                        &mut out,
+                    );
                 }
             }
             Node::Const => {
