@@ -142,24 +142,6 @@ pub fn first_bad_cell(text: &[(String, Vec<String>)]) -> Option<HybridError> {
     text.iter().find_map(|(n, cells)| bad_cell(n, cells, false))
 }
 
-/// The columns a fitted model reads to predict (the physics' columns and the correction's
-/// features, and the group column), and the target when `with_target` (to evaluate).
-pub fn model_columns(model: &super::TableModel, with_target: bool) -> Vec<String> {
-    let mut used = model.physics.columns.clone();
-    used.extend(
-        model
-            .correction
-            .model
-            .iter()
-            .flat_map(|m| m.feature_names.iter().cloned()),
-    );
-    used.extend(model.group.iter().cloned());
-    if with_target {
-        used.push(model.target.clone());
-    }
-    used
-}
-
 /// Checks the text columns of a table (each with its cells, rows in file order) against
 /// `cfg`, and returns the warnings for those left out of the correction's features.
 ///

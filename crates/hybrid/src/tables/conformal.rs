@@ -30,7 +30,7 @@ use super::resolve::Resolved;
 use super::{TableConfig, calibrate};
 use crate::HybridError;
 use crate::conformal::{ConformalInfo, HeldOut, RangeWidening, held_out, refit_constants};
-use hxai_eval::{IntervalMethod, Split};
+use hxai_eval::Split;
 use hxai_symreg::eval::Evaluator;
 use hxai_symreg::uncertainty::is_exact;
 use hxai_symreg::{Model, Table};
@@ -138,21 +138,13 @@ fn fold_fit(
             // as `refit_constants`: the step is halved until the hybrid is finite on every
             // row where it was (the fold's held-out rows among them; features only)
             if let Some(p) = crate::conformal::step_within_domain(&c.params, &trial, |p| {
-                predict_with(&c, p, table)
+                c.predict_with(p, table)
             })? {
                 c.params = p;
             }
         }
     }
     Ok(c)
-}
-
-/// The one-program hybrid's predictions with `params` on every row of `table`.
-fn predict_with(c: &Combined, params: &[f64], table: &Table) -> Result<Vec<f64>, HybridError> {
-    let cols = columns_of(table, &c.names, "column")?;
-    let mut out = Vec::new();
-    Evaluator::new(&c.program).predict(&c.program, params, &cols, table.n_rows(), &mut out);
-    Ok(out)
 }
 
 /// CV+ calibration of `model` (fitted with `cfg` on `table`, training rows `train`) over
@@ -189,7 +181,7 @@ pub(crate) fn calibrate(
         |s| {
             let rows: Vec<usize> = s.train.iter().map(|&i| train[i]).collect();
             let c = fold_fit(table, cfg, res, fitted, &rows)?;
-            let pred = predict_with(&c, &c.params, table)?;
+            let pred = c.predict_with(&c.params, table)?;
             Ok((c.params, pred))
         },
     )?;
@@ -258,7 +250,7 @@ fn widening(
             let Ok(f) = fold_fit(table, cfg, res, model.correction.fitted()?, &fit) else {
                 continue;
             };
-            let pred = predict_with(&f, &f.params, table)?;
+            let pred = f.predict_with(&f.params, table)?;
             let (flo, fhi) = extent(&fit);
             for &r in &out {
                 let z = info.scale.to(pred[r]);
@@ -283,32 +275,4 @@ fn widening(
         hi,
         held_out,
     })
-}
-
-/// The table hybrid's intervals at `level` by `method` for every row of `table` from the
-/// calibration `conf` (`c`: the model's one-program hybrid).
-///
-/// # Errors
-/// Those of [`ConformalInfo::intervals_from`] and a missing column.
-pub(crate) fn intervals(
-    conf: &ConformalInfo,
-    c: &Combined,
-    table: &Table,
-    level: f64,
-    method: IntervalMethod,
-) -> Result<Vec<(f64, f64)>, HybridError> {
-    let distance = match &conf.widening {
-        Some(w) => Some(w.distances(table)?),
-        None => None,
-    };
-    let iv = conf.intervals_by(
-        |p| predict_with(c, p, table),
-        distance.as_deref(),
-        level,
-        method,
-    )?;
-    Ok(crate::intervals::holding_points(
-        iv,
-        &predict_with(c, &c.params, table)?,
-    ))
 }

@@ -58,7 +58,7 @@ mod split;
 pub mod traps;
 
 pub use crate::conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, ResidualScale};
-pub use columns::{check_text_columns, check_used_columns, first_bad_cell, model_columns};
+pub use columns::{check_text_columns, check_used_columns, first_bad_cell};
 pub use compare::{Comparison, CvScore, ModelScore, TTestScore, compare};
 pub use correction_per::{CorrectionPer, CorrectionPerInfo};
 pub use fit::auto;
@@ -66,14 +66,13 @@ pub use fit::{fit, fit_split, measure_stability, stability};
 pub use model::{
     BlackBox, BlackBoxScores, EquationInfo, JointInfo, MissingInfo, OUTSIDE_MARGIN, PairScores,
     PhysicsInfo, SCHEMA_VERSION, ScoresInfo, TableEvaluation, TableModel, TablePrediction,
-    TrainingRanges,
+    TrainingRanges, model_columns,
 };
 pub use per_class::PerClassInfo;
 pub use slots::SlotInfo;
 pub use split::split_rows;
 
 use hxai_symreg::SearchConfig;
-use physics::deltas;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 

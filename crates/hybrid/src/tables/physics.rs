@@ -1,6 +1,7 @@
 //! The physics on a table: calibrated on the training rows (Levenberg-Marquardt over tied
 //! leaves, standard errors), its values on every row, and the correction's target `delta`.
 
+pub(crate) use super::model::deltas;
 use super::model::{Combined, columns_of, finite_physics};
 use super::resolve::Resolved;
 use super::{CorrectionForm, TableConfig, calibrate};
@@ -77,50 +78,6 @@ pub(crate) fn physics_values(
     phys: &Compiled,
 ) -> Result<Vec<f64>, HybridError> {
     finite_physics(table, phys, &res.columns)
-}
-
-/// `delta` on `rows` for the correction form, refusing rows where it is undefined.
-pub(crate) fn deltas(
-    kind: CorrectionForm,
-    y: &[f64],
-    physics: &[f64],
-    rows: &[usize],
-) -> Result<Vec<f64>, HybridError> {
-    rows.iter()
-        .map(|&i| match kind {
-            CorrectionForm::Additive => Ok(y[i] - physics[i]),
-            CorrectionForm::Multiplicative => {
-                if physics[i] == 0.0 {
-                    Err(HybridError::BadPhysics {
-                        row: i,
-                        value: physics[i],
-                        why: "so the multiplicative correction y / f_p - 1 is undefined: use --correction additive".into(),
-                    })
-                } else {
-                    Ok(y[i] / physics[i] - 1.0)
-                }
-            }
-            CorrectionForm::Log => {
-                if y[i] > 0.0 && physics[i] > 0.0 {
-                    Ok((y[i] / physics[i]).ln())
-                } else {
-                    let why = if physics[i] > 0.0 {
-                        format!(
-                            "but the target there is {}: the log correction ln(y / f_p) needs a positive target; use --correction multiplicative or additive",
-                            y[i]
-                        )
-                    } else {
-                        "so the log correction ln(y / f_p) is undefined: use --correction additive".into()
-                    };
-                    Err(HybridError::BadPhysics {
-                        row: i,
-                        value: physics[i],
-                        why,
-                    })
-                }
-            }
-        })
-        .collect()
 }
 
 pub(super) fn named_values(phys: &Compiled) -> BTreeMap<String, f64> {

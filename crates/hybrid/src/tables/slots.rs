@@ -25,6 +25,7 @@
 //! errors, and the model file's `physics.equation` is the hybrid's physics with the slots
 //! substituted. `slots` in the model file ([`SlotInfo`]) says what each slot became.
 
+pub use super::model::SlotInfo;
 use super::physics::{calibrate_physics, gather, named_values};
 use super::resolve::{cols_list, edit_distance, resolve};
 use super::{Form, TableConfig, TableProgress, ValidTable};
@@ -34,7 +35,6 @@ use hxai_symreg::expr::Expr;
 use hxai_symreg::factors::Link;
 use hxai_symreg::infix::{SlotCall, parse_with_slots};
 use hxai_symreg::{Op, ParamEstimate};
-use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// Most backfitting rounds of calibration and slot searches.
@@ -52,26 +52,6 @@ const FUNCTIONS: [&str; 10] = [
 /// left out of a free-form slot's search.
 const FREE_ROWS: f64 = 0.25;
 
-/// A learned slot as the model file stores it (JSON entry of `slots`).
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct SlotInfo {
-    /// The slot's name in the physics (`f`).
-    pub name: String,
-    /// The columns it reads.
-    pub columns: Vec<String>,
-    /// How it was searched: `factors` or `free`.
-    pub form: String,
-    /// Its structure over the columns with named constants (`f_c0*C^f_c1`), as written
-    /// into `physics.equation`.
-    pub template: String,
-    /// The slot with its calibrated constants (4 significant digits).
-    pub equation: String,
-    /// Each constant's value, standard error and 95 % interval from the calibration.
-    pub uncertainty: BTreeMap<String, ParamEstimate>,
-    /// Backfitting rounds run.
-    pub rounds: usize,
-}
-
 /// A physics with slots written out: the configuration to fit (the physics with every slot
 /// substituted, the slots' constants among the calibrated parameters) and the slots.
 #[derive(Clone, Debug)]
@@ -81,17 +61,22 @@ pub(crate) struct Expanded {
 }
 
 impl Expanded {
-    /// Writes the slots, with their constants as calibrated in `model`, into `model`.
-    pub(crate) fn finish(&self, model: &mut super::TableModel) {
+    /// The slots with their constants as calibrated in the fitted model: `params` its
+    /// calibrated parameters' estimates, `values` every parameter's value (the model
+    /// file's `physics.params` and `physics.parameters`).
+    pub(crate) fn finished(
+        &self,
+        params: &BTreeMap<String, ParamEstimate>,
+        values: &BTreeMap<String, f64>,
+    ) -> Vec<SlotInfo> {
         let mut slots = self.slots.clone();
         for s in &mut slots {
             let names: Vec<String> = s.uncertainty.keys().cloned().collect();
             for n in names {
-                if let Some(p) = model.physics.params.get(&n) {
+                if let Some(p) = params.get(&n) {
                     s.uncertainty.insert(n, p.clone());
                 }
             }
-            let values = &model.physics.parameters;
             s.equation = hxai_symreg::infix::parse(&s.template)
                 .map(|p| {
                     substitute(&p.expr, &|n| values.get(n).map(|v| Expr::Num(*v)))
@@ -100,7 +85,7 @@ impl Expanded {
                 })
                 .unwrap_or_default();
         }
-        model.slots = slots;
+        slots
     }
 }
 

@@ -109,23 +109,6 @@ pub(crate) fn choose(
     ))
 }
 
-/// The warning of a choice that picked `none`: no correction these rows support, so the
-/// model is the calibrated physics alone (a legitimate answer the user should not miss).
-pub(crate) fn none_warning(c: &FormChoice) -> Option<String> {
-    (c.picked == Form::None.name()).then(|| {
-        let errors: Vec<String> =
-            c.cv.iter()
-                .map(|(f, e)| format!("{f} {}", hxai_table::format_number(e.mean)))
-                .collect();
-        format!(
-            "--form auto picked none: no correction beat the calibrated physics alone by more \
-             than one standard error in cross-validation (held-out mean squared error {}), so \
-             the model is the physics alone; --form factors or free fits one anyway",
-            errors.join(", ")
-        )
-    })
-}
-
 /// The rule of the choice over each form's held-out squared errors, one per training row
 /// (`errors`): each form's mean and standard error, and the simplest form whose mean is
 /// within [`AUTO_SE_RULE`] standard errors of the lowest mean (the standard error of that

@@ -126,7 +126,7 @@ pub fn fit(
     let mut model = fit_calibrated(job, &cal, progress)?;
     model.scores.black_boxes = black_box::black_box_scores(job, &cal, &model)?;
     if let Some(e) = &slots {
-        e.finish(&mut model);
+        model.slots = e.finished(&model.physics.params, &model.physics.parameters);
     }
     Ok(model)
 }
@@ -147,7 +147,7 @@ pub fn fit_split(
     let cfg = slots.as_ref().map_or(cfg, |e| &e.cfg);
     let mut model = fit_inner(SplitJob::single(table, cfg, split, "given"), progress)?;
     if let Some(e) = &slots {
-        e.finish(&mut model);
+        model.slots = e.finished(&model.physics.params, &model.physics.parameters);
     }
     Ok(model)
 }

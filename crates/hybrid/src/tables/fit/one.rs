@@ -9,12 +9,12 @@ use super::super::model::{TableModel, columns_of};
 use super::super::physics::{deltas, gather};
 use super::super::{CorrectionForm, Form, TableProgress};
 use super::assemble::{Fitted, model_of, scores_of};
-use super::auto::{FormChoice, none_warning};
 use super::earn::earn;
 use super::job::{Calibrated, SplitJob, Task};
 use super::joint::joint_refit;
 use super::search::{Searched, no_correction, search_factors, search_free};
 use crate::HybridError;
+use crate::correction::FormChoice;
 
 /// The fit of `job`'s split in the correction form `form` (`choice`: how `auto` chose it)
 /// from the split's calibrated physics `cal`; the joint refit works on its own copy of the
@@ -155,4 +155,21 @@ pub(crate) fn fit_form(
             cfg.correction == CorrectionForm::Additive,
         ));
     Ok(model)
+}
+
+/// The warning of a choice that picked `none`: no correction these rows support, so the
+/// model is the calibrated physics alone (a legitimate answer the user should not miss).
+pub(crate) fn none_warning(c: &FormChoice) -> Option<String> {
+    (c.picked == Form::None.name()).then(|| {
+        let errors: Vec<String> =
+            c.cv.iter()
+                .map(|(f, e)| format!("{f} {}", hxai_table::format_number(e.mean)))
+                .collect();
+        format!(
+            "--form auto picked none: no correction beat the calibrated physics alone by more \
+             than one standard error in cross-validation (held-out mean squared error {}), so \
+             the model is the physics alone; --form factors or free fits one anyway",
+            errors.join(", ")
+        )
+    })
 }

@@ -12,7 +12,7 @@ mod predict;
 mod program;
 
 pub(crate) use program::{
-    Combined, columns_of, combine, combine_values, compile_physics, finite_physics, forms,
+    Combined, columns_of, combine, combine_values, compile_physics, deltas, finite_physics, forms,
 };
 
 use super::CorrectionForm;
@@ -182,7 +182,7 @@ pub struct TableModel {
     /// what each became, its constants calibrated with the physics'; `physics.equation` is
     /// the physics with them substituted. Absent without slots.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub slots: Vec<super::slots::SlotInfo>,
+    pub slots: Vec<SlotInfo>,
 }
 
 /// A black box of the comparison and its test RMSE.
@@ -192,6 +192,44 @@ pub struct BlackBox {
     pub name: String,
     /// Its test RMSE.
     pub rmse: f64,
+}
+
+/// The columns a fitted model reads to predict (the physics' columns and the correction's
+/// features, and the group column), and the target when `with_target` (to evaluate).
+pub fn model_columns(model: &TableModel, with_target: bool) -> Vec<String> {
+    let mut used = model.physics.columns.clone();
+    used.extend(
+        model
+            .correction
+            .model
+            .iter()
+            .flat_map(|m| m.feature_names.iter().cloned()),
+    );
+    used.extend(model.group.iter().cloned());
+    if with_target {
+        used.push(model.target.clone());
+    }
+    used
+}
+
+/// A learned slot as the model file stores it (JSON entry of `slots`).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct SlotInfo {
+    /// The slot's name in the physics (`f`).
+    pub name: String,
+    /// The columns it reads.
+    pub columns: Vec<String>,
+    /// How it was searched: `factors` or `free`.
+    pub form: String,
+    /// Its structure over the columns with named constants (`f_c0*C^f_c1`), as written
+    /// into `physics.equation`.
+    pub template: String,
+    /// The slot with its calibrated constants (4 significant digits).
+    pub equation: String,
+    /// Each constant's value, standard error and 95 % interval from the calibration.
+    pub uncertainty: BTreeMap<String, ParamEstimate>,
+    /// Backfitting rounds run.
+    pub rounds: usize,
 }
 
 /// The ranges of the training rows (the model file's `training`).

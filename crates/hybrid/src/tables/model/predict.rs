@@ -181,7 +181,7 @@ impl TableModel {
     /// missing-value code or are gross outliers among the table's rows
     /// ([`crate::tables::traps::value_warnings`]).
     pub fn value_warnings(&self, table: &Table) -> Vec<String> {
-        let used = crate::tables::model_columns(self, false);
+        let used = super::model_columns(self, false);
         crate::tables::traps::value_warnings(table, &used)
     }
 
@@ -258,7 +258,7 @@ impl TableModel {
             let Some(conf) = &self.conformal else {
                 return Err(crate::intervals::no_conformal(method, "hxai hybrid fit"));
             };
-            return crate::tables::conformal::intervals(conf, &c, table, level, method);
+            return conformal_intervals(conf, &c, table, level, method);
         }
         let Some(unc) = &self.hybrid.uncertainty else {
             return Err(HybridError::InvalidConfig(
@@ -317,7 +317,7 @@ impl TableModel {
         let rows = &self.split.train;
         let y = table.require(&self.target)?;
         let prediction = self.predict(table)?;
-        let delta = crate::tables::deltas(self.correction.kind, y, &prediction.physics, rows)?;
+        let delta = super::deltas(self.correction.kind, y, &prediction.physics, rows)?;
         let fitted: Vec<f64> = rows.iter().map(|&i| prediction.correction[i]).collect();
         let link = self.correction.kind.link();
         // the row's whole residual, on the scale the factors combine on
@@ -418,7 +418,7 @@ impl TableModel {
             )));
         }
         let physics = prediction.physics;
-        let delta = crate::tables::deltas(self.correction.kind, y, &physics, &rows)?;
+        let delta = super::deltas(self.correction.kind, y, &physics, &rows)?;
         let features = table.select_rows(&rows)?;
         let is_test: Vec<bool> = (0..rows.len())
             .map(|k| k >= self.split.train.len())
@@ -495,4 +495,32 @@ impl TableModel {
         let c = combine(&phys, self.correction.fitted()?, self.correction.kind);
         Ok(Expr::from_program(&c.program, &c.params, &c.names))
     }
+}
+
+/// The table hybrid's intervals at `level` by `method` for every row of `table` from the
+/// calibration `conf` (`c`: the model's one-program hybrid).
+///
+/// # Errors
+/// Those of [`ConformalInfo::intervals_from`] and a missing column.
+fn conformal_intervals(
+    conf: &crate::conformal::ConformalInfo,
+    c: &super::Combined,
+    table: &Table,
+    level: f64,
+    method: IntervalMethod,
+) -> Result<Vec<(f64, f64)>, HybridError> {
+    let distance = match &conf.widening {
+        Some(w) => Some(w.distances(table)?),
+        None => None,
+    };
+    let iv = conf.intervals_by(
+        |p| c.predict_with(p, table),
+        distance.as_deref(),
+        level,
+        method,
+    )?;
+    Ok(crate::intervals::holding_points(
+        iv,
+        &c.predict_with(&c.params, table)?,
+    ))
 }

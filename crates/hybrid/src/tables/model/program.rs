@@ -75,6 +75,29 @@ pub(crate) struct Combined {
     pub corr_map: Vec<usize>,
 }
 
+impl Combined {
+    /// The one-program hybrid's predictions with `params` on every row of `table`.
+    ///
+    /// # Errors
+    /// A column the table lacks.
+    pub(crate) fn predict_with(
+        &self,
+        params: &[f64],
+        table: &Table,
+    ) -> Result<Vec<f64>, HybridError> {
+        let cols = super::columns_of(table, &self.names, "column")?;
+        let mut out = Vec::new();
+        hxai_symreg::eval::Evaluator::new(&self.program).predict(
+            &self.program,
+            params,
+            &cols,
+            table.n_rows(),
+            &mut out,
+        );
+        Ok(out)
+    }
+}
+
 pub(crate) fn combine(phys: &Compiled, corr: &Model, kind: CorrectionForm) -> Combined {
     let mut names: Vec<String> = phys.inputs.clone();
     for f in &corr.feature_names {
@@ -198,4 +221,48 @@ pub(crate) fn combine_values(kind: CorrectionForm, physics: f64, delta: f64) -> 
         CorrectionForm::Multiplicative => physics * (1.0 + delta),
         CorrectionForm::Log => physics * delta.exp(),
     }
+}
+
+/// `delta` on `rows` for the correction form, refusing rows where it is undefined.
+pub(crate) fn deltas(
+    kind: CorrectionForm,
+    y: &[f64],
+    physics: &[f64],
+    rows: &[usize],
+) -> Result<Vec<f64>, HybridError> {
+    rows.iter()
+        .map(|&i| match kind {
+            CorrectionForm::Additive => Ok(y[i] - physics[i]),
+            CorrectionForm::Multiplicative => {
+                if physics[i] == 0.0 {
+                    Err(HybridError::BadPhysics {
+                        row: i,
+                        value: physics[i],
+                        why: "so the multiplicative correction y / f_p - 1 is undefined: use --correction additive".into(),
+                    })
+                } else {
+                    Ok(y[i] / physics[i] - 1.0)
+                }
+            }
+            CorrectionForm::Log => {
+                if y[i] > 0.0 && physics[i] > 0.0 {
+                    Ok((y[i] / physics[i]).ln())
+                } else {
+                    let why = if physics[i] > 0.0 {
+                        format!(
+                            "but the target there is {}: the log correction ln(y / f_p) needs a positive target; use --correction multiplicative or additive",
+                            y[i]
+                        )
+                    } else {
+                        "so the log correction ln(y / f_p) is undefined: use --correction additive".into()
+                    };
+                    Err(HybridError::BadPhysics {
+                        row: i,
+                        value: physics[i],
+                        why,
+                    })
+                }
+            }
+        })
+        .collect()
 }
