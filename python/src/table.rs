@@ -6,7 +6,7 @@ use crate::settings::with_overrides;
 use hxai_hybrid::IntervalMethod;
 use hxai_hybrid::conformal::DEFAULT_CONFORMAL_FOLDS;
 use hxai_hybrid::tables::{
-    CorrectionForm, Form, TableConfig, TableModel, fit_split, measure_stability,
+    CalibratePer, CorrectionForm, Form, Prepared, TableConfig, TableModel, prepare,
 };
 use hxai_symreg::SearchConfig;
 use pyo3::prelude::*;
@@ -104,20 +104,19 @@ pub(crate) fn table_fit(
     settings_json: &str,
     n_jobs: Option<i64>,
 ) -> PyResult<String> {
-    let mut table = table_of(names, &columns)?;
+    let table = table_of(names, &columns)?;
     let s: ProcessSettings = parse_json(settings_json, "hybrid settings")?;
-    let (cfg, per_class) = config_of(&s, &mut table, n_jobs)?;
+    let ready = prepared(&s, table, n_jobs)?;
     let split = hxai_eval::Split {
-        train: (0..table.n_rows()).collect(),
+        train: (0..ready.table.n_rows()).collect(),
         test: Vec::new(),
     };
     let runs = s.stability_runs;
     let model = py
         .detach(move || {
-            let mut model = fit_split(&table, &cfg, &split, &mut |_| {})?;
-            model.per_class = per_class;
+            let mut model = ready.fit_split(&split, &mut |_| {})?;
             if runs > 0 {
-                measure_stability(&table, &cfg, &mut model, runs, &mut |_, _| {})?;
+                ready.measure_stability(&mut model, runs, &mut |_, _| {})?;
             }
             Ok::<_, hxai_hybrid::HybridError>(model)
         })
@@ -140,24 +139,24 @@ pub(crate) fn table_compare(
     folds: usize,
     n_jobs: Option<i64>,
 ) -> PyResult<String> {
-    let mut table = table_of(names, &columns)?;
+    let table = table_of(names, &columns)?;
     let s: ProcessSettings = parse_json(settings_json, "hybrid settings")?;
-    let (mut cfg, per_class) = config_of(&s, &mut table, n_jobs)?;
-    cfg.test_fraction = test_fraction;
-    let mut c = py
-        .detach(move || hxai_hybrid::tables::compare(&table, &cfg, folds, &mut |_| {}))
+    let mut ready = prepared(&s, table, n_jobs)?;
+    ready.cfg.test_fraction = test_fraction;
+    let c = py
+        .detach(move || ready.compare(folds, &mut |_| {}))
         .map_err(err)?;
-    c.hybrid.per_class = per_class;
     serde_json::to_string_pretty(&c).map_err(err)
 }
 
-/// The table configuration of `s` for `table` (the per-level expansions applied to both),
-/// with the search on the threads of `n_jobs`, and the model file's `per_class`.
-fn config_of(
+/// The one configuration of `s` with the search on the threads of `n_jobs`, handed with
+/// `table` and the cells of its level columns to [`prepare`]: the fits and comparisons of
+/// the result return complete models.
+fn prepared(
     s: &ProcessSettings,
-    table: &mut hxai_symreg::Table,
+    table: hxai_symreg::Table,
     n_jobs: Option<i64>,
-) -> PyResult<(TableConfig, Option<hxai_hybrid::tables::PerClassInfo>)> {
+) -> PyResult<Prepared> {
     let mut search: SearchConfig = with_overrides("search", &s.search.to_string())?;
     search.par = par_of(n_jobs)?;
     let mut cfg = TableConfig::new(&s.target, &s.physics);
@@ -173,24 +172,22 @@ fn config_of(
     cfg.conformal_folds = s.conformal_folds;
     cfg.seed = search.seed;
     cfg.search = search;
-    let per_class = match &s.calibrate_per {
-        Some(pc) => Some(
-            hxai_hybrid::tables::per_class::expand(
-                &mut cfg,
-                table,
-                &pc.column,
-                &pc.cells,
-                &pc.parameters,
-            )
-            .map_err(err)?,
-        ),
-        None => None,
-    };
-    if let Some(cp) = &s.correction_per {
-        hxai_hybrid::tables::correction_per::expand(&mut cfg, table, &cp.column, &cp.cells)
-            .map_err(err)?;
+    // the estimator takes the level columns out of X and sends their cells
+    let mut text = Vec::new();
+    if let Some(pc) = &s.calibrate_per {
+        cfg.per_level.calibrate = Some(CalibratePer {
+            column: pc.column.clone(),
+            parameters: pc.parameters.clone(),
+        });
+        text.push((pc.column.clone(), pc.cells.clone()));
     }
-    Ok((cfg, per_class))
+    if let Some(cp) = &s.correction_per {
+        cfg.per_level.correction = Some(cp.column.clone());
+        if !text.iter().any(|(n, _)| *n == cp.column) {
+            text.push((cp.column.clone(), cp.cells.clone()));
+        }
+    }
+    prepare(&cfg, table, &text, Vec::new()).map_err(err)
 }
 
 /// `table_predict(model_json, names, columns, levels=None)` -> `(physics, correction,

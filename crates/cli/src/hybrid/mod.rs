@@ -9,8 +9,7 @@ use anyhow::{Context, Result};
 use args::{Common, CompareArgs, EvaluateArgs, FitArgs, PredictArgs, Sub};
 use hxai_data::NumericView;
 use hxai_hybrid::tables::{
-    self, TableConfig, TableModel, TableProgress, check_text_columns, check_used_columns,
-    model_columns,
+    self, TableConfig, TableModel, TableProgress, check_used_columns, model_columns,
 };
 use indicatif::ProgressBar;
 use print::{print_comparison, print_interval, print_model};
@@ -93,8 +92,30 @@ pub(crate) fn read_missing(
     if policy == hxai_data::MissingPolicy::Refuse {
         return Ok((read(path, group)?, None));
     }
+    let gappy = hxai_data::read_gappy_table(path)
+        .with_context(|| format!("cannot read the table {}", path.display()))?;
+    resolve_gappy(
+        path,
+        gappy,
+        group,
+        policy,
+        target,
+        (used, protected),
+        medians,
+    )
+}
+
+/// [`read_missing`] of a table already read (`gappy`, from `path`): one parse of the file.
+fn resolve_gappy(
+    path: &Path,
+    gappy: hxai_data::GappyTable,
+    group: Option<&str>,
+    policy: hxai_data::MissingPolicy,
+    target: Option<&str>,
+    (used, protected): (Option<&[String]>, &[String]),
+    medians: Option<&std::collections::BTreeMap<String, f64>>,
+) -> Result<(NumericView, Option<hxai_data::MissingReport>)> {
     let cannot = || format!("cannot read the table {}", path.display());
-    let gappy = hxai_data::read_gappy_table(path).with_context(cannot)?;
     note_skipped(path, gappy.skipped_rows);
     let ignore: Vec<&str> = gappy
         .names
@@ -110,27 +131,6 @@ pub(crate) fn read_missing(
         .numeric_view(group)
         .with_context(|| format!("the table {} has no usable numeric column", path.display()))?;
     Ok((view, Some(report)))
-}
-
-/// The cells of `col` as level names: a text column's cells, or a numeric column's
-/// numbers as written.
-fn level_cells(view: &NumericView, col: &str) -> Result<Vec<String>> {
-    if let Some((_, cells)) = view.text.iter().find(|(n, _)| n == col) {
-        return Ok(cells.iter().map(|c| c.trim().to_string()).collect());
-    }
-    match view.table.column(col) {
-        Some(v) => Ok(v.iter().map(|x| x.to_string()).collect()),
-        None => anyhow::bail!(
-            "the table has no column `{col}` (its columns: {})",
-            view.table
-                .names()
-                .iter()
-                .chain(view.text.iter().map(|(n, _)| n))
-                .cloned()
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-    }
 }
 
 /// Adds the level indicators of a model with per-class constants to a table read for it
@@ -191,32 +191,23 @@ fn physics_columns(cfg: &TableConfig, names: &[String]) -> Vec<String> {
 
 /// What `fit` and `compare` start from ([`prepare`]).
 struct Prepared {
-    /// The configuration.
-    cfg: TableConfig,
-    /// The table, checked for text where numbers are needed, its empty cells resolved by
-    /// `--missing`.
-    loaded: NumericView,
-    /// The warnings about it (said once the command has succeeded).
-    warnings: Vec<String>,
-    /// What `--missing drop|impute` did.
-    missing: Option<hxai_data::MissingReport>,
-    /// `--calibrate-per`: the column, its levels and the parameters fitted per level.
-    per_class: Option<tables::PerClassInfo>,
+    /// The table and its configuration, ready to fit ([`tables::prepare`]).
+    ready: tables::Prepared,
     /// The progress bar of the search.
     bar: ProgressBar,
 }
 
-/// Reads and checks what `fit` and `compare` start from.
+/// Reads the table once, resolves its empty cells by `--missing`, and hands the one
+/// configuration with the table to [`tables::prepare`].
 fn prepare(c: &Common) -> Result<Prepared> {
     let mut cfg = c.config()?;
     let (loaded, missing) = if c.missing == hxai_data::MissingPolicy::Refuse {
         (read(&c.data, cfg.group.as_deref())?, None)
     } else {
+        let gappy = hxai_data::read_gappy_table(&c.data)
+            .with_context(|| format!("cannot read the table {}", c.data.display()))?;
         // the columns that matter: the named ones, or every one not excluded
-        let names = hxai_data::read_gappy_table(&c.data)
-            .with_context(|| format!("cannot read the table {}", c.data.display()))?
-            .names;
-        let protected = physics_columns(&cfg, &names);
+        let protected = physics_columns(&cfg, &gappy.names);
         let used: Option<Vec<String>> = cfg.features.as_ref().map(|f| {
             let mut u = f.clone();
             u.push(cfg.target.clone());
@@ -226,14 +217,16 @@ fn prepare(c: &Common) -> Result<Prepared> {
             u
         });
         let used = used.unwrap_or_else(|| {
-            names
+            gappy
+                .names
                 .iter()
                 .filter(|n| !cfg.exclude.iter().any(|e| e.trim() == n.as_str()))
                 .cloned()
                 .collect()
         });
-        read_missing(
+        resolve_gappy(
             &c.data,
+            gappy,
             cfg.group.as_deref(),
             c.missing,
             Some(cfg.target.as_str()),
@@ -241,44 +234,26 @@ fn prepare(c: &Common) -> Result<Prepared> {
             None,
         )?
     };
-    let mut loaded = loaded;
-    let per_class = match &c.calibrate_per {
-        Some(spec) => {
-            let (col, params) = tables::per_class::parse_spec(spec)?;
-            let cells =
-                level_cells(&loaded, &col).with_context(|| format!("--calibrate-per {spec}"))?;
-            let info =
-                tables::per_class::expand(&mut cfg, &mut loaded.table, &col, &cells, &params)?;
-            // the column's levels are in the physics now, never a feature
-            if cfg.features.is_none() && !cfg.exclude.contains(&col) {
-                cfg.exclude.push(col);
-            }
-            Some(info)
-        }
-        None => None,
-    };
-    if let Some(col) = &c.correction_per {
-        let cells = level_cells(&loaded, col).with_context(|| format!("--correction-per {col}"))?;
-        tables::correction_per::expand(&mut cfg, &mut loaded.table, col, &cells)?;
+    if let Some(spec) = &c.calibrate_per {
+        let (column, parameters) = tables::per_class::parse_spec(spec)?;
+        cfg.per_level.calibrate = Some(tables::CalibratePer { column, parameters });
     }
-    let warnings =
-        check_text_columns(&cfg, &loaded.text).with_context(|| c.data.display().to_string())?;
-    // A text column is never a feature: excluding it is allowed and needs no word to the
-    // library, which sees the numeric columns only.
-    cfg.exclude
-        .retain(|e| !loaded.text.iter().any(|(n, _)| n == e));
-    let b = crate::progress::styled(
-        cfg.search.epochs as u64,
+    cfg.per_level.correction.clone_from(&c.correction_per);
+    let notes = missing
+        .as_ref()
+        .map(hxai_data::MissingReport::lines)
+        .unwrap_or_default();
+    cfg.missing = missing.map(|r| tables::MissingInfo {
+        policy: r.policy.name().to_string(),
+        medians: r.medians,
+    });
+    let ready = tables::prepare(&cfg, loaded.table, &loaded.text, notes)
+        .with_context(|| c.data.display().to_string())?;
+    let bar = crate::progress::styled(
+        ready.cfg.search.epochs as u64,
         "{bar:30} {pos}/{len} {msg} [{elapsed}]",
     );
-    Ok(Prepared {
-        cfg,
-        loaded,
-        warnings,
-        missing,
-        per_class,
-        bar: b,
-    })
+    Ok(Prepared { ready, bar })
 }
 
 fn on_progress(b: &ProgressBar) -> impl FnMut(&TableProgress) + '_ {
@@ -297,36 +272,17 @@ fn fit(a: FitArgs) -> Result<()> {
         &a.out,
         &[crate::safety::input(&a.common.data, "the table (--data)")],
     )?;
-    let Prepared {
-        cfg,
-        loaded,
-        warnings,
-        missing,
-        per_class,
-        bar: b,
-    } = prepare(&a.common)?;
-    let mut model = tables::fit(&loaded.table, &cfg, &mut on_progress(&b))?;
+    let Prepared { ready, bar: b } = prepare(&a.common)?;
+    let mut model = ready.fit(&mut on_progress(&b))?;
     b.finish_and_clear();
-    model.per_class = per_class;
-    if let Some(r) = missing {
-        model.warnings.extend(r.lines());
-        model.missing = Some(tables::MissingInfo {
-            policy: r.policy.name().to_string(),
-            medians: r.medians,
-        });
-    }
-    crate::safety::warn(&warnings);
+    crate::safety::warn(&ready.warnings);
     crate::safety::warn(&model.warnings);
     if let Some(runs) = a.stability {
         let sb = crate::progress::styled(runs as u64, "{bar:30} {pos}/{len} resamples [{elapsed}]");
         let sbb = sb.clone();
-        hxai_hybrid::tables::measure_stability(
-            &loaded.table,
-            &cfg,
-            &mut model,
-            runs,
-            &mut move |done, _| sbb.set_position(done as u64),
-        )?;
+        ready.measure_stability(&mut model, runs, &mut move |done, _| {
+            sbb.set_position(done as u64)
+        })?;
         sb.finish_and_clear();
     }
     let cannot = || format!("cannot write the model to {}", a.out.display());
@@ -472,27 +428,18 @@ fn evaluate(a: EvaluateArgs) -> Result<()> {
 #[allow(clippy::print_stdout)]
 fn compare(a: CompareArgs) -> Result<()> {
     crate::safety::check_level(a.interval, "--interval")?;
-    let Prepared {
-        cfg,
-        loaded,
-        mut warnings,
-        missing,
-        per_class,
-        bar: b,
-    } = prepare(&a.common)?;
-    warnings.extend(missing.iter().flat_map(hxai_data::MissingReport::lines));
-    let mut c = tables::compare(&loaded.table, &cfg, a.folds, &mut on_progress(&b))?;
+    let Prepared { ready, bar: b } = prepare(&a.common)?;
+    let mut c = ready.compare(a.folds, &mut on_progress(&b))?;
     b.finish_and_clear();
-    c.hybrid.per_class = per_class;
     crate::safety::warn(&c.hybrid.warnings);
     if a.interval_method.is_some() || a.interval != hxai_hybrid::DEFAULT_INTERVAL {
         let method = interval_method(
             a.interval_method,
             c.hybrid.default_interval_method(a.interval),
         );
-        c.interval = c.hybrid.test_interval(&loaded.table, a.interval, method)?;
+        c.interval = c.hybrid.test_interval(&ready.table, a.interval, method)?;
     }
-    crate::safety::warn(&warnings);
+    crate::safety::warn(&ready.warnings);
     if a.common.json {
         println!("{}", serde_json::to_string_pretty(&c)?);
     } else {

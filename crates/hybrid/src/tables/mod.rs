@@ -52,6 +52,7 @@ mod fit;
 mod model;
 pub mod per_class;
 mod physics;
+mod prepare;
 mod resolve;
 pub mod slots;
 mod split;
@@ -69,6 +70,7 @@ pub use model::{
     TrainingRanges, model_columns,
 };
 pub use per_class::PerClassInfo;
+pub use prepare::{CalibratePer, PerLevel, Prepared, prepare};
 pub use slots::SlotInfo;
 pub use split::split_rows;
 
@@ -232,6 +234,12 @@ pub struct TableConfig {
     /// (`--calibrate-per` and `--correction-per` add theirs: a level wholly in the test rows
     /// would keep its constant's start value).
     pub strata: Vec<String>,
+    /// The per-level settings as asked (`--calibrate-per`, `--correction-per`), which
+    /// [`prepare`] writes out (into the physics, `correction_per` and indicator columns).
+    pub per_level: PerLevel,
+    /// What the table's reader did with empty cells (`--missing drop|impute`), written into
+    /// the model file by [`Prepared`]; `None` when the table had to be complete.
+    pub missing: Option<MissingInfo>,
 }
 
 impl TableConfig {
@@ -261,6 +269,8 @@ impl TableConfig {
             correction_per: None,
             periodic: Vec::new(),
             strata: Vec::new(),
+            per_level: PerLevel::default(),
+            missing: None,
         }
     }
 
