@@ -15,6 +15,127 @@ use hxai_table::Table;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+/// How the correction is searched.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Form {
+    /// Free-form symbolic regression over every feature ([`hxai_symreg::search()`]).
+    #[default]
+    Free,
+    /// One closed-form factor per column, forward-selected under cross-validation, at most
+    /// one interaction ([`hxai_symreg::factors`]): a product of factors for the
+    /// multiplicative and log corrections, a sum of terms for the additive one.
+    Factors,
+    /// No correction: the calibrated physics alone (the hybrid is the physics).
+    None,
+    /// `none`, `factors` or `free`, chosen by cross-validation on the training rows with
+    /// the one-standard-error rule toward the simpler ([`crate::tables::auto`]); the model file says
+    /// which (`correction.form`) and how (`correction.choice`).
+    Auto,
+}
+
+impl Form {
+    /// `free`, `factors`, `none` or `auto`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Form::Free => "free",
+            Form::Factors => "factors",
+            Form::None => "none",
+            Form::Auto => "auto",
+        }
+    }
+
+    /// Parses `free`, `factors`, `none` or `auto`.
+    ///
+    /// # Errors
+    /// [`crate::HybridError::InvalidConfig`] naming the choices.
+    pub fn parse(s: &str) -> Result<Self, crate::HybridError> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "free" => Ok(Form::Free),
+            "factors" | "factor" => Ok(Form::Factors),
+            "none" => Ok(Form::None),
+            "auto" => Ok(Form::Auto),
+            other => Err(crate::HybridError::InvalidConfig(format!(
+                "unknown correction form {other:?}: use auto, none, factors or free"
+            ))),
+        }
+    }
+}
+
+impl std::fmt::Display for Form {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Alternatives of a factor-form correction the report keeps: the selected columns with
+/// another shape that the held-out error cannot tell apart, the closest first.
+pub const FACTOR_ALTERNATIVES: usize = 3;
+
+/// A factor-form search written as the parts of a search's result ([`factor_search`]).
+pub(crate) struct FactorSearch {
+    /// The correction.
+    pub(crate) model: Model,
+    /// How it was selected, with up to [`FACTOR_ALTERNATIVES`] alternatives.
+    pub(crate) selection: SelectionReport,
+    /// The models it was chosen from: itself, then its alternatives.
+    pub(crate) pareto: Vec<Model>,
+    /// Its factors, in the order they entered.
+    pub(crate) factors: Vec<hxai_symreg::factors::Factor>,
+}
+
+/// The factor form's search of `delta` on the feature table `ft`
+/// ([`hxai_symreg::factors::fit_factors`]; with `physics`, each row's physics prediction,
+/// [`hxai_symreg::factors::fit_factors_on_physics`], which weighs a multiplicative link's
+/// rows in the target's units): one adapter for both halves, the records' additive
+/// correction and the tables' every link.
+///
+/// # Errors
+/// The factor form's own.
+pub(crate) fn factor_search(
+    ft: &Table,
+    delta: &[f64],
+    physics: Option<&[f64]>,
+    link: hxai_symreg::factors::Link,
+    fc: &hxai_symreg::factors::FactorConfig,
+) -> Result<FactorSearch, crate::HybridError> {
+    let fit = match physics {
+        Some(fp) => hxai_symreg::factors::fit_factors_on_physics(ft, delta, fp, link, fc)?,
+        None => hxai_symreg::factors::fit_factors(ft, delta, link, fc)?,
+    };
+    let alternatives = fit
+        .alternatives
+        .iter()
+        .take(FACTOR_ALTERNATIVES)
+        .map(|m| hxai_symreg::Alternative {
+            equation: m.equation(),
+            sympy: m.sympy(),
+            complexity: m.complexity(),
+            structure: hxai_symreg::stability::structure_of(m),
+            share: None,
+            uncertainty: None,
+            codelength: None,
+        })
+        .collect();
+    let selection = SelectionReport {
+        method: "factors".into(),
+        structure: hxai_symreg::stability::structure_of(&fit.model),
+        share: None,
+        runs: None,
+        alternatives,
+        error_model: hxai_symreg::ErrorModel::Additive,
+        prior: None,
+    };
+    let mut pareto = vec![fit.model.clone()];
+    pareto.extend(fit.alternatives.iter().cloned());
+    Ok(FactorSearch {
+        model: fit.model,
+        selection,
+        pareto,
+        factors: fit.factors,
+    })
+}
+
 /// The correction as a model file stores it: its kind, the readable forms and the fitted
 /// model with its uncertainty, Pareto front and selection (JSON `correction`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -49,11 +170,12 @@ pub struct CorrectionInfo<K> {
     /// ([`SelectionReport`]); absent in files written before it was stored.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub selection: Option<SelectionReport>,
-    /// How the correction was searched (table models): `free` (the search's own
-    /// expressions) or `factors` (one closed-form factor per column,
-    /// [`hxai_symreg::factors`]); absent in record models and older files.
+    /// How the correction was searched: `free` (the search's own expressions), `factors`
+    /// (one closed-form factor per column, [`hxai_symreg::factors`]) or `none`; under `auto`
+    /// the form it picked. The same text on disk as the `--form` flag; absent in older
+    /// files.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub form: Option<String>,
+    pub form: Option<Form>,
     /// The factors of a `factors` correction, in the order they entered (JSON `factors`:
     /// `column` or `columns`, `shape`, `equation`, `template`, `complexity`).
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -59,6 +59,7 @@ mod split;
 pub mod traps;
 
 pub use crate::conformal::{ConformalInfo, DEFAULT_CONFORMAL_FOLDS, ResidualScale};
+pub use crate::correction::Form;
 pub use columns::{check_text_columns, check_used_columns, first_bad_cell};
 pub use compare::{Comparison, CvScore, ModelScore, TTestScore, compare};
 pub use correction_per::{CorrectionPer, CorrectionPerInfo};
@@ -127,53 +128,6 @@ impl CorrectionForm {
             CorrectionForm::Multiplicative if p < 0.0 => (hi / p - 1.0, lo / p - 1.0),
             CorrectionForm::Log if p > 0.0 && lo > 0.0 => ((lo / p).ln(), (hi / p).ln()),
             _ => NONE,
-        }
-    }
-}
-
-/// How the correction is searched.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Form {
-    /// Free-form symbolic regression over every feature ([`hxai_symreg::search()`]).
-    #[default]
-    Free,
-    /// One closed-form factor per column, forward-selected under cross-validation, at most
-    /// one interaction ([`hxai_symreg::factors`]): a product of factors for the
-    /// multiplicative and log corrections, a sum of terms for the additive one.
-    Factors,
-    /// No correction: the calibrated physics alone (the hybrid is the physics).
-    None,
-    /// `none`, `factors` or `free`, chosen by cross-validation on the training rows with
-    /// the one-standard-error rule toward the simpler ([`auto`]); the model file says
-    /// which (`correction.form`) and how (`correction.choice`).
-    Auto,
-}
-
-impl Form {
-    /// `free`, `factors`, `none` or `auto`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Form::Free => "free",
-            Form::Factors => "factors",
-            Form::None => "none",
-            Form::Auto => "auto",
-        }
-    }
-
-    /// Parses `free`, `factors`, `none` or `auto`.
-    ///
-    /// # Errors
-    /// [`crate::HybridError::InvalidConfig`] naming the choices.
-    pub fn parse(s: &str) -> Result<Self, crate::HybridError> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "free" => Ok(Form::Free),
-            "factors" | "factor" => Ok(Form::Factors),
-            "none" => Ok(Form::None),
-            "auto" => Ok(Form::Auto),
-            other => Err(crate::HybridError::InvalidConfig(format!(
-                "unknown correction form {other:?}: use auto, none, factors or free"
-            ))),
         }
     }
 }

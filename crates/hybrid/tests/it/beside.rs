@@ -157,7 +157,7 @@ fn auto_picks_none_for_exact_physics_and_factors_for_power_laws() {
     let m = fit(&t, &quick("k*x^1.5"), &mut |_| {}).unwrap();
     let choice = m.correction.choice.as_ref().unwrap();
     assert_eq!(choice.picked, "none", "{choice:?}");
-    assert_eq!(m.correction.form.as_deref(), Some("none"));
+    assert_eq!(m.correction.form, Some(hxai_hybrid::tables::Form::None));
     assert_eq!(m.predict(&t).unwrap().correction, vec![0.0; n]);
     // (the zero model's training loss is NaN: compare the files, not the values)
     let json = m.to_checked_json().unwrap();

@@ -118,7 +118,7 @@ impl FitOutput {
                 })
             })
             .collect::<Result<Vec<f64>, HybridError>>()?;
-        if self.model.correction.form.as_deref() == Some(crate::tables::Form::Factors.name()) {
+        if self.model.correction.form == Some(crate::tables::Form::Factors) {
             let fc = hxai_symreg::factors::FactorConfig {
                 seed: search.seed,
                 par: search.par,
@@ -298,7 +298,7 @@ pub fn fit(
         selection,
     )?;
     let correction = CorrectionInfo {
-        form: Some(cfg.form.name().to_string()),
+        form: Some(cfg.form),
         factors,
         ..correction
     };
@@ -384,21 +384,17 @@ fn factor_search(
         par: cfg.search.par,
         ..Default::default()
     };
-    let fit =
-        hxai_symreg::factors::fit_factors(table, delta, hxai_symreg::factors::Link::Additive, &fc)?;
-    let selection = hxai_symreg::SelectionReport {
-        method: "factors".into(),
-        structure: hxai_symreg::stability::structure_of(&fit.model),
-        share: None,
-        runs: None,
-        alternatives: Vec::new(),
-        error_model: hxai_symreg::ErrorModel::Additive,
-        prior: None,
-    };
+    let found = crate::correction::factor_search(
+        table,
+        delta,
+        None,
+        hxai_symreg::factors::Link::Additive,
+        &fc,
+    )?;
     let result = hxai_symreg::SearchResult {
-        best: fit.model.clone(),
-        pareto: vec![fit.model],
-        alternatives: fit.alternatives,
+        best: found.model,
+        alternatives: found.pareto[1..].to_vec(),
+        pareto: found.pareto,
         consensus: None,
         evaluations: 0,
         duplicate_structures: 0,
@@ -406,7 +402,7 @@ fn factor_search(
         seconds: start.elapsed().as_secs_f64(),
         error_model: hxai_symreg::ErrorModel::Additive,
     };
-    Ok((result, selection, Some(fit.factors)))
+    Ok((result, found.selection, Some(found.factors)))
 }
 
 /// CV+ calibration of the correction `best` over `cfg.conformal_folds` folds of the training

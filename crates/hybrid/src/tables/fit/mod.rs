@@ -45,7 +45,7 @@ pub fn stability(
     let ft = table
         .select_columns(&model.correction.candidates)?
         .select_rows(&model.split.train)?;
-    if model.correction.form.as_deref() == Some(Form::Factors.name()) {
+    if model.correction.form == Some(Form::Factors) {
         let fp: Vec<f64> = model.split.train.iter().map(|&i| physics[i]).collect();
         return Ok(hxai_symreg::factors::factor_stability_on_physics(
             &ft,
@@ -84,7 +84,7 @@ pub fn measure_stability(
     runs: usize,
     progress: &mut (dyn FnMut(usize, usize) + Send),
 ) -> Result<(), HybridError> {
-    if model.correction.form.as_deref() == Some(Form::None.name()) {
+    if model.correction.form == Some(Form::None) {
         // the physics alone: no structure to resample
         return Ok(());
     }

@@ -78,7 +78,7 @@ pub(crate) fn fit_form(
         joint,
     };
     let mut model = model_of(job, res, &ft, &pareto, fitted, y_all, &y_train)?;
-    model.correction.form = Some(form.name().to_string());
+    model.correction.form = Some(form);
     model.correction.choice = choice;
     model.correction.factors = factors;
     model.warnings =

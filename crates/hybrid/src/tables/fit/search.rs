@@ -5,6 +5,7 @@ use super::super::resolve::Resolved;
 use super::super::{TableConfig, TableProgress};
 use super::job::{SplitJob, Task, search_training_rows};
 use crate::HybridError;
+use crate::correction::factor_search;
 use hxai_eval::Split;
 use hxai_symreg::Table;
 
@@ -71,39 +72,13 @@ pub(super) fn search_factors(
         .select_rows(&split.train)?;
     let fp: Vec<f64> = split.train.iter().map(|&i| physics[i]).collect();
     let fc = cfg.factor_config(&res.features);
-    let fit =
-        hxai_symreg::factors::fit_factors_on_physics(&ft, delta, &fp, cfg.correction.link(), &fc)?;
-    let alternatives = fit
-        .alternatives
-        .iter()
-        .take(3)
-        .map(|m| hxai_symreg::Alternative {
-            equation: m.equation(),
-            sympy: m.sympy(),
-            complexity: m.complexity(),
-            structure: hxai_symreg::stability::structure_of(m),
-            share: None,
-            uncertainty: None,
-            codelength: None,
-        })
-        .collect();
-    let selection = hxai_symreg::SelectionReport {
-        method: "factors".into(),
-        structure: hxai_symreg::stability::structure_of(&fit.model),
-        share: None,
-        runs: None,
-        alternatives,
-        error_model: hxai_symreg::ErrorModel::Additive,
-        prior: None,
-    };
-    let mut pareto = vec![fit.model.clone()];
-    pareto.extend(fit.alternatives.iter().cloned());
+    let found = factor_search(&ft, delta, Some(&fp), cfg.correction.link(), &fc)?;
     Ok(Searched {
         ft,
-        model: fit.model,
-        selection,
-        pareto,
-        factors: Some(fit.factors),
+        model: found.model,
+        selection: found.selection,
+        pareto: found.pareto,
+        factors: Some(found.factors),
     })
 }
 

@@ -214,7 +214,7 @@ fn hybrid_equation_reproduces_predict() {
             let factors = m.correction.factors.as_ref().expect("factors");
             assert!(!factors.is_empty(), "{}", m.correction.forms.equation);
             assert!(factors.iter().all(|f| f.complexity <= 5));
-            assert_eq!(m.correction.form.as_deref(), Some("factors"));
+            assert_eq!(m.correction.form, Some(Form::Factors));
             // the product forms print the hybrid as one product: no exp(log(...)) left
             assert!(!m.hybrid.sympy.contains("exp(log"), "{}", m.hybrid.sympy);
         }
