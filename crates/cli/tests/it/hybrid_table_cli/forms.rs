@@ -178,3 +178,51 @@ fn sympy_reproduces_predict() -> TestResult {
     }
     Ok(())
 }
+
+/// A learned slot (issue 66): `k*f^2*g(r) + c*v` on the roughness table learns `g` as a
+/// function of `r` (the law's `1/(32 r)`: a power of `r` near -1), says so on stdout and in
+/// the model file's `slots`, and `predict` and `compare` run on the written-out physics.
+#[test]
+fn a_learned_slot_is_fitted_written_and_predicted() -> TestResult {
+    let (dir, data) = scratch_table("slot", 120)?;
+    let model = dir.join("m.json");
+    let mut args = hybrid_args("fit", s(&data), "k*f^2*g(r) + c*v");
+    args.extend_from_slice(&["--calibrate", "k,c"]);
+    args.extend_from_slice(&["--out", s(&model)]);
+    args.extend_from_slice(&QUICK);
+    let out = hxai(&args)?;
+    ok(&out, "fit with a slot");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("slot g(r)"), "{text}");
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model)?)?;
+    let slot = &m["slots"][0];
+    assert_eq!(slot["name"], "g");
+    assert_eq!(slot["columns"], serde_json::json!(["r"]));
+    let template = slot["template"].as_str().ok_or("template")?;
+    assert!(template.contains("r**"), "{slot}");
+    let exponent = slot["uncertainty"]
+        .as_object()
+        .ok_or("uncertainty")?
+        .values()
+        .filter_map(|p| p["value"].as_f64())
+        .find(|v| *v < 0.0)
+        .ok_or("no negative exponent")?;
+    assert!((exponent + 1.0).abs() < 0.15, "{slot}");
+    assert!(
+        m["physics"]["equation"]
+            .as_str()
+            .ok_or("equation")?
+            .contains("g_c")
+    );
+    let pred = dir.join("p.csv");
+    ok(
+        &hxai(&predict_args(&model, &data, &pred))?,
+        "predict with a slot",
+    );
+    let mut args = hybrid_args("compare", s(&data), "k*f^2*g(r) + c*v");
+    args.extend_from_slice(&["--calibrate", "k,c"]);
+    args.extend_from_slice(&QUICK);
+    args.extend_from_slice(&["--folds", "0"]);
+    ok(&hxai(&args)?, "compare with a slot");
+    Ok(())
+}

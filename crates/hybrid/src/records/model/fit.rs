@@ -36,7 +36,7 @@ pub struct RecordConfig {
     /// How the correction of the signal features is searched: free form (the paper's), or
     /// one factor per feature ([`hxai_symreg::factors`], an additive correction: a sum of
     /// one-feature terms; its folds are seeded by `search.seed`).
-    pub form: crate::tables::Form,
+    pub form: crate::correction::Form,
     /// Folds of the CV+ calibration of conformal intervals of the corrected amplitude,
     /// grouped by record (0: none; the model file then offers only the delta method).
     pub conformal_folds: usize,
@@ -52,7 +52,7 @@ impl Default for RecordConfig {
             test_fraction: 0.2,
             seed: 42,
             search: hxai_symreg::SearchConfig::paper(),
-            form: crate::tables::Form::Free,
+            form: crate::correction::Form::Free,
             conformal_folds: crate::conformal::DEFAULT_CONFORMAL_FOLDS,
         }
     }
@@ -118,7 +118,7 @@ impl FitOutput {
                 })
             })
             .collect::<Result<Vec<f64>, HybridError>>()?;
-        if self.model.correction.form == Some(crate::tables::Form::Factors) {
+        if self.model.correction.form == Some(crate::correction::Form::Factors) {
             let fc = hxai_symreg::factors::FactorConfig {
                 seed: search.seed,
                 par: search.par,
@@ -216,7 +216,7 @@ pub fn fit(
     cfg.window.check()?;
     if matches!(
         cfg.form,
-        crate::tables::Form::None | crate::tables::Form::Auto
+        crate::correction::Form::None | crate::correction::Form::Auto
     ) {
         return Err(HybridError::InvalidConfig(format!(
             "correction form {}: the tool case's correction is searched free or as factors",
@@ -267,16 +267,16 @@ pub fn fit(
     let test_table = hybrid.feature_table(test.iter().copied())?;
     let (train_delta, test_delta) = (delta_of(&train), delta_of(&test));
     let (result, selection, factors) = match cfg.form {
-        crate::tables::Form::Free => {
+        crate::correction::Form::Free => {
             let result = hxai_symreg::search(&train_table, &train_delta, &cfg.search, &mut |p| {
                 progress(FitProgress::Search(p.clone()));
             })?;
             let selection = hxai_symreg::SelectionReport::of(&result, &cfg.search);
             (result, selection, None)
         }
-        crate::tables::Form::Factors | crate::tables::Form::None | crate::tables::Form::Auto => {
-            factor_search(&train_table, &train_delta, cfg)?
-        }
+        crate::correction::Form::Factors
+        | crate::correction::Form::None
+        | crate::correction::Form::Auto => factor_search(&train_table, &train_delta, cfg)?,
     };
     let conformal = if cfg.conformal_folds > 0 {
         Some(conformal_of(
