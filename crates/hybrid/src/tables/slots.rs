@@ -2,8 +2,9 @@
 //! `f(C)` of a name that is neither a known function nor a column nor a parameter is a
 //! function of the listed columns that the data are to write.
 //!
-//! [`expand`] finds the slots ([`hxai_symreg::infix::parse_with_slots`]) and fits them by
-//! backfitting on the training rows, jointly with the calibration:
+//! [`super::fit`], [`super::fit_split`] and [`super::compare`] find the slots
+//! ([`hxai_symreg::infix::parse_with_slots`]) and fit them by backfitting on the training
+//! rows, jointly with the calibration:
 //! 1. every slot starts at 1 (the neutral factor);
 //! 2. the physics is calibrated with the slots' values held;
 //! 3. each slot in turn is searched on its partial residual: with the others held, the
