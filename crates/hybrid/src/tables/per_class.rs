@@ -365,6 +365,29 @@ fn rewrite(physics: &str, info: &PerClassInfo) -> String {
     out
 }
 
+/// The cells of `col` as level names: a text column's cells in `text` (trimmed), or a
+/// numeric column of `table` (its numbers as written); where neither has it, `Err` with
+/// the columns there are, comma-separated.
+pub(crate) fn level_cells(
+    table: &Table,
+    text: &[(String, Vec<String>)],
+    col: &str,
+) -> Result<Vec<String>, String> {
+    if let Some((_, cells)) = text.iter().find(|(n, _)| n == col) {
+        return Ok(cells.iter().map(|c| c.trim().to_string()).collect());
+    }
+    match table.column(col) {
+        Some(v) => Ok(v.iter().map(|x| x.to_string()).collect()),
+        None => Err(table
+            .names()
+            .iter()
+            .chain(text.iter().map(|(n, _)| n))
+            .cloned()
+            .collect::<Vec<_>>()
+            .join(", ")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

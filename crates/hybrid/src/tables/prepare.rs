@@ -96,30 +96,19 @@ pub fn prepare(
     })
 }
 
-/// The cells of `col` as level names: a text column's cells (trimmed), or a numeric
-/// column's numbers as written.
+/// The cells of `col` as level names ([`per_class::level_cells`]), the flag that asked
+/// for them named where the table lacks it.
 fn level_cells(
     table: &Table,
     text: &[(String, Vec<String>)],
     col: &str,
     flag: &str,
 ) -> Result<Vec<String>, HybridError> {
-    if let Some((_, cells)) = text.iter().find(|(n, _)| n == col) {
-        return Ok(cells.iter().map(|c| c.trim().to_string()).collect());
-    }
-    match table.column(col) {
-        Some(v) => Ok(v.iter().map(|x| x.to_string()).collect()),
-        None => Err(HybridError::InvalidConfig(format!(
-            "{flag} {col}: the table has no column `{col}` (its columns: {})",
-            table
-                .names()
-                .iter()
-                .chain(text.iter().map(|(n, _)| n))
-                .cloned()
-                .collect::<Vec<_>>()
-                .join(", ")
-        ))),
-    }
+    per_class::level_cells(table, text, col).map_err(|columns| {
+        HybridError::InvalidConfig(format!(
+            "{flag} {col}: the table has no column `{col}` (its columns: {columns})"
+        ))
+    })
 }
 
 impl Prepared {

@@ -36,23 +36,12 @@ impl TableModel {
         text: &[(String, Vec<String>)],
     ) -> Result<(), HybridError> {
         let cells_of = |table: &Table, column: &str, what: &str| {
-            if let Some((_, cells)) = text.iter().find(|(n, _)| n == column) {
-                return Ok(cells.iter().map(|c| c.trim().to_string()).collect());
-            }
-            match table.column(column) {
-                Some(v) => Ok(v.iter().map(|x| x.to_string()).collect::<Vec<String>>()),
-                None => Err(HybridError::InvalidConfig(format!(
+            crate::tables::per_class::level_cells(table, text, column).map_err(|columns| {
+                HybridError::InvalidConfig(format!(
                     "the model's {what} has constants per level of `{column}`, which the rows \
-                     do not give (their columns: {})",
-                    table
-                        .names()
-                        .iter()
-                        .chain(text.iter().map(|(n, _)| n))
-                        .cloned()
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ))),
-            }
+                     do not give (their columns: {columns})"
+                ))
+            })
         };
         if let Some(cp) = &self.correction_per {
             let cells = cells_of(table, &cp.column, "correction")?;
