@@ -1,0 +1,78 @@
+"""Issue 67's scale benchmark: the README's roughness hybrid on `hxai simulate --case
+roughness --rows N` (Parquet), for each N the wall time and peak RSS of `hybrid fit` and of
+`hybrid predict` (GNU time), the fit's test RMSE on fresh rows (another seed), and the
+log-log slope of the wall time between consecutive sizes. One JSON line per size.
+
+    python scripts/bench_rows.py --hxai target/release/hxai --rows 10000,100000,1000000
+"""
+import argparse
+import json
+import math
+import re
+import subprocess
+import tempfile
+from pathlib import Path
+
+FIT = [
+    "--target", "Ra_um",
+    "--physics", "1000*feed_mm^2/(32*nose_radius_mm) + Ra0",
+    "--calibrate", "Ra0", "--init", "Ra0=0",
+    "--correction", "multiplicative", "--exclude", "tool",
+]
+
+
+def timed(cmd):
+    """Runs `cmd` under GNU time: (wall seconds, peak RSS in MB, stdout)."""
+    p = subprocess.run(["/usr/bin/time", "-v", *cmd], capture_output=True, text=True)
+    if p.returncode != 0:
+        raise SystemExit(f"{' '.join(cmd)} failed:\n{p.stderr[-2000:]}")
+    wall = re.search(r"Elapsed \(wall clock\) time.*: (?:(\d+):)?(\d+):([\d.]+)", p.stderr)
+    h, m, s = wall.groups()
+    seconds = int(h or 0) * 3600 + int(m) * 60 + float(s)
+    rss = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", p.stderr).group(1))
+    return seconds, rss / 1024, p.stdout
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--hxai", required=True)
+    ap.add_argument("--rows", default="10000,100000")
+    ap.add_argument("--fresh", type=int, default=20000, help="rows of the fresh test table")
+    a = ap.parse_args()
+    sizes = [int(r) for r in a.rows.split(",")]
+    last = None
+    with tempfile.TemporaryDirectory() as d:
+        fresh = Path(d) / "fresh.csv"
+        subprocess.run([a.hxai, "simulate", "--case", "roughness", "--rows", str(a.fresh),
+                        "--seed", "7", "--out", str(fresh)], check=True, capture_output=True)
+        for n in sizes:
+            data, model = Path(d) / f"r{n}.parquet", Path(d) / f"m{n}.json"
+            subprocess.run([a.hxai, "simulate", "--case", "roughness", "--rows", str(n),
+                            "--seed", "42", "--out", str(data)], check=True, capture_output=True)
+            fit_s, fit_mb, _ = timed([a.hxai, "hybrid", "fit", "--data", str(data), *FIT,
+                                      "--out", str(model)])
+            pred = Path(d) / f"p{n}.csv"
+            pred_s, pred_mb, _ = timed([a.hxai, "hybrid", "predict", "--model", str(model),
+                                        "--data", str(data), "--out", str(pred)])
+            ev = subprocess.run([a.hxai, "hybrid", "evaluate", "--model", str(model), "--data",
+                                 str(fresh), "--json"], check=True, capture_output=True,
+                                text=True)
+            m = json.loads(Path(model).read_text())
+            row = {
+                "rows": n,
+                "fit_s": round(fit_s, 2),
+                "fit_peak_mb": round(fit_mb, 1),
+                "predict_s": round(pred_s, 2),
+                "predict_peak_mb": round(pred_mb, 1),
+                "predict_rows_per_s": round(n / pred_s),
+                "fresh_rmse": json.loads(ev.stdout)["hybrid"]["rmse"],
+                "correction": m["correction"]["equation"],
+            }
+            if last:
+                row["fit_slope"] = round(math.log(fit_s / last[1]) / math.log(n / last[0]), 2)
+            last = (n, fit_s)
+            print(json.dumps(row), flush=True)
+
+
+if __name__ == "__main__":
+    main()
