@@ -225,3 +225,58 @@ pub fn shared_rows(train: &[&[f64]], test: &[&[f64]]) -> usize {
         .filter(|&i| seen.contains(&key(test, i)))
         .count()
 }
+
+/// At most `k` of the positions of `y`, stratified on its values: the positions sorted by
+/// `y` (ties by position), cut into `k` strata of (nearly) equal count, one position drawn
+/// from each with a seeded generator; returned in increasing order. Every position when
+/// `k >= y.len()`. The sample spans the target's range as a random one of the same size
+/// does only on average: the few rows of a tail are always represented. Values that are
+/// not numbers sort last.
+pub fn stratified_sample(y: &[f64], k: usize, seed: u64) -> Vec<usize> {
+    use rand::Rng;
+    let n = y.len();
+    if k >= n {
+        return (0..n).collect();
+    }
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| y[a].total_cmp(&y[b]).then(a.cmp(&b)));
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut out: Vec<usize> = (0..k)
+        .map(|s| {
+            let (lo, hi) = (s * n / k, (s + 1) * n / k);
+            order[rng.gen_range(lo..hi)]
+        })
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+#[cfg(test)]
+mod sample_tests {
+    use super::stratified_sample;
+
+    /// `k` distinct positions in increasing order, one per stratum of the sorted values
+    /// (so the smallest and largest `n / k` values are each represented), the same for the
+    /// same seed, and every position when `k` is not below the length.
+    #[test]
+    fn one_position_per_stratum() {
+        let y: Vec<f64> = (0..1000).map(|i| f64::from((i * 7919) % 1000)).collect();
+        let s = stratified_sample(&y, 100, 3);
+        assert_eq!(s.len(), 100);
+        assert!(s.windows(2).all(|w| w[0] < w[1]));
+        let mut vals: Vec<f64> = s.iter().map(|&i| y[i]).collect();
+        vals.sort_by(f64::total_cmp);
+        for (j, v) in vals.iter().enumerate() {
+            assert!(
+                *v >= 10.0 * j as f64 && *v < 10.0 * (j + 1) as f64,
+                "{j}: {v}"
+            );
+        }
+        assert_eq!(s, stratified_sample(&y, 100, 3));
+        assert_ne!(s, stratified_sample(&y, 100, 4));
+        assert_eq!(
+            stratified_sample(&y[..50], 100, 3),
+            (0..50).collect::<Vec<_>>()
+        );
+    }
+}

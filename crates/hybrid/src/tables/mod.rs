@@ -67,8 +67,8 @@ pub use fit::auto;
 pub use fit::{fit, fit_split, measure_stability, stability};
 pub use model::{
     BlackBox, BlackBoxScores, EquationInfo, JointInfo, MissingInfo, OUTSIDE_MARGIN, PairScores,
-    PhysicsInfo, SCHEMA_VERSION, ScoresInfo, TableEvaluation, TableModel, TablePrediction,
-    TrainingRanges, model_columns,
+    PhysicsInfo, SCHEMA_VERSION, ScoresInfo, SearchSample, TableEvaluation, TableModel,
+    TablePrediction, TrainingRanges, model_columns,
 };
 pub use per_class::PerClassInfo;
 pub use prepare::{CalibratePer, PerLevel, Prepared, prepare};
@@ -132,6 +132,12 @@ impl CorrectionForm {
     }
 }
 
+/// Default of [`TableConfig::search_rows`]: the sample the structure is searched on.
+pub const SEARCH_ROWS: usize = 2000;
+
+/// The smallest [`TableConfig::search_rows`] accepted.
+pub const MIN_SEARCH_ROWS: usize = 100;
+
 /// The operators that write a harmonic: allowed in a correction only with `--periodic`.
 const TRIG_OPERATORS: [&str; 2] = ["sin", "cos"];
 
@@ -175,6 +181,12 @@ pub struct TableConfig {
     /// Folds of the CV+ calibration of conformal prediction intervals (0: none; the model
     /// file then offers only the delta method). See [`ConformalInfo`].
     pub conformal_folds: usize,
+    /// Training rows above which the correction's structure is searched on a sample of this
+    /// many, stratified on the target (issue 67): the form `auto`'s folds, the search, the
+    /// factor form's selection and the conformal and stability refits; the physics'
+    /// calibration and the correction's constants still use every training row. Default
+    /// [`SEARCH_ROWS`]; `usize::MAX` searches on every row.
+    pub search_rows: usize,
     /// `--correction-per COL`: the correction's constants refitted per level of a text
     /// column, read from its indicator columns ([`correction_per::expand`] sets it).
     pub correction_per: Option<CorrectionPer>,
@@ -220,6 +232,7 @@ impl TableConfig {
             joint: false,
             search: SearchConfig::laws(),
             conformal_folds: DEFAULT_CONFORMAL_FOLDS,
+            search_rows: SEARCH_ROWS,
             correction_per: None,
             periodic: Vec::new(),
             strata: Vec::new(),
@@ -255,6 +268,13 @@ impl TableConfig {
                     .into(),
             ));
         }
+        if self.search_rows < MIN_SEARCH_ROWS {
+            return Err(crate::HybridError::InvalidConfig(format!(
+                "--search-rows {}: the structure needs a sample of at least {MIN_SEARCH_ROWS} \
+                 rows (default {SEARCH_ROWS})",
+                self.search_rows
+            )));
+        }
         let search = self.search_config().check()?;
         Ok(ValidTable {
             cfg: self.clone(),
@@ -268,6 +288,7 @@ impl TableConfig {
         hxai_symreg::factors::FactorConfig {
             seed: self.seed,
             par: self.search.par,
+            max_rows: self.search_rows,
             periodic: Some(hxai_symreg::factors::FactorConfig::periodic_mask(
                 features,
                 &self.periodic,

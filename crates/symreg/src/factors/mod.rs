@@ -104,10 +104,15 @@ pub struct FactorConfig {
     /// 64th never). The hybrid sets it from `--periodic`, so an undeclared column gets no
     /// sine.
     pub periodic: Option<u64>,
-    /// Seed of the folds.
+    /// Seed of the folds (and of the subsample of [`FactorConfig::max_rows`]).
     pub seed: u64,
     /// Threads of the parallel loops (results never depend on it).
     pub par: Par,
+    /// Rows the structure is selected on (issue 67): with more, the forward selection,
+    /// backfitting and alternatives run on a seeded sample of this many rows stratified on
+    /// the target ([`hxai_eval::stratified_sample`]), and the selected structure's
+    /// constants are then fitted on every row (default `usize::MAX`: every row).
+    pub max_rows: usize,
 }
 
 impl FactorConfig {
@@ -166,6 +171,7 @@ impl Default for FactorConfig {
             periodic: None,
             seed: 42,
             par: Par::Current,
+            max_rows: usize::MAX,
         }
     }
 }
@@ -272,57 +278,106 @@ fn fit_structure(
     physics: Option<&[f64]>,
 ) -> Result<(FactorFit, Structure), SrError> {
     check(data, y, cfg)?;
-    let cols: Vec<&[f64]> = data.columns().iter().map(Vec::as_slice).collect();
+    let all_cols: Vec<&[f64]> = data.columns().iter().map(Vec::as_slice).collect();
     let physics = physics.filter(|_| link == Link::Multiplicative);
+    if let Some(fp) = physics {
+        if fp.len() != y.len() {
+            return Err(SrError::TargetLength {
+                target: fp.len(),
+                data: y.len(),
+            });
+        }
+        if let Some(i) = fp.iter().position(|v| !v.is_finite()) {
+            return Err(SrError::InvalidConfig(format!(
+                "the physics is not finite at row {} ({})",
+                i + 1,
+                fp[i]
+            )));
+        }
+    }
+    // the structure is selected on at most `max_rows` rows (stratified on the target),
+    // its constants fitted again on every row below
+    let rows = (y.len() > cfg.max_rows.max(2 * cfg.folds))
+        .then(|| hxai_eval::stratified_sample(y, cfg.max_rows.max(2 * cfg.folds), cfg.seed));
+    let pick = |v: &[f64]| -> Vec<f64> {
+        rows.as_ref()
+            .map_or_else(|| v.to_vec(), |r| r.iter().map(|&i| v[i]).collect())
+    };
+    let sub_cols: Vec<Vec<f64>> = match &rows {
+        Some(_) => all_cols.iter().map(|c| pick(c)).collect(),
+        None => Vec::new(),
+    };
+    let cols: Vec<&[f64]> = match &rows {
+        Some(_) => sub_cols.iter().map(Vec::as_slice).collect(),
+        None => all_cols.clone(),
+    };
+    let (sub_y, sub_fp) = (pick(y), physics.map(pick));
+    let sub_groups: Option<Vec<usize>> = groups.map(pick_rows(rows.as_deref()));
+    let (y_s, groups_s) = (sub_y.as_slice(), sub_groups.as_deref());
     let select = |scale: Option<&[f64]>| -> Result<Selected, SrError> {
         let mut cols = cols.clone();
         let target: Vec<f64>;
         let (yy, at) = match scale {
             Some(sc) => {
-                target = sc.iter().zip(y).map(|(s, d)| s * (1.0 + d)).collect();
+                target = sc.iter().zip(y_s).map(|(s, d)| s * (1.0 + d)).collect();
                 cols.push(sc);
                 (target.as_slice(), Some(cols.len() - 1))
             }
-            None => (y, None),
+            None => (y_s, None),
         };
-        let problem = select::Problem::new(cols, yy, link, cfg, groups, at);
+        let problem = select::Problem::new(cols, yy, link, cfg, groups_s, at);
         let (chosen, path, alts) = problem.select().ok_or_else(|| {
             SrError::InvalidConfig("no factor model could be fitted to the rows".into())
         })?;
-        let mut chosen = problem.snap(chosen);
-        chosen.s = chosen.s.unscaled();
-        Ok((chosen, path, alts))
+        Ok((problem.snap(chosen), path, alts))
     };
-    let (chosen, path, alts) = match physics {
+    // the scale of the fit kept: the pilot's (the physics itself) or `|f_p|^(1 - theta)`
+    let (mut chosen, path, alts, theta) = match &sub_fp {
         Some(fp) => {
-            if fp.len() != y.len() {
-                return Err(SrError::TargetLength {
-                    target: fp.len(),
-                    data: y.len(),
-                });
-            }
-            if let Some(i) = fp.iter().position(|v| !v.is_finite()) {
-                return Err(SrError::InvalidConfig(format!(
-                    "the physics is not finite at row {} ({})",
-                    i + 1,
-                    fp[i]
-                )));
-            }
             // a pilot on the target's scale, then the scatter's growth with the physics
             // (the variance power) sets the weights of the fit that is kept
             let pilot = select(Some(fp))?;
-            let delta = pilot.0.s.predict(link, &cols, y.len());
-            let measured: Vec<f64> = fp.iter().zip(y).map(|(p, d)| p * (1.0 + d)).collect();
+            let delta = pilot.0.s.unscaled().predict(link, &cols, y_s.len());
+            let measured: Vec<f64> = fp.iter().zip(y_s).map(|(p, d)| p * (1.0 + d)).collect();
             let theta = variance_power(fp, &measured, &delta);
             if theta > VARIANCE_POWER_STEP {
-                let scale: Vec<f64> = fp.iter().map(|p| p.abs().powf(1.0 - theta)).collect();
-                select(Some(&scale))?
+                let (c, p, a) = select(Some(&weight_scale(fp, Some(theta))))?;
+                (c, p, a, Some(Some(theta)))
             } else {
-                pilot
+                let (c, p, a) = pilot;
+                (c, p, a, Some(None))
             }
         }
-        None => select(None)?,
+        None => {
+            let (c, p, a) = select(None)?;
+            (c, p, a, None)
+        }
     };
+    if rows.is_some() {
+        // every row: the selected structure's free constants fitted again, from the
+        // subsample's values (kept when the refit fails)
+        let mut cols = all_cols.clone();
+        let scale: Option<Vec<f64>> = match (physics, theta) {
+            (Some(fp), Some(t)) => Some(weight_scale(fp, t)),
+            _ => None,
+        };
+        let target: Vec<f64>;
+        let yy = match &scale {
+            Some(sc) => {
+                target = sc.iter().zip(y).map(|(s, d)| s * (1.0 + d)).collect();
+                cols.push(sc);
+                target.as_slice()
+            }
+            None => y,
+        };
+        let mut s = chosen.s.clone();
+        let mse = s.fit_any_period(link, &cols, yy);
+        if mse.is_finite() {
+            chosen.s = s;
+            chosen.mse = mse;
+        }
+    }
+    chosen.s = chosen.s.unscaled();
     let names = data.names();
     let mut model = model_of(&chosen.s, link, names)?;
     model.train_mse = chosen.mse;
@@ -344,6 +399,20 @@ fn fit_structure(
         alternatives,
     };
     Ok((fit, chosen.s))
+}
+
+/// The scale column of a multiplicative fit weighed by the hybrid's error: the physics
+/// itself for the pilot (`theta` `None`), `|f_p|^(1 - theta)` for the fit kept.
+fn weight_scale(fp: &[f64], theta: Option<f64>) -> Vec<f64> {
+    match theta {
+        None => fp.to_vec(),
+        Some(t) => fp.iter().map(|p| p.abs().powf(1.0 - t)).collect(),
+    }
+}
+
+/// Picks the entries of `rows` (all of them without rows) from a slice of group ids.
+fn pick_rows(rows: Option<&[usize]>) -> impl Fn(&[usize]) -> Vec<usize> + '_ {
+    move |g| rows.map_or_else(|| g.to_vec(), |r| r.iter().map(|&i| g[i]).collect())
 }
 
 /// A selection's result: the chosen structure (scored), the path, the alternatives.

@@ -116,6 +116,7 @@ pub(super) fn model_of(
         per_class: None,
         correction_per: None,
         slots: Vec::new(),
+        search_sample: None,
         training: Some(training),
         scores: ScoresInfo {
             black_boxes: None,

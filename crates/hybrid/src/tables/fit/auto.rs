@@ -81,7 +81,7 @@ pub(crate) fn choose(
             };
             // a fold whose correction has no value on a held-out row scores as the physics
             // would not: infinitely bad, so that form is not picked on its account
-            let err = match fit_form(fold_job, &cal, form, None, progress)
+            let err = match fit_form(fold_job, &cal, form, None, None, progress)
                 .and_then(|m| m.predict(table))
             {
                 Ok(p) => errors(&p.hybrid),

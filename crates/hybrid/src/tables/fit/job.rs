@@ -111,3 +111,31 @@ pub(crate) fn calibrate_split(job: SplitJob) -> Result<Calibrated, HybridError> 
         physics,
     })
 }
+
+/// The training rows (`train`, rows of the table) the correction's structure is searched on
+/// (issue 67): `None` when they are at most `cfg.search_rows`, else a sample of that many
+/// stratified on the target `y` ([`hxai_eval::stratified_sample`], seeded by `seed`), in
+/// increasing row order.
+pub(crate) fn search_sample(
+    y: &[f64],
+    train: &[usize],
+    search_rows: usize,
+    seed: u64,
+) -> Option<Vec<usize>> {
+    (train.len() > search_rows).then(|| {
+        let yt: Vec<f64> = train.iter().map(|&i| y[i]).collect();
+        hxai_eval::stratified_sample(&yt, search_rows, seed)
+            .into_iter()
+            .map(|p| train[p])
+            .collect()
+    })
+}
+
+/// How [`search_sample`] draws its rows, as the model file says it.
+pub(crate) fn sample_method(seed: u64) -> String {
+    format!(
+        "one training row drawn at random (seed {seed}) from each of equal-count strata of \
+         the target; the physics' calibration and the correction's constants on every \
+         training row"
+    )
+}

@@ -17,6 +17,7 @@ mod search;
 
 pub(crate) use black_box::black_box_predictions;
 pub(crate) use job::{Calibrated, SplitJob, Task, calibrate_split, search_training_rows};
+use job::{sample_method, search_sample};
 
 use super::physics::deltas;
 use super::split::{check_rows, split_rows};
@@ -27,7 +28,9 @@ use hxai_symreg::Table;
 
 /// The stability of the correction's structure of `model` (fitted with `cfg` on `table`):
 /// the correction's search rerun on `runs` bootstrap resamples of the training rows, on
-/// `delta` of the model's calibrated physics ([`hxai_symreg::stability()`]). `progress`
+/// `delta` of the model's calibrated physics ([`hxai_symreg::stability()`]); on more than
+/// `cfg.search_rows` training rows, resamples of the same stratified sample the structure
+/// was searched on. `progress`
 /// gets `(runs done, runs)`.
 ///
 /// # Errors
@@ -41,12 +44,15 @@ pub fn stability(
 ) -> Result<hxai_symreg::Stability, HybridError> {
     let physics = model.predict(table)?.physics;
     let y = table.require(&model.target)?;
-    let delta = deltas(model.correction.kind, y, &physics, &model.split.train)?;
+    // on the sample the structure was searched on (issue 67), when there was one
+    let rows = search_sample(y, &model.split.train, cfg.search_rows, cfg.seed)
+        .unwrap_or_else(|| model.split.train.clone());
+    let delta = deltas(model.correction.kind, y, &physics, &rows)?;
     let ft = table
         .select_columns(&model.correction.candidates)?
-        .select_rows(&model.split.train)?;
+        .select_rows(&rows)?;
     if model.correction.form == Some(Form::Factors) {
-        let fp: Vec<f64> = model.split.train.iter().map(|&i| physics[i]).collect();
+        let fp: Vec<f64> = rows.iter().map(|&i| physics[i]).collect();
         return Ok(hxai_symreg::factors::factor_stability_on_physics(
             &ft,
             &delta,
@@ -169,9 +175,24 @@ pub(crate) fn fit_calibrated(
     cal: &Calibrated,
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
-    let (form, choice) = match job.cfg.form {
-        Form::Auto => auto::choose(job, progress)?,
-        f => (f, None),
+    let y = job.table.require(&job.cfg.target)?;
+    let sample = search_sample(y, &job.split.train, job.cfg.search_rows, job.cfg.seed);
+    let (form, choice) = match (job.cfg.form, &sample) {
+        (Form::Auto, None) => auto::choose(job, progress)?,
+        (Form::Auto, Some(rows)) => {
+            let sub = Split {
+                train: rows.clone(),
+                test: Vec::new(),
+            };
+            auto::choose(SplitJob { split: &sub, ..job }, progress)?
+        }
+        (f, _) => (f, None),
     };
-    one::fit_form(job, cal, form, choice, progress)
+    let mut model = one::fit_form(job, cal, form, choice, sample.as_deref(), progress)?;
+    model.search_sample = sample.map(|rows| super::SearchSample {
+        rows: rows.len(),
+        training_rows: job.split.train.len(),
+        method: sample_method(job.cfg.seed),
+    });
+    Ok(model)
 }

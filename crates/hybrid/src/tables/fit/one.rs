@@ -18,12 +18,14 @@ use crate::correction::FormChoice;
 
 /// The fit of `job`'s split in the correction form `form` (`choice`: how `auto` chose it)
 /// from the split's calibrated physics `cal`; the joint refit works on its own copy of the
-/// parameters.
+/// parameters. With `sample` (a large table's search sample, issue 67), the conformal
+/// calibration's refits run on those rows.
 pub(crate) fn fit_form(
     job: SplitJob,
     cal: &Calibrated,
     form: Form,
     choice: Option<FormChoice>,
+    sample: Option<&[usize]>,
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
     let (table, cfg, split, task) = (job.table, job.cfg, job.split, job.task);
@@ -141,7 +143,7 @@ pub(crate) fn fit_form(
             cfg,
             res,
             &model,
-            &split.train,
+            sample.unwrap_or(&split.train),
             cfg.conformal_folds,
         )?);
     }

@@ -183,6 +183,23 @@ pub struct TableModel {
     /// the physics with them substituted. Absent without slots.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub slots: Vec<SlotInfo>,
+    /// The rows the correction's structure was searched on when the training rows were
+    /// more than `search_rows` (issue 67); absent when every training row was used.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub search_sample: Option<SearchSample>,
+}
+
+/// How a large table's correction was found (issue 67): its structure (the form `auto`'s
+/// choice, the search, the conformal and stability refits) on a sample of the training rows,
+/// its constants and the physics' calibration on every training row.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SearchSample {
+    /// Rows of the sample.
+    pub rows: usize,
+    /// Training rows, on which the constants were fitted.
+    pub training_rows: usize,
+    /// How the sample was drawn.
+    pub method: String,
 }
 
 /// A black box of the comparison and its test RMSE.
@@ -448,11 +465,20 @@ impl TableModel {
         if let Some(conf) = &m.conformal {
             let c = combine(&phys, m.correction.fitted()?, m.correction.kind);
             conf.check(c.params.len())?;
-            if conf.scores.len() != m.split.train.len() {
+            // one score per training row, or per row of the search sample (issue 67)
+            let rows = m
+                .search_sample
+                .as_ref()
+                .map_or(m.split.train.len(), |s| s.rows);
+            if conf.scores.len() != rows {
                 return Err(HybridError::ModelFormat(format!(
-                    "`conformal` has {} scores for {} training rows",
+                    "`conformal` has {} scores for {rows} training rows{}",
                     conf.scores.len(),
-                    m.split.train.len()
+                    if m.search_sample.is_some() {
+                        " of the search sample"
+                    } else {
+                        ""
+                    }
                 )));
             }
         }
