@@ -68,6 +68,9 @@ impl RandomForest {
     }
 }
 
+/// Rows a forest's prediction walks every tree over at once.
+const PREDICT_BLOCK: usize = 2048;
+
 impl Regressor for RandomForest {
     fn name(&self) -> &str {
         "forest"
@@ -116,9 +119,23 @@ impl Regressor for RandomForest {
     fn predict(&self, x: &Table) -> Result<Vec<f64>, BaselineError> {
         check_predict(self.name(), self.fitted, x)?;
         let k = self.trees.len() as f64;
-        Ok(RowMajor::of(x)
-            .rows()
-            .map(|r| self.trees.iter().map(|t| t.predict_row(r)).sum::<f64>() / k)
-            .collect())
+        let rm = RowMajor::of(x);
+        let rows: Vec<&[f64]> = rm.rows().collect();
+        // blocks of rows in parallel, each tree over a whole block before the next (its
+        // nodes stay in cache: row by row, 10^5 rows took a minute), every row's trees
+        // summed in the trees' order, so the result does not depend on the threads
+        Ok(self.par.run(|| {
+            rows.par_chunks(PREDICT_BLOCK)
+                .flat_map_iter(|block| {
+                    let mut sum = vec![0.0; block.len()];
+                    for t in &self.trees {
+                        for (s, r) in sum.iter_mut().zip(block) {
+                            *s += t.predict_row(r);
+                        }
+                    }
+                    sum.into_iter().map(move |s| s / k)
+                })
+                .collect()
+        }))
     }
 }

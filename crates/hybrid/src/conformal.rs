@@ -167,7 +167,8 @@ pub struct ConformalInfo {
     /// For each fold, the whole hybrid's constants refitted without that fold (the
     /// parameters of the one-program hybrid, in the order of `hybrid.uncertainty`'s program).
     pub fold_params: Vec<Vec<f64>>,
-    /// For each training row (in the order of `split.train`), its fold.
+    /// For each training row (in the order of `split.train`, or of the search sample of a
+    /// large table, `search_sample`), its fold.
     pub fold_of: Vec<usize>,
     /// For each training row, `|r| / s` of its held-out residual.
     pub scores: Vec<f64>,

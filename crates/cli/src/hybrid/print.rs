@@ -110,11 +110,21 @@ pub(super) fn print_model(m: &TableModel) {
     }
     if let Some(b) = &s.black_boxes {
         println!(
-            "black boxes on the test rows: physics + forest RMSE {}, boosting RMSE {}; the \
+            "black boxes on the test rows{}: physics + forest RMSE {}, boosting RMSE {}; the \
              hybrid has {:.2} times the best black box's test RMSE",
+            b.training_rows
+                .map(|r| format!(" (trained on a sample of {r} training rows)"))
+                .unwrap_or_default(),
             n(b.physics_forest),
             n(b.boosting),
             b.hybrid_over_best_black_box
+        );
+    }
+    if let Some(sample) = &m.search_sample {
+        println!(
+            "structure searched on a sample of {} of the {} training rows (stratified on the \
+             target); calibration and constants on every training row",
+            sample.rows, sample.training_rows
         );
     }
 }

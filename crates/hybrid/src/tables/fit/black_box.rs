@@ -93,10 +93,16 @@ pub(crate) fn black_box_predictions(
     Ok((forest, boosted))
 }
 
+/// Training rows the fit's black boxes are trained on at most (issue 67: a forest on 10^6
+/// rows took longer than the whole hybrid): a larger table's black boxes are trained on a
+/// sample of this many training rows stratified on the target, and the model says so
+/// (`scores.black_boxes.training_rows`). `hxai hybrid compare` trains them on every row.
+pub const BLACK_BOX_ROWS: usize = 20_000;
+
 /// The black boxes of `hxai hybrid compare` (physics + forest, boosting) on `job`'s split,
 /// from its calibrated physics `cal` (the fit's), scored against the fitted `model`'s test
 /// RMSE; `None` with fewer than two test rows, or where a black box has no error (the ratio
-/// would not be a number).
+/// would not be a number). Trained on at most [`BLACK_BOX_ROWS`] training rows.
 pub(crate) fn black_box_scores(
     job: SplitJob,
     cal: &Calibrated,
@@ -108,7 +114,19 @@ pub(crate) fn black_box_scores(
     };
     let y = table.require(&cfg.target)?;
     let yt = gather(y, &split.test);
-    let (forest, boosted) = black_box_predictions(table, cfg, &cal.res, split, &cal.physics)?;
+    let sample = super::job::search_sample(y, &split.train, BLACK_BOX_ROWS, cfg.seed);
+    let sub;
+    let on = match &sample {
+        Some(rows) => {
+            sub = Split {
+                train: rows.clone(),
+                test: split.test.clone(),
+            };
+            &sub
+        }
+        None => split,
+    };
+    let (forest, boosted) = black_box_predictions(table, cfg, &cal.res, on, &cal.physics)?;
     let physics_forest = hxai_eval::rmse(&yt, &forest)?;
     let boosting = hxai_eval::rmse(&yt, &boosted)?;
     let best_black_box = if boosting < physics_forest {
@@ -132,5 +150,6 @@ pub(crate) fn black_box_scores(
         boosting,
         hybrid_over_best_black_box: ratio,
         best_black_box,
+        training_rows: sample.map(|r| r.len()),
     }))
 }

@@ -208,7 +208,10 @@ fn defined(m: &Model, ft: &Table, margin: Option<f64>) -> bool {
 /// free form, the terms that do not earn their place dropped ([`drop_unearned`]; the
 /// selection's structure then follows the model); in every learned form, a warning when
 /// the correction is no better than the physics ([`no_better_than_physics`]). Returns the
-/// correction kept and the warnings (one per term dropped, then that one).
+/// correction kept and the warnings (one per term dropped, then that one). With `sample`
+/// (a large table's search sample, rows of the table among the training rows, issue 67)
+/// the rule's cross-validation runs on those rows, and a model that lost a term has its
+/// constants fitted again on every training row.
 ///
 /// # Errors
 /// Those of [`drop_unearned`].
@@ -217,28 +220,51 @@ pub(crate) fn earn(
     form: Form,
     correction: Model,
     selection: &mut hxai_symreg::SelectionReport,
-    ft: &Table,
-    delta: &[f64],
+    (ft, delta): (&Table, &[f64]),
+    sample: Option<&[usize]>,
 ) -> Result<(Model, Vec<String>), HybridError> {
-    let Some(folds) = earn_folds(job.table, job.cfg, &job.split.train)? else {
+    let (rows, sub): (&[usize], Option<(Table, Vec<f64>)>) = match sample {
+        Some(rows) => {
+            let at: std::collections::HashMap<usize, usize> = job
+                .split
+                .train
+                .iter()
+                .enumerate()
+                .map(|(p, &r)| (r, p))
+                .collect();
+            let pos: Vec<usize> = rows.iter().filter_map(|r| at.get(r).copied()).collect();
+            let d: Vec<f64> = pos.iter().map(|&p| delta[p]).collect();
+            (rows, Some((ft.select_rows(&pos)?, d)))
+        }
+        None => (&job.split.train, None),
+    };
+    let (ft_s, delta_s) = sub.as_ref().map_or((ft, delta), |(t, d)| (t, d.as_slice()));
+    let Some(folds) = earn_folds(job.table, job.cfg, rows)? else {
         return Ok((correction, Vec::new()));
     };
     let (model, mut warnings) = if form == Form::Free {
         let e = drop_unearned(
             correction,
-            ft,
-            delta,
+            ft_s,
+            delta_s,
             &folds,
             job.cfg.search().defined_margin,
         )?;
         if !e.dropped.is_empty() {
             selection.structure = hxai_symreg::stability::structure_of(&e.model);
         }
-        (e.model, e.dropped)
+        let model = if sample.is_some() && !e.dropped.is_empty() {
+            // the reduced model's constants on every training row
+            let m = e.model;
+            m.refitted(ft, delta)?.unwrap_or(m)
+        } else {
+            e.model
+        };
+        (model, e.dropped)
     } else {
         (correction, Vec::new())
     };
-    warnings.extend(no_better_than_physics(&model, ft, delta, &folds)?);
+    warnings.extend(no_better_than_physics(&model, ft_s, delta_s, &folds)?);
     Ok((model, warnings))
 }
 

@@ -57,7 +57,8 @@ pub(crate) fn fit_form(
         pareto,
         factors,
     } = searched;
-    let (mut correction, earned) = earn(job, form, correction, &mut selection, &ft, &delta)?;
+    let (mut correction, earned) =
+        earn(job, form, correction, &mut selection, (&ft, &delta), sample)?;
     let y_train = gather(y_all, &split.train);
 
     let mut joint = None;

@@ -108,6 +108,11 @@ pub struct BlackBoxScores {
     pub best_black_box: BlackBox,
     /// The hybrid's test RMSE divided by the best black box's.
     pub hybrid_over_best_black_box: f64,
+    /// The training rows the black boxes were trained on, when fewer than the fit's (a
+    /// large table's sample stratified on the target, issue 67: at most
+    /// `BLACK_BOX_ROWS`); absent when they were trained on every training row.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub training_rows: Option<usize>,
 }
 
 /// The two-stage result that a joint refit replaced.
