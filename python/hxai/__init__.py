@@ -9,6 +9,9 @@ as pandas DataFrames, all computed by hxai's compiled Rust engine (``hxai._hxai`
 - :class:`ToolModel` and :func:`predict_records`: the tool case's per-record pipeline with a
   model written by ``hxai fit`` (features, physics, hybrid), a pure function of a pandas
   DataFrame that Dask's ``map_partitions`` runs over a partitioned archive.
+- :func:`predict_table`: a table hybrid's prediction (``hxai hybrid predict``) as a pure
+  function of a DataFrame and the model, for Dask's ``map_partitions`` over a partitioned
+  Parquet dataset.
 - :class:`StreamEstimator`: the same model applied sample by sample, causally (``hxai
   stream``): push chunks of acceleration, get one DataFrame row per sample.
 - :mod:`hxai.signal`, :mod:`hxai.features`: the signal functions in scipy's shapes, the
@@ -24,6 +27,7 @@ from . import features, signal
 from .estimators import HybridRegressor, SymbolicRegressor, compare
 from .sim import simulate
 from .stream import StreamEstimator
+from .table import predict_table
 from .tool import ToolModel, predict_records
 
 __version__ = _hxai.__version__
@@ -34,6 +38,7 @@ __all__ = [
     "compare",
     "ToolModel",
     "predict_records",
+    "predict_table",
     "StreamEstimator",
     "simulate",
     "signal",

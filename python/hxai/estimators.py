@@ -233,6 +233,16 @@ def _pareto_frame(front):
     return frame
 
 
+def _search_rows(v):
+    """``search_rows`` checked: an integer of at least 100."""
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 100:
+        raise ValueError(
+            f"search_rows must be an integer >= 100 (the sample the correction's structure "
+            f"is searched on), got {v!r}"
+        )
+    return int(v)
+
+
 def _folds(v):
     """``conformal_folds`` checked: 0 (none) or at least 2."""
     if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0 or v == 1:
@@ -432,6 +442,7 @@ _KEYWORDS = [
     ("--calibrate-per", "calibrate_per="),
     ("--correction-per", "correction_per="),
     ("--conformal-folds", "conformal_folds="),
+    ("--search-rows", "search_rows="),
     ("--max-complexity", "max_complexity="),
     ("--stability", "stability_runs="),
     ("--calibrate", "calibrate="),
@@ -960,6 +971,12 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     ``n_jobs`` is the number of threads of the fit, as on :class:`SymbolicRegressor`
     (``None``, the default: every core; ``-1``: every core in a pool of its own; a positive
     int: that many); it never changes the result.
+
+    ``search_rows`` (default 2000), as ``hxai hybrid fit --search-rows``: on more training
+    rows, the correction's structure (the form ``auto``'s choice, the search, the conformal
+    and stability refits) is found on a sample of this many, stratified on the target; the
+    physics' calibration and the correction's constants use every row (the model file's
+    ``search_sample``).
     """
 
     def __init__(
@@ -1013,8 +1030,10 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         calibrate_per=None,
         correction_per=None,
         n_jobs=None,
+        search_rows=2000,
     ):
         self.conformal_folds = conformal_folds
+        self.search_rows = search_rows
         self.stability_runs = stability_runs
         self.missing = missing
         self.calibrate_per = calibrate_per
@@ -1145,6 +1164,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             "form": self.form,
             "joint": bool(self.joint),
             "conformal_folds": _folds(self.conformal_folds),
+            "search_rows": _search_rows(self.search_rows),
             "stability_runs": _stability_runs(self.stability_runs),
             "search": search,
         }

@@ -43,6 +43,9 @@ struct ProcessSettings {
     joint: bool,
     #[serde(default = "default_conformal_folds")]
     conformal_folds: usize,
+    /// `search_rows`: the sample the structure is searched on (issue 67).
+    #[serde(default = "default_search_rows")]
+    search_rows: usize,
     /// Bootstrap resamples of the correction's stability (0: not measured).
     #[serde(default)]
     stability_runs: usize,
@@ -84,6 +87,10 @@ fn with_levels(
 ) -> PyResult<()> {
     let text: Vec<(String, Vec<String>)> = levels.unwrap_or_default().into_iter().collect();
     model.add_levels(table, &text).map_err(err)
+}
+
+fn default_search_rows() -> usize {
+    hxai_hybrid::tables::SEARCH_ROWS
 }
 
 fn default_conformal_folds() -> usize {
@@ -170,6 +177,7 @@ fn prepared(
     cfg.form = s.form;
     cfg.joint = s.joint;
     cfg.conformal_folds = s.conformal_folds;
+    cfg.search_rows = s.search_rows;
     cfg.seed = search.seed;
     cfg.search = search;
     // the estimator takes the level columns out of X and sends their cells

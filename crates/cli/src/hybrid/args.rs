@@ -168,6 +168,12 @@ pub(crate) struct Common {
     /// them (the delta method is then the only interval).
     #[arg(long, default_value_t = hxai_hybrid::conformal::DEFAULT_CONFORMAL_FOLDS)]
     pub(crate) conformal_folds: usize,
+    /// Training rows above which the correction's structure (the form `auto`'s choice, the
+    /// search, the conformal and stability refits) is found on a sample of this many rows
+    /// stratified on the target; the physics' calibration and the correction's constants
+    /// always use every training row (docs/hybrid-tables.md, "Large tables").
+    #[arg(long, default_value_t = hxai_hybrid::tables::SEARCH_ROWS)]
+    pub(crate) search_rows: usize,
     /// Empty cells: `refuse` (the default; the message names the column, its count and the
     /// other choices), `drop` (drop the rows with an empty cell in a column the model
     /// reads) or `impute` (fill a feature's empty cells with its training median, stored
@@ -348,6 +354,7 @@ impl Common {
         cfg.seed = c.seed;
         cfg.joint = c.joint;
         cfg.conformal_folds = c.conformal_folds;
+        cfg.search_rows = c.search_rows;
         crate::strategy::SearchFlags {
             epochs: Some(c.epochs),
             max_complexity: Some(c.max_complexity),

@@ -251,13 +251,21 @@ fn prepare(c: &Common) -> Result<Prepared> {
         .with_context(|| c.data.display().to_string())?;
     let bar = crate::progress::styled(
         ready.cfg.search.epochs as u64,
-        "{bar:30} {pos}/{len} {msg} [{elapsed}]",
+        "{bar:30} {pos}/{len} {msg} [{elapsed}, about {eta} left of this step]",
     );
+    bar.set_message(format!("read {} rows", ready.table.n_rows()));
     Ok(Prepared { ready, bar })
 }
 
 fn on_progress(b: &ProgressBar) -> impl FnMut(&TableProgress) + '_ {
     move |p: &TableProgress| {
+        if p.step {
+            // a phase that is not a search: its own steps, its name
+            b.set_length(p.search.epochs.max(1) as u64);
+            b.set_position(p.search.epoch as u64);
+            b.set_message(p.label.clone());
+            return;
+        }
         let e = p.search.epochs as u64;
         b.set_length(p.tasks as u64 * e);
         b.set_position((p.task as u64 - 1) * e + p.search.epoch as u64);
@@ -286,7 +294,10 @@ fn fit(a: FitArgs) -> Result<()> {
         sb.finish_and_clear();
     }
     let cannot = || format!("cannot write the model to {}", a.out.display());
+    let wb = crate::progress::styled(1, "{msg} [{elapsed}]");
+    wb.set_message(format!("writing the model to {}", a.out.display()));
     let json = model.to_checked_json().with_context(cannot)?;
+    wb.finish_and_clear();
     let staged = hxai_data::stage_text(&a.out, &json).with_context(cannot)?;
     if a.common.json {
         // the document first: a full stdout then leaves the old model file as it was

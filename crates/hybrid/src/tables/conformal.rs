@@ -160,6 +160,7 @@ pub(crate) fn calibrate(
     model: &TableModel,
     train: &[usize],
     folds: usize,
+    progress: &mut dyn FnMut(usize, usize),
 ) -> Result<ConformalInfo, HybridError> {
     if folds < 2 {
         return Err(HybridError::InvalidConfig(format!(
@@ -169,6 +170,8 @@ pub(crate) fn calibrate(
     let splits = folds_of(table, cfg, train, folds)?;
     let y = table.require(&cfg.target)?;
     let fitted = model.correction.fitted()?;
+    let mut done = 0;
+    progress(done, splits.len());
     let HeldOut {
         fold_params,
         fold_of,
@@ -182,6 +185,8 @@ pub(crate) fn calibrate(
             let rows: Vec<usize> = s.train.iter().map(|&i| train[i]).collect();
             let c = fold_fit(table, cfg, res, fitted, &rows)?;
             let pred = c.predict_with(&c.params, table)?;
+            done += 1;
+            progress(done, splits.len());
             Ok((c.params, pred))
         },
     )?;

@@ -358,6 +358,30 @@ pub struct TableProgress {
     pub tasks: usize,
     /// What runs (`correction`, `symbolic`, `fold 2/5 correction`, ...).
     pub label: String,
-    /// The search's progress within the task.
+    /// The search's progress within the task; for a phase that is not a search
+    /// (`step`), its steps done (`epoch`) of its steps (`epochs`).
     pub search: hxai_symreg::Progress,
+    /// Whether this reports a phase of the fit other than a search (issue 67: every phase
+    /// named): `label` names it (`calibrating the physics on 800000 training rows`,
+    /// `conformal calibration`, `black boxes`, ...), `search.epoch` of `search.epochs` its
+    /// steps.
+    pub step: bool,
+}
+
+impl TableProgress {
+    /// A phase of the fit that is not a search: `label`, `done` of `steps` steps.
+    pub fn phase(label: impl Into<String>, done: usize, steps: usize) -> Self {
+        Self {
+            task: 1,
+            tasks: 1,
+            label: label.into(),
+            search: hxai_symreg::Progress {
+                epoch: done,
+                epochs: steps,
+                evaluations: 0,
+                best_loss: f64::NAN,
+            },
+            step: true,
+        }
+    }
 }

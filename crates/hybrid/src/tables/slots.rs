@@ -402,6 +402,7 @@ fn fit_slot(
                 tasks: 1,
                 label: label.to_string(),
                 search: p.clone(),
+                step: false,
             })
         },
     )?;

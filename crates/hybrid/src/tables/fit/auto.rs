@@ -55,6 +55,16 @@ pub(crate) fn choose(
         let errors = |pred: &[f64]| -> Vec<f64> {
             sub.test.iter().map(|&i| (y[i] - pred[i]).powi(2)).collect()
         };
+        progress(&TableProgress::phase(
+            format!(
+                "form auto: fold {}/{} on {} rows (none, factors, free)",
+                k + 1,
+                folds.len(),
+                split.train.len()
+            ),
+            k,
+            folds.len(),
+        ));
         let cal = calibrate_split(SplitJob {
             table,
             cfg,

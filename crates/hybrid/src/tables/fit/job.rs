@@ -42,6 +42,7 @@ pub(crate) fn search_training_rows(
             tasks: task.1,
             label: label.clone(),
             search: p.clone(),
+            step: false,
         })
     })?;
     Ok((ft, found))

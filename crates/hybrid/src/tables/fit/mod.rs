@@ -128,8 +128,24 @@ pub fn fit(
     let slots = super::slots::expand(table, cfg, &split.train, progress)?;
     let cfg = slots.as_ref().map_or(cfg, |e| &e.cfg);
     let job = SplitJob::single(table, cfg, &split, &kind);
+    progress(&TableProgress::phase(
+        format!(
+            "calibrating the physics on {} training rows",
+            split.train.len()
+        ),
+        0,
+        1,
+    ));
     let cal = calibrate_split(job)?;
     let mut model = fit_calibrated(job, &cal, progress)?;
+    progress(&TableProgress::phase(
+        format!(
+            "black boxes beside the hybrid (forest, boosting) on {} training rows",
+            split.train.len().min(black_box::BLACK_BOX_ROWS)
+        ),
+        0,
+        1,
+    ));
     model.scores.black_boxes = black_box::black_box_scores(job, &cal, &model)?;
     if let Some(e) = &slots {
         model.slots = e.finished(&model.physics.params, &model.physics.parameters);

@@ -47,7 +47,22 @@ pub(crate) fn fit_form(
         Form::Free | Form::Auto => {
             search_free(job, res, &delta, Task { of: task, label }, progress)?
         }
-        Form::Factors => search_factors(table, res, cfg, split, &delta, physics)?,
+        Form::Factors => {
+            let n = split.train.len();
+            progress(&TableProgress::phase(
+                if n > cfg.search_rows {
+                    format!(
+                        "{label}: factor form on {} rows, constants on {n}",
+                        cfg.search_rows
+                    )
+                } else {
+                    format!("{label}: factor form on {n} rows")
+                },
+                0,
+                1,
+            ));
+            search_factors(table, res, cfg, split, &delta, physics)?
+        }
         Form::None => no_correction(table, res, split)?,
     };
     let Searched {
@@ -57,6 +72,11 @@ pub(crate) fn fit_form(
         pareto,
         factors,
     } = searched;
+    progress(&TableProgress::phase(
+        "checking that every term of the correction earns its place",
+        0,
+        1,
+    ));
     let (mut correction, earned) =
         earn(job, form, correction, &mut selection, (&ft, &delta), sample)?;
     let y_train = gather(y_all, &split.train);
@@ -146,6 +166,16 @@ pub(crate) fn fit_form(
             &model,
             sample.unwrap_or(&split.train),
             cfg.conformal_folds,
+            &mut |k, of| {
+                progress(&TableProgress::phase(
+                    format!(
+                        "conformal calibration on {} rows",
+                        sample.map_or(split.train.len(), <[usize]>::len)
+                    ),
+                    k,
+                    of,
+                ))
+            },
         )?);
     }
     let hybrid = model.predict(table)?.hybrid;
