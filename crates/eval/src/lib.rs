@@ -53,7 +53,7 @@ pub use error::EvalError;
 pub use metrics::{Metrics, improvement_pct, mae, r2, residuals, rmse, score, squared_errors};
 pub use split::{
     Split, grouped_kfold, grouped_train_test_split, kfold, kfold_contiguous, shared_rows,
-    stratified_sample, train_test_split,
+    stratified_sample, stratified_sample_spanning, train_test_split,
 };
 pub use stats::{
     Extent, Interval, Summary, TTest, extent, means_by_key, paired_t_test, summarize, summarize_at,

@@ -251,9 +251,53 @@ pub fn stratified_sample(y: &[f64], k: usize, seed: u64) -> Vec<usize> {
     out
 }
 
+/// [`stratified_sample`] of `y` with, besides, the positions of the smallest and the
+/// largest value of each of `columns` (one slice per column, each `y`'s length; values that
+/// are not numbers ignored): a structure searched on the sample then sees the whole box of
+/// the columns, so a pole or a logarithm that would break on a rare row at an edge (a zero
+/// in a column of sizes) is refused there, not found on the full rows afterwards. At most
+/// `k + 2 * columns.len()` positions, in increasing order; every position when `k >=
+/// y.len()`.
+pub fn stratified_sample_spanning(
+    y: &[f64],
+    k: usize,
+    seed: u64,
+    columns: &[&[f64]],
+) -> Vec<usize> {
+    let mut out = stratified_sample(y, k, seed);
+    if out.len() == y.len() {
+        return out;
+    }
+    for col in columns {
+        let finite = || col.iter().enumerate().filter(|(_, v)| v.is_finite());
+        let lo = finite().min_by(|a, b| a.1.total_cmp(b.1)).map(|(i, _)| i);
+        let hi = finite().max_by(|a, b| a.1.total_cmp(b.1)).map(|(i, _)| i);
+        out.extend(lo.into_iter().chain(hi));
+    }
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
 #[cfg(test)]
 mod sample_tests {
-    use super::stratified_sample;
+    use super::{stratified_sample, stratified_sample_spanning};
+
+    /// The rows of each column's extremes join the sample, once each.
+    #[test]
+    fn the_extremes_of_every_column_are_in_the_sample() {
+        let y: Vec<f64> = (0..500).map(f64::from).collect();
+        let x: Vec<f64> = (0..500).map(|i| f64::from((i * 37) % 500)).collect();
+        let s = stratified_sample_spanning(&y, 20, 1, &[&x, &y]);
+        let lo = x.iter().position(|&v| v == 0.0).unwrap();
+        let hi = x.iter().position(|&v| v == 499.0).unwrap();
+        assert!(s.contains(&lo) && s.contains(&hi) && s.contains(&0) && s.contains(&499));
+        assert!(s.len() <= 24 && s.windows(2).all(|w| w[0] < w[1]));
+        assert_eq!(
+            stratified_sample_spanning(&y[..10], 20, 1, &[&x[..10]]).len(),
+            10
+        );
+    }
 
     /// `k` distinct positions in increasing order, one per stratum of the sorted values
     /// (so the smallest and largest `n / k` values are each represented), the same for the

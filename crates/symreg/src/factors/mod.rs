@@ -110,8 +110,9 @@ pub struct FactorConfig {
     pub par: Par,
     /// Rows the structure is selected on (issue 67): with more, the forward selection,
     /// backfitting and alternatives run on a seeded sample of this many rows stratified on
-    /// the target ([`hxai_eval::stratified_sample`]), and the selected structure's
-    /// constants are then fitted on every row (default `usize::MAX`: every row).
+    /// the target, with each column's extreme rows
+    /// ([`hxai_eval::stratified_sample_spanning`]), and the selected structure's constants
+    /// are then fitted on every row (default `usize::MAX`: every row).
     pub max_rows: usize,
 }
 
@@ -297,8 +298,14 @@ fn fit_structure(
     }
     // the structure is selected on at most `max_rows` rows (stratified on the target),
     // its constants fitted again on every row below
-    let rows = (y.len() > cfg.max_rows.max(2 * cfg.folds))
-        .then(|| hxai_eval::stratified_sample(y, cfg.max_rows.max(2 * cfg.folds), cfg.seed));
+    let rows = (y.len() > cfg.max_rows.max(2 * cfg.folds)).then(|| {
+        hxai_eval::stratified_sample_spanning(
+            y,
+            cfg.max_rows.max(2 * cfg.folds),
+            cfg.seed,
+            &all_cols,
+        )
+    });
     let pick = |v: &[f64]| -> Vec<f64> {
         rows.as_ref()
             .map_or_else(|| v.to_vec(), |r| r.iter().map(|&i| v[i]).collect())

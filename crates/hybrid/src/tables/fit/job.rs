@@ -114,29 +114,39 @@ pub(crate) fn calibrate_split(job: SplitJob) -> Result<Calibrated, HybridError> 
 }
 
 /// The training rows (`train`, rows of the table) the correction's structure is searched on
-/// (issue 67): `None` when they are at most `cfg.search_rows`, else a sample of that many
-/// stratified on the target `y` ([`hxai_eval::stratified_sample`], seeded by `seed`), in
+/// (issue 67): `None` when they are at most `search_rows`, else a sample of that many
+/// stratified on the target `y`, seeded by `seed`, with the training rows that hold the
+/// smallest and largest value of each of `columns` (the columns the model reads: the
+/// search then sees their whole box, [`hxai_eval::stratified_sample_spanning`]), in
 /// increasing row order.
 pub(crate) fn search_sample(
     y: &[f64],
+    columns: &[&[f64]],
     train: &[usize],
     search_rows: usize,
     seed: u64,
 ) -> Option<Vec<usize>> {
     (train.len() > search_rows).then(|| {
-        let yt: Vec<f64> = train.iter().map(|&i| y[i]).collect();
-        hxai_eval::stratified_sample(&yt, search_rows, seed)
+        let pick = |v: &[f64]| -> Vec<f64> { train.iter().map(|&i| v[i]).collect() };
+        let cols: Vec<Vec<f64>> = columns.iter().map(|c| pick(c)).collect();
+        let refs: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
+        hxai_eval::stratified_sample_spanning(&pick(y), search_rows, seed, &refs)
             .into_iter()
             .map(|p| train[p])
             .collect()
     })
 }
 
+/// The columns of `table` named in `names` that it holds (those [`search_sample`] spans).
+pub(crate) fn columns_named<'t>(table: &'t Table, names: &[String]) -> Vec<&'t [f64]> {
+    names.iter().filter_map(|n| table.column(n)).collect()
+}
+
 /// How [`search_sample`] draws its rows, as the model file says it.
 pub(crate) fn sample_method(seed: u64) -> String {
     format!(
         "one training row drawn at random (seed {seed}) from each of equal-count strata of \
-         the target; the physics' calibration and the correction's constants on every \
-         training row"
+         the target, and the training rows of each column's smallest and largest value; the \
+         physics' calibration and the correction's constants on every training row"
     )
 }

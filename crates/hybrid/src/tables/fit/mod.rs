@@ -45,7 +45,15 @@ pub fn stability(
     let physics = model.predict(table)?.physics;
     let y = table.require(&model.target)?;
     // on the sample the structure was searched on (issue 67), when there was one
-    let rows = search_sample(y, &model.split.train, cfg.search_rows, cfg.seed)
+    let read: Vec<String> = model
+        .physics
+        .columns
+        .iter()
+        .chain(&model.correction.candidates)
+        .cloned()
+        .collect();
+    let columns = job::columns_named(table, &read);
+    let rows = search_sample(y, &columns, &model.split.train, cfg.search_rows, cfg.seed)
         .unwrap_or_else(|| model.split.train.clone());
     let delta = deltas(model.correction.kind, y, &physics, &rows)?;
     let ft = table
@@ -192,7 +200,21 @@ pub(crate) fn fit_calibrated(
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
     let y = job.table.require(&job.cfg.target)?;
-    let sample = search_sample(y, &job.split.train, job.cfg.search_rows, job.cfg.seed);
+    let read: Vec<String> = cal
+        .res
+        .columns
+        .iter()
+        .chain(&cal.res.features)
+        .cloned()
+        .collect();
+    let columns = job::columns_named(job.table, &read);
+    let sample = search_sample(
+        y,
+        &columns,
+        &job.split.train,
+        job.cfg.search_rows,
+        job.cfg.seed,
+    );
     let (form, choice) = match (job.cfg.form, &sample) {
         (Form::Auto, None) => auto::choose(job, progress)?,
         (Form::Auto, Some(rows)) => {
