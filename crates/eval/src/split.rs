@@ -281,6 +281,7 @@ pub fn stratified_sample_spanning(
 
 #[cfg(test)]
 mod sample_tests {
+    #![allow(clippy::unwrap_used)]
     use super::{stratified_sample, stratified_sample_spanning};
 
     /// The rows of each column's extremes join the sample, once each.

@@ -78,5 +78,4 @@ fn a_large_fit_costs_each_row_a_few_numbers() {
         "the fit's peak grew by {per_row} bytes a row (peaks {small} and {large} bytes at \
          2x10^4 and 10^5 rows)"
     );
-    eprintln!("peaks: {small} bytes at 2x10^4 rows, {large} at 10^5; {per_row} bytes a row");
 }

@@ -30,15 +30,16 @@ pub(super) struct Fitted {
 
 /// The model file of a fit: the physics with its parameters' intervals, the correction with
 /// its uncertainty and Pareto front, the hybrid as one equation with its uncertainty, and the
-/// split; its scores are zero until [`scores_of`] fills them.
+/// split; its scores are zero until [`scores_of`] fills them. The alternatives' intervals
+/// are those of the rows they were fitted on (a large table's search `sample`).
 pub(super) fn model_of(
     job: SplitJob,
     res: &Resolved,
     ft: &Table,
     pareto: &[hxai_symreg::Model],
     fitted: Fitted,
-    y_all: &[f64],
-    y_train: &[f64],
+    (y_all, y_train): (&[f64], &[f64]),
+    sample: Option<&[usize]>,
 ) -> Result<TableModel, HybridError> {
     let (table, cfg, split, kind) = (job.table, job.cfg, job.split, job.kind);
     let Fitted {
@@ -99,7 +100,7 @@ pub(super) fn model_of(
                 ft,
                 &correction_delta,
                 pareto,
-                with_alternatives_uncertainty(selection, ft, &correction_delta),
+                alternatives_uncertainty(selection, ft, &correction_delta, split, sample)?,
             )?
         },
         hybrid: EquationInfo {
@@ -296,6 +297,29 @@ pub(super) fn train_rmse(
 /// `delta`, the rows and target the selected correction's own is taken on), so that `hxai
 /// hybrid design` can weigh each equation by its own prediction variance. An alternative
 /// whose text does not compile back, or whose covariance does not exist, keeps none.
+/// [`with_alternatives_uncertainty`] on the rows the alternatives were fitted on: the
+/// training rows (`ft`, `delta`), or a large table's search sample (`sample`, rows of the
+/// table among `split`'s training rows, issue 67), where the selection found them with
+/// their constants.
+fn alternatives_uncertainty(
+    selection: hxai_symreg::SelectionReport,
+    ft: &Table,
+    delta: &[f64],
+    split: &Split,
+    sample: Option<&[usize]>,
+) -> Result<hxai_symreg::SelectionReport, HybridError> {
+    let Some(rows) = sample.filter(|_| !selection.alternatives.is_empty()) else {
+        return Ok(with_alternatives_uncertainty(selection, ft, delta));
+    };
+    let pos = super::job::positions_in(&split.train, rows);
+    let d: Vec<f64> = pos.iter().map(|&p| delta[p]).collect();
+    Ok(with_alternatives_uncertainty(
+        selection,
+        &ft.select_rows(&pos)?,
+        &d,
+    ))
+}
+
 fn with_alternatives_uncertainty(
     mut selection: hxai_symreg::SelectionReport,
     ft: &Table,

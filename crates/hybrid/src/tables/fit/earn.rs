@@ -225,14 +225,7 @@ pub(crate) fn earn(
 ) -> Result<(Model, Vec<String>), HybridError> {
     let (rows, sub): (&[usize], Option<(Table, Vec<f64>)>) = match sample {
         Some(rows) => {
-            let at: std::collections::HashMap<usize, usize> = job
-                .split
-                .train
-                .iter()
-                .enumerate()
-                .map(|(p, &r)| (r, p))
-                .collect();
-            let pos: Vec<usize> = rows.iter().filter_map(|r| at.get(r).copied()).collect();
+            let pos = super::job::positions_in(&job.split.train, rows);
             let d: Vec<f64> = pos.iter().map(|&p| delta[p]).collect();
             (rows, Some((ft.select_rows(&pos)?, d)))
         }

@@ -137,6 +137,14 @@ pub(crate) fn search_sample(
     })
 }
 
+/// The positions in `train` of `rows` (rows of the table among the training rows; a row
+/// not among them is skipped).
+pub(crate) fn positions_in(train: &[usize], rows: &[usize]) -> Vec<usize> {
+    let at: std::collections::HashMap<usize, usize> =
+        train.iter().enumerate().map(|(p, &r)| (r, p)).collect();
+    rows.iter().filter_map(|r| at.get(r).copied()).collect()
+}
+
 /// The columns of `table` named in `names` that it holds (those [`search_sample`] spans).
 pub(crate) fn columns_named<'t>(table: &'t Table, names: &[String]) -> Vec<&'t [f64]> {
     names.iter().filter_map(|n| table.column(n)).collect()

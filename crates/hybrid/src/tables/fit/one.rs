@@ -100,7 +100,7 @@ pub(crate) fn fit_form(
         selection,
         joint,
     };
-    let mut model = model_of(job, res, &ft, &pareto, fitted, y_all, &y_train)?;
+    let mut model = model_of(job, res, &ft, &pareto, fitted, (y_all, &y_train), sample)?;
     model.correction.form = Some(form);
     model.correction.choice = choice;
     model.correction.factors = factors;
