@@ -114,15 +114,7 @@ pub(crate) fn black_box_scores(
     };
     let y = table.require(&cfg.target)?;
     let yt = gather(y, &split.test);
-    let read: Vec<String> = cal
-        .res
-        .columns
-        .iter()
-        .chain(&cal.res.features)
-        .cloned()
-        .collect();
-    let columns = super::job::columns_named(table, &read);
-    let sample = super::job::search_sample(y, &columns, &split.train, BLACK_BOX_ROWS, cfg.seed);
+    let sample = super::job::sample_of(job, &cal.res, BLACK_BOX_ROWS)?;
     let sub;
     let on = match &sample {
         Some(rows) => {

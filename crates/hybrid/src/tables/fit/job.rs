@@ -145,6 +145,28 @@ pub(crate) fn positions_in(train: &[usize], rows: &[usize]) -> Vec<usize> {
     rows.iter().filter_map(|r| at.get(r).copied()).collect()
 }
 
+/// [`search_sample`] of `job`'s training rows over the columns the resolved physics and
+/// correction read (`res`), at most `rows` of them (and the columns' extreme rows).
+///
+/// # Errors
+/// A target the table lacks.
+pub(crate) fn sample_of(
+    job: SplitJob,
+    res: &Resolved,
+    rows: usize,
+) -> Result<Option<Vec<usize>>, HybridError> {
+    let y = job.table.require(&job.cfg.target)?;
+    let read: Vec<String> = res.columns.iter().chain(&res.features).cloned().collect();
+    let columns = columns_named(job.table, &read);
+    Ok(search_sample(
+        y,
+        &columns,
+        &job.split.train,
+        rows,
+        job.cfg.seed,
+    ))
+}
+
 /// The columns of `table` named in `names` that it holds (those [`search_sample`] spans).
 pub(crate) fn columns_named<'t>(table: &'t Table, names: &[String]) -> Vec<&'t [f64]> {
     names.iter().filter_map(|n| table.column(n)).collect()

@@ -199,22 +199,7 @@ pub(crate) fn fit_calibrated(
     cal: &Calibrated,
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<TableModel, HybridError> {
-    let y = job.table.require(&job.cfg.target)?;
-    let read: Vec<String> = cal
-        .res
-        .columns
-        .iter()
-        .chain(&cal.res.features)
-        .cloned()
-        .collect();
-    let columns = job::columns_named(job.table, &read);
-    let sample = search_sample(
-        y,
-        &columns,
-        &job.split.train,
-        job.cfg.search_rows,
-        job.cfg.seed,
-    );
+    let sample = job::sample_of(job, &cal.res, job.cfg.search_rows)?;
     let (form, choice) = match (job.cfg.form, &sample) {
         (Form::Auto, None) => auto::choose(job, progress)?,
         (Form::Auto, Some(rows)) => {
