@@ -147,18 +147,46 @@ pub struct Explanation {
 pub type PartialResiduals = Vec<(String, Vec<(f64, f64)>)>;
 
 /// Median of finite values (mean of the middle two for an even count); `None` when empty.
+/// By selection, not a sort (issue 67: `predict`'s value checks took a median of every
+/// column four times, 40 % of a 10^6-row prediction); the values are those of a sort.
 pub fn median(values: impl IntoIterator<Item = f64>) -> Option<f64> {
     let mut v: Vec<f64> = values.into_iter().filter(|x| x.is_finite()).collect();
     if v.is_empty() {
         return None;
     }
-    v.sort_by(f64::total_cmp);
     let n = v.len();
+    let (below, &mut mid, _) = v.select_nth_unstable_by(n / 2, f64::total_cmp);
     Some(if n % 2 == 1 {
-        v[n / 2]
+        mid
     } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
+        // the largest of the lower half: the sorted order's element n/2 - 1
+        let lower = below.iter().copied().max_by(f64::total_cmp).unwrap_or(mid);
+        0.5 * (lower + mid)
     })
+}
+
+#[cfg(test)]
+mod median_tests {
+    /// The selection's median is the sorted list's, for odd and even counts, with ties
+    /// and values that are not numbers left out.
+    #[test]
+    fn the_median_is_the_sorted_lists() {
+        for n in 1..40usize {
+            let v: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+            let mut s = v.clone();
+            s.sort_by(f64::total_cmp);
+            let want = if n % 2 == 1 {
+                s[n / 2]
+            } else {
+                0.5 * (s[n / 2 - 1] + s[n / 2])
+            };
+            let mut with_nan = v.clone();
+            with_nan.push(f64::NAN);
+            assert_eq!(super::median(v), Some(want));
+            assert_eq!(super::median(with_nan), Some(want));
+        }
+        assert_eq!(super::median(Vec::new()), None);
+    }
 }
 
 fn check_data(model: &Model, data: &ExplainData<'_>) -> Result<(), HybridError> {
