@@ -1,8 +1,8 @@
 //! The integration tests of hxai-hybrid, one module per former test file, linked into one
 //! test binary: each binary costs a link of the whole dependency tree, and the tests run
 //! in parallel within a binary but one binary after another (issue 51).
-//! `tests/stream_memory.rs` and `tests/table_memory.rs` stay binaries of their own: their
-//! counting allocators see every thread, so nothing else may run beside them.
+//! `tests/memory.rs` stays a binary of its own: its counting allocator sees every thread,
+//! so nothing else may run beside it.
 
 mod common;
 
