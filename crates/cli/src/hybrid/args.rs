@@ -106,6 +106,17 @@ pub(crate) struct Common {
     /// only these may carry a harmonic (sin, cos) in the correction; without it, none does.
     #[arg(long)]
     pub(crate) periodic: Vec<String>,
+    /// Monotone effects, comma-separated `COL=+` (the correction's effect of COL never
+    /// decreases over its training range) or `COL=-` (never increases): respected by every
+    /// factor and pair of the factor form (with it, auto chooses between none and factors,
+    /// and --form free is refused).
+    #[arg(long)]
+    pub(crate) monotone: Vec<String>,
+    /// The factor form's shapes: classic (power, linear, exp, log, pole, saturation, pair,
+    /// periodic where declared; the default), all (with the threshold and saturation shapes
+    /// hinge, step and saturating_power), or a comma-separated list of shape names.
+    #[arg(long, default_value = "classic")]
+    pub(crate) shapes: String,
     /// How the correction enters the hybrid.
     #[arg(long, value_enum, default_value_t = CorrectionArg::Additive)]
     pub(crate) correction: CorrectionArg,
@@ -342,6 +353,21 @@ impl Common {
                 p.split('=').next().unwrap_or_default()
             );
         }
+        for m in column_names(&c.monotone, "--monotone")? {
+            match m.rsplit_once('=').map(|(col, d)| (col.trim(), d.trim())) {
+                Some((col, "+")) if !col.is_empty() => cfg.increasing.push(col.to_string()),
+                Some((col, "-")) if !col.is_empty() => cfg.decreasing.push(col.to_string()),
+                _ => anyhow::bail!(
+                    "--monotone {m}: write COL=+ (the effect never decreases) or COL=- (never                      increases)"
+                ),
+            }
+        }
+        cfg.factors.shapes = hxai_symreg::factors::Shapes::parse(&c.shapes).ok_or_else(|| {
+            anyhow::anyhow!(
+                "--shapes {}: write classic, all, or shape names among power, linear, exp,                  log, pole, saturation, hinge, saturating_power, step, periodic, pair",
+                c.shapes
+            )
+        })?;
         cfg.correction = match c.correction {
             CorrectionArg::Additive => CorrectionForm::Additive,
             CorrectionArg::Multiplicative => CorrectionForm::Multiplicative,

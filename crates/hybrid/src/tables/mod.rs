@@ -195,6 +195,13 @@ pub struct TableConfig {
     /// the free form gets `sin` and `cos` among its operators only when one is declared).
     /// Empty (the default): no sine or cosine in any correction (issue 64).
     pub periodic: Vec<String>,
+    /// `--monotone COL=+` (issue 68): columns whose effect in the correction must not
+    /// decrease over their training range, in every factor and pair
+    /// ([`hxai_symreg::factors::FactorConfig::increasing`]); the factor form only (the form
+    /// `free` is refused with it, and `auto` chooses between `none` and `factors`).
+    pub increasing: Vec<String>,
+    /// `--monotone COL=-`: columns whose effect in the correction must not increase.
+    pub decreasing: Vec<String>,
     /// Indicator columns (1 on a level's rows, 0 elsewhere) whose levels a random split
     /// keeps on both sides in proportion, so that every level keeps training rows
     /// (`--calibrate-per` and `--correction-per` add theirs: a level wholly in the test rows
@@ -235,6 +242,8 @@ impl TableConfig {
             search_rows: SEARCH_ROWS,
             correction_per: None,
             periodic: Vec::new(),
+            increasing: Vec::new(),
+            decreasing: Vec::new(),
             strata: Vec::new(),
             per_level: PerLevel::default(),
             missing: None,
@@ -275,6 +284,17 @@ impl TableConfig {
                 self.search_rows
             )));
         }
+        if let Some(c) = self.increasing.iter().find(|c| self.decreasing.contains(c)) {
+            return Err(crate::HybridError::InvalidConfig(format!(
+                "--monotone {c}: the column is declared both increasing (+) and decreasing (-)"
+            )));
+        }
+        if self.monotone() && self.form == Form::Free {
+            return Err(crate::HybridError::InvalidConfig(
+                "--monotone with --form free is not built: the free form's equations are not                  constrained; use --form factors or auto (which then chooses between none and                  factors)"
+                    .into(),
+            ));
+        }
         let search = self.search_config().check()?;
         Ok(ValidTable {
             cfg: self.clone(),
@@ -293,8 +313,21 @@ impl TableConfig {
                 features,
                 &self.periodic,
             )),
+            increasing: hxai_symreg::factors::FactorConfig::periodic_mask(
+                features,
+                &self.increasing,
+            ),
+            decreasing: hxai_symreg::factors::FactorConfig::periodic_mask(
+                features,
+                &self.decreasing,
+            ),
             ..self.factors
         }
+    }
+
+    /// Whether a monotone constraint is declared (`--monotone`).
+    pub fn monotone(&self) -> bool {
+        !self.increasing.is_empty() || !self.decreasing.is_empty()
     }
 
     fn search_config(&self) -> SearchConfig {

@@ -295,5 +295,16 @@ fn feature_columns(table: &Table, cfg: &TableConfig) -> Result<Vec<String>, Hybr
             features.join(", ")
         )));
     }
+    if let Some(c) = cfg
+        .increasing
+        .iter()
+        .chain(&cfg.decreasing)
+        .find(|c| !features.contains(c))
+    {
+        return Err(HybridError::InvalidConfig(format!(
+            "--monotone {c}: `{c}` is not a feature of the correction (its features: {}); a              monotone constraint bounds the correction's effect of one of its columns",
+            features.join(", ")
+        )));
+    }
     Ok(features)
 }

@@ -104,6 +104,16 @@ pub struct FactorConfig {
     /// 64th never). The hybrid sets it from `--periodic`, so an undeclared column gets no
     /// sine.
     pub periodic: Option<u64>,
+    /// Columns whose factor must not decrease over their training range (issue 68,
+    /// `--monotone COL=+`): bit `j` for the data's column `j` (columns past the 64th are
+    /// never constrained). A candidate structure whose correction, at a sample of the
+    /// rows' other values, falls anywhere along such a column's grid is refused, in every
+    /// shape and pair, in the forward steps, backfitting, interactions, the snapping of
+    /// exponents and the refit on every row.
+    pub increasing: u64,
+    /// Columns whose factor must not increase ([`FactorConfig::increasing`]'s opposite,
+    /// `--monotone COL=-`).
+    pub decreasing: u64,
     /// Seed of the folds (and of the subsample of [`FactorConfig::max_rows`]).
     pub seed: u64,
     /// Threads of the parallel loops (results never depend on it).
@@ -125,8 +135,9 @@ impl FactorConfig {
         }
     }
 
-    /// The mask of [`FactorConfig::periodic`] for the `declared` columns among `columns`
-    /// (the data's column names, in order).
+    /// The mask of [`FactorConfig::periodic`] (or of [`FactorConfig::increasing`],
+    /// [`FactorConfig::decreasing`]) for the `declared` columns among `columns` (the data's
+    /// column names, in order).
     pub fn periodic_mask(columns: &[String], declared: &[String]) -> u64 {
         columns
             .iter()
@@ -138,24 +149,54 @@ impl FactorConfig {
 
 /// A set of [`Shape`]s (the interaction is [`Shape::Pair`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Shapes(u8);
+pub struct Shapes(u16);
 
 impl Shapes {
-    /// Every shape.
-    pub const ALL: Shapes = Shapes(0xff);
+    /// Every shape, the threshold and saturation shapes of issue 68 included.
+    pub const ALL: Shapes = Shapes(u16::MAX);
+
+    /// The shapes of the default: every shape but issue 68's hinge, smooth step and
+    /// saturating power, which a fit takes where asked (`--shapes all`): they are measured
+    /// in docs/benchmarks.md before they become a default.
+    pub const CLASSIC: Shapes = Shapes(
+        u16::MAX
+            & !(1 << Shape::Hinge as u16)
+            & !(1 << Shape::Step as u16)
+            & !(1 << Shape::SaturatingPower as u16),
+    );
 
     /// No shape.
     pub const NONE: Shapes = Shapes(0);
 
     /// Whether `shape` is in the set.
     pub fn contains(self, shape: Shape) -> bool {
-        self.0 & (1 << shape as u8) != 0
+        self.0 & (1 << shape as u16) != 0
     }
 
     /// The set with `shape` added.
     #[must_use]
     pub fn with(self, shape: Shape) -> Shapes {
-        Shapes(self.0 | (1 << shape as u8))
+        Shapes(self.0 | (1 << shape as u16))
+    }
+
+    /// The set without `shape`.
+    #[must_use]
+    pub fn without(self, shape: Shape) -> Shapes {
+        Shapes(self.0 & !(1 << shape as u16))
+    }
+
+    /// The shapes of a setting: `classic` ([`Shapes::CLASSIC`]), `all` ([`Shapes::ALL`]),
+    /// or a comma-separated list of [`Shape::name`]s (`power,linear,hinge`); `None` for a
+    /// name that is not a shape.
+    pub fn parse(text: &str) -> Option<Shapes> {
+        match text.trim() {
+            "classic" => Some(Shapes::CLASSIC),
+            "all" => Some(Shapes::ALL),
+            list => list
+                .split(',')
+                .map(|n| Shape::from_name(n.trim()))
+                .try_fold(Shapes::NONE, |set, s| s.map(|s| set.with(s))),
+        }
     }
 }
 
@@ -168,8 +209,10 @@ impl Default for FactorConfig {
             se_rule: 1.0,
             interaction_se: 2.0,
             backfit_rounds: 2,
-            shapes: Shapes::ALL,
+            shapes: Shapes::CLASSIC,
             periodic: None,
+            increasing: 0,
+            decreasing: 0,
             seed: 42,
             par: Par::Current,
             max_rows: usize::MAX,
@@ -379,7 +422,7 @@ fn fit_structure(
         };
         let mut s = chosen.s.clone();
         let mse = s.fit_any_period(link, &cols, yy);
-        if mse.is_finite() {
+        if mse.is_finite() && s.monotone(link, &cols, cfg.increasing, cfg.decreasing) {
             chosen.s = s;
             chosen.mse = mse;
         }
@@ -540,3 +583,5 @@ fn factor_of(t: &Term, link: Link, names: &[String]) -> Factor {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_shapes;

@@ -99,9 +99,19 @@ impl<'a> Problem<'a> {
         }
     }
 
+    /// Whether `s` respects the monotone constraints ([`Structure::monotone`]).
+    pub fn monotone(&self, s: &Structure) -> bool {
+        s.monotone(
+            self.link,
+            &self.cols,
+            self.cfg.increasing,
+            self.cfg.decreasing,
+        )
+    }
+
     fn score(&self, mut s: Structure) -> Option<Scored> {
         let mse = s.fit(self.link, &self.cols, self.y);
-        if !mse.is_finite() {
+        if !mse.is_finite() || !self.monotone(&s) {
             return None;
         }
         let cv = self.folds.errors(&s, self.link);
@@ -132,7 +142,7 @@ impl<'a> Problem<'a> {
             let mut s = base.s.clone();
             s.terms.push(term);
             let mse = s.fit(self.link, &self.cols, self.y);
-            if mse < best_mse {
+            if mse < best_mse && self.monotone(&s) {
                 best_mse = mse;
                 best = Some(s);
             }
@@ -162,12 +172,10 @@ impl<'a> Problem<'a> {
         // interaction must: beat the column's best other shape by `interaction_se` paired
         // standard errors, or the plainer shape is kept (measured: without it, bootstrap
         // resamples of issue 46's tables put a sine on columns that carry nothing)
-        let last = |s: &Scored| s.s.terms.last().map(|t| t.shape);
-        if last(&chosen) == Some(Shape::Periodic) {
-            let others: Vec<&Scored> = fits
-                .iter()
-                .filter(|f| last(f) != Some(Shape::Periodic))
-                .collect();
+        // (issue 68: so must the smooth step and the saturating power, three constants too)
+        let flexible = |s: &Scored| s.s.terms.last().is_some_and(|t| t.shape.flexible());
+        if flexible(&chosen) {
+            let others: Vec<&Scored> = fits.iter().filter(|f| !flexible(f)).collect();
             if let Some(plain) = others
                 .iter()
                 .min_by(|a, b| a.cv_mean().total_cmp(&b.cv_mean()))
@@ -372,7 +380,7 @@ impl<'a> Problem<'a> {
             let mut s = base.s.clone();
             s.terms.push(term);
             let mse = s.fit(self.link, &self.cols, self.y);
-            if mse.is_finite() && best.as_ref().is_none_or(|b| mse < b.1) {
+            if mse.is_finite() && best.as_ref().is_none_or(|b| mse < b.1) && self.monotone(&s) {
                 best = Some((s, mse));
             }
         }
@@ -418,7 +426,7 @@ impl<'a> Problem<'a> {
         let n = self.y.len() as f64;
         for ti in 0..cur.s.terms.len() {
             let idx: Vec<usize> = match cur.s.terms[ti].shape {
-                Shape::Power => vec![cur.s.terms[ti].params.len() - 1],
+                Shape::Power | Shape::SaturatingPower => vec![cur.s.terms[ti].params.len() - 1],
                 Shape::Pair => {
                     let l = cur.s.terms[ti].params.len();
                     vec![l - 2, l - 1]
@@ -438,7 +446,7 @@ impl<'a> Problem<'a> {
                 s.terms[ti].params[i] = h;
                 s.terms[ti].free[i] = false;
                 let mse = s.fit(self.link, &self.cols, self.y);
-                if mse.is_finite() && n * (mse / cur.mse).ln() <= n.ln() {
+                if mse.is_finite() && n * (mse / cur.mse).ln() <= n.ln() && self.monotone(&s) {
                     let cv = self.folds.errors(&s, self.link);
                     cur = Scored { s, mse, cv };
                 }

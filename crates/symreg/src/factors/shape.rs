@@ -36,21 +36,38 @@ pub enum Shape {
     /// product): an effect that repeats over its column (a spindle's angle, a time of
     /// day). Not in a log correction, where it would be a transcendental inside one.
     Periodic,
+    /// A threshold (issue 68): piecewise linear with one fitted knot `k`, written
+    /// `x + |x - k|` (twice `max(x, k)` less `k`: flat below the knot, rising with slope 2
+    /// above it): a term `a (x + |x - k|)`, `1 + b (x + |x - k|)` in a product.
+    Hinge,
+    /// A smooth step (issue 68): `tanh(w x + c)`, a logistic in the column centred at
+    /// `-c/w` (a term `a tanh(w x + c)`, `1 + b tanh(w x + c)` in a product): an effect that
+    /// switches over part of the column's range and saturates on both sides.
+    Step,
+    /// A saturating power (issue 68): `1/(1 + k x^q)`, Hill's law; with `q < 0` it grows
+    /// as `x^(-q)` below `x = k^(1/q)` and saturates above (the `x^p/(1 + (x/c)^p)` of the
+    /// handbooks up to the constant `c^p`); positive columns only.
+    #[serde(rename = "saturating_power")]
+    SaturatingPower,
 }
 
 impl Shape {
     /// The one-column shapes, in the order of preference.
-    pub const MAIN: [Shape; 7] = [
+    pub const MAIN: [Shape; 10] = [
         Shape::Power,
         Shape::Linear,
         Shape::Exp,
         Shape::Log,
         Shape::Pole,
         Shape::Saturation,
+        Shape::Hinge,
+        Shape::SaturatingPower,
+        Shape::Step,
         Shape::Periodic,
     ];
 
-    /// `power`, `linear`, `exp`, `log`, `pole`, `saturation`, `pair`, `periodic`.
+    /// `power`, `linear`, `exp`, `log`, `pole`, `saturation`, `pair`, `periodic`, `hinge`,
+    /// `step`, `saturating_power`.
     pub fn name(self) -> &'static str {
         match self {
             Shape::Power => "power",
@@ -61,12 +78,31 @@ impl Shape {
             Shape::Saturation => "saturation",
             Shape::Pair => "pair",
             Shape::Periodic => "periodic",
+            Shape::Hinge => "hinge",
+            Shape::Step => "step",
+            Shape::SaturatingPower => "saturating_power",
         }
+    }
+
+    /// The shape of a name of [`Shape::name`], if any.
+    pub fn from_name(name: &str) -> Option<Shape> {
+        Shape::MAIN
+            .into_iter()
+            .chain([Shape::Pair])
+            .find(|s| s.name() == name)
     }
 
     /// Whether the shape needs positive values of its column(s).
     pub(crate) fn needs_positive(self) -> bool {
-        matches!(self, Shape::Power | Shape::Log)
+        matches!(self, Shape::Power | Shape::Log | Shape::SaturatingPower)
+    }
+
+    /// Whether the shape has three constants of its own in a sum (amplitude, rate, offset):
+    /// the most flexible one-column shapes, which must beat the column's best plainer shape
+    /// by [`super::FactorConfig::interaction_se`] paired standard errors, as an interaction
+    /// must, to be chosen.
+    pub(crate) fn flexible(self) -> bool {
+        matches!(self, Shape::Periodic | Shape::Step | Shape::SaturatingPower)
     }
 }
 
@@ -138,7 +174,7 @@ pub(crate) fn starts(shape: Shape, link: Link, st: &[ColStats]) -> Vec<Term> {
         (Shape::Saturation, _) => vec![vec![-s.lo + 0.5 * w], vec![-s.lo + 2.0 * w]],
         // half, one and two periods over the column's range, each as a sine and a cosine
         // (the amplitude's sign covers the other two phases); LM moves both from there
-        (Shape::Periodic, Link::Log) => Vec::new(),
+        (Shape::Periodic | Shape::Step, Link::Log) => Vec::new(),
         (Shape::Periodic, link) => PERIODS
             .iter()
             .flat_map(|&k| {
@@ -150,6 +186,40 @@ pub(crate) fn starts(shape: Shape, link: Link, st: &[ColStats]) -> Vec<Term> {
                         _ => vec![1.0, PERIODIC_START, omega, c],
                     }
                 })
+            })
+            .collect(),
+        // knots at a quarter, half and three quarters of the range (a product's slope
+        // small but not 0, where the knot would have no gradient)
+        (Shape::Hinge, link) => [0.25, 0.5, 0.75]
+            .iter()
+            .map(|q| match link {
+                Link::Additive => vec![0.0, -(s.lo + q * w)],
+                _ => vec![1.0, PERIODIC_START / w, -(s.lo + q * w)],
+            })
+            .collect(),
+        // a step over a third of the range, centred at a quarter, half, three quarters
+        (Shape::Step, link) => [0.25, 0.5, 0.75]
+            .iter()
+            .map(|q| {
+                let rate = 6.0 / w;
+                let c = -rate * (s.lo + q * w);
+                match link {
+                    Link::Additive => vec![0.0, rate, c],
+                    _ => vec![1.0, PERIODIC_START, rate, c],
+                }
+            })
+            .collect(),
+        // `1/(1 + k x^q)` switching at the range's middle (`k = mid^(-q)`), from a growth
+        // as `x^2` or `x^0.5` below it, or a fall
+        (Shape::SaturatingPower, link) => [-2.0, -0.5, 1.0]
+            .iter()
+            .map(|&q| {
+                let mid = 0.5 * (s.lo + s.hi);
+                let k = mid.powf(-q);
+                match link {
+                    Link::Additive => vec![0.0, 1.0, k, q],
+                    _ => vec![1.0, k, q],
+                }
             })
             .collect(),
         (Shape::Pair, link) => {
@@ -210,10 +280,14 @@ fn free_flags(shape: Shape, link: Link, params: &[f64], st: &[ColStats]) -> Vec<
     if product
         && matches!(
             shape,
-            Shape::Linear | Shape::Log | Shape::Pair | Shape::Periodic
+            Shape::Linear | Shape::Log | Shape::Pair | Shape::Periodic | Shape::Hinge | Shape::Step
         )
     {
         free[0] = false;
+    }
+    // the `1` of `1/(1 + k x^q)`
+    if shape == Shape::SaturatingPower {
+        free[usize::from(!product)] = false;
     }
     if shape == Shape::Pair && !st.iter().all(|c| c.positive) {
         let n = free.len();
@@ -270,13 +344,35 @@ pub(crate) fn emit(term: &Term, link: Link, var: &dyn Fn(usize) -> u16, b: &mut 
             b.op(Op::Pow);
             b.op(Op::Mul);
         }
-        Shape::Periodic => {
+        Shape::Periodic | Shape::Step => {
             b.konst(q[0]);
             b.var(x);
             b.op(Op::Mul);
             b.konst(q[1]);
             b.op(Op::Add);
-            b.op(Op::Sin);
+            b.op(if term.shape == Shape::Step {
+                Op::Tanh
+            } else {
+                Op::Sin
+            });
+        }
+        Shape::Hinge => {
+            b.var(x);
+            b.var(x);
+            b.konst(q[0]);
+            b.op(Op::Add);
+            b.op(Op::Abs);
+            b.op(Op::Add);
+        }
+        Shape::SaturatingPower => {
+            b.konst(q[0]);
+            b.konst(q[1]);
+            b.var(x);
+            b.konst(q[2]);
+            b.op(Op::Pow);
+            b.op(Op::Mul);
+            b.op(Op::Add);
+            b.op(Op::Inverse);
         }
     };
     if additive {
@@ -288,7 +384,7 @@ pub(crate) fn emit(term: &Term, link: Link, var: &dyn Fn(usize) -> u16, b: &mut 
     }
     match term.shape {
         // 1 + b * s(x)
-        Shape::Linear | Shape::Log | Shape::Pair | Shape::Periodic => {
+        Shape::Linear | Shape::Log | Shape::Pair | Shape::Periodic | Shape::Hinge | Shape::Step => {
             b.konst(p[0]);
             b.konst(p[1]);
             body(b, &p[2..]);
@@ -321,14 +417,14 @@ impl Builder {
 
 /// The complexity of a factor as the search counts it (inputs and operators; constants
 /// and the `1 + b *` around a product's factor are free, as a search's affine input
-/// scaling is): `x` 1, `x^p`, `exp(b x)`, `log(x)` 2, `1/(x + c)`, `sin(w x + c)` 3,
-/// `x/(x + c)` 4, `x^p y^q` 5.
+/// scaling is): `x` 1, `x^p`, `exp(b x)`, `log(x)` 2, `1/(x + c)`, `sin(w x + c)`,
+/// `tanh(w x + c)` 3, `x/(x + c)` 4, `x^p y^q`, `x + |x + c|`, `1/(1 + k x^q)` 5.
 pub fn complexity(shape: Shape) -> usize {
     let t = Term {
         shape,
         cols: vec![0, 1],
-        params: vec![1.0; 4],
-        free: vec![true; 4],
+        params: vec![1.0; 5],
+        free: vec![true; 5],
     };
     let mut b = Builder::default();
     emit(&t, Link::Additive, &|c| c as u16, &mut b);
@@ -337,7 +433,7 @@ pub fn complexity(shape: Shape) -> usize {
         affine: false,
     };
     // the amplitude's `a *` is free, and so is the `b *` inside `exp(b x)`
-    let free_muls = 1 + usize::from(matches!(shape, Shape::Exp | Shape::Periodic));
+    let free_muls = 1 + usize::from(matches!(shape, Shape::Exp | Shape::Periodic | Shape::Step));
     prog.complexity(ComplexityMeasure::FeaturesPlusOperators) - free_muls
 }
 
@@ -355,6 +451,9 @@ pub fn template(shape: Shape, names: &[&str]) -> String {
         Shape::Saturation => format!("{x}/({x} + p0)"),
         Shape::Pair => format!("{x}**p0*{}**p1", names.get(1).copied().unwrap_or("?")),
         Shape::Periodic => format!("sin(p0*{x} + p1)"),
+        Shape::Hinge => format!("{x} + Abs({x} + p0)"),
+        Shape::Step => format!("tanh(p0*{x} + p1)"),
+        Shape::SaturatingPower => format!("1/(1 + p0*{x}**p1)"),
     }
 }
 
@@ -373,10 +472,13 @@ mod tests {
             Shape::Saturation,
             Shape::Pair,
             Shape::Periodic,
+            Shape::Hinge,
+            Shape::Step,
+            Shape::SaturatingPower,
         ]
         .iter()
         .map(|&s| complexity(s))
         .collect();
-        assert_eq!(got, [1, 2, 2, 2, 3, 4, 5, 3]);
+        assert_eq!(got, [1, 2, 2, 2, 3, 4, 5, 3, 5, 3, 5]);
     }
 }

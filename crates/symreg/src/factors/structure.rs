@@ -157,7 +157,7 @@ impl Structure {
             &mut ev,
         );
         self.read(link, &w, &params);
-        if !mse.is_finite() || self.pole_inside(cols) {
+        if !mse.is_finite() || self.pole_inside(cols) || self.threshold_outside(cols) {
             return f64::INFINITY;
         }
         // no pole, no log of a value <= 0 and no blow-up beside the rows either: the
@@ -202,6 +202,84 @@ impl Structure {
         let mut out = Vec::new();
         Evaluator::new(&w.program).predict(&w.program, &w.params, cols, n, &mut out);
         out
+    }
+
+    /// Whether a hinge's knot or a smooth step's centre lies outside the rows' range of its
+    /// column (issue 68): there it is a line or a bend that the plainer shapes write.
+    fn threshold_outside(&self, cols: &[&[f64]]) -> bool {
+        use super::shape::Shape;
+        self.terms.iter().any(|t| {
+            let l = t.params.len();
+            let at = match t.shape {
+                Shape::Hinge => -t.params[l - 1],
+                Shape::Step => -t.params[l - 1] / t.params[l - 2],
+                _ => return false,
+            };
+            let (lo, hi) = range(cols[t.cols[0]]);
+            !(at > lo && at < hi)
+        })
+    }
+
+    /// Whether the correction respects the monotone constraints `up` and `down` (bit `j`:
+    /// column `j`'s effect must not decrease, resp. increase; issue 68): along a grid of
+    /// [`MONOTONE_GRID`] values over each constrained column's range in `cols`, the other
+    /// columns held at each of [`MONOTONE_ROWS`] rows spread over `cols`, the correction
+    /// (without the physics of a scaled fit) never moves the wrong way by more than
+    /// `1e-9` of its spread. Every shape and pair is checked by its values, so a factor's
+    /// direction, a product's sign and a pair's other column are all accounted for.
+    pub fn monotone(&self, link: Link, cols: &[&[f64]], up: u64, down: u64) -> bool {
+        if up | down == 0 {
+            return true;
+        }
+        let n = cols.first().map_or(0, |c| c.len());
+        if n == 0 {
+            return true;
+        }
+        let me = self.unscaled();
+        let refs: Vec<usize> = (0..MONOTONE_ROWS.min(n))
+            .map(|k| k * n / MONOTONE_ROWS.min(n))
+            .collect();
+        for c in 0..cols.len().min(64) {
+            let sign = match (up >> c & 1, down >> c & 1) {
+                (1, _) => 1.0,
+                (_, 1) => -1.0,
+                _ => continue,
+            };
+            if !me.terms.iter().any(|t| t.cols.contains(&c)) {
+                continue;
+            }
+            let (lo, hi) = range(cols[c]);
+            let m = refs.len() * MONOTONE_GRID;
+            let grid: Vec<Vec<f64>> = (0..cols.len())
+                .map(|j| {
+                    (0..m)
+                        .map(|i| {
+                            let (r, g) = (refs[i / MONOTONE_GRID], i % MONOTONE_GRID);
+                            if j == c {
+                                lo + (hi - lo) * g as f64 / (MONOTONE_GRID - 1) as f64
+                            } else {
+                                cols[j][r]
+                            }
+                        })
+                        .collect()
+                })
+                .collect();
+            let gc: Vec<&[f64]> = grid.iter().map(Vec::as_slice).collect();
+            let v = me.predict(link, &gc, m);
+            if v.iter().any(|x| !x.is_finite()) {
+                return false;
+            }
+            let (vlo, vhi) = range(&v);
+            let tol = 1e-9 * (vhi - vlo).max(vhi.abs().max(vlo.abs()) * 1e-6);
+            let wrong = v.chunks(MONOTONE_GRID).any(|run| {
+                run.windows(2)
+                    .any(|w| sign * (w[1] - w[0]) < -tol.max(f64::MIN_POSITIVE))
+            });
+            if wrong {
+                return false;
+            }
+        }
+        true
     }
 
     /// Whether a pole or a saturation's denominator `x + c` changes sign over the rows.
@@ -298,6 +376,19 @@ impl Folds {
         }
         e
     }
+}
+
+/// Points along a constrained column of [`Structure::monotone`]'s grid.
+pub(crate) const MONOTONE_GRID: usize = 33;
+
+/// Rows whose other columns [`Structure::monotone`] holds fixed.
+pub(crate) const MONOTONE_ROWS: usize = 16;
+
+/// The smallest and largest value of `x`.
+fn range(x: &[f64]) -> (f64, f64) {
+    x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, &v| {
+        (a.0.min(v), a.1.max(v))
+    })
 }
 
 /// Mean of the per-row errors.

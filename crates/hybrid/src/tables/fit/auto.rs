@@ -35,14 +35,19 @@ pub const AUTO_SE_RULE: f64 = 1.0;
 ///
 /// # Errors
 /// Fewer training rows (or groups) than [`AUTO_FOLDS`] are not an error: the choice is then
-/// the free form, unscored. Errors of a fold's calibration or search are returned.
+/// the free form (the factor form under a monotone constraint), unscored. Errors of a fold's calibration or search are returned.
 pub(crate) fn choose(
     job: SplitJob,
     progress: &mut dyn FnMut(&TableProgress),
 ) -> Result<(Form, Option<FormChoice>), HybridError> {
     let (table, cfg, split) = (job.table, job.cfg, job.split);
     let Some(folds) = folds(table, cfg, &split.train, AUTO_FOLDS)? else {
-        return Ok((Form::Free, None));
+        let form = if cfg.monotone() {
+            Form::Factors
+        } else {
+            Form::Free
+        };
+        return Ok((form, None));
     };
     let y = table.require(&cfg.target)?;
     let mut per_form: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
@@ -76,7 +81,13 @@ pub(crate) fn choose(
             .entry("none")
             .or_default()
             .extend(errors(&cal.physics));
-        for form in [Form::Factors, Form::Free] {
+        // a monotone constraint binds the factor form only: free is not a candidate then
+        let forms: &[Form] = if cfg.monotone() {
+            &[Form::Factors]
+        } else {
+            &[Form::Factors, Form::Free]
+        };
+        for &form in forms {
             let mut c = cfg.config().clone();
             c.form = form;
             c.conformal_folds = 0;
