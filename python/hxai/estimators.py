@@ -233,6 +233,34 @@ def _pareto_frame(front):
     return frame
 
 
+def _interactions(v):
+    """``interactions`` checked: a whole number >= 0."""
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
+        raise ValueError(f"interactions={v!r}: give a whole number >= 0 (default 1)")
+    return int(v)
+
+
+def _monotone_arg(value):
+    """``monotone`` as the settings' {column: "+" or "-"}: ``None`` is none; a dict's
+    values may be ``"+"``, ``"-"``, ``1`` or ``-1``."""
+    if value is None:
+        return {}
+    if not isinstance(value, dict):
+        raise ValueError(
+            f"monotone={value!r}: give a dict {{column: '+' or '-'}}, e.g. {{'speed': '+'}}"
+        )
+    out = {}
+    for col, d in value.items():
+        sign = {"+": "+", "-": "-", 1: "+", -1: "-"}.get(d if not isinstance(d, bool) else None)
+        if sign is None:
+            raise ValueError(
+                f"monotone[{col!r}] = {d!r}: write '+' (the effect never decreases) or '-' "
+                "(never increases)"
+            )
+        out[str(col)] = sign
+    return out
+
+
 def _search_rows(v):
     """``search_rows`` checked: an integer of at least 100."""
     if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 100:
@@ -444,6 +472,10 @@ _KEYWORDS = [
     ("--conformal-folds", "conformal_folds="),
     ("--search-rows", "search_rows="),
     ("--max-complexity", "max_complexity="),
+    ("--monotone", "monotone="),
+    ("--interactions", "interactions="),
+    ("--periodic", "periodic="),
+    ("--shapes", "shapes="),
     ("--stability", "stability_runs="),
     ("--calibrate", "calibrate="),
     ("--correction", "correction="),
@@ -562,6 +594,75 @@ def _comparison_frame(text):
     frame.attrs["split"] = doc.get("split")
     frame.attrs["hybrid_over_best_black_box"] = doc.get("hybrid_over_best_black_box")
     return frame
+
+
+def _with_ebm(frame, names, X, y, seed):
+    """The comparison ``frame`` with InterpretML's Explainable Boosting Machine (a glass
+    box; ``interpret``'s ``ExplainableBoostingRegressor``, defaults, ``random_state=seed``)
+    as the row ``ebm``: trained on the split's training rows over the black boxes' columns
+    (the physics' columns and the correction's candidates), scored on its test rows, with
+    the paired t-test of the hybrid against it. Where ``interpret`` is not installed the
+    frame is returned as it is and ``frame.attrs["ebm"]`` says so (issue 68)."""
+    try:
+        from interpret.glassbox import ExplainableBoostingRegressor
+    except ImportError:
+        frame.attrs["ebm"] = (
+            "not run: the interpret package is not installed (pip install interpret-core)"
+        )
+        return frame
+    doc = json.loads(frame.attrs["json"])
+    model = doc["hybrid"]
+    cols = list(dict.fromkeys(model["physics"]["columns"] + model["correction"]["candidates"]))
+    idx = [names.index(c) for c in cols if c in names]
+    tr, te = model["split"]["train"], model["split"]["test"]
+    if not idx or not te:
+        frame.attrs["ebm"] = "not run: no test rows or no column for it"
+        return frame
+    X = np.asarray(X, dtype=np.float64)
+    y = np.asarray(y, dtype=np.float64)
+    ebm = ExplainableBoostingRegressor(random_state=int(seed))
+    ebm.fit(X[np.ix_(tr, idx)], y[tr])
+    pred = ebm.predict(X[np.ix_(te, idx)])
+    yt = y[te]
+    err = pred - yt
+    rmse = float(np.sqrt(np.mean(err**2)))
+    sst = float(np.sum((yt - yt.mean()) ** 2))
+    from .table import predict_table
+
+    p_value = np.nan
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            hybrid = predict_table(pd.DataFrame(X[te], columns=names), json.dumps(model))
+        d = err**2 - (np.asarray(hybrid["hybrid"], dtype=np.float64) - yt) ** 2
+    except ValueError:
+        # a model with constants per level reads level columns that X no longer holds
+        d = np.zeros(0)
+    if len(d) > 1 and np.std(d) > 0:
+        from scipy.stats import ttest_1samp
+
+        p_value = float(ttest_1samp(d, 0.0).pvalue)
+    row = {
+        "model": "ebm",
+        "rmse": rmse,
+        "r2": 1.0 - float(np.sum(err**2)) / sst if sst > 0 else np.nan,
+        "mae": float(np.mean(np.abs(err))),
+        "cv_r2_mean": np.nan,
+        "cv_r2_se": np.nan,
+        "cv_rmse_mean": np.nan,
+        "p_value": p_value,
+    }
+    hyb = frame.index[frame["model"] == "hybrid"]
+    at = int(hyb[0]) if len(hyb) else len(frame)
+    out = pd.concat(
+        [frame.iloc[:at], pd.DataFrame([row]), frame.iloc[at:]], ignore_index=True
+    )
+    out.attrs.update(frame.attrs)
+    out.attrs["ebm"] = (
+        f"interpret's ExplainableBoostingRegressor (defaults, random_state={int(seed)}) on "
+        f"the split's {len(tr)} training rows over {', '.join(cols)}; not cross-validated"
+    )
+    return out
 
 
 def compare(X, y, physics, test_fraction=0.2, folds=5, **settings):
@@ -972,6 +1073,17 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     (``None``, the default: every core; ``-1``: every core in a pool of its own; a positive
     int: that many); it never changes the result.
 
+    ``monotone`` (issue 68), as ``hxai hybrid fit --monotone``: a dict {column: ``"+"``
+    or ``"-"``} (``1`` and ``-1`` too): the correction's effect of that column never
+    decreases (``+``) or increases (``-``) over its training range, in every factor and
+    pair of the factor form (``form="auto"`` then chooses between none and factors, and
+    ``form="free"`` is refused). ``shapes``, as ``--shapes``: the factor form's shapes,
+    ``"classic"`` (the default), ``"all"`` (with the hinge ``x + |x - k|``, the smooth
+    step ``tanh(w x + c)`` and the saturating power ``1/(1 + k x^q)``) or a comma-separated
+    list of names. ``interactions`` (default 1), as ``--interactions``: the most
+    two-column factors, each kept only where it lowers the held-out error by more than two
+    paired standard errors.
+
     ``search_rows`` (default 2000), as ``hxai hybrid fit --search-rows``: on more training
     rows, the correction's structure (the form ``auto``'s choice, the search, the conformal
     and stability refits) is found on a sample of this many, stratified on the target; the
@@ -991,6 +1103,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         features=None,
         exclude=(),
         periodic=(),
+        monotone=None,
+        shapes="classic",
+        interactions=1,
         joint=False,
         seed=42,
         epochs=10,
@@ -1047,6 +1162,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         self.features = features
         self.exclude = exclude
         self.periodic = periodic
+        self.monotone = monotone
+        self.shapes = shapes
+        self.interactions = interactions
         self.joint = joint
         self._set_search(locals())
 
@@ -1077,7 +1195,10 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         model: ``model``, ``rmse``, ``r2``, ``mae`` (test rows), ``cv_r2_mean``,
         ``cv_r2_se`` (standard error over the folds), ``cv_rmse_mean``, ``p_value`` (paired
         t-test of the hybrid against it on the test rows; NaN for the hybrid, and where the
-        test is undefined). The comparison's JSON is in ``.attrs["json"]``; ``report(compare=
+        test is undefined). Where ``interpret`` is installed, InterpretML's Explainable
+        Boosting Machine is a row ``ebm`` beside the black boxes (test rows only; its
+        settings in ``.attrs["ebm"]``, which says so where it is not installed). The
+        comparison's JSON is in ``.attrs["json"]``; ``report(compare=
         frame)`` takes the frame. The estimator itself is not refitted."""
         if isinstance(folds, bool) or not isinstance(folds, (int, np.integer)) or folds < 0 or folds == 1:
             raise ValueError(f"folds={folds!r}: give 0 (none) or a whole number >= 2")
@@ -1101,7 +1222,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
                 int(folds),
                 n_jobs,
             )
-        return _comparison_frame(text)
+        return _with_ebm(_comparison_frame(text), names, X, y, self.seed)
 
     def _prepare(self, X, y):
         """The checked settings and columns of a fit (or a comparison) on ``(X, y)``:
@@ -1160,6 +1281,9 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
             "features": None if self.features is None else [str(c) for c in self.features],
             "exclude": [str(c) for c in self.exclude],
             "periodic": [str(c) for c in _columns_arg(self.periodic, "periodic")],
+            "monotone": _monotone_arg(self.monotone),
+            "shapes": str(self.shapes),
+            "interactions": _interactions(self.interactions),
             "correction": self.correction,
             "form": self.form,
             "joint": bool(self.joint),

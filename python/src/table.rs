@@ -34,6 +34,15 @@ struct ProcessSettings {
     /// `periodic`: the columns that may carry a harmonic (none by default).
     #[serde(default)]
     periodic: Vec<String>,
+    /// `monotone`: {column: `+` or `-`} (issue 68, `--monotone COL=+|-`).
+    #[serde(default)]
+    monotone: BTreeMap<String, String>,
+    /// `shapes`: `classic`, `all` or a comma-separated list of the factor form's shapes.
+    #[serde(default)]
+    shapes: Option<String>,
+    /// `interactions`: most pair factors of the factor form (default 1).
+    #[serde(default)]
+    interactions: Option<usize>,
     #[serde(default)]
     correction: CorrectionForm,
     /// `free` or `factors` (docs/hybrid-tables.md, "The factor form").
@@ -173,6 +182,29 @@ fn prepared(
     cfg.features = s.features.clone();
     cfg.exclude = s.exclude.clone();
     cfg.periodic = s.periodic.clone();
+    for (col, dir) in &s.monotone {
+        match dir.as_str() {
+            "+" => cfg.increasing.push(col.clone()),
+            "-" => cfg.decreasing.push(col.clone()),
+            _ => {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "monotone[{col:?}] = {dir:?}: write \"+\" (the effect never decreases) or \"-\" \
+                     (never increases)"
+                )));
+            }
+        }
+    }
+    if let Some(n) = s.interactions {
+        cfg.factors.interactions = n;
+    }
+    if let Some(text) = &s.shapes {
+        cfg.factors.shapes = hxai_symreg::factors::Shapes::parse(text).ok_or_else(|| {
+            pyo3::exceptions::PyValueError::new_err(format!(
+                "shapes={text:?}: write \"classic\", \"all\", or shape names among power, linear, \
+                 exp, log, pole, saturation, hinge, saturating_power, step, periodic, pair"
+            ))
+        })?;
+    }
     cfg.correction = s.correction;
     cfg.form = s.form;
     cfg.joint = s.joint;

@@ -117,6 +117,10 @@ pub(crate) struct Common {
     /// hinge, step and saturating_power), or a comma-separated list of shape names.
     #[arg(long, default_value = "classic")]
     pub(crate) shapes: String,
+    /// Most two-column interaction factors of the factor form; each is kept only where it
+    /// lowers the held-out error by more than two paired standard errors.
+    #[arg(long, default_value_t = defaults().factors.interactions)]
+    pub(crate) interactions: usize,
     /// How the correction enters the hybrid.
     #[arg(long, value_enum, default_value_t = CorrectionArg::Additive)]
     pub(crate) correction: CorrectionArg,
@@ -358,13 +362,17 @@ impl Common {
                 Some((col, "+")) if !col.is_empty() => cfg.increasing.push(col.to_string()),
                 Some((col, "-")) if !col.is_empty() => cfg.decreasing.push(col.to_string()),
                 _ => anyhow::bail!(
-                    "--monotone {m}: write COL=+ (the effect never decreases) or COL=- (never                      increases)"
+                    "--monotone {m}: write COL=+ (the effect never decreases) or COL=- \
+                     (never increases)"
                 ),
             }
         }
+        cfg.factors.interactions = c.interactions;
         cfg.factors.shapes = hxai_symreg::factors::Shapes::parse(&c.shapes).ok_or_else(|| {
             anyhow::anyhow!(
-                "--shapes {}: write classic, all, or shape names among power, linear, exp,                  log, pole, saturation, hinge, saturating_power, step, periodic, pair",
+                "--shapes {}: write classic, all, or shape names among power, linear, \
+                 exp, log, pole, saturation, hinge, saturating_power, step, periodic, \
+                 pair",
                 c.shapes
             )
         })?;

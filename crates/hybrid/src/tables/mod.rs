@@ -291,7 +291,9 @@ impl TableConfig {
         }
         if self.monotone() && self.form == Form::Free {
             return Err(crate::HybridError::InvalidConfig(
-                "--monotone with --form free is not built: the free form's equations are not                  constrained; use --form factors or auto (which then chooses between none and                  factors)"
+                "--monotone with --form free is not built: the free form's equations are \
+                 not constrained; use --form factors or auto (which then chooses between \
+                 none and factors)"
                     .into(),
             ));
         }

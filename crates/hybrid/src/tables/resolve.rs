@@ -302,7 +302,8 @@ fn feature_columns(table: &Table, cfg: &TableConfig) -> Result<Vec<String>, Hybr
         .find(|c| !features.contains(c))
     {
         return Err(HybridError::InvalidConfig(format!(
-            "--monotone {c}: `{c}` is not a feature of the correction (its features: {}); a              monotone constraint bounds the correction's effect of one of its columns",
+            "--monotone {c}: `{c}` is not a feature of the correction (its features: {}); \
+             a monotone constraint bounds the correction's effect of one of its columns",
             features.join(", ")
         )));
     }

@@ -13,6 +13,7 @@ mod design;
 mod end_to_end;
 mod factor_pictures;
 mod json_shape;
+mod monotone;
 mod per_class;
 mod process;
 mod properties;
