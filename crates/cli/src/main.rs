@@ -127,7 +127,7 @@ enum Command {
     /// Table 3 baselines and the symbolic model on a train/test table pair.
     Compare(compare::Args),
     /// Hybrid models of any process on a table: physics equation + symbolic correction.
-    Hybrid(hybrid::Args),
+    Hybrid(Box<hybrid::Args>),
 }
 
 fn main() {
@@ -262,7 +262,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Report(a) => report::run(a, g),
         Command::Sr(a) => sr::run(a, g),
         Command::Compare(a) => compare::run(a, g),
-        Command::Hybrid(a) => hybrid::run(a, g),
+        Command::Hybrid(a) => hybrid::run(*a, g),
     }
 }
 

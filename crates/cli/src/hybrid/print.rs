@@ -195,5 +195,10 @@ pub(super) fn print_comparison(c: &Comparison) {
         c.best_black_box.name,
         n(c.best_black_box.rmse)
     );
+    // issue 68: the glass box an engineer compares with lives in Python
+    println!(
+        "EBM (InterpretML's glass box): not run by the command line; Python's hxai.compare \
+         adds it beside boosting where the interpret package is installed"
+    );
     println!("hybrid: {} = {}", c.target, c.hybrid.hybrid.equation);
 }

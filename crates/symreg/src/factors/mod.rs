@@ -159,10 +159,9 @@ impl Shapes {
     /// saturating power, which a fit takes where asked (`--shapes all`): they are measured
     /// in docs/benchmarks.md before they become a default.
     pub const CLASSIC: Shapes = Shapes(
-        u16::MAX
-            & !(1 << Shape::Hinge as u16)
-            & !(1 << Shape::Step as u16)
-            & !(1 << Shape::SaturatingPower as u16),
+        !((1 << Shape::Hinge as u16)
+            | (1 << Shape::Step as u16)
+            | (1 << Shape::SaturatingPower as u16)),
     );
 
     /// No shape.
