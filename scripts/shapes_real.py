@@ -81,13 +81,69 @@ def black_boxes(df, target, features, split, seed):
     return out
 
 
+def processes(a):
+    """Issue 46's six tables, classic against all shapes (see the module docs)."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import factor_form as ff
+    import heldout_processes as hp
+
+    out = Path(a.data)
+    out.mkdir(parents=True, exist_ok=True)
+    cases = []
+    for name, target, physics, init, corr, extra, _ in ff.SIMULATED:
+        table = out / f"{name}.csv"
+        ff.run([a.hxai, "simulate", "--case", name, "--rows", "400", "--seed", "42",
+                "--out", str(table)])
+        if physics is None:
+            physics, init = "(C/cutting_speed_m_min)^(1/n)", "C=500,n=0.25"
+        calib = ",".join(kv.split("=")[0] for kv in init.split(","))
+        cases.append((name, table, target, physics, calib, init, corr, extra, ["tool"]))
+    for name, make in hp.PROCESSES:
+        cols, spec = make(np.random.default_rng(hp.SEED))
+        table = out / f"{name}.csv"
+        hp.write_csv(table, cols)
+        cases.append((name, table, spec["target"], spec["physics"], spec["calibrate"],
+                      spec["init"], spec["correction"], ff.HELDOUT_EXTRAPOLATE[name], []))
+    for name, table, target, physics, calib, init, corr, extra, excl in cases:
+        for shapes in ["classic", "all"]:
+            row = {"table": name, "shapes": shapes}
+            for split in ["random", "extrapolate"]:
+                with tempfile.TemporaryDirectory() as d:
+                    m_path = os.path.join(d, "m.json")
+                    cmd = [a.hxai, "hybrid", "fit", "--data", str(table), "--target", target,
+                           "--physics", physics, "--calibrate", calib, "--init", init,
+                           "--correction", corr, "--form", "factors", "--shapes", shapes,
+                           "--seed", str(a.seed), "--out", m_path]
+                    if excl:
+                        cmd += ["--exclude", ",".join(excl)]
+                    if split == "extrapolate":
+                        cmd += ["--extrapolate", extra]
+                    ff.run(cmd)
+                    m = json.load(open(m_path))
+                key = "" if split == "random" else "_extrapolation"
+                row["physics_rmse" + key] = float(f"{m['scores']['test']['physics']['rmse']:.5g}")
+                row["hybrid_rmse" + key] = float(f"{m['scores']['test']['hybrid']['rmse']:.5g}")
+                if split == "random":
+                    row["factors"] = [
+                        f"{f.get('column') or ':'.join(f.get('columns', []))} {f['shape']}"
+                        for f in m["correction"].get("factors") or []]
+            print(json.dumps(row), flush=True)
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("--hxai", default=os.path.join(ROOT, "target/release/hxai"))
     p.add_argument("--data", required=True)
     p.add_argument("--seed", type=int, default=42)
     p.add_argument("--fetch", action="store_true")
+    p.add_argument("--processes", action="store_true", help="issue 46's six process tables")
     a = p.parse_args()
+    if a.processes:
+        processes(a)
+        return
     if a.fetch:
         fetch(a.data)
     for case in CASES:

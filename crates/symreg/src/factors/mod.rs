@@ -30,12 +30,13 @@
 //! 2. **The one-standard-error rule** along the path: the model kept is the one with the
 //!    fewest factors whose held-out error is within `se_rule` paired standard errors of the
 //!    lowest; a factor is kept only where it pays.
-//! 3. **Interactions**, after the main effects: every pair of columns is ranked by the
-//!    training error of the model with the pair's term (a small two-column fit, as FAST
-//!    ranks pairs), the best three are scored by cross-validation, and the best is kept
-//!    only if it lowers the held-out error by more than `interaction_se` paired standard
-//!    errors; then one-column factors the interaction made redundant are dropped by the
-//!    same one-standard-error rule.
+//! 3. **Interactions**, after the main effects: every pair of columns is ranked by FAST on
+//!    the main factors' residual (`fast.rs`: the best two-by-two piecewise-constant cut of
+//!    the pair, the ranking EBM uses), the best three are fitted as pair factors and scored
+//!    by cross-validation, and the best is kept only if it lowers the held-out error by
+//!    more than `interaction_se` paired standard errors; then one-column factors the
+//!    interaction made redundant are dropped by the same one-standard-error rule; repeated
+//!    up to `interactions` times.
 //! 4. **Exponents snap** to the nearest whole or half number where the Bayesian
 //!    information criterion allows it.
 //!
@@ -49,6 +50,7 @@
 //! shapes and how a factor is written; `structure.rs` a model as one program, its fit and
 //! its held-out errors; `select.rs` the selection; `bands.rs` the stability over resamples.
 mod bands;
+mod fast;
 mod select;
 mod shape;
 mod structure;

@@ -9,6 +9,13 @@ use rayon::prelude::*;
 /// one-standard-error rule calls a gain real ([`Problem::entry_se`]).
 const ONE_SE_LEVEL: f64 = 0.158_655_253_931_457;
 
+/// Pairs of columns, the best by FAST, fitted as pair factors at each interaction step.
+const FAST_SHORTLIST: usize = 8;
+
+/// Pair factors of the shortlist, the best by their training error, cross-validated at each
+/// interaction step.
+const INTERACTION_CANDIDATES: usize = 3;
+
 /// A structure fitted on all rows with the held-out error of each row.
 #[derive(Clone)]
 pub(crate) struct Scored {
@@ -328,29 +335,49 @@ impl<'a> Problem<'a> {
         Some((chosen, steps, alternatives))
     }
 
-    /// The best interaction factor to add to `base`: every pair of columns ranked by the
-    /// training error of the model with the pair's term (a small two-column fit, as FAST
-    /// ranks pairs), the best few scored by CV.
+    /// The best interaction factor to add to `base`: every pair of columns not yet in an
+    /// interaction ranked by FAST on `base`'s residual ([`super::fast`], issue 68); the
+    /// best [`FAST_SHORTLIST`] fitted as pair factors, and the [`INTERACTION_CANDIDATES`]
+    /// of lowest training error scored by CV.
     fn interaction(&self, base: &Scored) -> Option<Scored> {
+        use super::fast::{FAST_BINS, bin_of, pair_gain};
         let n = self.n_feat;
         let taken: Vec<Vec<usize>> = base.s.terms.iter().map(|t| t.cols.clone()).collect();
         let pairs: Vec<[usize; 2]> = (0..n)
             .flat_map(|i| (i + 1..n).map(move |j| [i, j]))
             .filter(|p| !taken.iter().any(|t| t.as_slice() == p))
             .collect();
-        let ranked: Vec<Option<(f64, Structure)>> = self.cfg.par.run(|| {
-            pairs
-                .par_iter()
-                .map(|p| self.fit_pair(base, p).map(|s| (s.1, s.0)))
-                .collect()
-        });
-        let mut ranked: Vec<(f64, Structure)> = ranked.into_iter().flatten().collect();
-        ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let scored: Vec<Option<Scored>> = self.cfg.par.run(|| {
+        let pred = base.s.predict(self.link, &self.cols, self.y.len());
+        let resid: Vec<f64> = self.y.iter().zip(&pred).map(|(y, p)| y - p).collect();
+        if resid.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let bins: Vec<(Vec<usize>, usize)> =
+            (0..n).map(|c| bin_of(self.cols[c], FAST_BINS)).collect();
+        let mut ranked: Vec<(f64, [usize; 2])> = pairs
+            .iter()
+            .map(|p| {
+                let (a, b) = (&bins[p[0]], &bins[p[1]]);
+                (pair_gain(&a.0, a.1, &b.0, b.1, &resid), *p)
+            })
+            .collect();
+        // the largest gain first; ties in the pairs' order
+        ranked.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        // FAST's shortlist fitted as pair factors, ranked by their training error (the pair
+        // factor is one parametric shape, which a two-by-two cut only approximates)
+        let fits: Vec<Option<(Structure, f64)>> = self.cfg.par.run(|| {
             ranked
                 .into_par_iter()
-                .take(3)
-                .map(|(_, s)| self.score(s))
+                .take(FAST_SHORTLIST)
+                .map(|(_, p)| self.fit_pair(base, &p))
+                .collect()
+        });
+        let mut fits: Vec<(Structure, f64)> = fits.into_iter().flatten().collect();
+        fits.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let scored: Vec<Option<Scored>> = self.cfg.par.run(|| {
+            fits.into_par_iter()
+                .take(INTERACTION_CANDIDATES)
+                .map(|(s, _)| self.score(s))
                 .collect()
         });
         scored
