@@ -204,19 +204,30 @@ impl Structure {
         out
     }
 
-    /// Whether a hinge's knot or a smooth step's centre lies outside the rows' range of its
-    /// column (issue 68): there it is a line or a bend that the plainer shapes write.
+    /// Whether a hinge's knot or a smooth step's centre lies outside the middle of the rows'
+    /// range of its column (the range less [`THRESHOLD_MARGIN`] of its width at each end:
+    /// a knot among the few outermost rows is fitted to them, and outside the rows it is a
+    /// line or a bend the plainer shapes write), or a step is steeper than
+    /// [`MAX_STEP_RATE`] over the range (a jump between two neighbouring rows is a
+    /// discontinuity fitted to the scatter, not a smooth switch) (issue 68).
     fn threshold_outside(&self, cols: &[&[f64]]) -> bool {
         use super::shape::Shape;
         self.terms.iter().any(|t| {
             let l = t.params.len();
+            let (lo, hi) = range(cols[t.cols[0]]);
+            let w = hi - lo;
             let at = match t.shape {
                 Shape::Hinge => -t.params[l - 1],
-                Shape::Step => -t.params[l - 1] / t.params[l - 2],
+                Shape::Step => {
+                    let rate = t.params[l - 2].abs() * w;
+                    if rate.is_nan() || rate > MAX_STEP_RATE {
+                        return true;
+                    }
+                    -t.params[l - 1] / t.params[l - 2]
+                }
                 _ => return false,
             };
-            let (lo, hi) = range(cols[t.cols[0]]);
-            !(at > lo && at < hi)
+            !(at > lo + THRESHOLD_MARGIN * w && at < hi - THRESHOLD_MARGIN * w)
         })
     }
 
@@ -377,6 +388,14 @@ impl Folds {
         e
     }
 }
+
+/// The share of a column's range at each end where a hinge's knot or a step's centre may
+/// not lie ([`Structure::fit`]).
+pub(crate) const THRESHOLD_MARGIN: f64 = 0.05;
+
+/// The steepest smooth step `tanh(w x + c)`: `|w|` times the column's range at most this
+/// (the switch from -0.76 to 0.76 then spans at least 1/20 of the range).
+pub(crate) const MAX_STEP_RATE: f64 = 40.0;
 
 /// Points along a constrained column of [`Structure::monotone`]'s grid.
 pub(crate) const MONOTONE_GRID: usize = 33;
