@@ -47,6 +47,7 @@ pub mod cases;
 mod config;
 mod error;
 mod machine;
+pub mod ode;
 mod sensors;
 
 pub use config::{
