@@ -37,6 +37,10 @@ def simulate(case="tool", n_jobs=None, **settings):
     - ``case="roughness"``, ``"cutting_force"`` or ``"tool_life"``: the table cases
       (``hxai simulate --case``, docs/cases.md), e.g. ``simulate("roughness", n_rows=200,
       seed=1)``; one row per cut (per tool-life test for ``tool_life``).
+    - ``case="spindle_thermal"``: a spindle's thermal drift (issue 69), one row per sample of
+      ``n_runs`` runs of ``samples_per_run`` samples: ``run``, ``time_s``, the inputs
+      ``speed_krpm`` and ``ambient_C``, a distractor ``humidity_pct`` and the measured
+      ``T_C``.
 
     ``n_jobs``: threads that simulate the tool case's records (``None``, the default: every
     core; ``-1``: every core in a pool of its own; a positive int: that many); the table

@@ -26,6 +26,7 @@ fn default_value(what: &str) -> PyResult<Value> {
         "roughness" => serde_json::to_value(hxai_sim::cases::RoughnessConfig::default()),
         "cutting_force" => serde_json::to_value(hxai_sim::cases::CuttingForceConfig::default()),
         "tool_life" => serde_json::to_value(hxai_sim::cases::ToolLifeConfig::default()),
+        "spindle_thermal" => serde_json::to_value(hxai_sim::cases::SpindleThermalConfig::default()),
         other => {
             return Err(PyValueError::new_err(format!(
                 "unknown case `{other}`: the cases are tool, {}",

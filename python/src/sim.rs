@@ -55,7 +55,8 @@ pub(crate) fn simulate_tool<'py>(
 }
 
 /// `simulate_case(name, overrides_json)` -> `(names, columns)`: a table case
-/// (`roughness`, `cutting_force`, `tool_life`) with its defaults and the given overrides.
+/// (`roughness`, `cutting_force`, `tool_life`, `spindle_thermal`) with its defaults and the
+/// given overrides.
 #[pyfunction]
 pub(crate) fn simulate_case<'py>(
     py: Python<'py>,
@@ -74,6 +75,10 @@ pub(crate) fn simulate_case<'py>(
         "tool_life" => {
             let c: hxai_sim::cases::ToolLifeConfig = with_overrides(name, overrides_json)?;
             py.detach(move || hxai_sim::cases::tool_life(&c))
+        }
+        "spindle_thermal" => {
+            let c: hxai_sim::cases::SpindleThermalConfig = with_overrides(name, overrides_json)?;
+            py.detach(move || hxai_sim::cases::spindle_thermal(&c, None))
         }
         other => {
             return Err(PyValueError::new_err(format!(

@@ -31,6 +31,10 @@ pub enum CaseArg {
     /// extended Taylor law, and scatter.
     #[value(name = "tool_life")]
     ToolLife,
+    /// A spindle's thermal drift (a dynamic process, one row per sample of 12 runs): the heat
+    /// balance C T' = q n^1.5 - h (T - Ta) plus forced convection that grows with the speed.
+    #[value(name = "spindle_thermal")]
+    SpindleThermal,
 }
 
 impl CaseArg {
@@ -39,6 +43,7 @@ impl CaseArg {
             CaseArg::Roughness => "roughness",
             CaseArg::CuttingForce => "cutting_force",
             CaseArg::ToolLife => "tool_life",
+            CaseArg::SpindleThermal => "spindle_thermal",
         }
     }
 }
@@ -53,7 +58,8 @@ pub struct Args {
     /// Write one table of a simulated manufacturing process instead of a data folder.
     #[arg(long, value_enum, conflicts_with_all = ["format", "repeats", "duration_s", "fs_hz", "amplitudes", "frequencies", "config"])]
     pub case: Option<CaseArg>,
-    /// Rows of the `--case` table [default: 400].
+    /// Rows of the `--case` table [default: 400; spindle_thermal: 12 runs of 240 samples,
+    /// and with --rows N exactly N rows, the last run cut short].
     #[arg(long, requires = "case")]
     pub rows: Option<usize>,
     /// Seed of every random choice (noise, mains phase); same seed, same data.

@@ -1,7 +1,8 @@
 //! Three more manufacturing processes as seeded table generators: finish-turning surface
 //! roughness ([`roughness()`]) and the main cutting force in turning ([`cutting_force()`])
 //! (issue 13), and tool life in turning ([`tool_life()`], issue 23: the case whose hidden
-//! truth is one short closed form in one column).
+//! truth is one short closed form in one column), and a spindle's thermal drift
+//! ([`spindle_thermal()`], issue 69: a dynamic process, one row per sample of several runs).
 //!
 //! Each generator starts from the law an engineer would write down (the *physics*: the
 //! kinematic roughness `Ra = f^2 / (32 r)`, Kienzle's force law `Fc = kc1.1 b h^(1 - mc)`,
@@ -19,10 +20,12 @@
 
 pub mod cutting_force;
 pub mod roughness;
+pub mod spindle_thermal;
 pub mod tool_life;
 
 pub use cutting_force::{CuttingForceConfig, cutting_force};
 pub use roughness::{RoughnessConfig, roughness};
+pub use spindle_thermal::{SpindleThermalConfig, spindle_thermal};
 pub use tool_life::{ToolLifeConfig, tool_life};
 
 use crate::SimError;
@@ -31,7 +34,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 
 /// The generators by name, as `hxai simulate --case NAME` accepts them.
-pub const CASE_NAMES: [&str; 3] = ["roughness", "cutting_force", "tool_life"];
+pub const CASE_NAMES: [&str; 4] = ["roughness", "cutting_force", "tool_life", "spindle_thermal"];
 
 /// Seed of every generator's default configuration.
 pub const DEFAULT_SEED: u64 = 42;
@@ -74,6 +77,13 @@ pub fn generate_case(
             let mut c = ToolLifeConfig::default();
             override_rows_and_seed((&mut c.n_rows, &mut c.seed), rows, seed);
             tool_life(&c)
+        }
+        "spindle_thermal" => {
+            let mut c = SpindleThermalConfig::default();
+            if let Some(s) = seed {
+                c.seed = s;
+            }
+            spindle_thermal(&c, rows)
         }
         other => Err(SimError::UnknownCase {
             name: other.to_string(),

@@ -9,3 +9,4 @@ mod cases;
 mod linear;
 mod properties;
 mod regression;
+mod spindle;
