@@ -601,8 +601,10 @@ def _with_ebm(frame, names, X, y, seed):
     box; ``interpret``'s ``ExplainableBoostingRegressor``, defaults, ``random_state=seed``)
     as the row ``ebm``: trained on the split's training rows over the black boxes' columns
     (the physics' columns and the correction's candidates), scored on its test rows, with
-    the paired t-test of the hybrid against it. Where ``interpret`` is not installed the
-    frame is returned as it is and ``frame.attrs["ebm"]`` says so (issue 68)."""
+    the paired t-test of the hybrid against it; the comparison's JSON in
+    ``frame.attrs["json"]`` gains it among its ``models`` (so ``report(compare=frame)``
+    shows it). Where ``interpret`` is not installed the frame is returned as it is and
+    ``frame.attrs["ebm"]`` says so (issue 68)."""
     try:
         from interpret.glassbox import ExplainableBoostingRegressor
     except ImportError:
@@ -658,6 +660,13 @@ def _with_ebm(frame, names, X, y, seed):
         [frame.iloc[:at], pd.DataFrame([row]), frame.iloc[at:]], ignore_index=True
     )
     out.attrs.update(frame.attrs)
+    # the comparison's JSON gains the row too, so that report(compare=frame) shows it
+    names_in = [m["name"] for m in doc["models"]]
+    at_json = names_in.index("hybrid") if "hybrid" in names_in else len(names_in)
+    doc["models"].insert(
+        at_json, {"name": "ebm", "rmse": row["rmse"], "r2": row["r2"], "mae": row["mae"]}
+    )
+    out.attrs["json"] = json.dumps(doc)
     out.attrs["ebm"] = (
         f"interpret's ExplainableBoostingRegressor (defaults, random_state={int(seed)}) on "
         f"the split's {len(tr)} training rows over {', '.join(cols)}; not cross-validated"

@@ -67,7 +67,7 @@ def test_bad_settings_are_refused(kwargs, says):
         HybridRegressor("k*x", calibrate=["k"], conformal_folds=0, **kwargs).fit(X, y)
 
 
-def test_compare_shows_ebm_beside_boosting_or_says_why_not(monkeypatch):
+def test_compare_shows_ebm_beside_boosting_or_says_why_not(monkeypatch, tmp_path):
     X, y = _dip(200)
     est = HybridRegressor("k*x", calibrate=["k"], correction="multiplicative",
                           form="factors", conformal_folds=0)
@@ -86,6 +86,11 @@ def test_compare_shows_ebm_beside_boosting_or_says_why_not(monkeypatch):
     ref = ExplainableBoostingRegressor(random_state=42).fit(X.iloc[tr], y.iloc[tr])
     rmse = float(np.sqrt(np.mean((ref.predict(X.iloc[te]) - y.iloc[te]) ** 2)))
     assert abs(rmse - ebm.rmse) <= 1e-9 * rmse
+    # the comparison's JSON holds it too, so the report's comparison table shows it
+    names = [m["name"] for m in __import__("json").loads(frame.attrs["json"])["models"]]
+    assert names.index("ebm") == names.index("hybrid") - 1
+    page = est.fit(X, y).report(tmp_path / "r.html", compare=frame)
+    assert ">ebm<" in open(page, encoding="utf-8").read()
     # without interpret the frame says so and has no such row
     import builtins
 
