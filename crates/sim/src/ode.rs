@@ -266,9 +266,7 @@ impl Stepper {
                 }
                 *tm = yj + h * acc;
             }
-            let (done, rest) = self.k.split_at_mut(i);
-            let _ = done;
-            f(t + C[i] * h, &self.tmp, &mut rest[0]);
+            f(t + C[i] * h, &self.tmp, &mut self.k[i]);
         }
         // the 5th-order solution is the last stage's argument (FSAL)
         self.y_new.copy_from_slice(&self.tmp);

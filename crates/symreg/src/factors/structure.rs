@@ -186,10 +186,7 @@ impl Structure {
             if t.shape != Shape::Periodic {
                 return false;
             }
-            let x = cols[t.cols[0]];
-            let (lo, hi) = x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, &v| {
-                (a.0.min(v), a.1.max(v))
-            });
+            let (lo, hi) = range(cols[t.cols[0]]);
             let omega = t.params[t.params.len() - 2];
             (omega.abs() * (hi - lo)).is_nan()
                 || omega.abs() * (hi - lo) < MIN_CYCLES * 2.0 * std::f64::consts::PI
