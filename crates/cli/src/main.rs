@@ -10,6 +10,7 @@ use clap::{Parser, Subcommand};
 
 mod compare;
 mod displacement;
+mod dynamic;
 mod evaluate;
 mod explain;
 mod features;
@@ -128,6 +129,9 @@ enum Command {
     Compare(compare::Args),
     /// Hybrid models of any process on a table: physics equation + symbolic correction.
     Hybrid(Box<hybrid::Args>),
+    /// Grey-box dynamic models: the engineer's ODE, calibrated through its trajectories,
+    /// with a learned correction inside the derivative (docs/dynamic.md).
+    Dynamic(Box<dynamic::Args>),
 }
 
 fn main() {
@@ -263,6 +267,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Sr(a) => sr::run(a, g),
         Command::Compare(a) => compare::run(a, g),
         Command::Hybrid(a) => hybrid::run(*a, g),
+        Command::Dynamic(a) => dynamic::run(*a, g),
     }
 }
 

@@ -71,6 +71,7 @@
 #![deny(missing_docs)]
 
 pub mod conformal;
+pub mod dynamic;
 mod correction;
 mod error;
 pub mod explain;

@@ -1,0 +1,188 @@
+//! The correction's search: the measured states' derivatives, smoothed by a local quadratic
+//! (Savitzky-Golay in the sample times), minus the calibrated physics' derivative, searched
+//! by the table workflow (its form `auto|none|factors|free`, its safety rules, its
+//! cross-validation grouped by run). The constants are refitted through the ODE afterwards
+//! (`fit.rs`).
+
+use super::DynamicConfig;
+use super::system::{Run, System};
+use crate::HybridError;
+use crate::correction::FormChoice;
+use crate::tables::{Form, TableConfig, TableProgress};
+use hxai_symreg::{Model, Table};
+
+/// Local quadratic least squares over `window` samples around each sample (shifted inside
+/// the series at its ends), in the times `t`: each sample's smoothed value and slope. For
+/// evenly spaced samples this is the Savitzky-Golay filter of order 2 and its derivative.
+pub(crate) fn local_quadratic(t: &[f64], x: &[f64], window: usize) -> Vec<(f64, f64)> {
+    let n = t.len();
+    let w = window.clamp(3, n.max(3)).min(n);
+    let half = w / 2;
+    (0..n)
+        .map(|i| {
+            let lo = i.saturating_sub(half).min(n - w);
+            let span = (t[lo + w - 1] - t[lo]).max(f64::MIN_POSITIVE);
+            // basis 1, s, s^2 with s = (t - t_i) / span: well conditioned at any time scale
+            let mut a = [0.0; 9];
+            let mut b = [0.0; 3];
+            for k in lo..lo + w {
+                let s = (t[k] - t[i]) / span;
+                let phi = [1.0, s, s * s];
+                for r in 0..3 {
+                    b[r] += phi[r] * x[k];
+                    for c in 0..=r {
+                        a[r * 3 + c] += phi[r] * phi[c];
+                    }
+                }
+            }
+            if w < 3 || !hxai_symreg::fit::cholesky_solve(&mut a, &mut b, 3) {
+                return (x[i], f64::NAN);
+            }
+            (b[0], b[1] / span)
+        })
+        .collect()
+}
+
+/// What the search of one state's correction found.
+pub(crate) struct Found {
+    pub(crate) model: Option<Model>,
+    pub(crate) form: Form,
+    pub(crate) equation: String,
+    pub(crate) choice: Option<FormChoice>,
+    /// Samples the derivative was taken at, and how many of all.
+    pub(crate) rows: (usize, usize),
+}
+
+/// Run column of the derivative table.
+const RUN: &str = "run";
+
+/// Whether the inputs stay constant over the samples `lo..=hi` (the intervals they start).
+fn inputs_constant(run: &Run, lo: usize, hi: usize) -> bool {
+    run.inputs
+        .iter()
+        .all(|u| u[lo..hi].iter().all(|v| *v == u[lo]))
+}
+
+/// Searches each state's correction on the training `runs`, the physics of `sys` (already
+/// calibrated) giving the derivative the data are compared with.
+///
+/// # Errors
+/// The table workflow's, or too few samples.
+pub(crate) fn search(
+    sys: &System,
+    runs: &[Run],
+    cfg: &DynamicConfig,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Vec<Found>, HybridError> {
+    let ns = sys.n_states();
+    let nv = sys.spec.variables.len();
+    let mut out = Vec::with_capacity(ns);
+    for j in 0..ns {
+        let state = &cfg.states[j];
+        let target = format!("{state}_rate");
+        let physics = format!("{state}_rate_physics");
+        let mut cols: Vec<Vec<f64>> = vec![Vec::new(); nv + 3];
+        let (mut kept, mut all) = (0, 0);
+        let mut stack = Vec::new();
+        let mut phys = vec![0.0; ns];
+        let mut rows: Vec<(f64, Vec<f64>, f64, f64)> = Vec::new();
+        let mut loose: Vec<(f64, Vec<f64>, f64, f64)> = Vec::new();
+        for run in runs {
+            let n = run.times.len();
+            let w = cfg.smooth.min(n);
+            let smooth: Vec<Vec<(f64, f64)>> = run
+                .states
+                .iter()
+                .map(|s| local_quadratic(&run.times, s, w))
+                .collect();
+            for k in 0..n {
+                let lo = k.saturating_sub(w / 2).min(n - w);
+                let mut vars = vec![0.0; nv];
+                for (q, s) in smooth.iter().enumerate() {
+                    vars[q] = s[k].0;
+                }
+                for (q, u) in run.inputs.iter().enumerate() {
+                    // the input in force over the sample's own interval (the last sample's
+                    // over the one before it)
+                    vars[ns + q] = u[k.min(n - 2)];
+                }
+                vars[nv - 1] = run.times[k];
+                sys.physics_at(&vars, &mut phys, &mut stack);
+                let rate = smooth[j][k].1;
+                if !rate.is_finite() || !phys[j].is_finite() {
+                    continue;
+                }
+                all += 1;
+                let row = (run.id, vars, rate, phys[j]);
+                if inputs_constant(run, lo, lo + w - 1) {
+                    kept += 1;
+                    rows.push(row);
+                } else {
+                    loose.push(row);
+                }
+            }
+        }
+        // samples whose window spans a change of an input have a smeared derivative; they
+        // are left out unless that leaves too few
+        if kept * 10 < all * 3 {
+            rows.append(&mut loose);
+            kept = all;
+        }
+        if rows.len() < 10 {
+            return Err(HybridError::NoData(format!(
+                "{} sample(s) to learn the correction of {state} from; it needs at least 10",
+                rows.len()
+            )));
+        }
+        for (id, vars, rate, p) in &rows {
+            for (q, v) in vars.iter().enumerate() {
+                cols[q].push(*v);
+            }
+            cols[nv].push(*id);
+            cols[nv + 1].push(*rate);
+            cols[nv + 2].push(*p);
+        }
+        let mut names: Vec<String> = sys.spec.variables.clone();
+        names[nv - 1] = format!("{}_time", cfg.time);
+        names.extend([RUN.to_string(), target.clone(), physics.clone()]);
+        let table = Table::new(names, cols)?;
+        let mut features: Vec<String> = cfg.states.clone();
+        features.extend(cfg.inputs.iter().cloned());
+        let mut tc = TableConfig::new(&target, &format!("`{physics}`"));
+        tc.features = Some(features);
+        tc.group = Some(RUN.into());
+        tc.form = cfg.form;
+        tc.correction = cfg.correction;
+        tc.seed = cfg.seed;
+        tc.search.seed = cfg.seed;
+        tc.conformal_folds = 0;
+        tc.periodic = cfg.periodic.clone();
+        let split = hxai_eval::Split {
+            train: (0..table.n_rows()).collect(),
+            test: Vec::new(),
+        };
+        progress(&format!(
+            "searching the correction of {state}' on {kept} of {all} samples' smoothed derivatives"
+        ));
+        let mut report = |p: &TableProgress| {
+            if p.step {
+                progress(&format!("  {}", p.label));
+            }
+        };
+        let m = crate::tables::fit_split(&table, &tc, &split, &mut report)?;
+        let form = m.correction.form.unwrap_or(cfg.form);
+        let model = if form == Form::None {
+            None
+        } else {
+            m.correction.model.clone()
+        };
+        out.push(Found {
+            equation: m.correction.forms.equation.clone(),
+            model,
+            form,
+            choice: m.correction.choice.clone(),
+            rows: (kept, all),
+        });
+    }
+    Ok(out)
+}
