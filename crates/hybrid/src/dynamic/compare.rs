@@ -4,7 +4,7 @@
 //! samples after a time (`--test-after T`), with paired t-tests over runs.
 
 use super::calibrate::CALIBRATION_ODE;
-use super::fit::fit_runs;
+use super::validate::fit_runs;
 use super::narx::Narx;
 use super::system::{Run, System, runs_of};
 use super::{DynamicConfig, DynamicModel};

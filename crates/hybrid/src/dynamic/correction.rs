@@ -46,6 +46,8 @@ pub(crate) fn local_quadratic(t: &[f64], x: &[f64], window: usize) -> Vec<(f64, 
 /// What the search of one state's correction found.
 pub(crate) struct Found {
     pub(crate) model: Option<Model>,
+    /// The training range of each of the model's features.
+    pub(crate) ranges: Vec<[f64; 2]>,
     pub(crate) form: Form,
     pub(crate) equation: String,
     pub(crate) choice: Option<FormChoice>,
@@ -176,9 +178,21 @@ pub(crate) fn search(
         } else {
             m.correction.model.clone()
         };
+        let ranges = model.as_ref().map_or_else(Vec::new, |m| {
+            m.feature_names
+                .iter()
+                .map(|f| {
+                    let c = table.column(f).unwrap_or(&[]);
+                    let lo = c.iter().copied().fold(f64::INFINITY, f64::min);
+                    let hi = c.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                    [lo, hi]
+                })
+                .collect()
+        });
         out.push(Found {
             equation: m.correction.forms.equation.clone(),
             model,
+            ranges,
             form,
             choice: m.correction.choice.clone(),
             rows: (kept, all),

@@ -25,7 +25,7 @@ pub fn fit(
 ) -> Result<DynamicModel, HybridError> {
     cfg.check()?;
     let runs = runs_of(table, &cfg.time, cfg.run.as_deref(), &cfg.states, &cfg.inputs)?;
-    fit_runs(&runs, cfg, None, progress)
+    super::validate::fit_runs(&runs, cfg, None, progress)
 }
 
 /// Each state's spread over the runs (1 where it does not vary): the residuals' scales.
@@ -98,9 +98,10 @@ fn estimates(
         .collect()
 }
 
-/// Fits on `runs` (all training data). `test_after`: the runs were cut there (the model
-/// file says so).
-pub(crate) fn fit_runs(
+/// Fits on `runs` (all training data), the correction's form as `cfg` says (`validate.rs`
+/// checks an `auto` choice on held-out trajectories). `test_after`: the runs were cut
+/// there (the model file says so).
+pub(crate) fn fit_core(
     runs: &[Run],
     cfg: &DynamicConfig,
     test_after: Option<f64>,
@@ -143,7 +144,7 @@ pub(crate) fn fit_runs(
     let found = search(&sys, runs, cfg, progress)?;
     let mut warnings = Vec::new();
     for (j, f) in found.iter().enumerate() {
-        sys.set_correction(j, f.model.clone())?;
+        sys.set_correction(j, f.model.clone(), f.ranges.clone())?;
     }
     let joint_unknowns = sys.unknowns(&cfg.calibrate, true);
     let mut joint: Option<Calibration> = None;
@@ -210,6 +211,7 @@ pub(crate) fn fit_runs(
                     .as_ref()
                     .map(|m| m.feature_names.clone())
                     .unwrap_or_default(),
+                ranges: if model.is_some() { f.ranges } else { Vec::new() },
                 model,
                 choice: f.choice,
                 samples: [f.rows.0, f.rows.1],

@@ -11,7 +11,11 @@
 //!    physics' derivative, with the table workflow's forms and rules (`correction.rs`);
 //! 3. **refit every constant through the ODE** (physics and correction together), keep the
 //!    correction only if the trajectories get better, and calibrate conformal bands over
-//!    runs (`fit.rs`).
+//!    runs (`fit.rs`);
+//! 4. under `--form auto`, **check the correction on held-out trajectories** (`validate.rs`):
+//!    refitted without a quarter of the runs (or, with fewer than 4 runs, without the last
+//!    quarter of each run's time), it must predict them better than the physics refitted
+//!    the same way, or it is dropped.
 //!
 //! `predict` simulates each run from its first reading (`model.rs`); `compare` scores the
 //! physics, the calibrated physics, the hybrid and a NARX gradient boosting by free-run
@@ -26,6 +30,7 @@ mod model;
 mod narx;
 mod spec;
 mod system;
+mod validate;
 
 pub use compare::{
     CorrectionSummary, DynamicComparison, DynamicScore, HybridSummary, TEST_SHARE, TestSplit, compare,

@@ -30,6 +30,10 @@ pub struct StateCorrection {
     pub features: Vec<String>,
     /// The model (`null` for none).
     pub model: Option<Model>,
+    /// `[low, high]` of each feature on the training samples: outside it the correction is
+    /// evaluated at the nearest edge (held constant), so it never extrapolates.
+    #[serde(default)]
+    pub ranges: Vec<[f64; 2]>,
     /// With `--form auto`: how the form was chosen.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub choice: Option<FormChoice>,
@@ -186,7 +190,7 @@ impl DynamicModel {
         let mut sys = System::physics(spec, self.correction_kind);
         if hybrid {
             for (j, c) in self.corrections.iter().enumerate() {
-                sys.set_correction(j, c.model.clone())?;
+                sys.set_correction(j, c.model.clone(), c.ranges.clone())?;
             }
         }
         Ok(sys)

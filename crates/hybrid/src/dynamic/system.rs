@@ -7,11 +7,15 @@ use crate::tables::CorrectionForm;
 use hxai_sim::ode::{OdeError, OdeSettings, integrate};
 use hxai_symreg::{Model, Table};
 
-/// One state's learned correction and where its features sit among the variables.
+/// One state's learned correction, where its features sit among the variables, and their
+/// training ranges: outside them the correction is held at its value on the range's edge
+/// (the physics extrapolates, the learned term is not trusted beyond the data).
 #[derive(Clone, Debug)]
 pub(crate) struct Correction {
     pub(crate) model: Model,
     pub(crate) map: Vec<usize>,
+    /// `[low, high]` of each feature; empty: no clamping.
+    pub(crate) ranges: Vec<[f64; 2]>,
 }
 
 /// The physics with its corrections, ready to integrate.
@@ -50,11 +54,12 @@ impl System {
         &mut self,
         state: usize,
         model: Option<Model>,
+        ranges: Vec<[f64; 2]>,
     ) -> Result<(), HybridError> {
         self.corrections[state] = match model {
             Some(model) => {
                 let map = feature_map(&model, &self.spec.variables)?;
-                Some(Correction { model, map })
+                Some(Correction { model, map, ranges })
             }
             None => None,
         };
@@ -79,14 +84,27 @@ impl System {
         }
     }
 
-    /// The hybrid's derivative of every state at `vars` into `dy`.
-    pub(crate) fn rhs(&self, vars: &[f64], dy: &mut [f64], all: &[usize], stack: &mut Vec<f64>) {
+    /// The hybrid's derivative of every state at `vars` into `dy` (`buf`: scratch for the
+    /// clamped features).
+    pub(crate) fn rhs(
+        &self,
+        vars: &[f64],
+        dy: &mut [f64],
+        all: &[usize],
+        stack: &mut Vec<f64>,
+        buf: &mut Vec<f64>,
+    ) {
         for (j, e) in self.spec.equations.iter().enumerate() {
             let p = eval_point(&e.compiled.program, &e.compiled.params, vars, all, stack);
             dy[j] = match &self.corrections[j] {
                 None => p,
                 Some(c) => {
-                    let v = eval_point(&c.model.program, &c.model.params, vars, &c.map, stack);
+                    buf.clear();
+                    buf.extend(c.map.iter().enumerate().map(|(i, &m)| match c.ranges.get(i) {
+                        Some([lo, hi]) => vars[m].clamp(*lo, *hi),
+                        None => vars[m],
+                    }));
+                    let v = eval_point(&c.model.program, &c.model.params, buf, &all[..buf.len()], stack);
                     match self.link {
                         CorrectionForm::Multiplicative => p * (1.0 + v),
                         CorrectionForm::Log => p * v.exp(),
@@ -150,6 +168,7 @@ impl System {
         let all: Vec<usize> = (0..nv).collect();
         let mut vars = vec![0.0; nv];
         let mut stack = Vec::with_capacity(32);
+        let mut buf = Vec::with_capacity(nv);
         let mut y = y0.to_vec();
         let mut out = Vec::with_capacity(run.times.len());
         out.push(y.clone());
@@ -160,7 +179,7 @@ impl System {
             let mut f = |t: f64, yy: &[f64], dy: &mut [f64]| {
                 vars[..ns].copy_from_slice(yy);
                 vars[nv - 1] = t;
-                self.rhs(&vars, dy, &all, &mut stack);
+                self.rhs(&vars, dy, &all, &mut stack, &mut buf);
             };
             let next = integrate(&mut f, run.times[k], &y, &[run.times[k + 1]], s)?;
             y.clone_from(&next[0]);
