@@ -16,6 +16,8 @@ as pandas DataFrames, all computed by hxai's compiled Rust engine (``hxai._hxai`
   stream``): push chunks of acceleration, get one DataFrame row per sample.
 - :mod:`hxai.signal`, :mod:`hxai.features`: the signal functions in scipy's shapes, the
   twelve features.
+- :class:`DynamicRegressor`: grey-box dynamic models (``hxai dynamic``, docs/dynamic.md):
+  the engineer's ODE calibrated through its trajectories, with a learned correction term.
 - :func:`simulate`: the machine simulator and the table cases as DataFrames.
 
 Every result equals the command line's for the same seed and data; errors are ValueErrors
@@ -24,6 +26,7 @@ with the command line's one-line messages.
 
 from . import _hxai
 from . import features, signal
+from .dynamic import DynamicRegressor
 from .estimators import HybridRegressor, SymbolicRegressor, compare
 from .sim import simulate
 from .stream import StreamEstimator
@@ -36,6 +39,7 @@ __all__ = [
     "SymbolicRegressor",
     "HybridRegressor",
     "compare",
+    "DynamicRegressor",
     "ToolModel",
     "predict_records",
     "predict_table",

@@ -33,6 +33,7 @@
 #![deny(missing_docs)]
 
 mod convert;
+mod dynamic;
 mod settings;
 mod signal;
 mod sim;
@@ -78,6 +79,9 @@ fn _hxai(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(features_extract, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_tool, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_case, m)?)?;
+    m.add_function(wrap_pyfunction!(dynamic::dynamic_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(dynamic::dynamic_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(dynamic::dynamic_compare, m)?)?;
     m.add_class::<StreamEstimator>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

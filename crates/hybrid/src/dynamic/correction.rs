@@ -200,3 +200,19 @@ pub(crate) fn search(
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::local_quadratic;
+
+    /// A quadratic's value and slope are exact at every sample, ends and uneven times too.
+    #[test]
+    fn the_local_quadratic_is_exact_on_a_quadratic() {
+        let t = [0.0, 1.0, 2.5, 3.0, 4.5, 6.0, 7.0, 9.0, 10.0];
+        let x: Vec<f64> = t.iter().map(|v| 3.0 - 2.0 * v + 0.5 * v * v).collect();
+        for (i, (v, d)) in local_quadratic(&t, &x, 5).into_iter().enumerate() {
+            assert!((v - x[i]).abs() < 1e-9, "value at {i}");
+            assert!((d - (-2.0 + t[i])).abs() < 1e-9, "slope at {i}: {d}");
+        }
+    }
+}

@@ -207,10 +207,7 @@ pub(crate) fn fit_core(
                     .as_ref()
                     .map_or_else(|| "0".to_string(), hxai_symreg::Model::equation),
                 searched_equation: f.equation,
-                features: model
-                    .as_ref()
-                    .map(|m| m.feature_names.clone())
-                    .unwrap_or_default(),
+                features: model.as_ref().map(used_features).unwrap_or_default(),
                 ranges: if model.is_some() { f.ranges } else { Vec::new() },
                 model,
                 choice: f.choice,
@@ -265,6 +262,15 @@ pub(crate) fn fit_core(
         warnings,
     }
     .with_equation())
+}
+
+/// The columns `m`'s program reads (a model names every column it was offered).
+fn used_features(m: &hxai_symreg::Model) -> Vec<String> {
+    m.program
+        .vars()
+        .iter()
+        .filter_map(|&j| m.feature_names.get(j as usize).cloned())
+        .collect()
 }
 
 fn format_sse(v: f64) -> String {

@@ -10,6 +10,7 @@ mod beside;
 mod conformal;
 mod correction_per;
 mod design;
+mod dynamic;
 mod end_to_end;
 mod factor_pictures;
 mod json_shape;
