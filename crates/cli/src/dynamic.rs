@@ -296,7 +296,11 @@ fn predict(a: PredictArgs) -> Result<()> {
     }
     hxai_data::write_mixed_table(&a.out, &t)
         .with_context(|| format!("cannot write the predictions to {}", a.out.display()))?;
-    println!("{} rows written to {}", view.table.n_rows(), a.out.display());
+    println!(
+        "{} rows written to {}",
+        view.table.n_rows(),
+        a.out.display()
+    );
     Ok(())
 }
 

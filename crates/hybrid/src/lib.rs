@@ -71,8 +71,8 @@
 #![deny(missing_docs)]
 
 pub mod conformal;
-pub mod dynamic;
 mod correction;
+pub mod dynamic;
 mod error;
 pub mod explain;
 mod intervals;

@@ -4,9 +4,9 @@
 //! samples after a time (`--test-after T`), with paired t-tests over runs.
 
 use super::calibrate::CALIBRATION_ODE;
-use super::validate::fit_runs;
 use super::narx::Narx;
 use super::system::{Run, System, runs_of};
+use super::validate::fit_runs;
 use super::{DynamicConfig, DynamicModel};
 use crate::HybridError;
 use serde::{Deserialize, Serialize};
@@ -146,6 +146,9 @@ fn choose_split(
     Ok((train, test))
 }
 
+/// A run's sum of squares and count of its scored samples (`None`: not integrable).
+type RunErrors = Option<(f64, usize)>;
+
 /// Per-run sum of squares and count of the free run of `sim` against `run`, on the samples
 /// after `after` (all but the first without it).
 fn errors(sim: &[Vec<f64>], run: &Run, after: Option<f64>) -> (f64, usize) {
@@ -175,7 +178,13 @@ pub fn compare(
     progress: &mut dyn FnMut(&str),
 ) -> Result<DynamicComparison, HybridError> {
     cfg.check()?;
-    let runs = runs_of(table, &cfg.time, cfg.run.as_deref(), &cfg.states, &cfg.inputs)?;
+    let runs = runs_of(
+        table,
+        &cfg.time,
+        cfg.run.as_deref(),
+        &cfg.states,
+        &cfg.inputs,
+    )?;
     let (train, test) = choose_split(&runs, split, cfg.seed)?;
     let mut fit_cfg = cfg.clone();
     fit_cfg.conformal_folds = 0;
@@ -190,7 +199,7 @@ pub fn compare(
         ),
         ("hybrid", model.system(&model.parameters, true)?),
     ];
-    let mut per: Vec<(String, Vec<Option<(f64, usize)>>)> = Vec::new();
+    let mut per: Vec<(String, Vec<RunErrors>)> = Vec::new();
     for (name, sys) in &systems {
         let v = test
             .iter()
@@ -211,7 +220,7 @@ pub fn compare(
         })
         .collect();
     per.push(("narx_boosting".into(), v));
-    let mse = |v: &[Option<(f64, usize)>]| -> Option<Vec<f64>> {
+    let mse = |v: &[RunErrors]| -> Option<Vec<f64>> {
         v.iter()
             .map(|e| e.map(|(s, n)| s / n.max(1) as f64))
             .collect()

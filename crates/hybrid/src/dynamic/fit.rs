@@ -6,27 +6,12 @@ use super::calibrate::{CALIBRATION_ODE, Calibration, Problem, calibrate, residua
 use super::correction::search;
 use super::model::{DynamicModel, RunConformal, SCHEMA_VERSION, StateCorrection, Training};
 use super::spec::OdeSpec;
-use super::system::{Run, System, Unknown, runs_of};
+use super::system::{Run, System, Unknown};
 use super::{DynamicConfig, Initial};
 use crate::HybridError;
 use crate::tables::Form;
-use hxai_symreg::{ParamEstimate, Table};
+use hxai_symreg::ParamEstimate;
 use std::collections::BTreeMap;
-
-/// Fits a dynamic hybrid on every run of `table`.
-///
-/// # Errors
-/// Bad settings or columns ([`HybridError::InvalidConfig`], [`HybridError::MissingColumn`]),
-/// an ODE that cannot be integrated at its starting values, or a failed search.
-pub fn fit(
-    table: &Table,
-    cfg: &DynamicConfig,
-    progress: &mut dyn FnMut(&str),
-) -> Result<DynamicModel, HybridError> {
-    cfg.check()?;
-    let runs = runs_of(table, &cfg.time, cfg.run.as_deref(), &cfg.states, &cfg.inputs)?;
-    super::validate::fit_runs(&runs, cfg, None, progress)
-}
 
 /// Each state's spread over the runs (1 where it does not vary): the residuals' scales.
 pub(crate) fn scales(runs: &[Run], ns: usize) -> Vec<f64> {
@@ -43,13 +28,7 @@ pub(crate) fn scales(runs: &[Run], ns: usize) -> Vec<f64> {
 
 /// The parsed physics at its starting values, its calibrated parameters checked.
 pub(crate) fn physics_of(cfg: &DynamicConfig) -> Result<OdeSpec, HybridError> {
-    let spec = OdeSpec::parse(
-        &cfg.ode,
-        &cfg.states,
-        &cfg.inputs,
-        &cfg.time,
-        &cfg.values(),
-    )?;
+    let spec = OdeSpec::parse(&cfg.ode, &cfg.states, &cfg.inputs, &cfg.time, &cfg.values())?;
     for p in cfg.calibrate.iter().chain(cfg.set.keys()) {
         if !spec.parameters.contains_key(p) {
             return Err(HybridError::InvalidConfig(format!(
@@ -208,7 +187,11 @@ pub(crate) fn fit_core(
                     .map_or_else(|| "0".to_string(), hxai_symreg::Model::equation),
                 searched_equation: f.equation,
                 features: model.as_ref().map(used_features).unwrap_or_default(),
-                ranges: if model.is_some() { f.ranges } else { Vec::new() },
+                ranges: if model.is_some() {
+                    f.ranges
+                } else {
+                    Vec::new()
+                },
                 model,
                 choice: f.choice,
                 samples: [f.rows.0, f.rows.1],

@@ -33,10 +33,12 @@ mod system;
 mod validate;
 
 pub use compare::{
-    CorrectionSummary, DynamicComparison, DynamicScore, HybridSummary, TEST_SHARE, TestSplit, compare,
+    CorrectionSummary, DynamicComparison, DynamicScore, HybridSummary, TEST_SHARE, TestSplit,
+    compare,
 };
-pub use fit::fit;
-pub use model::{DynamicModel, DynamicPrediction, RunConformal, StateCorrection, Training};
+pub use model::{
+    DynamicModel, DynamicPrediction, RunConformal, SCHEMA_VERSION, StateCorrection, Training,
+};
 
 use crate::tables::{CorrectionForm, Form};
 use serde::{Deserialize, Serialize};
@@ -187,7 +189,7 @@ impl DynamicConfig {
                     "{p} is both calibrated (--calibrate) and fixed (--set); choose one"
                 ));
             }
-            if cols.iter().any(|c| *c == p) {
+            if cols.contains(&p) {
                 return bad(format!("{p} is a column; it cannot be calibrated"));
             }
         }
@@ -207,4 +209,26 @@ impl DynamicConfig {
         }
         v
     }
+}
+
+/// Fits a dynamic hybrid on every run of `table`.
+///
+/// # Errors
+/// Bad settings or columns ([`crate::HybridError::InvalidConfig`],
+/// [`crate::HybridError::MissingColumn`]),
+/// an ODE that cannot be integrated at its starting values, or a failed search.
+pub fn fit(
+    table: &hxai_symreg::Table,
+    cfg: &DynamicConfig,
+    progress: &mut dyn FnMut(&str),
+) -> Result<DynamicModel, crate::HybridError> {
+    cfg.check()?;
+    let runs = system::runs_of(
+        table,
+        &cfg.time,
+        cfg.run.as_deref(),
+        &cfg.states,
+        &cfg.inputs,
+    )?;
+    validate::fit_runs(&runs, cfg, None, progress)
 }

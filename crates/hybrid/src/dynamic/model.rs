@@ -242,7 +242,13 @@ impl DynamicModel {
         interval: Option<f64>,
     ) -> Result<DynamicPrediction, HybridError> {
         let cfg = self.config();
-        let runs = runs_of(table, &cfg.time, cfg.run.as_deref(), &cfg.states, &cfg.inputs)?;
+        let runs = runs_of(
+            table,
+            &cfg.time,
+            cfg.run.as_deref(),
+            &cfg.states,
+            &cfg.inputs,
+        )?;
         let hyb = self.system(&self.parameters, true)?;
         let phys = self.system(&self.calibrated_values(), false)?;
         let n = table.n_rows();
@@ -252,8 +258,10 @@ impl DynamicModel {
         let mut warnings = Vec::new();
         for run in &runs {
             let x0 = run.state_at(0);
-            for (sys, out, what) in [(&hyb, &mut hybrid, "hybrid"), (&phys, &mut physics, "physics")]
-            {
+            for (sys, out, what) in [
+                (&hyb, &mut hybrid, "hybrid"),
+                (&phys, &mut physics, "physics"),
+            ] {
                 match sys.simulate(run, &x0, &CALIBRATION_ODE) {
                     Ok(sim) => {
                         for (k, &row) in run.rows.iter().enumerate() {
@@ -284,10 +292,18 @@ impl DynamicModel {
                         ));
                     }
                     for v in &mut lo[j] {
-                        *v = if q[j].is_finite() { *v - q[j] } else { f64::NAN };
+                        *v = if q[j].is_finite() {
+                            *v - q[j]
+                        } else {
+                            f64::NAN
+                        };
                     }
                     for v in &mut hi[j] {
-                        *v = if q[j].is_finite() { *v + q[j] } else { f64::NAN };
+                        *v = if q[j].is_finite() {
+                            *v + q[j]
+                        } else {
+                            f64::NAN
+                        };
                     }
                 }
                 (Some(lo), Some(hi))
@@ -327,7 +343,11 @@ impl DynamicModel {
                 v.sort_by(f64::total_cmp);
                 let n = v.len();
                 let k = ((n as f64 + 1.0) * p).ceil() as usize;
-                if k == 0 || k > n { f64::INFINITY } else { v[k - 1] }
+                if k == 0 || k > n {
+                    f64::INFINITY
+                } else {
+                    v[k - 1]
+                }
             })
             .collect())
     }

@@ -59,7 +59,6 @@ impl Narx {
     /// # Errors
     /// The boosting's.
     pub(crate) fn roll_out(&self, run: &Run) -> Result<Vec<Vec<f64>>, HybridError> {
-        let ns = self.models.len();
         let mut x = run.state_at(0);
         let mut out = vec![x.clone()];
         for k in 0..run.times.len() - 1 {
@@ -68,8 +67,8 @@ impl Narx {
             row.push(vec![run.times[k + 1] - run.times[k]]);
             let t = Table::new(self.names.clone(), row)?;
             let mut next = x.clone();
-            for j in 0..ns {
-                next[j] += self.models[j].predict(&t)?[0];
+            for (v, m) in next.iter_mut().zip(&self.models) {
+                *v += m.predict(&t)?[0];
             }
             x = next;
             out.push(x.clone());

@@ -74,13 +74,7 @@ impl System {
     pub(crate) fn physics_at(&self, vars: &[f64], phys: &mut [f64], stack: &mut Vec<f64>) {
         let all: Vec<usize> = (0..vars.len()).collect();
         for (j, e) in self.spec.equations.iter().enumerate() {
-            phys[j] = eval_point(
-                &e.compiled.program,
-                &e.compiled.params,
-                vars,
-                &all,
-                stack,
-            );
+            phys[j] = eval_point(&e.compiled.program, &e.compiled.params, vars, &all, stack);
         }
     }
 
@@ -100,11 +94,22 @@ impl System {
                 None => p,
                 Some(c) => {
                     buf.clear();
-                    buf.extend(c.map.iter().enumerate().map(|(i, &m)| match c.ranges.get(i) {
-                        Some([lo, hi]) => vars[m].clamp(*lo, *hi),
-                        None => vars[m],
-                    }));
-                    let v = eval_point(&c.model.program, &c.model.params, buf, &all[..buf.len()], stack);
+                    buf.extend(
+                        c.map
+                            .iter()
+                            .enumerate()
+                            .map(|(i, &m)| match c.ranges.get(i) {
+                                Some([lo, hi]) => vars[m].clamp(*lo, *hi),
+                                None => vars[m],
+                            }),
+                    );
+                    let v = eval_point(
+                        &c.model.program,
+                        &c.model.params,
+                        buf,
+                        &all[..buf.len()],
+                        stack,
+                    );
                     match self.link {
                         CorrectionForm::Multiplicative => p * (1.0 + v),
                         CorrectionForm::Log => p * v.exp(),
@@ -288,8 +293,14 @@ pub(crate) fn runs_of(
         out.push(Run {
             id,
             times: rows.iter().map(|&i| t[i]).collect(),
-            states: sc.iter().map(|c| rows.iter().map(|&i| c[i]).collect()).collect(),
-            inputs: ic.iter().map(|c| rows.iter().map(|&i| c[i]).collect()).collect(),
+            states: sc
+                .iter()
+                .map(|c| rows.iter().map(|&i| c[i]).collect())
+                .collect(),
+            inputs: ic
+                .iter()
+                .map(|c| rows.iter().map(|&i| c[i]).collect())
+                .collect(),
             rows,
         });
     }

@@ -25,7 +25,12 @@ pub(crate) const HOLD_OUT_SHARE: f64 = 0.25;
 /// Free-run RMSE of `model` (`hybrid` or its calibrated physics) on `runs`, on the samples
 /// after `after` (every sample but the first without it); `None` where one cannot be
 /// integrated.
-fn free_run(model: &DynamicModel, hybrid: bool, runs: &[Run], after: &[Option<f64>]) -> Option<f64> {
+fn free_run(
+    model: &DynamicModel,
+    hybrid: bool,
+    runs: &[Run],
+    after: &[Option<f64>],
+) -> Option<f64> {
     let values = if hybrid {
         model.parameters.clone()
     } else {
@@ -120,7 +125,12 @@ pub(crate) fn fit_runs(
         let h = free_run(&part, true, &test, &after);
         let p = free_run(&part, false, &test, &after);
         let show = |v: Option<f64>| v.map_or("not finite".into(), |v| format!("{v:.6}"));
-        lines.push(format!("{}: hybrid {} against physics {}", form.name(), show(h), show(p)));
+        lines.push(format!(
+            "{}: hybrid {} against physics {}",
+            form.name(),
+            show(h),
+            show(p)
+        ));
         if let (Some(h), Some(p)) = (h, p)
             && h < p
         {

@@ -58,11 +58,18 @@ fn calibration_recovers_a_known_odes_constants_within_their_intervals() {
             "{p} = {} with 95 % interval [{lo}, {hi}] misses {truth}",
             e.value
         );
-        assert!(hi - lo < 0.05 * truth, "{p}: interval [{lo}, {hi}] too wide");
+        assert!(
+            hi - lo < 0.05 * truth,
+            "{p}: interval [{lo}, {hi}] too wide"
+        );
     }
     assert_eq!(m.corrections[0].form, Form::None);
     // the calibrated physics follows the truth to about the measurement noise (0.05 K)
-    assert!(m.train_rmse["physics_calibrated"] < 0.07, "{:?}", m.train_rmse);
+    assert!(
+        m.train_rmse["physics_calibrated"] < 0.07,
+        "{:?}",
+        m.train_rmse
+    );
 }
 
 /// With forced convection, the default correction names `T_C` and `speed_krpm` (not the
@@ -101,7 +108,11 @@ fn the_spindles_correction_is_found_and_beats_its_peers_on_held_out_runs() {
         f.iter().any(|x| x == "T_C") && f.iter().any(|x| x == "speed_krpm"),
         "{f:?}"
     );
-    assert!(!f.iter().any(|x| x == "humidity_pct"), "{f:?} {:?}", c.hybrid);
+    assert!(
+        !f.iter().any(|x| x == "humidity_pct"),
+        "{f:?} {:?}",
+        c.hybrid
+    );
     assert_eq!(c.test_runs.len(), 3);
 }
 
@@ -146,10 +157,16 @@ fn bad_systems_are_refused() {
     };
     bad(&|c| c.ode = "T_C = 1".into(), "not a derivative");
     bad(&|c| c.ode = "P' = 1".into(), "not among --state");
-    bad(&|c| c.ode = "T_C' = (q*speed_krpm - k*T_C)/C".into(), "k in");
+    bad(
+        &|c| c.ode = "T_C' = (q*speed_krpm - k*T_C)/C".into(),
+        "k in",
+    );
     bad(&|c| c.ode = "T_C' = (q*".into(), "character 4");
     bad(&|c| c.time = "nope".into(), "nope");
-    bad(&|c| c.set.insert("q".into(), 1.0).map_or((), |_| ()), "both calibrated");
+    bad(
+        &|c| c.set.insert("q".into(), 1.0).map_or((), |_| ()),
+        "both calibrated",
+    );
     bad(&|c| c.smooth = 2, "--smooth");
     bad(
         &|c| {
