@@ -159,8 +159,18 @@ class DynamicRegressor:
         hybrid against each), one row per model (``physics``, ``physics_calibrated``,
         ``hybrid``, ``narx_boosting``); ``attrs["json"]`` holds the whole comparison."""
         names, cols = self._columns(data)
+        runs = list(test_runs or [])
+        if self.run is not None and not pd.api.types.is_numeric_dtype(data[self.run]):
+            levels = list(pd.factorize(data[self.run])[1])
+            missing = [r for r in runs if r not in levels]
+            if missing:
+                raise ValueError(
+                    f"test_runs: there is no run {', '.join(map(str, missing))} "
+                    f"(runs: {', '.join(map(str, levels))})"
+                )
+            runs = [levels.index(r) for r in runs]
         split = {
-            "test_runs": [float(r) for r in (test_runs or [])],
+            "test_runs": [float(r) for r in runs],
             "test_after": None if test_after is None else float(test_after),
         }
         text = _hxai.dynamic_compare(names, cols, json.dumps(self._settings()), json.dumps(split))

@@ -68,3 +68,13 @@ def test_bad_settings_are_refused(spindle, change, says):
 def test_predict_before_fit_is_refused(spindle):
     with pytest.raises(ValueError, match="fit before predict"):
         hxai.DynamicRegressor(**SETTINGS).predict(spindle)
+
+
+def test_text_run_names_hold_runs_out(spindle):
+    named = spindle.assign(run=spindle.run.map(lambda r: f"batch-{int(r)}"))
+    frame = hxai.DynamicRegressor(**{**SETTINGS, "form": "none"}).compare(
+        named, test_runs=["batch-3"])
+    # batch-3 is the third run to appear: its number is 2
+    assert frame.attrs["json"]["test_runs"] == [2.0]
+    with pytest.raises(ValueError, match="no run batch-9"):
+        hxai.DynamicRegressor(**SETTINGS).compare(named, test_runs=["batch-9"])

@@ -140,9 +140,10 @@ struct PredictArgs {
 struct CompareArgs {
     #[command(flatten)]
     common: Common,
-    /// Held-out runs, comma-separated (default: a seeded quarter of the runs).
+    /// Held-out runs, comma-separated, as the run column writes them (default: a seeded
+    /// quarter of the runs).
     #[arg(long, value_delimiter = ',', conflicts_with = "test_after")]
-    test_runs: Vec<f64>,
+    test_runs: Vec<String>,
     /// Hold out every run's samples after this time instead.
     #[arg(long)]
     test_after: Option<f64>,
@@ -189,6 +190,42 @@ fn config(c: &Common) -> Result<DynamicConfig> {
 
 fn read(c: &Common) -> Result<hxai_symreg::Table> {
     Ok(crate::hybrid::read(&c.data, c.run.as_deref())?.table)
+}
+
+/// The distinct cells of a text run column in order of first appearance: the run column's
+/// numbers are their positions (as the table reader numbers a text group).
+fn run_names(cells: Option<&hxai_data::Column>) -> Option<Vec<String>> {
+    match cells {
+        Some(hxai_data::Column::Text(t)) => {
+            let mut names: Vec<String> = Vec::new();
+            for c in t {
+                if !names.contains(c) {
+                    names.push(c.clone());
+                }
+            }
+            Some(names)
+        }
+        _ => None,
+    }
+}
+
+/// `--test-runs` as the run column's numbers: names of a text run column, numbers otherwise.
+fn run_codes(asked: &[String], names: Option<&[String]>) -> Result<Vec<f64>> {
+    asked
+        .iter()
+        .map(|r| match names {
+            Some(n) => n
+                .iter()
+                .position(|x| x == r.trim())
+                .map(|i| i as f64)
+                .ok_or_else(|| {
+                    anyhow::anyhow!("--test-runs: there is no run {r} (runs: {})", n.join(", "))
+                }),
+            None => r.trim().parse::<f64>().map_err(|_| {
+                anyhow::anyhow!("--test-runs: {r:?} is not a run of the (numeric) run column")
+            }),
+        })
+        .collect()
 }
 
 /// A progress line per phase, with the time since the start.
@@ -308,11 +345,13 @@ fn predict(a: PredictArgs) -> Result<()> {
 fn compare(a: CompareArgs) -> Result<()> {
     let cfg = config(&a.common)?;
     cfg.check()?;
-    let table = read(&a.common)?;
+    let view = crate::hybrid::read(&a.common.data, a.common.run.as_deref())?;
+    let names = run_names(view.group_cells.as_ref());
     let split = TestSplit {
-        test_runs: a.test_runs.clone(),
+        test_runs: run_codes(&a.test_runs, names.as_deref())?,
         test_after: a.test_after,
     };
+    let table = view.table;
     let (b, mut progress) = reporter();
     let c = hxai_hybrid::dynamic::compare(&table, &cfg, &split, &mut progress)?;
     b.finish_and_clear();
@@ -329,7 +368,10 @@ fn compare(a: CompareArgs) -> Result<()> {
             "free-run RMSE on held-out run(s) {} (trained on {} run(s))",
             c.test_runs
                 .iter()
-                .map(|r| r.to_string())
+                .map(|&r| names
+                    .as_ref()
+                    .and_then(|n| n.get(r as usize).cloned())
+                    .unwrap_or_else(|| r.to_string()))
                 .collect::<Vec<_>>()
                 .join(", "),
             c.train_runs.len()

@@ -58,12 +58,13 @@ pub(crate) struct Found {
 /// Run column of the derivative table.
 const RUN: &str = "run";
 
-/// Whether the inputs stay constant over the samples `lo..=hi` (the intervals they start).
-fn inputs_constant(run: &Run, lo: usize, hi: usize) -> bool {
-    run.inputs
-        .iter()
-        .all(|u| u[lo..hi].iter().all(|v| *v == u[lo]))
-}
+/// Share of the physics derivative's spread that an input's change inside a window may move
+/// it by before the window's derivative counts as smeared (an input step).
+pub(crate) const JUMP_SHARE: f64 = 0.1;
+
+/// A sample of the derivative table: run, variables, smoothed rate, physics' rate, and how
+/// far the physics' rate moves over the window's inputs.
+type Sample = (f64, Vec<f64>, f64, f64, f64);
 
 /// Searches each state's correction on the training `runs`, the physics of `sys` (already
 /// calibrated) giving the derivative the data are compared with.
@@ -78,17 +79,17 @@ pub(crate) fn search(
 ) -> Result<Vec<Found>, HybridError> {
     let ns = sys.n_states();
     let nv = sys.spec.variables.len();
+    let ti = sys.spec.time_index();
+    let all: Vec<usize> = (0..nv).collect();
     let mut out = Vec::with_capacity(ns);
     for j in 0..ns {
         let state = &cfg.states[j];
         let target = format!("{state}_rate");
         let physics = format!("{state}_rate_physics");
         let mut cols: Vec<Vec<f64>> = vec![Vec::new(); nv + 3];
-        let (mut kept, mut all) = (0, 0);
         let mut stack = Vec::new();
         let mut phys = vec![0.0; ns];
-        let mut rows: Vec<(f64, Vec<f64>, f64, f64)> = Vec::new();
-        let mut loose: Vec<(f64, Vec<f64>, f64, f64)> = Vec::new();
+        let mut samples: Vec<Sample> = Vec::new();
         for run in runs {
             let n = run.times.len();
             let w = cfg.smooth.min(n);
@@ -103,40 +104,56 @@ pub(crate) fn search(
                 for (q, s) in smooth.iter().enumerate() {
                     vars[q] = s[k].0;
                 }
-                for (q, u) in run.inputs.iter().enumerate() {
-                    // the input in force over the sample's own interval (the last sample's
-                    // over the one before it)
-                    vars[ns + q] = u[k.min(n - 2)];
+                vars[ti] = run.times[k];
+                // the physics' rate at this state under each input the window holds: an
+                // input step that matters to the physics moves it
+                let (mut lo_rate, mut hi_rate) = (f64::INFINITY, f64::NEG_INFINITY);
+                for q in (lo..lo + w - 1).rev() {
+                    for (i, u) in run.inputs.iter().enumerate() {
+                        vars[ns + i] = u[q];
+                    }
+                    sys.fill_groupings(&mut vars, &all, &mut stack);
+                    sys.physics_at(&vars, &mut phys, &mut stack);
+                    lo_rate = lo_rate.min(phys[j]);
+                    hi_rate = hi_rate.max(phys[j]);
                 }
-                vars[nv - 1] = run.times[k];
+                // the input in force over the sample's own interval (the last sample's over
+                // the one before it)
+                for (i, u) in run.inputs.iter().enumerate() {
+                    vars[ns + i] = u[k.min(n - 2)];
+                }
+                sys.fill_groupings(&mut vars, &all, &mut stack);
                 sys.physics_at(&vars, &mut phys, &mut stack);
                 let rate = smooth[j][k].1;
                 if !rate.is_finite() || !phys[j].is_finite() {
                     continue;
                 }
-                all += 1;
-                let row = (run.id, vars, rate, phys[j]);
-                if inputs_constant(run, lo, lo + w - 1) {
-                    kept += 1;
-                    rows.push(row);
-                } else {
-                    loose.push(row);
-                }
+                samples.push((run.id, vars, rate, phys[j], hi_rate - lo_rate));
             }
         }
-        // samples whose window spans a change of an input have a smeared derivative; they
-        // are left out unless that leaves too few
-        if kept * 10 < all * 3 {
-            rows.append(&mut loose);
-            kept = all;
-        }
+        // samples whose window spans an input step that moves the physics' rate by more than
+        // JUMP_SHARE of its spread have a smeared derivative; they are left out unless that
+        // leaves fewer than 30 %
+        let total = samples.len();
+        let rates: Vec<f64> = samples.iter().map(|s| s.3).collect();
+        let mean = rates.iter().sum::<f64>() / total.max(1) as f64;
+        let spread =
+            (rates.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / total.max(1) as f64).sqrt();
+        let clean = |s: &Sample| s.4.is_finite() && s.4 <= JUMP_SHARE * spread;
+        let mut kept = samples.iter().filter(|s| clean(s)).count();
+        let rows: Vec<Sample> = if kept * 10 < total * 3 {
+            kept = total;
+            samples
+        } else {
+            samples.into_iter().filter(|s| clean(s)).collect()
+        };
         if rows.len() < 10 {
             return Err(HybridError::NoData(format!(
                 "{} sample(s) to learn the correction of {state} from; it needs at least 10",
                 rows.len()
             )));
         }
-        for (id, vars, rate, p) in &rows {
+        for (id, vars, rate, p, _) in &rows {
             for (q, v) in vars.iter().enumerate() {
                 cols[q].push(*v);
             }
@@ -145,11 +162,12 @@ pub(crate) fn search(
             cols[nv + 2].push(*p);
         }
         let mut names: Vec<String> = sys.spec.variables.clone();
-        names[nv - 1] = format!("{}_time", cfg.time);
+        names[ti] = format!("{}_time", cfg.time);
         names.extend([RUN.to_string(), target.clone(), physics.clone()]);
         let table = Table::new(names, cols)?;
         let mut features: Vec<String> = cfg.states.clone();
         features.extend(cfg.inputs.iter().cloned());
+        features.extend(sys.spec.groupings.iter().map(|g| g.name.clone()));
         let mut tc = TableConfig::new(&target, &format!("`{physics}`"));
         tc.features = Some(features);
         tc.group = Some(RUN.into());
@@ -164,7 +182,7 @@ pub(crate) fn search(
             test: Vec::new(),
         };
         progress(&format!(
-            "searching the correction of {state}' on {kept} of {all} samples' smoothed derivatives"
+            "searching the correction of {state}' on {kept} of {total} samples' smoothed derivatives"
         ));
         let mut report = |p: &TableProgress| {
             if p.step {
@@ -195,7 +213,7 @@ pub(crate) fn search(
             ranges,
             form,
             choice: m.correction.choice.clone(),
-            rows: (kept, all),
+            rows: (kept, total),
         });
     }
     Ok(out)

@@ -186,7 +186,14 @@ pub(crate) fn fit_core(
                     .as_ref()
                     .map_or_else(|| "0".to_string(), hxai_symreg::Model::equation),
                 searched_equation: f.equation,
-                features: model.as_ref().map(used_features).unwrap_or_default(),
+                features: model
+                    .as_ref()
+                    .map(|m| columns_read(m, &sys.spec).0)
+                    .unwrap_or_default(),
+                groupings: model
+                    .as_ref()
+                    .map(|m| columns_read(m, &sys.spec).1)
+                    .unwrap_or_default(),
                 ranges: if model.is_some() {
                     f.ranges
                 } else {
@@ -247,13 +254,32 @@ pub(crate) fn fit_core(
     .with_equation())
 }
 
-/// The columns `m`'s program reads (a model names every column it was offered).
-fn used_features(m: &hxai_symreg::Model) -> Vec<String> {
-    m.program
-        .vars()
-        .iter()
-        .filter_map(|&j| m.feature_names.get(j as usize).cloned())
-        .collect()
+/// The columns `m`'s program reads (a model names every column it was offered), a grouping
+/// of the physics counted as the columns it reads; and the groupings it reads.
+fn columns_read(m: &hxai_symreg::Model, spec: &OdeSpec) -> (Vec<String>, Vec<String>) {
+    let (mut cols, mut groups) = (Vec::new(), Vec::new());
+    let add = |c: &String, cols: &mut Vec<String>| {
+        if !cols.contains(c) {
+            cols.push(c.clone());
+        }
+    };
+    for &j in &m.program.vars() {
+        let Some(name) = m.feature_names.get(j as usize) else {
+            continue;
+        };
+        match spec.groupings.iter().find(|g| g.name == *name) {
+            Some(g) => {
+                groups.push(name.clone());
+                for &v in &g.compiled.program.vars() {
+                    if let Some(c) = g.compiled.inputs.get(v as usize) {
+                        add(c, &mut cols);
+                    }
+                }
+            }
+            None => add(name, &mut cols),
+        }
+    }
+    (cols, groups)
 }
 
 fn format_sse(v: f64) -> String {

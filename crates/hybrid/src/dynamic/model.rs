@@ -26,8 +26,12 @@ pub struct StateCorrection {
     pub equation: String,
     /// The correction as the search found it on the derivatives, before that refit.
     pub searched_equation: String,
-    /// The columns it reads.
+    /// The columns it reads (states and inputs; a grouping of the physics counts as the
+    /// columns in it).
     pub features: Vec<String>,
+    /// The physics' groupings it reads (`(T_C - ambient_C)`), each a feature of its model.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub groupings: Vec<String>,
     /// The model (`null` for none).
     pub model: Option<Model>,
     /// `[low, high]` of each feature on the training samples: outside it the correction is

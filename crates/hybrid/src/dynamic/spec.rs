@@ -3,8 +3,9 @@
 //! at one point by a small stack machine (the integrator asks for one point at a time).
 
 use crate::HybridError;
-use hxai_symreg::infix::{Compiled, compile, parse};
-use hxai_symreg::{Model, Node, Program};
+use hxai_symreg::expr::Expr;
+use hxai_symreg::infix::{Compiled, Parsed, compile, parse};
+use hxai_symreg::{Model, Node, Op, Program};
 use std::collections::BTreeMap;
 
 /// One state's equation `NAME' = expr`, compiled over the system's variables.
@@ -18,13 +19,30 @@ pub(crate) struct StateEquation {
     pub(crate) compiled: Compiled,
 }
 
+/// A grouping of variables the engineer wrote in the physics (`T - Ta`): a sum or
+/// difference of terms that read only states, inputs and the time. The correction is
+/// offered these beside the columns, so it can write `n*(T - Ta)` as a product of two
+/// factors, in the physics' own quantities.
+#[derive(Clone, Debug)]
+pub(crate) struct Grouping {
+    /// Its text in parentheses, `(T - Ta)`: the feature's name.
+    pub(crate) name: String,
+    /// Compiled over the base variables (states, inputs, time).
+    pub(crate) compiled: Compiled,
+}
+
 /// A parsed system: the states (in `--state` order), the variables the right-hand sides
-/// read (states, inputs, then the time column) and the named parameters.
+/// read (states, inputs, then the time column), the physics' groupings and the named
+/// parameters.
 #[derive(Clone, Debug)]
 pub(crate) struct OdeSpec {
     pub(crate) equations: Vec<StateEquation>,
-    /// `states ++ inputs ++ [time]`: the point a right-hand side is evaluated at.
+    /// `states ++ inputs ++ [time] ++ groupings`: the point a right-hand side and its
+    /// correction are evaluated at.
     pub(crate) variables: Vec<String>,
+    /// How many of `variables` are states, inputs and the time (the rest are groupings).
+    pub(crate) n_base: usize,
+    pub(crate) groupings: Vec<Grouping>,
     /// Every named parameter of the system, with its current value.
     pub(crate) parameters: BTreeMap<String, f64>,
 }
@@ -125,11 +143,40 @@ impl OdeSpec {
                 compiled,
             });
         }
+        let n_base = variables.len();
+        let mut found: Vec<Expr> = Vec::new();
+        for e in &equations {
+            if let Ok(p) = parse(&e.text) {
+                groupings_of(&p.expr, &variables, &mut found);
+            }
+        }
+        let mut groupings = Vec::new();
+        for e in found {
+            let name = format!("({})", e.to_text(None, false));
+            if variables.contains(&name) {
+                continue;
+            }
+            let parsed = Parsed {
+                expr: e,
+                positions: Vec::new(),
+            };
+            if let Ok(compiled) = compile(&parsed, &variables[..n_base], &BTreeMap::new()) {
+                variables.push(name.clone());
+                groupings.push(Grouping { name, compiled });
+            }
+        }
         Ok(Self {
             equations,
             variables,
+            n_base,
+            groupings,
             parameters,
         })
+    }
+
+    /// Index of the time among [`OdeSpec::variables`].
+    pub(crate) fn time_index(&self) -> usize {
+        self.n_base - 1
     }
 
     /// Sets a named parameter in every equation that uses it.
@@ -149,6 +196,40 @@ impl OdeSpec {
             .map(|e| format!("{}' = {}", e.state, e.text))
             .collect::<Vec<_>>()
             .join("; ")
+    }
+}
+
+/// Whether `e` reads a name, and only names among `vars` (no parameter).
+fn reads_only(e: &Expr, vars: &[String]) -> (bool, bool) {
+    match e {
+        Expr::Num(_) => (false, true),
+        Expr::Var(n) => (true, vars.contains(n)),
+        Expr::Neg(a) | Expr::Un(_, a) => reads_only(a, vars),
+        Expr::Bin(_, a, b) => {
+            let (ra, oa) = reads_only(a, vars);
+            let (rb, ob) = reads_only(b, vars);
+            (ra || rb, oa && ob)
+        }
+    }
+}
+
+/// The sums and differences in `e` of two terms that each read a variable and nothing but
+/// variables and numbers (`T - Ta`), each once, outermost first.
+fn groupings_of(e: &Expr, vars: &[String], out: &mut Vec<Expr>) {
+    match e {
+        Expr::Bin(op, a, b) => {
+            if matches!(op, Op::Add | Op::Sub) {
+                let (ra, oa) = reads_only(a, vars);
+                let (rb, ob) = reads_only(b, vars);
+                if ra && rb && oa && ob && !out.contains(e) {
+                    out.push(e.clone());
+                }
+            }
+            groupings_of(a, vars, out);
+            groupings_of(b, vars, out);
+        }
+        Expr::Neg(a) | Expr::Un(_, a) => groupings_of(a, vars, out),
+        Expr::Num(_) | Expr::Var(_) => {}
     }
 }
 

@@ -70,6 +70,20 @@ impl System {
         self.spec.equations.len()
     }
 
+    /// Writes the physics' groupings (`T - Ta`) into `vars` after the base variables.
+    pub(crate) fn fill_groupings(&self, vars: &mut [f64], all: &[usize], stack: &mut Vec<f64>) {
+        let nb = self.spec.n_base;
+        for (i, g) in self.spec.groupings.iter().enumerate() {
+            vars[nb + i] = eval_point(
+                &g.compiled.program,
+                &g.compiled.params,
+                &vars[..nb],
+                &all[..nb],
+                stack,
+            );
+        }
+    }
+
     /// The physics' derivative of every state at `vars` (states, inputs, time) into `phys`.
     pub(crate) fn physics_at(&self, vars: &[f64], phys: &mut [f64], stack: &mut Vec<f64>) {
         let all: Vec<usize> = (0..vars.len()).collect();
@@ -171,6 +185,7 @@ impl System {
         let ni = run.inputs.len();
         let nv = self.spec.variables.len();
         let all: Vec<usize> = (0..nv).collect();
+        let ti = self.spec.time_index();
         let mut vars = vec![0.0; nv];
         let mut stack = Vec::with_capacity(32);
         let mut buf = Vec::with_capacity(nv);
@@ -183,7 +198,8 @@ impl System {
             }
             let mut f = |t: f64, yy: &[f64], dy: &mut [f64]| {
                 vars[..ns].copy_from_slice(yy);
-                vars[nv - 1] = t;
+                vars[ti] = t;
+                self.fill_groupings(&mut vars, &all, &mut stack);
                 self.rhs(&vars, dy, &all, &mut stack, &mut buf);
             };
             let next = integrate(&mut f, run.times[k], &y, &[run.times[k + 1]], s)?;
