@@ -189,7 +189,7 @@ fn oscillator(runs: usize) -> hxai_symreg::Table {
         let mut y = vec![0.1 * r as f64, 0.0];
         for k in 0..150u32 {
             let t = 0.1 * f64::from(k);
-            let u = if (k as usize / 30 + r) % 2 == 0 {
+            let u = if (k as usize / 30 + r).is_multiple_of(2) {
                 1.0
             } else {
                 -0.5
