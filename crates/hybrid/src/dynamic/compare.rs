@@ -5,7 +5,7 @@
 
 use super::calibrate::CALIBRATION_ODE;
 use super::narx::Narx;
-use super::system::{Run, System, runs_of};
+use super::system::{Run, System};
 use super::validate::fit_runs;
 use super::{DynamicConfig, DynamicModel};
 use crate::HybridError;
@@ -178,13 +178,7 @@ pub fn compare(
     progress: &mut dyn FnMut(&str),
 ) -> Result<DynamicComparison, HybridError> {
     cfg.check()?;
-    let runs = runs_of(
-        table,
-        &cfg.time,
-        cfg.run.as_deref(),
-        &cfg.states,
-        &cfg.inputs,
-    )?;
+    let runs = cfg.runs(table)?;
     let (train, test) = choose_split(&runs, split, cfg.seed)?;
     let mut fit_cfg = cfg.clone();
     fit_cfg.conformal_folds = 0;

@@ -201,6 +201,20 @@ impl DynamicConfig {
         Ok(())
     }
 
+    /// The runs of `table` as these settings read them ([`system::runs_of`]).
+    pub(crate) fn runs(
+        &self,
+        table: &hxai_symreg::Table,
+    ) -> Result<Vec<system::Run>, crate::HybridError> {
+        system::runs_of(
+            table,
+            &self.time,
+            self.run.as_deref(),
+            &self.states,
+            &self.inputs,
+        )
+    }
+
     /// Every parameter's starting or fixed value (calibrated ones default to 1).
     pub(crate) fn values(&self) -> BTreeMap<String, f64> {
         let mut v = self.set.clone();
@@ -223,12 +237,5 @@ pub fn fit(
     progress: &mut dyn FnMut(&str),
 ) -> Result<DynamicModel, crate::HybridError> {
     cfg.check()?;
-    let runs = system::runs_of(
-        table,
-        &cfg.time,
-        cfg.run.as_deref(),
-        &cfg.states,
-        &cfg.inputs,
-    )?;
-    validate::fit_runs(&runs, cfg, None, progress)
+    validate::fit_runs(&cfg.runs(table)?, cfg, None, progress)
 }

@@ -3,7 +3,7 @@
 
 use super::calibrate::CALIBRATION_ODE;
 use super::spec::OdeSpec;
-use super::system::{System, runs_of};
+use super::system::System;
 use super::{DynamicConfig, Initial};
 use crate::HybridError;
 use crate::correction::FormChoice;
@@ -246,13 +246,7 @@ impl DynamicModel {
         interval: Option<f64>,
     ) -> Result<DynamicPrediction, HybridError> {
         let cfg = self.config();
-        let runs = runs_of(
-            table,
-            &cfg.time,
-            cfg.run.as_deref(),
-            &cfg.states,
-            &cfg.inputs,
-        )?;
+        let runs = cfg.runs(table)?;
         let hyb = self.system(&self.parameters, true)?;
         let phys = self.system(&self.calibrated_values(), false)?;
         let n = table.n_rows();
