@@ -110,7 +110,17 @@ pub(crate) fn calibrate(sys: &mut System, p: Problem) -> Result<Calibration, Hyb
              values nearer the process with --init P=V",
             unknowns
                 .iter()
-                .map(|u| format!("{u:?}={}", sys.get(u)))
+                .map(|u| format!(
+                    "{} = {}",
+                    u.label(
+                        &sys.spec
+                            .equations
+                            .iter()
+                            .map(|e| e.state.clone())
+                            .collect::<Vec<_>>()
+                    ),
+                    sys.get(u)
+                ))
                 .collect::<Vec<_>>()
                 .join(", ")
         ))

@@ -35,6 +35,19 @@ pub(crate) enum Unknown {
     Correction { state: usize, index: usize },
 }
 
+impl Unknown {
+    /// How a message names it: the parameter's name, or `constant 3 of T's correction`.
+    pub(crate) fn label(&self, states: &[String]) -> String {
+        match self {
+            Unknown::Physics(n) => n.clone(),
+            Unknown::Correction { state, index } => format!(
+                "constant {index} of {}'s correction",
+                states.get(*state).map_or("?", String::as_str)
+            ),
+        }
+    }
+}
+
 impl System {
     /// The physics alone.
     pub(crate) fn physics(spec: OdeSpec, link: CorrectionForm) -> Self {

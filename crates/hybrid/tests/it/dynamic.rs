@@ -167,11 +167,15 @@ fn bad_systems_are_refused() {
         "both calibrated",
     );
     bad(&|c| c.smooth = 2, "--smooth");
+    // a blow-up at the starting values is named, with the values
     bad(
         &|c| {
-            c.init.insert("q".into(), 1e9);
+            c.ode = "T_C' = q*T_C^2".into();
+            c.calibrate = vec!["q".into()];
+            c.init = BTreeMap::from([("q".into(), 1.0)]);
+            c.set.clear();
         },
-        "",
+        "cannot be integrated from the starting values (q = 1)",
     );
 }
 
