@@ -14,6 +14,7 @@ import pandas as pd
 
 from . import _hxai
 from ._arrays import frame_columns, from_bytes
+from ._page import write_page
 
 _FORMS = ("auto", "none", "factors", "free")
 
@@ -152,6 +153,25 @@ class DynamicRegressor:
                 out[f"{s}_hi"] = from_bytes(hi[j])
         out.attrs["warnings"] = list(warnings)
         return out
+
+    def _repr_html_(self):
+        """A compact card in a notebook: the hybrid ODE as MathML with its text, the
+        calibrated parameters with their 95 % intervals, the free-run scores (unfitted:
+        nothing)."""
+        if not hasattr(self, "model_json_"):
+            return None
+        return _hxai.dynamic_card(self.model_json_)
+
+    def report(self, path, data=None):
+        """Writes the HTML page of ``hxai report`` for the fitted model to ``path`` (through
+        a temporary file and a rename, never over an existing file that is not HTML); with
+        ``data``, its first runs drawn against the model's free runs. Returns the path."""
+        if not hasattr(self, "model_json_"):
+            raise ValueError("call fit before report")
+        names = columns = None
+        if data is not None:
+            names, columns = self._columns(data)
+        return write_page(path, _hxai.dynamic_report(self.model_json_, names, columns, "data"))
 
     def compare(self, data, test_runs=None, test_after=None):
         """``hxai dynamic compare``: a DataFrame with columns ``model``, ``rmse`` (free run

@@ -75,3 +75,32 @@ pub(crate) fn dynamic_compare(
         .map_err(err)?;
     serde_json::to_string_pretty(&c).map_err(err)
 }
+
+/// `dynamic_report(model_json, names=None, columns=None, data_name="TABLE.csv")` -> the
+/// page of `hxai report` for a dynamic model, its runs drawn on the table when given.
+#[pyfunction]
+#[pyo3(signature = (model_json, names=None, columns=None, data_name="TABLE.csv"))]
+pub(crate) fn dynamic_report(
+    model_json: &str,
+    names: Option<Vec<String>>,
+    columns: Option<Vec<Bound<'_, PyBytes>>>,
+    data_name: &str,
+) -> PyResult<String> {
+    let model = DynamicModel::from_json(model_json).map_err(err)?;
+    let table = match (names, columns) {
+        (Some(n), Some(c)) => Some(table_of(n, &c)?),
+        _ => None,
+    };
+    Ok(hxai_plot::report::dynamic_report(
+        &model,
+        table.as_ref().map(|t| (data_name, t)),
+        env!("CARGO_PKG_VERSION"),
+    ))
+}
+
+/// `dynamic_card(model_json)` -> the Jupyter card of a dynamic model.
+#[pyfunction]
+pub(crate) fn dynamic_card(model_json: &str) -> PyResult<String> {
+    let model = DynamicModel::from_json(model_json).map_err(err)?;
+    Ok(hxai_plot::report::dynamic_card(&model))
+}

@@ -82,6 +82,8 @@ fn _hxai(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(dynamic::dynamic_fit, m)?)?;
     m.add_function(wrap_pyfunction!(dynamic::dynamic_predict, m)?)?;
     m.add_function(wrap_pyfunction!(dynamic::dynamic_compare, m)?)?;
+    m.add_function(wrap_pyfunction!(dynamic::dynamic_report, m)?)?;
+    m.add_function(wrap_pyfunction!(dynamic::dynamic_card, m)?)?;
     m.add_class::<StreamEstimator>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

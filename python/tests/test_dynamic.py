@@ -78,3 +78,16 @@ def test_text_run_names_hold_runs_out(spindle):
     assert frame.attrs["json"]["test_runs"] == [2.0]
     with pytest.raises(ValueError, match="no run batch-9"):
         hxai.DynamicRegressor(**SETTINGS).compare(named, test_runs=["batch-9"])
+
+
+def test_report_and_card(spindle, tmp_path):
+    m = hxai.DynamicRegressor(**SETTINGS, conformal_folds=0).fit(spindle)
+    card = m._repr_html_()
+    assert "<math" in card and "Calibrated physics" in card
+    page = tmp_path / "dyn.html"
+    assert m.report(page, spindle) == str(page)
+    html = page.read_text()
+    assert 'id="hybrid-equation"' in html and "<svg" in html
+    assert "http:" not in html and "https:" not in html
+    assert "hxai dynamic fit --data" in html
+    assert hxai.DynamicRegressor(**SETTINGS)._repr_html_() is None

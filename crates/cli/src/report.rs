@@ -56,6 +56,26 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
     }
     crate::safety::check_output(&args.out, &inputs)?;
     let compare = args.compare.as_deref().map(read_compare).transpose()?;
+    if let Some(model) = dynamic_model(&args.model)? {
+        anyhow::ensure!(
+            compare.is_none(),
+            "--compare takes `hxai hybrid compare --json`; a dynamic model's comparison is              `hxai dynamic compare`, which the page does not show yet"
+        );
+        let view = args
+            .data
+            .as_deref()
+            .map(|p| crate::hybrid::read(p, model.run.as_deref()))
+            .transpose()?;
+        let name = args.data.as_ref().map(|p| p.display().to_string());
+        let html = hxai_plot::report::dynamic_report(
+            &model,
+            name.as_deref().zip(view.as_ref().map(|v| &v.table)),
+            env!("CARGO_PKG_VERSION"),
+        );
+        hxai_data::write_text(&args.out, &html)
+            .with_context(|| format!("cannot write {}", args.out.display()))?;
+        return crate::safety::emit(&format!("wrote {}", args.out.display()));
+    }
     let (html, notes) = match crate::explain::load(&args.model)? {
         crate::explain::Model::Process(model) => table_page(&args, &model, compare.as_ref())?,
         crate::explain::Model::Tool(model) => {
@@ -70,6 +90,22 @@ pub fn run(args: Args, _g: &Global) -> Result<()> {
 
 /// The page of a table hybrid, with notes for the terminal (figures that could not be
 /// drawn).
+/// The model file at `path` when it is a dynamic model's (`hxai dynamic fit`: keys `ode`
+/// and `corrections`).
+fn dynamic_model(path: &Path) -> Result<Option<hxai_hybrid::dynamic::DynamicModel>> {
+    let text = hxai_data::read_text(path)
+        .with_context(|| format!("cannot read the model {}", path.display()))?;
+    let is_dynamic = serde_json::from_str::<serde_json::Value>(&text)
+        .ok()
+        .is_some_and(|v| v.get("ode").is_some() && v.get("corrections").is_some());
+    if !is_dynamic {
+        return Ok(None);
+    }
+    hxai_hybrid::dynamic::DynamicModel::from_json(&text)
+        .map(Some)
+        .with_context(|| format!("cannot load the model {}", path.display()))
+}
+
 fn table_page(
     args: &Args,
     model: &hxai_hybrid::tables::TableModel,

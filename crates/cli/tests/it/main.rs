@@ -5,6 +5,7 @@
 mod common;
 
 mod bad_input;
+mod dynamic_cli;
 mod explain_cli;
 mod generated_csv;
 mod hostile;

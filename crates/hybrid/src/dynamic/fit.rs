@@ -250,6 +250,7 @@ pub(crate) fn fit_core(
         train_rmse: scores,
         conformal,
         warnings,
+        settings: cfg.clone(),
     }
     .with_equation())
 }

@@ -37,7 +37,8 @@ pub use compare::{
     compare,
 };
 pub use model::{
-    DynamicModel, DynamicPrediction, RunConformal, SCHEMA_VERSION, StateCorrection, Training,
+    DynamicModel, DynamicPrediction, RunConformal, SCHEMA_VERSION, StateCorrection,
+    StateExpressions, Training,
 };
 
 use crate::tables::{CorrectionForm, Form};
@@ -76,7 +77,7 @@ impl Initial {
 pub const DEFAULT_SMOOTH: usize = 9;
 
 /// Settings of [`fit`] and [`compare`] (the flags of `hxai dynamic`; JSON for Python).
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct DynamicConfig {
     /// The time column (`--time`).

@@ -129,6 +129,20 @@ pub struct DynamicModel {
     /// What the fit warns about.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// The settings the model was fitted with (the report's refit command).
+    #[serde(default)]
+    pub settings: DynamicConfig,
+}
+
+/// One state's equation of a fitted model, as expressions ([`DynamicModel::equations`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct StateExpressions {
+    /// The state.
+    pub state: String,
+    /// The physics' right-hand side, the hybrid's parameters substituted.
+    pub physics: hxai_symreg::expr::Expr,
+    /// The correction (`None`: none).
+    pub correction: Option<hxai_symreg::expr::Expr>,
 }
 
 /// Predictions of [`DynamicModel::predict`], one value per row of the table, in its order.
@@ -207,6 +221,26 @@ impl DynamicModel {
             v.insert(p.clone(), e.value);
         }
         v
+    }
+
+    /// Each state's physics (the hybrid's parameters substituted) and correction, as
+    /// expressions, for pages that typeset them.
+    ///
+    /// # Errors
+    /// An ODE or a correction that does not read back (a damaged file).
+    pub fn equations(&self) -> Result<Vec<StateExpressions>, HybridError> {
+        let sys = self.system(&self.parameters, true)?;
+        Ok(sys
+            .spec
+            .equations
+            .iter()
+            .zip(&self.corrections)
+            .map(|(e, c)| StateExpressions {
+                state: e.state.clone(),
+                physics: e.compiled.expr().simplify(),
+                correction: c.model.as_ref().map(Model::expr),
+            })
+            .collect())
     }
 
     /// Sets [`DynamicModel::hybrid_equation`] from the parameters and corrections.

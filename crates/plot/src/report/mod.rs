@@ -1,6 +1,6 @@
 //! One self-contained HTML page for a hybrid model (`hxai report`, issue 50), of either
-//! workflow: a table hybrid ([`table_report`]) or the recordings' tool model
-//! ([`tool_report`]); what a person reads, in the order they ask it.
+//! workflow: a table hybrid ([`table_report`]), the recordings' tool model
+//! ([`tool_report`]) or a dynamic hybrid ([`dynamic_report`]); what a person reads, in the order they ask it.
 //!
 //! 1. the model: the hybrid as one equation, the physics with its calibrated parameters
 //!    (standard errors, 95 % intervals), the correction (factor by factor in the factor
@@ -30,9 +30,11 @@
 //! calibrated physics, the tool's signal chain and per-record evaluation) is written per
 //! workflow, in `table` and `tool`.
 
+mod dynamic;
 mod table;
 mod tool;
 
+pub use dynamic::{DRAWN_RUNS, dynamic_card, dynamic_refit_command, dynamic_report};
 pub use table::{correction_pictures, refit_command, table_card, table_report};
 pub use tool::{
     ToolData, ToolInputs, tool_card, tool_inputs, tool_pictures, tool_refit_command, tool_report,
