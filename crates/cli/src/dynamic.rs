@@ -293,17 +293,7 @@ fn print_model(m: &DynamicModel) {
 
 #[allow(clippy::print_stdout)]
 fn predict(a: PredictArgs) -> Result<()> {
-    crate::safety::check_output(
-        &a.out,
-        &[
-            crate::safety::input(&a.data, "the table (--data)"),
-            crate::safety::input(&a.model, "the model (--model)"),
-        ],
-    )?;
-    crate::safety::check_table_path(&a.out)?;
-    if let Some(level) = a.interval {
-        crate::safety::check_level(level, "--interval")?;
-    }
+    crate::safety::check_predict(&a.out, &a.data, &a.model, a.interval)?;
     let text = std::fs::read_to_string(&a.model)
         .with_context(|| format!("cannot read the model {}", a.model.display()))?;
     let model = DynamicModel::from_json(&text).with_context(|| a.model.display().to_string())?;

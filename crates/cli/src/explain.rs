@@ -51,6 +51,13 @@ pub(crate) fn load(path: &Path) -> Result<Model> {
     };
     let is_process = has("target", "hybrid");
     anyhow::ensure!(
+        !has("ode", "corrections"),
+        "{}: a dynamic model (`hxai dynamic fit`) has no pictures of its own here; its page \
+         is `hxai report --model {} --data TABLE --out PAGE.html`",
+        path.display(),
+        path.display()
+    );
+    anyhow::ensure!(
         value.is_none() || is_process || has("features", "window"),
         "cannot load the model {}: it is JSON but no model file, neither of `hxai hybrid \
          fit` (keys `target`, `hybrid`) nor of `hxai fit` (keys `features`, `window`); give \

@@ -109,6 +109,24 @@ pub fn input(path: &Path, role: &str) -> (PathBuf, String) {
     (path.to_path_buf(), role.to_owned())
 }
 
+/// The checks of a `predict` command before any work: the table `out` is neither the table
+/// `data` nor the model `model` and has a known extension, and `interval` (`--interval`)
+/// lies in (0, 1).
+pub fn check_predict(out: &Path, data: &Path, model: &Path, interval: Option<f64>) -> Result<()> {
+    check_output(
+        out,
+        &[
+            input(data, "the table (--data)"),
+            input(model, "the model (--model)"),
+        ],
+    )?;
+    check_table_path(out)?;
+    if let Some(level) = interval {
+        check_level(level, "--interval")?;
+    }
+    Ok(())
+}
+
 /// Checks that a table output path has a known extension, before any work.
 pub fn check_table_path(path: &Path) -> Result<()> {
     hxai_data::Format::from_path(path)?;

@@ -325,17 +325,7 @@ pub(super) fn load_model(path: &Path) -> Result<TableModel> {
 
 #[allow(clippy::print_stdout)]
 fn predict(a: PredictArgs) -> Result<()> {
-    crate::safety::check_output(
-        &a.out,
-        &[
-            crate::safety::input(&a.data, "the table (--data)"),
-            crate::safety::input(&a.model, "the model (--model)"),
-        ],
-    )?;
-    crate::safety::check_table_path(&a.out)?;
-    if let Some(level) = a.interval {
-        crate::safety::check_level(level, "--interval")?;
-    }
+    crate::safety::check_predict(&a.out, &a.data, &a.model, a.interval)?;
     let model = load_model(&a.model)?;
     let mut loaded = read_for_missing(&a.data, &model, false, a.missing)?;
     add_levels(&model, &mut loaded)?;

@@ -55,6 +55,20 @@ pub(crate) struct Found {
     pub(crate) rows: (usize, usize),
 }
 
+impl Found {
+    /// No correction (the search could not run).
+    pub(crate) fn none() -> Self {
+        Self {
+            model: None,
+            ranges: Vec::new(),
+            form: Form::None,
+            equation: "0".into(),
+            choice: None,
+            rows: (0, 0),
+        }
+    }
+}
+
 /// Run column of the derivative table.
 const RUN: &str = "run";
 

@@ -3,7 +3,7 @@
 //! over runs.
 
 use super::calibrate::{CALIBRATION_ODE, Calibration, Problem, calibrate, residuals};
-use super::correction::search;
+use super::correction::{Found, search};
 use super::model::{DynamicModel, RunConformal, SCHEMA_VERSION, StateCorrection, Training};
 use super::spec::OdeSpec;
 use super::system::{Run, System, Unknown};
@@ -120,8 +120,18 @@ pub(crate) fn fit_core(
     };
     let physics_calibrated = estimates(&sys, &cfg.calibrate, cal.as_ref());
     let calibrated = sys.clone();
-    let found = search(&sys, runs, cfg, progress)?;
     let mut warnings = Vec::new();
+    // a correction that cannot be searched (too few samples, a constant rate) leaves the
+    // calibrated physics, which is still saved: every fit saves
+    let found = match search(&sys, runs, cfg, progress) {
+        Ok(f) => f,
+        Err(e) => {
+            warnings.push(format!(
+                "no correction could be searched ({e}); the model is the calibrated physics alone"
+            ));
+            (0..ns).map(|_| Found::none()).collect()
+        }
+    };
     for (j, f) in found.iter().enumerate() {
         sys.set_correction(j, f.model.clone(), f.ranges.clone())?;
     }

@@ -254,3 +254,25 @@ fn a_system_of_two_states_is_calibrated() {
         assert!(rmse < 0.01, "{s}: free-run RMSE {rmse}");
     }
 }
+
+/// Every fit saves: a run too short to search a correction on gives the calibrated physics,
+/// with a warning that says why, not an error.
+#[test]
+fn a_run_too_short_for_a_correction_still_saves_its_physics() {
+    let c = SpindleThermalConfig {
+        n_runs: 1,
+        samples_per_run: 8,
+        ..SpindleThermalConfig::default()
+    };
+    let t = spindle_thermal(&c, None).unwrap();
+    let m = fit(&t, &config(Form::Auto), &mut |_| {}).unwrap();
+    assert_eq!(m.corrections[0].form, Form::None);
+    assert!(
+        m.warnings
+            .iter()
+            .any(|w| w.contains("no correction could be searched")),
+        "{:?}",
+        m.warnings
+    );
+    assert!(m.physics_calibrated["q"].value.is_finite());
+}
