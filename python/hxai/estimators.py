@@ -236,7 +236,7 @@ def _pareto_frame(front):
 def _interactions(v):
     """``interactions`` checked: a whole number >= 0."""
     if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
-        raise ValueError(f"interactions={v!r}: give a whole number >= 0 (default 1)")
+        raise ValueError(f"interactions={v!r}: give a whole number >= 0 (default 3)")
     return int(v)
 
 
@@ -1089,7 +1089,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
     ``form="free"`` is refused). ``shapes``, as ``--shapes``: the factor form's shapes,
     ``"classic"`` (the default), ``"all"`` (with the hinge ``x + |x - k|``, the smooth
     step ``tanh(w x + c)`` and the saturating power ``1/(1 + k x^q)``) or a comma-separated
-    list of names. ``interactions`` (default 1), as ``--interactions``: the most
+    list of names. ``interactions`` (default 3), as ``--interactions``: the most
     two-column factors, each kept only where it lowers the held-out error by more than two
     paired standard errors.
 
@@ -1114,7 +1114,7 @@ class HybridRegressor(_SearchParams, RegressorMixin, BaseEstimator):
         periodic=(),
         monotone=None,
         shapes="classic",
-        interactions=1,
+        interactions=3,
         joint=False,
         seed=42,
         epochs=10,

@@ -40,7 +40,7 @@ struct ProcessSettings {
     /// `shapes`: `classic`, `all` or a comma-separated list of the factor form's shapes.
     #[serde(default)]
     shapes: Option<String>,
-    /// `interactions`: most pair factors of the factor form (default 1).
+    /// `interactions`: most pair factors of the factor form (default 3).
     #[serde(default)]
     interactions: Option<usize>,
     #[serde(default)]

@@ -117,11 +117,13 @@ pub(crate) fn factor_search(
             codelength: None,
         })
         .collect();
+    // with `--consensus N`: the share of the N + 1 selections that gave the factor set back
+    let share = fit.consensus.as_ref();
     let selection = SelectionReport {
         method: "factors".into(),
         structure: hxai_symreg::stability::structure_of(&fit.model),
-        share: None,
-        runs: None,
+        share: share.map(|c| c.agreeing as f64 / c.runs.max(1) as f64),
+        runs: share.map(|c| c.runs),
         alternatives,
         error_model: hxai_symreg::ErrorModel::Additive,
         prior: None,

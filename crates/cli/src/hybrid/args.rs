@@ -158,7 +158,9 @@ pub(crate) struct Common {
     pub(crate) nesting: Option<String>,
     /// Consensus selection: also search N bootstrap resamples of the rows and select the
     /// structure most of them give back among their near-best models, refitted on all rows
-    /// (0, the default, selects by --criterion from one search).
+    /// (0, the default, selects by --criterion from one search). In the factor form: the
+    /// factor set (columns and shapes) most of the N + 1 selections give back; the model
+    /// file's `correction.selection.share` is that share.
     #[arg(long)]
     pub(crate) consensus: Option<usize>,
     /// How the correction's equation is chosen among the search's candidates (see

@@ -9,7 +9,7 @@ use hxai_symreg::Table;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// `n` rows of `y = 2 x (1 + 0.05 (z - 3)^2) (1 + noise)`: a physics `k*x` and a correction
+/// `n` rows of `y = 2 x (1 + 0.05 (z - 5)^2) (1 + noise)`: a physics `k*x` and a correction
 /// that falls, then rises, in `z` over [0, 10].
 fn table(n: usize) -> Table {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
@@ -20,7 +20,7 @@ fn table(n: usize) -> Table {
         let e: f64 = rng.gen_range(-0.01..0.01);
         x.push(u);
         z.push(v);
-        y.push(2.0 * u * (1.0 + 0.05 * (v - 3.0).powi(2)) * (1.0 + e));
+        y.push(2.0 * u * (1.0 + 0.05 * (v - 5.0).powi(2)) * (1.0 + e));
     }
     Table::new(vec!["x".into(), "z".into(), "y".into()], vec![x, z, y]).unwrap()
 }
@@ -31,6 +31,9 @@ fn config(form: Form) -> TableConfig {
     cfg.correction = CorrectionForm::Multiplicative;
     cfg.form = form;
     cfg.conformal_folds = 0;
+    // a harmonic in `z`, which can follow the dip (every other one-column shape is
+    // monotone, and a pair of `x` and `z` that reads `z` alone is no longer taken)
+    cfg.periodic = vec!["z".into()];
     cfg
 }
 
@@ -93,4 +96,42 @@ fn bad_monotone_settings_are_refused() {
     let mut cfg = config(Form::Factors);
     cfg.decreasing = vec!["w".into()];
     refused(cfg, "not a feature");
+}
+
+/// `--consensus N` binds the factor form too (issue 68): the model file's selection says
+/// how many of the N + 1 selections gave its factor set back, and the set kept is one the
+/// plain selection may differ from but never a set fewer selections agreed on than it.
+#[test]
+fn the_factor_form_takes_the_consensus_and_reports_its_share() {
+    // `y = 2 x (1 + 0.1 z) (1 + noise)`: one clear effect of `z`
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let (mut x, mut z, mut y) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..200 {
+        let (u, v): (f64, f64) = (rng.gen_range(1.0..10.0), rng.gen_range(0.0..10.0));
+        x.push(u);
+        z.push(v);
+        y.push(2.0 * u * (1.0 + 0.1 * v) * (1.0 + rng.gen_range(-0.01..0.01)));
+    }
+    let t = Table::new(vec!["x".into(), "z".into(), "y".into()], vec![x, z, y]).unwrap();
+    let mut cfg = config(Form::Factors);
+    cfg.periodic.clear();
+    let plain = fit(&t, &cfg, &mut |_| {}).unwrap();
+    assert_eq!(plain.correction.selection.as_ref().unwrap().runs, None);
+    cfg.search.consensus_runs = 6;
+    let m = fit(&t, &cfg, &mut |_| {}).unwrap();
+    let sel = m.correction.selection.as_ref().unwrap();
+    assert_eq!(sel.method, "factors");
+    assert_eq!(sel.runs, Some(7));
+    let share = sel.share.unwrap();
+    assert!((1.0 / 7.0 - 1e-12..=1.0).contains(&share), "share {share}");
+    // the z effect is strong: most selections agree on it
+    assert!(share > 0.5, "share {share}");
+    assert!(
+        m.correction
+            .factors
+            .as_ref()
+            .unwrap()
+            .iter()
+            .any(|f| f.column.as_deref() == Some("z"))
+    );
 }

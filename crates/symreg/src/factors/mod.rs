@@ -39,6 +39,9 @@
 //!    up to `interactions` times.
 //! 4. **Exponents snap** to the nearest whole or half number where the Bayesian
 //!    information criterion allows it.
+//! 5. **Consensus** (`consensus` > 0, `--consensus N`): the selection runs again on `N`
+//!    bootstrap resamples and the factor set most of them give back is kept
+//!    (`consensus.rs`).
 //!
 //! The shapes are enumerated, not evolved: a one-column law of complexity at most 4 has a
 //! handful of forms, all of which are fitted, so the choice is exhaustive and does not
@@ -48,8 +51,10 @@
 //!
 //! Files by job: this file the settings, the result and the entry points; `shape.rs` the
 //! shapes and how a factor is written; `structure.rs` a model as one program, its fit and
-//! its held-out errors; `select.rs` the selection; `bands.rs` the stability over resamples.
+//! its held-out errors; `select.rs` the selection; `consensus.rs` the consensus over
+//! resamples; `bands.rs` the stability over resamples.
 mod bands;
+mod consensus;
 mod fast;
 mod select;
 mod shape;
@@ -57,6 +62,7 @@ mod structure;
 
 pub use crate::bootstrap::FactorBand;
 pub use bands::{FactorStability, factor_stability, factor_stability_on_physics};
+pub use consensus::ConsensusShare;
 pub use shape::{Shape, complexity, template};
 
 use crate::expr::Expr;
@@ -126,6 +132,10 @@ pub struct FactorConfig {
     /// ([`hxai_eval::stratified_sample_spanning`]), and the selected structure's constants
     /// are then fitted on every row (default `usize::MAX`: every row).
     pub max_rows: usize,
+    /// Bootstrap resamples of the consensus selection (issue 68, `--consensus N`): the
+    /// factor set most of the selections on them and on every row give back is kept
+    /// (default 0: the selection on every row alone).
+    pub consensus: usize,
 }
 
 impl FactorConfig {
@@ -217,6 +227,7 @@ impl Default for FactorConfig {
             seed: 42,
             par: Par::Current,
             max_rows: usize::MAX,
+            consensus: 0,
         }
     }
 }
@@ -268,6 +279,9 @@ pub struct FactorFit {
     /// Models of the selected columns with another shape whose held-out error is within one
     /// standard error of the selected one's: the shapes the data cannot tell apart.
     pub alternatives: Vec<Model>,
+    /// With [`FactorConfig::consensus`]: how many of the selections gave the kept factor
+    /// set back.
+    pub consensus: Option<ConsensusShare>,
 }
 
 /// Fits a factor model of `y` over every column of `data` (see the module docs).
@@ -377,13 +391,19 @@ fn fit_structure(
             None => (y_s, None),
         };
         let problem = select::Problem::new(cols, yy, link, cfg, groups_s, at);
-        let (chosen, path, alts) = problem.select().ok_or_else(|| {
+        let (chosen, path, mut alts) = problem.select().ok_or_else(|| {
             SrError::InvalidConfig("no factor model could be fitted to the rows".into())
         })?;
-        Ok((problem.snap(chosen), path, alts))
+        let before = consensus::key(&chosen.s);
+        let (chosen, share) = consensus::consensus(&problem, chosen);
+        if consensus::key(&chosen.s) != before {
+            // the alternatives were those of the set no longer kept
+            alts.clear();
+        }
+        Ok((problem.snap(chosen), path, alts, share))
     };
     // the scale of the fit kept: the pilot's (the physics itself) or `|f_p|^(1 - theta)`
-    let (mut chosen, path, alts, theta) = match &sub_fp {
+    let ((mut chosen, path, alts, share), theta) = match &sub_fp {
         Some(fp) => {
             // a pilot on the target's scale, then the scatter's growth with the physics
             // (the variance power) sets the weights of the fit that is kept
@@ -392,17 +412,15 @@ fn fit_structure(
             let measured: Vec<f64> = fp.iter().zip(y_s).map(|(p, d)| p * (1.0 + d)).collect();
             let theta = variance_power(fp, &measured, &delta);
             if theta > VARIANCE_POWER_STEP {
-                let (c, p, a) = select(Some(&weight_scale(fp, Some(theta))))?;
-                (c, p, a, Some(Some(theta)))
+                (
+                    select(Some(&weight_scale(fp, Some(theta))))?,
+                    Some(Some(theta)),
+                )
             } else {
-                let (c, p, a) = pilot;
-                (c, p, a, Some(None))
+                (pilot, Some(None))
             }
         }
-        None => {
-            let (c, p, a) = select(None)?;
-            (c, p, a, None)
-        }
+        None => (select(None)?, None),
     };
     if rows.is_some() {
         // every row: the selected structure's free constants fitted again, from the
@@ -448,6 +466,7 @@ fn fit_structure(
         model,
         path,
         alternatives,
+        consensus: share,
     };
     Ok((fit, chosen.s))
 }
@@ -466,8 +485,14 @@ fn pick_rows(rows: Option<&[usize]>) -> impl Fn(&[usize]) -> Vec<usize> + '_ {
     move |g| rows.map_or_else(|| g.to_vec(), |r| r.iter().map(|&i| g[i]).collect())
 }
 
-/// A selection's result: the chosen structure (scored), the path, the alternatives.
-type Selected = (select::Scored, Vec<PathStep>, Vec<select::Scored>);
+/// A selection's result: the chosen structure (scored), the path, the alternatives and the
+/// consensus' share.
+type Selected = (
+    select::Scored,
+    Vec<PathStep>,
+    Vec<select::Scored>,
+    Option<ConsensusShare>,
+);
 
 /// Variance powers at or below this are taken for 0 (the pilot's weights are kept).
 const VARIANCE_POWER_STEP: f64 = 0.1;

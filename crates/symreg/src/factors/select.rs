@@ -42,6 +42,9 @@ pub(crate) struct Problem<'a> {
     pub n_feat: usize,
     /// The physics column of a multiplicative model fitted on the target's scale.
     pub scale: Option<usize>,
+    /// The rows' group ids (rows sharing one stay in one fold), kept for the consensus'
+    /// resamples.
+    pub groups: Option<Vec<usize>>,
     /// Differences of mean squared error below this are ties: `1e-10` of the target's
     /// variance (a gain of R² below 1e-10). On noise-free rows the paired standard error
     /// is itself at rounding level, and without a floor a distractor whose amplitude is
@@ -68,6 +71,7 @@ impl<'a> Problem<'a> {
         let floor = 1e-10 * y.iter().map(|v| (v - my) * (v - my)).sum::<f64>() / n;
         Self {
             floor,
+            groups: groups.map(<[usize]>::to_vec),
             cols,
             y,
             stats,
@@ -116,7 +120,9 @@ impl<'a> Problem<'a> {
         )
     }
 
-    fn score(&self, mut s: Structure) -> Option<Scored> {
+    /// `s` fitted on every row (from its constants) and scored by CV; `None` where the fit
+    /// is not finite or breaks a monotone constraint.
+    pub fn score(&self, mut s: Structure) -> Option<Scored> {
         let mse = s.fit(self.link, &self.cols, self.y);
         if !mse.is_finite() || !self.monotone(&s) {
             return None;
@@ -407,7 +413,11 @@ impl<'a> Problem<'a> {
             let mut s = base.s.clone();
             s.terms.push(term);
             let mse = s.fit(self.link, &self.cols, self.y);
-            if mse.is_finite() && best.as_ref().is_none_or(|b| mse < b.1) && self.monotone(&s) {
+            if mse.is_finite()
+                && best.as_ref().is_none_or(|b| mse < b.1)
+                && s.terms.last().is_some_and(reads_both)
+                && self.monotone(&s)
+            {
                 best = Some((s, mse));
             }
         }
@@ -481,6 +491,20 @@ impl<'a> Problem<'a> {
         }
         cur
     }
+}
+
+/// Exponents of a pair factor smaller than this in size leave its column out: the pair is
+/// then the other column's main effect (measured: an additive pair `r^(-8.8e-17) v` was
+/// kept as an interaction), which the forward selection already offered.
+const PAIR_MIN_EXPONENT: f64 = 0.01;
+
+/// Whether a fitted pair term reads both its columns (each exponent at least
+/// [`PAIR_MIN_EXPONENT`] in size).
+pub(super) fn reads_both(t: &Term) -> bool {
+    let l = t.params.len();
+    l >= 2
+        && t.params[l - 2].abs() >= PAIR_MIN_EXPONENT
+        && t.params[l - 1].abs() >= PAIR_MIN_EXPONENT
 }
 
 /// The least-squares amplitude of a sum's term (its shape with amplitude 1) against `r`.

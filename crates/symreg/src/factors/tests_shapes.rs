@@ -149,8 +149,11 @@ fn shapes_parse_from_their_names() {
 
 #[test]
 fn a_monotone_constraint_holds_on_a_grid_where_the_rows_fall_and_rise() {
-    // a dip at x = 3: the rows fall, then rise
-    let (t, y) = table(400, 5, 0.05, |x, _| 1.0 + 0.05 * (x - 3.0).powi(2));
+    // the rows fall and rise twice over x (a harmonic follows them; every other one-column
+    // shape is monotone, and a pair of x and z that reads x alone is no longer taken)
+    let (t, y) = table(400, 5, 0.05, |x, _| {
+        1.0 + 0.3 * (2.0 * std::f64::consts::PI * x / 5.0).sin()
+    });
     let free = fit_factors(&t, &y, Link::Additive, &FactorConfig::default()).expect("fit");
     assert!(
         !non_decreasing(&grid(&free.model, 101, 1), 101),
@@ -192,4 +195,19 @@ fn a_monotone_constraint_holds_over_a_pair() {
         "not monotone in x at every z: {}",
         fit.model.equation()
     );
+}
+
+/// A pair factor must read both its columns: a fitted exponent below 0.01 in size makes it
+/// the other column's main effect, which is not taken as a pair.
+#[test]
+fn a_pair_that_reads_one_column_is_not_a_pair() {
+    let term = |p: f64, q: f64| Term {
+        shape: Shape::Pair,
+        cols: vec![0, 1],
+        params: vec![1.0, p, q],
+        free: vec![true; 3],
+    };
+    assert!(select::reads_both(&term(1.0, -0.5)));
+    assert!(!select::reads_both(&term(-8.8e-17, 1.0)));
+    assert!(!select::reads_both(&term(2.0, 0.005)));
 }
