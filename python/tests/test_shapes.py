@@ -9,11 +9,11 @@ from hxai import HybridRegressor
 
 
 def _dip(n=300, seed=11):
-    """``y = 2 x (1 + 0.05 (z - 3)^2)`` with 1 % noise: a correction that falls, then
+    """``y = 2 x (1 + 0.05 (z - 5)^2)`` with 1 % noise: a correction that falls, then
     rises, in ``z``."""
     rng = np.random.default_rng(seed)
     x, z = rng.uniform(1, 10, n), rng.uniform(0, 10, n)
-    y = 2 * x * (1 + 0.05 * (z - 3) ** 2) * (1 + rng.uniform(-0.01, 0.01, n))
+    y = 2 * x * (1 + 0.05 * (z - 5) ** 2) * (1 + rng.uniform(-0.01, 0.01, n))
     return pd.DataFrame({"x": x, "z": z}), pd.Series(y, name="y")
 
 
@@ -26,7 +26,9 @@ def _rises_in_z(model, lo, hi):
 
 def test_a_monotone_constraint_holds_on_a_grid():
     X, y = _dip()
-    common = dict(calibrate=["k"], correction="multiplicative", conformal_folds=0)
+    # a harmonic in z can follow the dip (every other one-column shape is monotone)
+    common = dict(calibrate=["k"], correction="multiplicative", conformal_folds=0,
+                  periodic=["z"])
     free = HybridRegressor("k*x", form="factors", **common).fit(X, y)
     assert not _rises_in_z(free, X.z.min(), X.z.max()), free.equation_
     m = HybridRegressor("k*x", form="auto", monotone={"z": "+"}, **common).fit(X, y)
@@ -47,6 +49,21 @@ def test_the_threshold_shapes_are_taken_when_asked():
                         conformal_folds=0).fit(X, pd.Series(y, name="y"))
     shapes = {f.get("column"): f["shape"] for f in m.factors_}
     assert shapes.get("z") == "hinge", m.factors_
+
+
+def test_the_factor_form_takes_the_consensus():
+    rng = np.random.default_rng(12)
+    x, z = rng.uniform(1, 10, 200), rng.uniform(0, 10, 200)
+    y = 2 * x * (1 + 0.1 * z) * (1 + rng.uniform(-0.01, 0.01, 200))
+    X, y = pd.DataFrame({"x": x, "z": z}), pd.Series(y, name="y")
+    common = dict(calibrate=["k"], correction="multiplicative", conformal_folds=0,
+                  form="factors")
+    plain = HybridRegressor("k*x", **common).fit(X, y)
+    assert plain.selection_["runs"] is None
+    m = HybridRegressor("k*x", consensus_runs=4, **common).fit(X, y)
+    sel = m.selection_
+    assert sel["runs"] == 5 and 0.5 < sel["share"] <= 1.0, sel
+    assert any(f.get("column") == "z" for f in m.factors_), m.factors_
 
 
 @pytest.mark.parametrize(
