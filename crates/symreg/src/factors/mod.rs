@@ -63,7 +63,7 @@ mod structure;
 pub use crate::bootstrap::FactorBand;
 pub use bands::{FactorStability, factor_stability, factor_stability_on_physics};
 pub use consensus::ConsensusShare;
-pub use shape::{Shape, complexity, template};
+pub use shape::{Shape, Shapes, complexity, template};
 
 use crate::expr::Expr;
 use crate::{Model, Par, SrError, Table};
@@ -156,58 +156,6 @@ impl FactorConfig {
             .enumerate()
             .filter(|(j, c)| *j < 64 && declared.contains(c))
             .fold(0, |m, (j, _)| m | (1 << j))
-    }
-}
-
-/// A set of [`Shape`]s (the interaction is [`Shape::Pair`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Shapes(u16);
-
-impl Shapes {
-    /// Every shape, the threshold and saturation shapes of issue 68 included.
-    pub const ALL: Shapes = Shapes(u16::MAX);
-
-    /// The shapes of the default: every shape but issue 68's hinge, smooth step and
-    /// saturating power, which a fit takes where asked (`--shapes all`): they are measured
-    /// in docs/benchmarks.md before they become a default.
-    pub const CLASSIC: Shapes = Shapes(
-        !((1 << Shape::Hinge as u16)
-            | (1 << Shape::Step as u16)
-            | (1 << Shape::SaturatingPower as u16)),
-    );
-
-    /// No shape.
-    pub const NONE: Shapes = Shapes(0);
-
-    /// Whether `shape` is in the set.
-    pub fn contains(self, shape: Shape) -> bool {
-        self.0 & (1 << shape as u16) != 0
-    }
-
-    /// The set with `shape` added.
-    #[must_use]
-    pub fn with(self, shape: Shape) -> Shapes {
-        Shapes(self.0 | (1 << shape as u16))
-    }
-
-    /// The set without `shape`.
-    #[must_use]
-    pub fn without(self, shape: Shape) -> Shapes {
-        Shapes(self.0 & !(1 << shape as u16))
-    }
-
-    /// The shapes of a setting: `classic` ([`Shapes::CLASSIC`]), `all` ([`Shapes::ALL`]),
-    /// or a comma-separated list of [`Shape::name`]s (`power,linear,hinge`); `None` for a
-    /// name that is not a shape.
-    pub fn parse(text: &str) -> Option<Shapes> {
-        match text.trim() {
-            "classic" => Some(Shapes::CLASSIC),
-            "all" => Some(Shapes::ALL),
-            list => list
-                .split(',')
-                .map(|n| Shape::from_name(n.trim()))
-                .try_fold(Shapes::NONE, |set, s| s.map(|s| set.with(s))),
-        }
     }
 }
 

@@ -462,6 +462,58 @@ pub fn template(shape: Shape, names: &[&str]) -> String {
     }
 }
 
+/// A set of [`Shape`]s (the interaction is [`Shape::Pair`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shapes(u16);
+
+impl Shapes {
+    /// Every shape, the threshold and saturation shapes of issue 68 included.
+    pub const ALL: Shapes = Shapes(u16::MAX);
+
+    /// The shapes of the default: every shape but issue 68's hinge, smooth step and
+    /// saturating power, which a fit takes where asked (`--shapes all`): they are measured
+    /// in docs/benchmarks.md before they become a default.
+    pub const CLASSIC: Shapes = Shapes(
+        !((1 << Shape::Hinge as u16)
+            | (1 << Shape::Step as u16)
+            | (1 << Shape::SaturatingPower as u16)),
+    );
+
+    /// No shape.
+    pub const NONE: Shapes = Shapes(0);
+
+    /// Whether `shape` is in the set.
+    pub fn contains(self, shape: Shape) -> bool {
+        self.0 & (1 << shape as u16) != 0
+    }
+
+    /// The set with `shape` added.
+    #[must_use]
+    pub fn with(self, shape: Shape) -> Shapes {
+        Shapes(self.0 | (1 << shape as u16))
+    }
+
+    /// The set without `shape`.
+    #[must_use]
+    pub fn without(self, shape: Shape) -> Shapes {
+        Shapes(self.0 & !(1 << shape as u16))
+    }
+
+    /// The shapes of a setting: `classic` ([`Shapes::CLASSIC`]), `all` ([`Shapes::ALL`]),
+    /// or a comma-separated list of [`Shape::name`]s (`power,linear,hinge`); `None` for a
+    /// name that is not a shape.
+    pub fn parse(text: &str) -> Option<Shapes> {
+        match text.trim() {
+            "classic" => Some(Shapes::CLASSIC),
+            "all" => Some(Shapes::ALL),
+            list => list
+                .split(',')
+                .map(|n| Shape::from_name(n.trim()))
+                .try_fold(Shapes::NONE, |set, s| s.map(|s| set.with(s))),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
