@@ -62,7 +62,7 @@ def test_the_factor_form_takes_the_consensus():
     assert plain.selection_["runs"] is None
     m = HybridRegressor("k*x", consensus_runs=4, **common).fit(X, y)
     sel = m.selection_
-    assert sel["runs"] == 5 and 0.5 < sel["share"] <= 1.0, sel
+    assert sel["runs"] == 4 and 0.5 < sel["share"] <= 1.0, sel
     assert any(f.get("column") == "z" for f in m.factors_), m.factors_
 
 

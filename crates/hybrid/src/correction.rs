@@ -117,7 +117,7 @@ pub(crate) fn factor_search(
             codelength: None,
         })
         .collect();
-    // with `--consensus N`: the share of the N + 1 selections that gave the factor set back
+    // with `--consensus N`: the share of the N resamples that gave the factor set back
     let share = fit.consensus.as_ref();
     let selection = SelectionReport {
         method: "factors".into(),

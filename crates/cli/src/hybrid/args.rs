@@ -160,7 +160,7 @@ pub(crate) struct Common {
     /// structure most of them give back among their near-best models, refitted on all rows
     /// (0, the default, selects by --criterion from one search). In the factor form: the
     /// factor set (columns and shapes) most of the N + 1 selections give back; the model
-    /// file's `correction.selection.share` is that share.
+    /// file's `correction.selection.share` is the share of the N resamples that did.
     #[arg(long)]
     pub(crate) consensus: Option<usize>,
     /// How the correction's equation is chosen among the search's candidates (see

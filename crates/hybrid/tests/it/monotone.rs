@@ -99,8 +99,7 @@ fn bad_monotone_settings_are_refused() {
 }
 
 /// `--consensus N` binds the factor form too (issue 68): the model file's selection says
-/// how many of the N + 1 selections gave its factor set back, and the set kept is one the
-/// plain selection may differ from but never a set fewer selections agreed on than it.
+/// what share of the N resamples gave its factor set back.
 #[test]
 fn the_factor_form_takes_the_consensus_and_reports_its_share() {
     // `y = 2 x (1 + 0.1 z) (1 + noise)`: one clear effect of `z`
@@ -121,9 +120,9 @@ fn the_factor_form_takes_the_consensus_and_reports_its_share() {
     let m = fit(&t, &cfg, &mut |_| {}).unwrap();
     let sel = m.correction.selection.as_ref().unwrap();
     assert_eq!(sel.method, "factors");
-    assert_eq!(sel.runs, Some(7));
+    assert_eq!(sel.runs, Some(6));
     let share = sel.share.unwrap();
-    assert!((1.0 / 7.0 - 1e-12..=1.0).contains(&share), "share {share}");
+    assert!((0.0..=1.0).contains(&share), "share {share}");
     // the z effect is strong: most selections agree on it
     assert!(share > 0.5, "share {share}");
     assert!(

@@ -18,12 +18,14 @@ use std::collections::BTreeMap;
 /// a resample.
 const CONSENSUS_SEED_MIX: u64 = 0xC0FF_EE00_D15E_A5E5;
 
-/// What the consensus found: how many selections gave each factor set back.
+/// What the consensus found: how many of the resamples' selections gave the kept factor
+/// set back (the vote also counts the selection on every row; this share does not, so it
+/// reads as "given back by this share of N resamples").
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConsensusShare {
-    /// Selections run: the one on every row and the resamples'.
+    /// Resamples whose selection could be run.
     pub runs: usize,
-    /// Selections that gave the kept factor set back.
+    /// Of them, those that gave the kept factor set back.
     pub agreeing: usize,
 }
 
@@ -66,16 +68,18 @@ pub(super) fn consensus(problem: &Problem, full: Scored) -> (Scored, Option<Cons
     for s in found.iter().flatten() {
         *counts.entry(key(s)).or_default() += 1;
     }
-    let done = 1 + found.iter().flatten().count();
+    let done = found.iter().flatten().count();
     let top = counts.values().copied().max().unwrap_or(0);
-    let share = |agreeing| {
+    // the resamples that gave `k` back (the vote's count less the selection on every row)
+    let share = |k: &str| {
+        let c = counts.get(k).copied().unwrap_or(0) - usize::from(k == full_key);
         Some(ConsensusShare {
             runs: done,
-            agreeing,
+            agreeing: c,
         })
     };
     if counts.get(&full_key) == Some(&top) {
-        return (full, share(top));
+        return (full, share(&full_key));
     }
     // the first set (by text) of the highest count, from its first resample
     let Some(mode) = counts
@@ -83,14 +87,14 @@ pub(super) fn consensus(problem: &Problem, full: Scored) -> (Scored, Option<Cons
         .find(|(_, c)| **c == top)
         .map(|(k, _)| k.clone())
     else {
-        return (full, share(counts[&full_key]));
+        return (full, share(&full_key));
     };
     let Some(start) = found.into_iter().flatten().find(|s| key(s) == mode) else {
-        return (full, share(counts[&full_key]));
+        return (full, share(&full_key));
     };
     match problem.score(start) {
-        Some(s) if key(&s.s) == mode => (s, share(top)),
-        _ => (full, share(counts[&full_key])),
+        Some(s) if key(&s.s) == mode => (s, share(&mode)),
+        _ => (full, share(&full_key)),
     }
 }
 
@@ -172,8 +176,10 @@ mod tests {
         let (kept, share) = consensus(&p, full);
         let share = share.unwrap();
         let top = *counts.values().max().unwrap();
-        assert_eq!(share.runs, 10);
-        assert_eq!(share.agreeing, top);
+        // the share counts the resamples alone
+        assert_eq!(share.runs, 9);
+        let own = usize::from(key(&kept.s) == key(&p.select().unwrap().0.s));
+        assert_eq!(share.agreeing, top - own);
         assert_eq!(
             counts[&key(&kept.s)],
             top,
@@ -201,8 +207,8 @@ mod tests {
             })
             .collect();
         let share = fits[0].consensus.clone().unwrap();
-        assert_eq!(share.runs, 7);
-        assert!(share.agreeing >= 1 && share.agreeing <= 7);
+        assert_eq!(share.runs, 6);
+        assert!(share.agreeing <= 6);
         // (compared as text: an alternative's unscored errors are NaN, never equal)
         assert_eq!(format!("{:?}", fits[0]), format!("{:?}", fits[1]));
     }
