@@ -66,7 +66,7 @@ th,td{border:1px solid #ccc;padding:.25rem .5rem;text-align:left}td.n{text-align
 font-variant-numeric:tabular-nums}code,pre{background:#f4f4f4;padding:.1rem .3rem}\
 pre{white-space:pre-wrap;word-break:break-all;padding:.5rem}math{font-size:1.15rem}\
 .eq{overflow-x:auto;padding:.5rem 0}figure{margin:1rem 0}figure svg{max-width:100%;\
-height:auto}.warn{color:#8a4b00}@media print{section{break-before:page}section:first-of-type\
+height:auto}.warn{color:#8a4b00;overflow-wrap:anywhere}@media print{section{break-before:page}section:first-of-type\
 {break-before:auto}.scroll{overflow:visible}}";
 
 fn num(v: f64) -> String {
