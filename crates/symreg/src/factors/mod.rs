@@ -227,8 +227,8 @@ pub struct FactorFit {
     /// Models of the selected columns with another shape whose held-out error is within one
     /// standard error of the selected one's: the shapes the data cannot tell apart.
     pub alternatives: Vec<Model>,
-    /// With [`FactorConfig::consensus`]: how many of the selections gave the kept factor
-    /// set back.
+    /// With [`FactorConfig::consensus`]: how many of the resamples' selections gave the
+    /// kept factor set back.
     pub consensus: Option<ConsensusShare>,
 }
 
