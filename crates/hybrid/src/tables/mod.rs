@@ -438,34 +438,20 @@ impl TableProgress {
 }
 
 /// The factor form's `shapes` less those that write an operator missing from `operators`
-/// (`--operators`, which binds both forms): `exp` for the exponential, `log` for the
-/// logarithm, `div` (or `inverse`) for the pole, the saturations and the powers and pairs
-/// (a negative exponent is a division). The hinge and the step are taken with `--shapes`
-/// alone (their `abs` and `tanh` are not among the law operators a correction searches by
-/// default). Measured: with `--operators add,sub,mul` a pair `f^2/r` was kept.
+/// (`--operators`, which binds both forms; [`hxai_symreg::factors::Shapes::allowed_by`],
+/// powers and pairs needing `div`: a negative exponent is a division). The hinge and the
+/// step are taken with `--shapes` alone (their `abs` and `tanh` are not among the law
+/// operators a correction searches by default). Measured: with `--operators add,sub,mul`
+/// a pair `f^2/r` was kept.
 fn shapes_of_operators(
     shapes: hxai_symreg::factors::Shapes,
     operators: &[String],
 ) -> hxai_symreg::factors::Shapes {
-    use hxai_symreg::factors::Shape;
-    let has = |o: &str| operators.iter().any(|x| x == o);
-    let mut s = shapes;
-    if !has("exp") {
-        s = s.without(Shape::Exp);
-    }
-    if !has("log") {
-        s = s.without(Shape::Log);
-    }
-    if !has("div") && !has("inverse") {
-        for sh in [
-            Shape::Pole,
-            Shape::Saturation,
-            Shape::SaturatingPower,
-            Shape::Power,
-            Shape::Pair,
-        ] {
-            s = s.without(sh);
-        }
-    }
-    s
+    // the names were checked with the search's settings; one that is not an operator
+    // allows nothing
+    let ops: Vec<hxai_symreg::Op> = operators
+        .iter()
+        .filter_map(|o| hxai_symreg::Op::parse(o).ok())
+        .collect();
+    shapes.allowed_by(&ops, true)
 }

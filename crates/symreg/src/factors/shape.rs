@@ -499,6 +499,31 @@ impl Shapes {
         Shapes(self.0 & !(1 << shape as u16))
     }
 
+    /// The set less the shapes that write an operator missing from `ops`: the exponential
+    /// without `exp`, the logarithm without `log`, the pole and the saturations without
+    /// `div` or `inverse`; with `powers_divide`, the power and the pair too (a negative
+    /// exponent is then written as a division; `hxai sr`'s candidates keep them).
+    #[must_use]
+    pub fn allowed_by(self, ops: &[Op], powers_divide: bool) -> Shapes {
+        let mut s = self;
+        if !ops.contains(&Op::Exp) {
+            s = s.without(Shape::Exp);
+        }
+        if !ops.contains(&Op::Log) {
+            s = s.without(Shape::Log);
+        }
+        if !ops.contains(&Op::Div) && !ops.contains(&Op::Inverse) {
+            let mut gone = vec![Shape::Pole, Shape::Saturation, Shape::SaturatingPower];
+            if powers_divide {
+                gone.extend([Shape::Power, Shape::Pair]);
+            }
+            for sh in gone {
+                s = s.without(sh);
+            }
+        }
+        s
+    }
+
     /// The shapes of a setting: `classic` ([`Shapes::CLASSIC`]), `all` ([`Shapes::ALL`]),
     /// or a comma-separated list of [`Shape::name`]s (`power,linear,hinge`); `None` for a
     /// name that is not a shape.

@@ -46,22 +46,25 @@ pub(crate) const POWER_LAWS_MAX_ROWS: usize = 300;
 const MAX_ROWS: usize = 200;
 
 /// The shapes the operators allow: the power and the linear term always, the others where
-/// their operator is in `ops`; the interaction `x^p y^q` where multiplication is.
+/// their operator is in `ops` ([`Shapes::allowed_by`]); the interaction `x^p y^q` where
+/// multiplication is.
 fn shapes(ops: &[Op]) -> Shapes {
-    let mut s = Shapes::NONE.with(Shape::Power).with(Shape::Linear);
-    if ops.contains(&Op::Exp) {
-        s = s.with(Shape::Exp);
-    }
-    if ops.contains(&Op::Log) {
-        s = s.with(Shape::Log);
-    }
-    if ops.contains(&Op::Div) || ops.contains(&Op::Inverse) {
-        s = s.with(Shape::Pole).with(Shape::Saturation);
-    }
+    let all = [
+        Shape::Power,
+        Shape::Linear,
+        Shape::Exp,
+        Shape::Log,
+        Shape::Pole,
+        Shape::Saturation,
+        Shape::Pair,
+    ];
+    let s = all.into_iter().fold(Shapes::NONE, Shapes::with);
+    let s = s.allowed_by(ops, false);
     if ops.contains(&Op::Mul) {
-        s = s.with(Shape::Pair);
+        s
+    } else {
+        s.without(Shape::Pair)
     }
-    s
 }
 
 /// The product and the sum of factors fitted on the problem's fitting rows, each refitted
